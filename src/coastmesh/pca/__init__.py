@@ -1,0 +1,12 @@
+"""Principal component analysis (PCA) approximation of shorelines and bathymetry.
+
+The kernels here take and return numpy arrays only: :func:`simplify_contour` for one
+shoreline contour, :func:`simplify_raster` for a bathymetry grid.
+"""
+
+from __future__ import annotations
+
+from coastmesh.pca.grid import raster_modes, simplify_raster
+from coastmesh.pca.line import contour_modes, simplify_contour
+
+__all__ = ["contour_modes", "raster_modes", "simplify_contour", "simplify_raster"]
