@@ -41,7 +41,7 @@ import numpy as np
 import scipy.fft
 import scipy.linalg
 import scipy.signal
-from numpy.lib.stride_tricks import sliding_window_view
+from numpy.lib.stride_tricks import as_strided, sliding_window_view
 from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import InputDataError
@@ -265,10 +265,7 @@ def _overhang_gram(z: NDArray[np.float64], window: int) -> NDArray[np.float64]:
     )  # products[j, d] = z[j] z[j+d]
     sums = np.zeros((window, window))
     np.cumsum(products, axis=0, out=sums[1:])  # sums[a, d] = sum_{j<a}
-    a, d = np.triu_indices(window)
-    d = d - a
-    upper = np.zeros((window, window))
-    upper[a, a + d] = sums[a, d]
+    upper = _skew(sums)[:, :window]  # upper[a, a+d] = sums[a, d]
     return upper + np.triu(upper, 1).T
 
 
@@ -278,12 +275,28 @@ def _rebuild(windows: NDArray[np.float64], u: NDArray[np.float64]):
     return ((windows - mean) @ u) @ u.T + mean
 
 
+def _skew(rows: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Return a (K, K+L-1) array holding row ``k`` of ``rows`` (K, L) from column k."""
+    count, width = rows.shape
+    buffer = np.zeros((count, count + width))
+    step = buffer.strides
+    as_strided(buffer, shape=rows.shape, strides=(step[0] + step[1], step[1]))[...] = rows
+    return buffer[:, : count + width - 1]
+
+
 def _scatter(rebuilt: NDArray[np.float64], offset: int, n: int):
     """Sum rebuilt windows (rows, starting at ``offset + row``) onto ``n`` points."""
     count, window = rebuilt.shape
-    index = offset + np.arange(count)[:, None] + np.arange(window)[None, :]
-    keep = (index >= 0) & (index < n)
-    return np.bincount(index[keep], weights=rebuilt[keep], minlength=n)
+    if count > window:  # many windows: the skewed copy would be O(count^2)
+        index = offset + np.arange(count)[:, None] + np.arange(window)[None, :]
+        keep = (index >= 0) & (index < n)
+        return np.bincount(index[keep], weights=rebuilt[keep], minlength=n)
+    sums = _skew(rebuilt).sum(axis=0)  # sums[c] goes to point offset + c
+    out = np.zeros(n)
+    lo, hi = max(offset, 0), min(offset + len(sums), n)
+    if hi > lo:
+        out[lo:hi] = sums[lo - offset : hi - offset]
+    return out
 
 
 def _averaging_kernel(u: NDArray[np.float64]) -> NDArray[np.float64]:
