@@ -40,6 +40,11 @@ class InputDataError(CoastmeshError, ValueError):
         The layer inside the file.
     feature : int, optional
         The feature id inside the layer.
+
+    Attributes
+    ----------
+    message : str
+        The message without the location, to re-raise with a better one.
     """
 
     def __init__(
@@ -50,6 +55,7 @@ class InputDataError(CoastmeshError, ValueError):
         layer: str | None = None,
         feature: int | None = None,
     ) -> None:
+        self.message = message
         self.path = path
         self.layer = layer
         self.feature = feature

@@ -6,15 +6,24 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import assume, example, given, settings
+from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 
 import coastmesh
 from coastmesh.errors import ConfigError
+from coastmesh.pca import grid as grid_module
 from coastmesh.pca import raster_modes, simplify_raster
 from reference import simplify_raster_dense, simplify_raster_reference
 
 DATA = Path(coastmesh.__file__).parent / "data"
+
+
+@pytest.fixture(params=["whole", "strips"])
+def strips(request, monkeypatch):
+    """Run each test on the whole grid at once, and in strips of 4 window heights."""
+    if request.param == "strips":
+        monkeypatch.setattr(grid_module, "_STRIP_CELLS", 1)
+    return request.param
 
 
 def _surface(seed: int, ny: int, nx: int, holes: float) -> np.ndarray:
@@ -35,7 +44,10 @@ def _well_posed(grid, window, modes) -> bool:
     return lam[modes - 1] - lam[modes] >= 1e-6 * max(lam[0], 1e-300)
 
 
-@settings(max_examples=60, deadline=None)
+@settings(
+    max_examples=60, deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
 @given(
     seed=st.integers(0, 2**32 - 1),
     ny=st.integers(2, 24),
@@ -47,7 +59,7 @@ def _well_posed(grid, window, modes) -> bool:
 )
 @example(seed=0, ny=8, nx=8, wy=8, wx=8, modes_frac=0.0, holes=0.0)  # one window
 @example(seed=1, ny=9, nx=2, wy=2, wx=2, modes_frac=1.0, holes=0.0)
-def test_matches_reference(seed, ny, nx, wy, wx, modes_frac, holes):
+def test_matches_reference(strips, seed, ny, nx, wy, wx, modes_frac, holes):
     assume(ny >= wy and nx >= wx)
     modes = 1 + int(modes_frac * (wy * wx - 1))
     grid = _surface(seed, ny, nx, holes)
@@ -58,7 +70,10 @@ def test_matches_reference(seed, ny, nx, wy, wx, modes_frac, holes):
     np.testing.assert_allclose(got, expected, rtol=0, atol=1e-9)
 
 
-@settings(max_examples=25, deadline=None)
+@settings(
+    max_examples=25, deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
 @given(
     seed=st.integers(0, 2**32 - 1),
     ny=st.integers(4, 20),
@@ -66,7 +81,7 @@ def test_matches_reference(seed, ny, nx, wy, wx, modes_frac, holes):
     holes=st.sampled_from([0.0, 0.05]),
     shift=st.floats(-1e4, 1e4),
 )
-def test_properties(seed, ny, nx, holes, shift):
+def test_properties(strips, seed, ny, nx, holes, shift):
     grid = _surface(seed, ny, nx, holes)
     before = grid.copy()
     np.testing.assert_allclose(simplify_raster(grid, 3, 9), grid, atol=1e-9)
@@ -76,7 +91,7 @@ def test_properties(seed, ny, nx, holes, shift):
     np.testing.assert_array_equal(grid, before)
 
 
-def test_uncovered_cells_keep_their_values():
+def test_uncovered_cells_keep_their_values(strips):
     grid = _surface(3, 12, 12, 0.0)
     grid[5, 5] = np.nan  # isolates nothing, but windows through it are not partitions
     grid[:, 0] = np.nan  # the first column is missing
@@ -95,7 +110,7 @@ def test_uncovered_cells_keep_their_values():
 
 
 @pytest.mark.parametrize("modes", [1, 16, 48, 64])
-def test_real_orkney_raster(modes):
+def test_real_orkney_raster(strips, modes):
     rasterio = pytest.importorskip("rasterio")
     with rasterio.open(DATA / "etopo1_0.1deg_orkney_wide.tif") as src:
         grid = src.read(1).astype(float)
@@ -106,7 +121,7 @@ def test_real_orkney_raster(modes):
         np.testing.assert_allclose(got, grid, atol=1e-9)
 
 
-def test_real_shelf_raster_with_missing_land():
+def test_real_shelf_raster_with_missing_land(strips):
     """The NW shelf grid with land masked out as missing (a real nodata pattern)."""
     rasterio = pytest.importorskip("rasterio")
     with rasterio.open(DATA / "etopo1_0.1deg_nwshelf.tif") as src:
@@ -127,10 +142,25 @@ def test_rectangular_window():
     )
 
 
-def test_progress_is_reported():
+def test_progress_is_reported(strips):
     calls = []
-    simplify_raster(_surface(1, 10, 10, 0.0), 3, 1, progress=lambda d, t: calls.append((d, t)))
-    assert calls[-1] == (4, 4)
+    simplify_raster(_surface(1, 40, 10, 0.0), 3, 1, progress=lambda d, t: calls.append((d, t)))
+    total = calls[-1][1]
+    assert calls == [(d, total) for d in range(1, total + 1)]
+    assert total == (2 if strips == "whole" else 2 * 4)  # 40 rows, strips of 12
+
+
+def test_out_of_core_with_memmaps(tmp_path, monkeypatch):
+    """Read from and write to memory-mapped files strip by strip."""
+    monkeypatch.setattr(grid_module, "_STRIP_CELLS", 2000)
+    grid = _surface(12, 300, 90, 0.01)
+    src = np.lib.format.open_memmap(tmp_path / "in.npy", "w+", np.float32, grid.shape)
+    src[:] = grid
+    dst = np.lib.format.open_memmap(tmp_path / "out.npy", "w+", np.float64, grid.shape)
+    result = simplify_raster(src, 8, 16, out=dst)
+    assert result is dst
+    expected = simplify_raster_dense(np.asarray(src, dtype=float), 8, 16)
+    np.testing.assert_allclose(np.asarray(dst), expected, atol=1e-9)
 
 
 @pytest.mark.parametrize(
@@ -142,7 +172,7 @@ def test_progress_is_reported():
         ((np.zeros((9, 9)), 3, 0), ConfigError, r"modes = 0"),
         ((np.zeros((9, 9)), (3, "a"), 1), ConfigError, "window columns"),
         ((np.zeros(9), 3, 1), ValueError, "2-D"),
-        ((np.full((9, 9), np.inf), 3, 1), ValueError, "infinite"),
+        ((np.full((9, 9), np.inf), 3, 1), ValueError, r"values\[0, 0\] is infinite"),
     ],
 )
 def test_bad_input(args, error, match):

@@ -18,7 +18,7 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import InputDataError
-from coastmesh.pca._checks import check_modes, check_window
+from coastmesh.pca.checks import check_modes, check_window
 from coastmesh.pca._threads import single_threaded_blas
 from coastmesh.pca.line import simplify_contour
 

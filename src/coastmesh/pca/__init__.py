@@ -6,7 +6,16 @@ shoreline contour, :func:`simplify_raster` for a bathymetry grid.
 
 from __future__ import annotations
 
+from coastmesh.pca.checks import check_modes, check_window, check_window_2d
 from coastmesh.pca.grid import raster_modes, simplify_raster
 from coastmesh.pca.line import contour_modes, simplify_contour
 
-__all__ = ["contour_modes", "raster_modes", "simplify_contour", "simplify_raster"]
+__all__ = [
+    "check_modes",
+    "check_window",
+    "check_window_2d",
+    "contour_modes",
+    "raster_modes",
+    "simplify_contour",
+    "simplify_raster",
+]

@@ -7,7 +7,7 @@ import scipy.linalg
 from numpy.typing import NDArray
 from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, eigsh
 
-from coastmesh.pca._checks import deterministic_start
+from coastmesh.pca.checks import deterministic_start
 
 __all__ = ["leading_eigenvectors"]
 

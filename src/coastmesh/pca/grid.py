@@ -31,17 +31,18 @@ from collections.abc import Callable
 
 import numpy as np
 import scipy.fft
-import scipy.signal
 from numpy.lib.stride_tricks import sliding_window_view
 from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import ConfigError
-from coastmesh.pca._checks import check_modes, check_window_2d
+from coastmesh.pca.checks import check_modes, check_window_2d
 from coastmesh.pca._eigen import leading_eigenvectors
 
 __all__ = ["raster_modes", "simplify_raster"]
 
 _CHUNK = 1 << 16  # partial windows handled per batch (memory: _CHUNK * L floats)
+_DIRECT_GRAM_CELLS = 1 << 18  # blocks this small sum centred partitions directly
+_STRIP_CELLS = 1 << 22  # cells per strip of rows (working memory ~100 B a cell)
 
 
 def simplify_raster(
@@ -50,6 +51,7 @@ def simplify_raster(
     modes: int,
     *,
     progress: Callable[[int, int], None] | None = None,
+    out: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
     """Approximate a raster from the leading PCA modes of its windows.
 
@@ -62,14 +64,20 @@ def simplify_raster(
         The paper uses 8 (64 modes).
     modes : int
         Number of leading modes kept, ``1 <= modes <= rows * columns``.
+        ``values`` may be any array that slices by rows (numpy, memmap, h5py,
+        netCDF4, xarray or dask): it is read in strips of rows, so a grid larger
+        than memory can be processed with ``out`` on disk.
     progress : callable, optional
-        Called as ``progress(done, total)`` as the stages finish.
+        Called as ``progress(done, total)`` after each strip of each of the two
+        passes (covariance, then reconstruction).
+    out : array of shape (ny, nx), optional
+        Where to write the result, strip by strip (e.g. a ``numpy.memmap``).
 
     Returns
     -------
     ndarray of shape (ny, nx)
-        The approximated grid, float64. Cells that no complete window covers keep
-        their input value; missing cells stay NaN.
+        The approximated grid (``out`` if given), float64. Cells that no complete
+        window covers keep their input value; missing cells stay NaN.
 
     Raises
     ------
@@ -103,88 +111,33 @@ def simplify_raster(
     >>> bool(np.allclose(simplify_raster(noisy, 4, 16), noisy))
     True
     """
-    grid = np.asarray(values, dtype=np.float64)
-    if grid.ndim != 2:
-        raise ValueError(f"values must be a 2-D grid; got {grid.ndim} dimensions")
     wy, wx = check_window_2d(window)
-    size = wy * wx
-    modes = check_modes(modes, size)
-    ny, nx = grid.shape
-    if ny < wy or nx < wx:
-        raise ConfigError(
-            f"window = {wy} x {wx} cells: larger than the raster ({ny} x {nx} cells)"
-        )
-    if np.isinf(grid).any():
-        raise ValueError("values hold infinite values; use NaN for missing cells")
+    modes = check_modes(modes, wy * wx)
+    shape = _check_grid(values, wy, wx)
+    strips = _strips(shape, wy, wx)
     report = progress or (lambda done, total: None)
+    steps = 2 * len(strips)
 
-    valid = np.isfinite(grid)
-    complete = bool(valid.all())
-    if not complete and not valid.any():
-        return grid.copy()
-    shift = grid.mean() if complete else grid[valid].mean()
-    z = grid - shift if complete else np.where(valid, grid - shift, 0.0)
-    counts = _window_counts(valid, complete, wy, wx)
-    full = counts == size  # window corners (in the padded grid) of the partitions
-    n_windows = int(full.sum())
-    if n_windows == 0:
-        return grid.copy()
-    partial = np.argwhere((counts > 0) & (counts < size))
-    padded = np.pad(z, ((wy - 1, wy - 1), (wx - 1, wx - 1)))
-    fft_shape = (
-        scipy.fft.next_fast_len(ny + wy - 1, real=True),
-        scipy.fft.next_fast_len(nx + wx - 1, real=True),
-    )
-    spectrum = scipy.fft.rfft2(z, fft_shape)
-    report(1, 4)
-
-    gram = _all_window_gram(spectrum, fft_shape, wy, wx)
-    for rows in _partial_windows(padded, partial, wy, wx):
-        gram -= rows.T @ rows
-    row = gram.mean(axis=0)
-    cov = (gram - row[None, :] - row[:, None] + row.mean()) / n_windows
-    _, u = leading_eigenvectors(0.5 * (cov + cov.T), modes)
-    report(2, 4)
-
-    # Sum of the rebuilt windows over all windows of the zero-padded grid: a
-    # correlation with the averaging kernel, computed with the spectrum above (the
-    # FFT shape leaves room for every lag, so nothing wraps onto the grid).
-    kernel = _averaging_kernel(u, wy, wx)
-    ky, kx = np.meshgrid(np.arange(-(wy - 1), wy), np.arange(-(wx - 1), wx), indexing="ij")
-    folded = np.zeros(fft_shape)
-    folded[ky % fft_shape[0], kx % fft_shape[1]] = kernel
-    total = scipy.fft.irfft2(spectrum * scipy.fft.rfft2(folded).conj(), fft_shape)
-    total = np.ascontiguousarray(total[:ny, :nx])
-    report(3, 4)
-    # Remove the windows that are not partitions (edges, missing cells).
-    flat = total.ravel()
-    offset_y = np.repeat(np.arange(wy), wx)[None, :] - (wy - 1)
-    offset_x = np.tile(np.arange(wx), wy)[None, :] - (wx - 1)
-    for start, rows in zip(
-        range(0, len(partial), _CHUNK),
-        _partial_windows(padded, partial, wy, wx),
-        strict=True,
-    ):
-        mean = rows.mean(axis=1, keepdims=True)
-        rows -= mean
-        rebuilt = (rows @ u) @ u.T
-        rebuilt += mean
-        corner = partial[start : start + _CHUNK]
-        iy = corner[:, 0, None] + offset_y
-        ix = corner[:, 1, None] + offset_x
-        inside = (iy >= 0) & (iy < ny) & (ix >= 0) & (ix < nx)
-        flat -= np.bincount(
-            (iy * nx + ix)[inside], weights=rebuilt[inside], minlength=flat.size
-        )
-    cover = _cover_counts(full, complete, wy, wx, ny, nx)
-    if complete:  # every cell is covered
-        out = total / cover
-        out += shift
-    else:
+    shift, gram, n_windows = _covariance_sums(values, strips, wy, wx, report, steps)
+    if out is None:
+        out = np.empty(shape, dtype=np.float64)
+    if n_windows == 0:  # no complete window: every cell keeps its value
+        for r0, r1 in strips:
+            out[r0:r1] = np.asarray(values[r0:r1], dtype=np.float64)
+        return out
+    _, u = leading_eigenvectors(_centred_covariance(gram, n_windows), modes)
+    ny = shape[0]
+    for step, (r0, r1) in enumerate(strips, start=len(strips) + 1):
+        lo, hi = max(0, r0 - wy + 1), min(ny, r1 + wy - 1)
+        block = np.asarray(values[lo:hi], dtype=np.float64)
+        total, cover = _block_sums(_Block(block, shift, wy, wx), u)
+        rows = slice(r0 - lo, r1 - lo)
+        total, cover, block = total[rows], cover[rows], block[rows]
         covered = cover > 0
-        out = grid.copy()
-        out[covered] = total[covered] / cover[covered] + shift
-    report(4, 4)
+        strip = block.copy()
+        strip[covered] = total[covered] / cover[covered] + shift
+        out[r0:r1] = strip
+        report(step, steps)
     return out
 
 
@@ -212,30 +165,153 @@ def raster_modes(
     >>> lam.shape
     (16,)
     """
-    grid = np.asarray(values, dtype=np.float64)
     wy, wx = check_window_2d(window)
-    if grid.ndim != 2 or grid.shape[0] < wy or grid.shape[1] < wx:
-        raise ConfigError(f"window = {wy} x {wx} cells: larger than the raster")
-    view = sliding_window_view(grid, (wy, wx))
-    ok = np.isfinite(view).all(axis=(2, 3))
-    if not ok.any():
+    shape = _check_grid(values, wy, wx)
+    strips = _strips(shape, wy, wx)
+    _, gram, n_windows = _covariance_sums(values, strips, wy, wx, None, 0)
+    if n_windows == 0:
         raise ValueError("the raster has no complete window without missing cells")
-    valid = np.isfinite(grid)
-    complete = bool(valid.all())
-    z = np.where(valid, grid - grid[valid].mean(), 0.0)
-    padded = np.pad(z, ((wy - 1, wy - 1), (wx - 1, wx - 1)))
-    counts = _window_counts(valid, complete, wy, wx)
-    fft_shape = (
-        scipy.fft.next_fast_len(grid.shape[0] + wy - 1, real=True),
-        scipy.fft.next_fast_len(grid.shape[1] + wx - 1, real=True),
-    )
-    gram = _all_window_gram(scipy.fft.rfft2(z, fft_shape), fft_shape, wy, wx)
-    partial = np.argwhere((counts > 0) & (counts < wy * wx))
-    for rows in _partial_windows(padded, partial, wy, wx):
-        gram -= rows.T @ rows
+    return np.linalg.eigvalsh(_centred_covariance(gram, n_windows))[::-1]
+
+
+def _check_grid(values, wy: int, wx: int) -> tuple[int, int]:
+    shape = tuple(np.shape(values))
+    if len(shape) != 2:
+        raise ValueError(f"values must be a 2-D grid; got {len(shape)} dimensions")
+    ny, nx = shape
+    if ny < wy or nx < wx:
+        raise ConfigError(
+            f"window = {wy} x {wx} cells: larger than the raster ({ny} x {nx} cells)"
+        )
+    return ny, nx
+
+
+def _strips(shape: tuple[int, int], wy: int, wx: int) -> list[tuple[int, int]]:
+    """Row ranges owned by each strip: the windows whose top row lies in them."""
+    ny, nx = shape
+    rows = max(4 * wy, _STRIP_CELLS // max(nx + 2 * wx, 1))
+    return [(r0, min(ny, r0 + rows)) for r0 in range(0, ny, rows)]
+
+
+def _covariance_sums(values, strips, wy, wx, report, steps):
+    """Pass 1: the shift, and the lag products and count of the partitions.
+
+    Strip ``[r0, r1)`` reads rows ``[r0, r1 + wy - 1)``: the partitions wholly in
+    that block are exactly those whose top row is in ``[r0, r1)``.
+    """
+    ny = strips[-1][1]
+    gram = np.zeros((wy * wx, wy * wx))
+    n_windows = 0
+    shift = None
+    for step, (r0, r1) in enumerate(strips, start=1):
+        block = np.asarray(values[r0 : min(ny, r1 + wy - 1)], dtype=np.float64)
+        if np.isinf(block).any():
+            row, col = np.argwhere(np.isinf(block))[0]
+            raise ValueError(
+                f"values[{r0 + row}, {col}] is infinite; use NaN for missing cells"
+            )
+        if shift is None:  # work near zero: the mean of the first valid strip
+            valid = np.isfinite(block)
+            shift = float(block[valid].mean()) if valid.any() else None
+        if shift is not None:
+            g, m = _block_gram(_Block(block, shift, wy, wx))
+            gram += g
+            n_windows += m
+        if report is not None:
+            report(step, steps)
+    return shift or 0.0, gram, n_windows
+
+
+def _centred_covariance(gram, n_windows: int):
+    """``C = Q G Q / M`` with ``Q = I - 11^T/L``; exactly symmetric."""
     row = gram.mean(axis=0)
-    cov = (gram - row[None, :] - row[:, None] + row.mean()) / int(ok.sum())
-    return np.linalg.eigvalsh(0.5 * (cov + cov.T))[::-1]
+    cov = gram - (row[:, None] + row[None, :])
+    cov += row.mean()
+    return cov / n_windows
+
+
+class _Block:
+    """One strip of rows, prepared for the FFT sums over its windows."""
+
+    def __init__(self, block, shift: float, wy: int, wx: int) -> None:
+        ny, nx = block.shape
+        valid = np.isfinite(block)
+        self.complete = bool(valid.all())
+        z = block - shift if self.complete else np.where(valid, block - shift, 0.0)
+        self.shape, self.wy, self.wx = (ny, nx), wy, wx
+        counts = _window_counts(valid, self.complete, wy, wx)
+        self.full = counts == wy * wx  # window corners (padded grid) of partitions
+        self.partial = np.argwhere((counts > 0) & (counts < wy * wx))
+        self.padded = np.pad(z, ((wy - 1, wy - 1), (wx - 1, wx - 1)))
+        self.fft_shape = (
+            scipy.fft.next_fast_len(ny + wy - 1, real=True),
+            scipy.fft.next_fast_len(nx + wx - 1, real=True),
+        )
+        self.spectrum = scipy.fft.rfft2(z, self.fft_shape)
+
+    def partial_windows(self):
+        """Yield (corners, windows as (n, L) rows) of the non-partition windows."""
+        view = sliding_window_view(self.padded, (self.wy, self.wx))
+        for start in range(0, len(self.partial), _CHUNK):
+            c = self.partial[start : start + _CHUNK]
+            yield c, view[c[:, 0], c[:, 1]].reshape(len(c), self.wy * self.wx)
+
+
+def _block_gram(b: _Block):
+    """Lag products ``sum s_k s_k^T`` and the number of partitions of a block.
+
+    Small blocks sum the centred partitions themselves, ``sum c_k c_k^T`` (which
+    ``Q`` leaves unchanged): as accurate as the literal method, at a cost that is
+    negligible there. Large blocks take the FFT lag products, whose rounding is
+    relative to the grid's total variance (about 1e-14 of the largest entry).
+    """
+    if b.shape[0] * b.shape[1] <= _DIRECT_GRAM_CELLS:
+        wy, wx = b.wy, b.wx
+        corners = np.argwhere(b.full)  # the padded grid's corners of partitions
+        view = sliding_window_view(b.padded, (wy, wx))
+        gram = np.zeros((wy * wx, wy * wx))
+        for start in range(0, len(corners), _CHUNK):
+            c = corners[start : start + _CHUNK]
+            rows = view[c[:, 0], c[:, 1]].reshape(len(c), wy * wx)
+            rows -= rows.mean(axis=1, keepdims=True)
+            gram += rows.T @ rows
+        return gram, len(corners)
+    gram = _all_window_gram(b.spectrum, b.fft_shape, b.wy, b.wx)
+    for _, rows in b.partial_windows():
+        gram -= rows.T @ rows
+    return gram, int(b.full.sum())
+
+
+def _block_sums(b: _Block, u):
+    """Sum of the rebuilt partitions over each cell of a block, and their number."""
+    wy, wx = b.wy, b.wx
+    ny, nx = b.shape
+    # All windows of the zero-padded block: a correlation with the averaging kernel,
+    # from the block's spectrum (the FFT shape leaves room for every lag).
+    kernel = _averaging_kernel(u, wy, wx)
+    ky, kx = np.meshgrid(
+        np.arange(-(wy - 1), wy), np.arange(-(wx - 1), wx), indexing="ij"
+    )
+    folded = np.zeros(b.fft_shape)
+    folded[ky % b.fft_shape[0], kx % b.fft_shape[1]] = kernel
+    total = scipy.fft.irfft2(b.spectrum * scipy.fft.rfft2(folded).conj(), b.fft_shape)
+    total = np.ascontiguousarray(total[:ny, :nx])
+    # Less the windows that are not partitions (edges, missing cells).
+    flat = total.ravel()
+    offset_y = np.repeat(np.arange(wy), wx)[None, :] - (wy - 1)
+    offset_x = np.tile(np.arange(wx), wy)[None, :] - (wx - 1)
+    for corner, rows in b.partial_windows():
+        mean = rows.mean(axis=1, keepdims=True)
+        rows -= mean
+        rebuilt = (rows @ u) @ u.T
+        rebuilt += mean
+        iy = corner[:, 0, None] + offset_y
+        ix = corner[:, 1, None] + offset_x
+        inside = (iy >= 0) & (iy < ny) & (ix >= 0) & (ix < nx)
+        flat -= np.bincount(
+            (iy * nx + ix)[inside], weights=rebuilt[inside], minlength=flat.size
+        )
+    return total, _cover_counts(b.full, b.complete, wy, wx, ny, nx)
 
 
 def _box_sum(mask: NDArray, wy: int, wx: int) -> NDArray[np.int64]:
@@ -283,22 +359,17 @@ def _all_window_gram(spectrum, fft_shape, wy: int, wx: int) -> NDArray[np.float6
     return acf[lag_y, lag_x]
 
 
-def _partial_windows(padded, corners, wy: int, wx: int):
-    """Yield the windows at ``corners`` of the padded grid as (n, L) row batches."""
-    view = sliding_window_view(padded, (wy, wx))
-    for start in range(0, len(corners), _CHUNK):
-        c = corners[start : start + _CHUNK]
-        yield view[c[:, 0], c[:, 1]].reshape(len(c), wy * wx)
-
-
 def _averaging_kernel(u: NDArray[np.float64], wy: int, wx: int):
     """Kernel ``h[d] = sum_{m-i=d} B[i, m]`` with ``B = U U^T Q + 11^T/L``."""
-    v = u - u.mean(axis=0)
+    v = (u - u.mean(axis=0)).reshape(wy, wx, -1)
+    u = u.reshape(wy, wx, -1)
     kernel = np.zeros((2 * wy - 1, 2 * wx - 1))
-    for q in range(u.shape[1]):
-        kernel += scipy.signal.correlate(
-            v[:, q].reshape(wy, wx), u[:, q].reshape(wy, wx), mode="full"
-        )
+    # kernel[d] += U[i] V[i + d]: each cell i of U adds V, shifted by -i
+    for iy in range(wy):
+        for ix in range(wx):
+            kernel[wy - 1 - iy : 2 * wy - 1 - iy, wx - 1 - ix : 2 * wx - 1 - ix] += (
+                v @ u[iy, ix]
+            )
     dy = wy - np.abs(np.arange(-(wy - 1), wy))
     dx = wx - np.abs(np.arange(-(wx - 1), wx))
     return kernel + np.outer(dy, dx) / (wy * wx)

@@ -40,12 +40,11 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft
 import scipy.linalg
-import scipy.signal
 from numpy.lib.stride_tricks import as_strided, sliding_window_view
 from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import InputDataError
-from coastmesh.pca._checks import check_modes, check_window
+from coastmesh.pca.checks import check_modes, check_window
 from coastmesh.pca._eigen import leading_eigenvectors
 from coastmesh.pca._threads import single_threaded_blas
 

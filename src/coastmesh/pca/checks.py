@@ -1,4 +1,5 @@
-"""Argument checks shared by the PCA kernels."""
+"""Checks of the PCA parameters, shared by the kernels and the pipeline (which checks
+them before it reads any input)."""
 
 from __future__ import annotations
 

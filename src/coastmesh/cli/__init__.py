@@ -1,0 +1,1 @@
+"""The ``coastmesh`` command line: one click group, one module per subcommand."""

@@ -1,0 +1,95 @@
+"""``coastmesh simplify-raster``: PCA approximation of a bathymetry raster."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from coastmesh.cli._common import ProgressBar, translate_errors
+from coastmesh.cli.options import (
+    RASTER_WINDOW,
+    bbox_option,
+    crs_option,
+    overwrite_option,
+    plot_option,
+)
+
+__all__ = ["simplify_raster"]
+
+
+@click.command("simplify-raster")
+@click.argument("src", metavar="IN", type=click.Path(path_type=Path))
+@click.argument("dst", metavar="OUT", type=click.Path(dir_okay=False, path_type=Path))
+@click.option(
+    "--window",
+    type=RASTER_WINDOW,
+    default="8",
+    show_default=True,
+    metavar="CELLS",
+    help="Window size in cells: 8 for 8 x 8, or ROWSxCOLUMNS such as 8x6.",
+)
+@click.option(
+    "--modes",
+    type=click.IntRange(min=1),
+    default=16,
+    show_default=True,
+    metavar="N",
+    help="Leading PCA modes kept, from 1 (smoothest) to the cells in a window "
+    "(64 for 8 x 8: no change).",
+)
+@bbox_option
+@crs_option
+@plot_option
+@overwrite_option
+@click.pass_context
+@translate_errors
+def simplify_raster(
+    ctx: click.Context,
+    *,
+    src: Path,
+    dst: Path,
+    window: int | tuple[int, int],
+    modes: int,
+    bbox: tuple[float, float, float, float] | None,
+    crs: object,
+    plot: Path | None,
+    overwrite: bool,
+) -> None:
+    """Approximate the raster IN by PCA; write OUT.
+
+    IN is any raster GDAL reads (GeoTIFF, GEBCO-style NetCDF with lat/lon, ...);
+    band 1 is used. Each cell becomes the mean of its PCA reconstructions over the
+    overlapping windows of --window cells holding it; cells that no full window
+    of valid cells covers keep their value, and nodata stays nodata. OUT (.tif or
+    .nc) keeps the georeferencing, CRS, data type and nodata value.
+
+    \b
+    Example:
+      coastmesh simplify-raster gebco.nc gebco_8x8_r16.tif --window 8 --modes 16
+    """  # noqa: D301 (\b keeps click from rewrapping the example)
+    rows, columns = window if isinstance(window, tuple) else (window, window)
+    if modes > rows * columns:
+        raise click.BadParameter(
+            f"{modes} is more than the {rows * columns} cells of a {rows} x {columns} "
+            f"window; use 1 to {rows * columns}",
+            param_hint="'--modes'",
+        )
+    from coastmesh.pipeline import simplify_raster_file
+
+    quiet = ctx.find_root().obj.get("quiet", False)
+    with ProgressBar("raster stages", enabled=not quiet) as progress:
+        report = simplify_raster_file(
+            src,
+            dst,
+            window=window,
+            modes=modes,
+            bbox=bbox,
+            crs=crs,
+            overwrite=overwrite,
+            plot=plot,
+            progress=progress,
+        )
+    if not quiet:
+        written = f"{dst}" + (f" and {plot}" if plot is not None else "")
+        click.echo(f"{report.summary()}; wrote {written}")

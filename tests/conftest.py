@@ -1,0 +1,108 @@
+"""Shared fixtures: bundled real data, the CLI runner, small clipped inputs."""
+
+from __future__ import annotations
+
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+from coastmesh import datasets
+
+# Small real clips of the bundled data (minx, miny, maxx, maxy), EPSG:4326.
+ORKNEY_BBOX = (-3.45, 58.85, -2.85, 59.15)  # Mainland Orkney, west half
+NORWAY_BBOX = (4.8, 60.9, 5.6, 61.3)  # mouth of Sognefjorden
+ORKNEY_RASTER_BBOX = (-4.0, 58.0, -2.0, 60.0)  # 21 x 21 cells
+
+
+@pytest.fixture(scope="session")
+def orkney_geojson() -> Path:
+    return datasets.path("orkney_gshhg_f.geojson")
+
+
+@pytest.fixture(scope="session")
+def norway_geojson() -> Path:
+    return datasets.path("norway_west_gshhg_f.geojson")
+
+
+@pytest.fixture(scope="session")
+def orkney_tif() -> Path:
+    return datasets.path("etopo1_0.1deg_orkney_wide.tif")
+
+
+@pytest.fixture(scope="session")
+def nwshelf_tif() -> Path:
+    return datasets.path("etopo1_0.1deg_nwshelf.tif")
+
+
+@pytest.fixture(scope="session")
+def nwshelf_nc() -> Path:
+    return datasets.path("etopo1_0.1deg_nwshelf.nc")
+
+
+@pytest.fixture
+def run_cli():
+    """Call the ``coastmesh`` group in-process; return click's Result."""
+    from click.testing import CliRunner
+
+    from coastmesh.cli.main import cli
+
+    runner = CliRunner()
+
+    def invoke(*args: object):
+        return runner.invoke(cli, [str(a) for a in args], catch_exceptions=True)
+
+    return invoke
+
+
+@pytest.fixture
+def folder_listing():
+    """Return the sorted names in a folder (hidden staging files included)."""
+
+    def listing(folder: Path) -> list[str]:
+        return sorted(p.name for p in Path(folder).iterdir())
+
+    return listing
+
+
+@pytest.fixture
+def make_gpkg():
+    """Write geometries (and fields) to a GeoPackage with pyogrio's raw API."""
+    import pyogrio.raw
+
+    def write(path: Path, geometries, *, crs: str | None = "EPSG:4326", **fields):
+        geometry = np.empty(len(geometries), dtype=object)
+        geometry[:] = list(geometries)
+        with warnings.catch_warnings(), np.errstate(invalid="ignore"):
+            warnings.simplefilter("ignore")
+            pyogrio.raw.write(
+                path,
+                shapely.to_wkb(geometry),
+                [np.asarray(v) for v in fields.values()],
+                list(fields),
+                driver="GPKG",
+                geometry_type="Unknown",
+                crs=crs,
+            )
+        return Path(path)
+
+    return write
+
+
+@pytest.fixture
+def write_read():
+    """Write ``obj`` to ``path``, read it back, and check ``obj`` was not changed.
+
+    ``assert_same(a, b)`` compares two objects and raises on a difference.
+    """
+    import copy
+
+    def round_trip(path: Path, writer, reader, obj, assert_same):
+        before = copy.deepcopy(obj)
+        writer(path, obj)
+        assert_same(obj, before)
+        return reader(path)
+
+    return round_trip
