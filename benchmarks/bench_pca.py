@@ -55,7 +55,9 @@ def rings_of(path: Path, min_points: int):
 
 def bench_shorelines(data: Path, quick: bool):
     print("\n### Shorelines: every ring of 5,000 points or more, closed\n")
-    print("| file | ring points | L | r | reference s | fast s | ratio | max diff (deg) |")
+    print(
+        "| file | ring points | L | r | reference s | fast s | ratio | max diff (deg) |"
+    )
     print("|---|---:|---:|---:|---:|---:|---:|---:|")
     totals = {}
     for name in ("norway_west_gshhg_f.geojson", "uk_northsea_gshhg_f.gpkg"):
@@ -66,11 +68,16 @@ def bench_shorelines(data: Path, quick: bool):
             for modes in (1, 5):
                 for xy in rings:
                     t_ref, ref = best_time(
-                        lambda: simplify_contour_dense(xy, window, modes, closed=True),
+                        lambda xy=xy, w=window, r=modes: simplify_contour_dense(
+                            xy, w, r, closed=True
+                        ),
                         1 if len(xy) > 20000 else 3,
                     )
                     t_fast, fast = best_time(
-                        lambda: simplify_contour(xy, window, modes, closed=True), 5
+                        lambda xy=xy, w=window, r=modes: simplify_contour(
+                            xy, w, r, closed=True
+                        ),
+                        5,
                     )
                     diff = np.abs(fast - ref).max()
                     key = (window, modes)
@@ -111,18 +118,20 @@ def bench_rasters(data: Path, quick: bool):
     for name, grid in grids.items():
         for modes in (1, 16, 48):
             big = grid.size > 5_000_000
-            t_fast, fast = best_time(lambda: simplify_raster(grid, 8, modes), 1 if big else 3)
+            t_fast, fast = best_time(
+                lambda g=grid, r=modes: simplify_raster(g, 8, r), 1 if big else 3
+            )
             if grid.size > 10_000_000:
                 print(f"| {name} | {modes} | not run (~25 GB) | {t_fast:.3f} | | | |")
                 continue
             t_ref, ref = best_time(
-                lambda: simplify_raster_dense(grid, 8, modes), 1 if big else 2
+                lambda g=grid, r=modes: simplify_raster_dense(g, 8, r), 1 if big else 2
             )
             diff = np.abs(fast - ref).max()
             rel = diff / np.abs(ref).max()
             print(
-                f"| {name} | {modes} | {t_ref:.3f} | {t_fast:.4f} | {t_ref / t_fast:.1f} "
-                f"| {diff:.1e} | {rel:.1e} |"
+                f"| {name} | {modes} | {t_ref:.3f} | {t_fast:.4f} "
+                f"| {t_ref / t_fast:.1f} | {diff:.1e} | {rel:.1e} |"
             )
 
 
@@ -131,15 +140,24 @@ def bench_cli(data: Path):
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "out.gpkg"
         cmd = [
-            sys.executable, "-m", "coastmesh", "simplify-shoreline",
-            str(data / "uk_northsea_gshhg_f.gpkg"), str(out),
-            "--window", "100", "--modes", "1",
+            sys.executable,
+            "-m",
+            "coastmesh",
+            "simplify-shoreline",
+            str(data / "uk_northsea_gshhg_f.gpkg"),
+            str(out),
+            "--window",
+            "100",
+            "--modes",
+            "1",
         ]
         start = time.perf_counter()
         done = subprocess.run(cmd, capture_output=True, text=True, check=False)
         elapsed = time.perf_counter() - start
-    print(f"`coastmesh simplify-shoreline` wall time: {elapsed:.2f} s "
-          f"(exit {done.returncode})\n\n    {done.stdout.strip()}")
+    print(
+        f"`coastmesh simplify-shoreline` wall time: {elapsed:.2f} s "
+        f"(exit {done.returncode})\n\n    {done.stdout.strip()}"
+    )
 
 
 def main() -> None:

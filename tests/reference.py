@@ -104,7 +104,6 @@ def simplify_raster_dense(values, window, modes):
     """Literal raster algorithm with numpy: explicit (L, M) window matrix."""
     grid = np.asarray(values, dtype=np.float64)
     wy, wx = (window, window) if np.isscalar(window) else window
-    ny, nx = grid.shape
     view = np.lib.stride_tricks.sliding_window_view(grid, (wy, wx))
     valid = np.isfinite(view).all(axis=(2, 3))
     ky, kx = np.nonzero(valid)

@@ -30,6 +30,7 @@ def __getattr__(name: str):
         return getattr(importlib.import_module(_LAZY[name]), name)
     raise AttributeError(f"module 'coastmesh' has no attribute {name!r}")
 
+
 __all__ = [
     "CoastmeshError",
     "CoastmeshWarning",

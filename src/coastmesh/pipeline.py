@@ -29,8 +29,7 @@ from coastmesh.io._atomic import AtomicOutputs, atomic_directory, check_output
 from coastmesh.io._inputs import check_bbox
 from coastmesh.io._registry import plot_format, raster_driver, vector_driver
 from coastmesh.io.vector import check_finite, read_features, write_features
-from coastmesh.pca import simplify_raster
-from coastmesh.pca import check_modes, check_window, check_window_2d
+from coastmesh.pca import check_modes, check_window, check_window_2d, simplify_raster
 from coastmesh.reports import RasterReport, raster_report
 from coastmesh.types import Features
 

@@ -66,7 +66,9 @@ def test_each_ring_is_the_kernel_result(norway):
         if not parts:
             assert after is None
             continue
-        expected = parts[0] if before.geom_type == "Polygon" else shapely.MultiPolygon(parts)
+        expected = (
+            parts[0] if before.geom_type == "Polygon" else shapely.MultiPolygon(parts)
+        )
         if shapely.is_valid(expected):
             assert shapely.equals_exact(after, expected, tolerance=0)
             checked += 1
@@ -81,9 +83,15 @@ def test_holes_lines_and_types():
     tiny_hole = _circle(-5, 0, 0.5, 20)
     poly = shapely.Polygon(shell, [hole, tiny_hole])
     island = shapely.Polygon(_circle(30, 0, 1, 30))  # dropped as a whole
-    multi = shapely.MultiPolygon([shapely.Polygon(_circle(50, 0, 2, 150)),
-                                  shapely.Polygon(_circle(60, 0, 2, 20))])
-    open_line = shapely.LineString(np.c_[np.linspace(0, 10, 120), np.sin(np.linspace(0, 10, 120))])
+    multi = shapely.MultiPolygon(
+        [
+            shapely.Polygon(_circle(50, 0, 2, 150)),
+            shapely.Polygon(_circle(60, 0, 2, 20)),
+        ]
+    )
+    open_line = shapely.LineString(
+        np.c_[np.linspace(0, 10, 120), np.sin(np.linspace(0, 10, 120))]
+    )
     closed_line = shapely.LineString(np.vstack([_circle(0, 40, 3, 100), [[3, 40]]]))
     geoms = np.array([poly, island, multi, open_line, closed_line, None], dtype=object)
     out, report = simplify_shorelines(geoms, 50, 2)
@@ -126,7 +134,7 @@ def test_bad_input():
         nan_ring = shapely.LineString(coords)
     with pytest.raises(InputDataError, match="feature 1: vertex 7"):
         simplify_shorelines([shapely.Point(0, 0).buffer(1), nan_ring], 10, 1)
-    with pytest.raises(InputDataError, match="feature 0.*Point"):
+    with pytest.raises(InputDataError, match=r"feature 0.*Point"):
         simplify_shorelines([shapely.Point(0, 0)], 10, 1)
     with pytest.raises(ConfigError, match="modes = 11"):
         simplify_shorelines([bad], 10, 11)

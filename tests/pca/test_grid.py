@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
+from reference import simplify_raster_dense, simplify_raster_reference
 
 import coastmesh
 from coastmesh.errors import ConfigError
 from coastmesh.pca import grid as grid_module
 from coastmesh.pca import raster_modes, simplify_raster
-from reference import simplify_raster_dense, simplify_raster_reference
 
 DATA = Path(coastmesh.__file__).parent / "data"
 
@@ -45,7 +45,8 @@ def _well_posed(grid, window, modes) -> bool:
 
 
 @settings(
-    max_examples=60, deadline=None,
+    max_examples=60,
+    deadline=None,
     suppress_health_check=[HealthCheck.function_scoped_fixture],
 )
 @given(
@@ -71,7 +72,8 @@ def test_matches_reference(strips, seed, ny, nx, wy, wx, modes_frac, holes):
 
 
 @settings(
-    max_examples=25, deadline=None,
+    max_examples=25,
+    deadline=None,
     suppress_health_check=[HealthCheck.function_scoped_fixture],
 )
 @given(
@@ -144,7 +146,9 @@ def test_rectangular_window():
 
 def test_progress_is_reported(strips):
     calls = []
-    simplify_raster(_surface(1, 40, 10, 0.0), 3, 1, progress=lambda d, t: calls.append((d, t)))
+    simplify_raster(
+        _surface(1, 40, 10, 0.0), 3, 1, progress=lambda d, t: calls.append((d, t))
+    )
     total = calls[-1][1]
     assert calls == [(d, total) for d in range(1, total + 1)]
     assert total == (2 if strips == "whole" else 2 * 4)  # 40 rows, strips of 12

@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
+from reference import simplify_contour_dense, simplify_contour_reference
 
 import coastmesh
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.pca import contour_modes, line, simplify_contour
-from reference import simplify_contour_dense, simplify_contour_reference
 
 DATA = Path(coastmesh.__file__).parent / "data"
 
@@ -43,7 +43,11 @@ def path(request, monkeypatch):
     return request.param
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(
+    max_examples=60,
+    deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
 @given(
     seed=st.integers(0, 2**32 - 1),
     n=st.integers(2, 140),
@@ -67,7 +71,11 @@ def test_matches_reference(path, seed, n, window, modes_frac, closed):
     np.testing.assert_allclose(got, expected, rtol=0, atol=1e-9)
 
 
-@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@settings(
+    max_examples=30,
+    deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
 @given(
     seed=st.integers(0, 2**32 - 1),
     n=st.integers(8, 120),
@@ -115,9 +123,7 @@ def _norway_rings(min_points: int):
     for feature in data["features"]:
         geom = feature["geometry"]
         polygons = (
-            [geom["coordinates"]]
-            if geom["type"] == "Polygon"
-            else geom["coordinates"]
+            [geom["coordinates"]] if geom["type"] == "Polygon" else geom["coordinates"]
         )
         for polygon in polygons:
             for ring in polygon:

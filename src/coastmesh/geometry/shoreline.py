@@ -18,8 +18,8 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import InputDataError
-from coastmesh.pca.checks import check_modes, check_window
 from coastmesh.pca._threads import single_threaded_blas
+from coastmesh.pca.checks import check_modes, check_window
 from coastmesh.pca.line import simplify_contour
 
 __all__ = ["ShorelineReport", "simplify_shorelines"]
@@ -159,8 +159,8 @@ def simplify_shorelines(
         coords[starts[closes]] == coords[starts[closes] + stored[closes] - 1], axis=1
     )
     is_ring |= closes & np.isin(
-        shapely.get_type_id(contours), (shapely.GeometryType.LINESTRING,
-                                        shapely.GeometryType.LINEARRING)
+        shapely.get_type_id(contours),
+        (shapely.GeometryType.LINESTRING, shapely.GeometryType.LINEARRING),
     )
     distinct = stored - is_ring  # a ring's closing vertex is not a point of its own
     keep = distinct >= window
@@ -291,7 +291,9 @@ def _repair(result, polygonal, types):
     invalid[check] = ~shapely.is_valid(result[check])
     if not invalid.any():
         return result, 0
-    fixed = shapely.make_valid(result[invalid], method="structure", keep_collapsed=False)
+    fixed = shapely.make_valid(
+        result[invalid], method="structure", keep_collapsed=False
+    )
     parts, owner = shapely.get_parts(fixed, return_index=True)
     polys = shapely.get_type_id(parts) == shapely.GeometryType.POLYGON
     out = np.full(len(fixed), None, dtype=object)

@@ -41,7 +41,10 @@ def leading_eigenvectors(
         values, vectors = np.linalg.eigh(cov)
     elif size <= _DENSE_MAX_SIZE or 4 * modes > size:
         values, vectors = scipy.linalg.eigh(
-            cov, subset_by_index=(size - modes, size - 1), driver="evr"
+            cov,
+            subset_by_index=(size - modes, size - 1),
+            driver="evr",
+            check_finite=False,
         )
     else:
         try:

@@ -1,5 +1,7 @@
-"""Checks of the PCA parameters, shared by the kernels and the pipeline (which checks
-them before it reads any input)."""
+"""Checks of the PCA parameters.
+
+Shared by the kernels and the pipeline, which checks them before it reads any input.
+"""
 
 from __future__ import annotations
 

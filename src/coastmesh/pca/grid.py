@@ -27,6 +27,7 @@ window, against ``O(N L^2)`` for the literal method; memory ``O(N)``.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 
 import numpy as np
@@ -35,13 +36,12 @@ from numpy.lib.stride_tricks import sliding_window_view
 from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import ConfigError
-from coastmesh.pca.checks import check_modes, check_window_2d
 from coastmesh.pca._eigen import leading_eigenvectors
+from coastmesh.pca.checks import check_modes, check_window_2d
 
 __all__ = ["raster_modes", "simplify_raster"]
 
 _CHUNK = 1 << 16  # partial windows handled per batch (memory: _CHUNK * L floats)
-_DIRECT_GRAM_CELLS = 1 << 18  # blocks this small sum centred partitions directly
 _STRIP_CELLS = 1 << 22  # cells per strip of rows (working memory ~100 B a cell)
 
 
@@ -118,7 +118,9 @@ def simplify_raster(
     report = progress or (lambda done, total: None)
     steps = 2 * len(strips)
 
-    shift, gram, n_windows = _covariance_sums(values, strips, wy, wx, report, steps)
+    shift, gram, n_windows, only = _covariance_sums(
+        values, strips, wy, wx, report, steps
+    )
     if out is None:
         out = np.empty(shape, dtype=np.float64)
     if n_windows == 0:  # no complete window: every cell keeps its value
@@ -129,13 +131,21 @@ def simplify_raster(
     ny = shape[0]
     for step, (r0, r1) in enumerate(strips, start=len(strips) + 1):
         lo, hi = max(0, r0 - wy + 1), min(ny, r1 + wy - 1)
-        block = np.asarray(values[lo:hi], dtype=np.float64)
-        total, cover = _block_sums(_Block(block, shift, wy, wx), u)
+        if only is not None:  # a single strip: pass 1's block is this one
+            b = only
+        else:
+            b = _Block(np.asarray(values[lo:hi], dtype=np.float64), shift, wy, wx)
+        total, cover = _block_sums(b, u)
+        block = b.block
         rows = slice(r0 - lo, r1 - lo)
         total, cover, block = total[rows], cover[rows], block[rows]
-        covered = cover > 0
-        strip = block.copy()
-        strip[covered] = total[covered] / cover[covered] + shift
+        if (cover > 0).all():  # the usual case: every cell is covered
+            strip = total / cover
+            strip += shift
+        else:
+            covered = cover > 0
+            strip = block.copy()
+            strip[covered] = total[covered] / cover[covered] + shift
         out[r0:r1] = strip
         report(step, steps)
     return out
@@ -168,7 +178,7 @@ def raster_modes(
     wy, wx = check_window_2d(window)
     shape = _check_grid(values, wy, wx)
     strips = _strips(shape, wy, wx)
-    _, gram, n_windows = _covariance_sums(values, strips, wy, wx, None, 0)
+    _, gram, n_windows, _ = _covariance_sums(values, strips, wy, wx, None, 0)
     if n_windows == 0:
         raise ValueError("the raster has no complete window without missing cells")
     return np.linalg.eigvalsh(_centred_covariance(gram, n_windows))[::-1]
@@ -194,7 +204,9 @@ def _strips(shape: tuple[int, int], wy: int, wx: int) -> list[tuple[int, int]]:
 
 
 def _covariance_sums(values, strips, wy, wx, report, steps):
-    """Pass 1: the shift, and the lag products and count of the partitions.
+    """Pass 1: the shift, the lag products and the count of the partitions.
+
+    Also returns the prepared block when there is only one strip (pass 2 reuses it).
 
     Strip ``[r0, r1)`` reads rows ``[r0, r1 + wy - 1)``: the partitions wholly in
     that block are exactly those whose top row is in ``[r0, r1)``.
@@ -203,6 +215,7 @@ def _covariance_sums(values, strips, wy, wx, report, steps):
     gram = np.zeros((wy * wx, wy * wx))
     n_windows = 0
     shift = None
+    b = None
     for step, (r0, r1) in enumerate(strips, start=1):
         block = np.asarray(values[r0 : min(ny, r1 + wy - 1)], dtype=np.float64)
         if np.isinf(block).any():
@@ -214,12 +227,13 @@ def _covariance_sums(values, strips, wy, wx, report, steps):
             valid = np.isfinite(block)
             shift = float(block[valid].mean()) if valid.any() else None
         if shift is not None:
-            g, m = _block_gram(_Block(block, shift, wy, wx))
+            b = _Block(block, shift, wy, wx)
+            g, m = _block_gram(b)
             gram += g
             n_windows += m
         if report is not None:
             report(step, steps)
-    return shift or 0.0, gram, n_windows
+    return shift or 0.0, gram, n_windows, b if len(strips) == 1 else None
 
 
 def _centred_covariance(gram, n_windows: int):
@@ -231,55 +245,149 @@ def _centred_covariance(gram, n_windows: int):
 
 
 class _Block:
-    """One strip of rows, prepared for the FFT sums over its windows."""
+    """One strip of rows, prepared for the FFT sums over its windows.
+
+    The spectrum (for the reconstruction) and the difference fields (for the
+    covariance) are computed on first use: each pass needs only one of them.
+    """
 
     def __init__(self, block, shift: float, wy: int, wx: int) -> None:
         ny, nx = block.shape
-        valid = np.isfinite(block)
-        self.complete = bool(valid.all())
-        z = block - shift if self.complete else np.where(valid, block - shift, 0.0)
+        self.block = block
+        self.valid = np.isfinite(block)
+        self.complete = bool(self.valid.all())
+        self.z = (
+            block - shift if self.complete else np.where(self.valid, block - shift, 0.0)
+        )
         self.shape, self.wy, self.wx = (ny, nx), wy, wx
-        counts = _window_counts(valid, self.complete, wy, wx)
+        counts = _window_counts(self.valid, self.complete, wy, wx)
         self.full = counts == wy * wx  # window corners (padded grid) of partitions
         self.partial = np.argwhere((counts > 0) & (counts < wy * wx))
-        self.padded = np.pad(z, ((wy - 1, wy - 1), (wx - 1, wx - 1)))
         self.fft_shape = (
             scipy.fft.next_fast_len(ny + wy - 1, real=True),
             scipy.fft.next_fast_len(nx + wx - 1, real=True),
         )
-        self.spectrum = scipy.fft.rfft2(z, self.fft_shape)
+
+    @functools.cached_property
+    def spectrum(self):
+        """2-D real FFT of the block, zero-padded to ``fft_shape``."""
+        return scipy.fft.rfft2(self.z, self.fft_shape)
+
+    @functools.cached_property
+    def dx(self):
+        """Differences along x between valid neighbours (0 where either is missing)."""
+        v, z = self.valid, self.z
+        return np.where(v[:, 1:] & v[:, :-1], z[:, 1:] - z[:, :-1], 0.0)
+
+    @functools.cached_property
+    def dy(self):
+        """Differences along y between valid neighbours (0 where either is missing)."""
+        v, z = self.valid, self.z
+        return np.where(v[1:] & v[:-1], z[1:] - z[:-1], 0.0)
+
+    def partial_differences(self):
+        """Yield (corners, internal differences) of the non-partition windows.
+
+        The differences are (n, n_e) rows, in the order of :func:`_difference_layout`.
+        """
+        wy, wx = self.wy, self.wx
+        dx = np.pad(self.dx, ((wy - 1, wy - 1), (wx - 1, wx)))
+        dy = np.pad(self.dy, ((wy - 1, wy), (wx - 1, wx - 1)))
+        view_x = sliding_window_view(dx, (wy, wx - 1))
+        view_y = sliding_window_view(dy, (wy - 1, wx))
+        for start in range(0, len(self.partial), _CHUNK):
+            c = self.partial[start : start + _CHUNK]
+            yield (
+                c,
+                np.concatenate(
+                    [
+                        view_x[c[:, 0], c[:, 1]].reshape(len(c), -1),
+                        view_y[c[:, 0], c[:, 1]].reshape(len(c), -1),
+                    ],
+                    axis=1,
+                ),
+            )
 
     def partial_windows(self):
         """Yield (corners, windows as (n, L) rows) of the non-partition windows."""
-        view = sliding_window_view(self.padded, (self.wy, self.wx))
+        wy, wx = self.wy, self.wx
+        padded = np.pad(self.z, ((wy - 1, wy - 1), (wx - 1, wx - 1)))
+        view = sliding_window_view(padded, (wy, wx))
         for start in range(0, len(self.partial), _CHUNK):
             c = self.partial[start : start + _CHUNK]
             yield c, view[c[:, 0], c[:, 1]].reshape(len(c), self.wy * self.wx)
 
 
 def _block_gram(b: _Block):
-    """Lag products ``sum s_k s_k^T`` and the number of partitions of a block.
+    """``T = sum t_k t_k^T`` over the partitions of a block, and their number.
 
-    Small blocks sum the centred partitions themselves, ``sum c_k c_k^T`` (which
-    ``Q`` leaves unchanged): as accurate as the literal method, at a cost that is
-    negligible there. Large blocks take the FFT lag products, whose rounding is
-    relative to the grid's total variance (about 1e-14 of the largest entry).
+    ``t_k = s_k - s_k[0]``, the window relative to its first cell, has the same
+    centred vector ``Q t_k = Q s_k``, and it is a fixed linear map ``P`` of the
+    window's internal differences ``e_k`` (down the first column, then along each
+    row). So ``T = P E P^T`` with ``E = sum e_k e_k^T``: over all windows of the
+    zero-padded block that is made of the auto- and cross-correlations of the x
+    and y difference fields (FFTs), less the partial windows done explicitly.
+    Working on differences, not values, keeps the FFT's rounding relative to the
+    grid's roughness rather than to its total variance (the depth range).
     """
-    if b.shape[0] * b.shape[1] <= _DIRECT_GRAM_CELLS:
-        wy, wx = b.wy, b.wx
-        corners = np.argwhere(b.full)  # the padded grid's corners of partitions
-        view = sliding_window_view(b.padded, (wy, wx))
-        gram = np.zeros((wy * wx, wy * wx))
-        for start in range(0, len(corners), _CHUNK):
-            c = corners[start : start + _CHUNK]
-            rows = view[c[:, 0], c[:, 1]].reshape(len(c), wy * wx)
-            rows -= rows.mean(axis=1, keepdims=True)
-            gram += rows.T @ rows
-        return gram, len(corners)
-    gram = _all_window_gram(b.spectrum, b.fft_shape, b.wy, b.wx)
-    for _, rows in b.partial_windows():
-        gram -= rows.T @ rows
-    return gram, int(b.full.sum())
+    wy, wx = b.wy, b.wx
+    shape = b.fft_shape
+    fx = scipy.fft.rfft2(b.dx, shape)
+    fy = scipy.fft.rfft2(b.dy, shape)
+    corr = {
+        (0, 0): _small_lags(fx.conj() * fx, shape, wy),
+        (1, 1): _small_lags(fy.conj() * fy, shape, wy),
+        (0, 1): _small_lags(fx.conj() * fy, shape, wy),
+    }
+    field, oy, ox = _difference_layout(wy, wx)
+    lag_y = oy[None, :] - oy[:, None]
+    lag_x = ox[None, :] - ox[:, None]
+    e = np.empty((len(field), len(field)))
+    for (fa, fb), r in corr.items():  # r[d] = sum_j A[j] B[j + d]
+        rows, cols = np.ix_(field == fa, field == fb)
+        e[rows, cols] = r[lag_y[rows, cols] + wy - 1, lag_x[rows, cols] % shape[1]]
+        if fa != fb:
+            e[cols.T, rows.T] = e[rows, cols].T
+    for _, rows in b.partial_differences():
+        e -= rows.T @ rows
+    path = _difference_path(wy, wx)
+    return path @ e @ path.T, int(b.full.sum())
+
+
+def _small_lags(product, shape, wy: int) -> NDArray[np.float64]:
+    """Inverse 2-D FFT of a cross-spectrum at the row lags ``-(wy-1) .. wy-1`` only.
+
+    Row ``i`` of the result is lag ``i - (wy-1)``; columns are all x lags (mod
+    ``shape[1]``). The inverse along y runs on every column, but the inverse
+    along x only on the ``2wy-1`` rows needed: about half a full inverse.
+    """
+    rows = scipy.fft.ifft(product, axis=0)
+    wanted = np.arange(-(wy - 1), wy) % shape[0]
+    return scipy.fft.irfft(rows[wanted], shape[1], axis=1)
+
+
+def _difference_layout(wy: int, wx: int):
+    """Field (0 = x, 1 = y) and offset of each internal difference of a window."""
+    xy_, xx_ = np.divmod(np.arange(wy * (wx - 1)), wx - 1)
+    yy_, yx_ = np.divmod(np.arange((wy - 1) * wx), wx)
+    field = np.r_[np.zeros(len(xy_), int), np.ones(len(yy_), int)]
+    return field, np.r_[xy_, yy_], np.r_[xx_, yx_]
+
+
+def _difference_path(wy: int, wx: int) -> NDArray[np.float64]:
+    """Return ``P`` (L x n_e), mapping a window's differences to its values.
+
+    Cell ``(iy, ix)`` less cell ``(0, 0)`` is the sum of the y differences down
+    column 0 and the x differences along row ``iy``.
+    """
+    n_x = wy * (wx - 1)
+    path = np.zeros((wy * wx, n_x + (wy - 1) * wx))
+    for iy in range(wy):
+        for ix in range(wx):
+            a = iy * wx + ix
+            path[a, n_x + np.arange(iy) * wx] = 1.0
+            path[a, iy * (wx - 1) + np.arange(ix)] = 1.0
+    return path
 
 
 def _block_sums(b: _Block, u):
@@ -296,27 +404,29 @@ def _block_sums(b: _Block, u):
     folded[ky % b.fft_shape[0], kx % b.fft_shape[1]] = kernel
     total = scipy.fft.irfft2(b.spectrum * scipy.fft.rfft2(folded).conj(), b.fft_shape)
     total = np.ascontiguousarray(total[:ny, :nx])
-    # Less the windows that are not partitions (edges, missing cells).
-    flat = total.ravel()
-    offset_y = np.repeat(np.arange(wy), wx)[None, :] - (wy - 1)
-    offset_x = np.tile(np.arange(wx), wy)[None, :] - (wx - 1)
-    for corner, rows in b.partial_windows():
-        mean = rows.mean(axis=1, keepdims=True)
-        rows -= mean
-        rebuilt = (rows @ u) @ u.T
+    # Less the windows that are not partitions (edges, missing cells), summed in
+    # the padded grid, where every cell of every window has an index.
+    ny_p, nx_p = ny + 2 * (wy - 1), nx + 2 * (wx - 1)
+    cells = (np.repeat(np.arange(wy), wx) * nx_p + np.tile(np.arange(wx), wy))[None, :]
+    correction = np.zeros(ny_p * nx_p)
+    for corner, windows in b.partial_windows():
+        mean = windows.mean(axis=1, keepdims=True)
+        np.subtract(windows, mean, out=windows)
+        rebuilt = (windows @ u) @ u.T
         rebuilt += mean
-        iy = corner[:, 0, None] + offset_y
-        ix = corner[:, 1, None] + offset_x
-        inside = (iy >= 0) & (iy < ny) & (ix >= 0) & (ix < nx)
-        flat -= np.bincount(
-            (iy * nx + ix)[inside], weights=rebuilt[inside], minlength=flat.size
+        index = (corner[:, 0] * nx_p + corner[:, 1])[:, None] + cells
+        correction += np.bincount(
+            index.ravel(), weights=rebuilt.ravel(), minlength=correction.size
         )
+    total -= correction.reshape(ny_p, nx_p)[wy - 1 : wy - 1 + ny, wx - 1 : wx - 1 + nx]
     return total, _cover_counts(b.full, b.complete, wy, wx, ny, nx)
 
 
 def _box_sum(mask: NDArray, wy: int, wx: int) -> NDArray[np.int64]:
-    """Sum of ``mask`` over every ``wy x wx`` window of ``mask`` zero-padded by
-    ``w-1`` on every side; index = window corner in the padded grid."""
+    """Sum ``mask`` over every ``wy x wx`` window of the grid zero-padded by w-1.
+
+    The index of the result is the window's corner in the padded grid.
+    """
     padded = np.pad(mask.astype(np.int64), ((wy, wy - 1), (wx, wx - 1)))
     cs = padded.cumsum(axis=0).cumsum(axis=1)
     return cs[wy:, wx:] - cs[:-wy, wx:] - cs[wy:, :-wx] + cs[:-wy, :-wx]
@@ -329,7 +439,7 @@ def _ones_box_1d(n: int, w: int) -> NDArray[np.int64]:
 
 
 def _window_counts(valid, complete: bool, wy: int, wx: int) -> NDArray[np.int64]:
-    """Valid cells in each window of the padded grid; index = window corner."""
+    """Count the valid cells in each window of the padded grid (index = corner)."""
     if complete:  # separable: rows inside times columns inside
         ny, nx = valid.shape
         return np.outer(_ones_box_1d(ny, wy), _ones_box_1d(nx, wx))
@@ -345,18 +455,6 @@ def _cover_counts(full, complete: bool, wy: int, wx: int, ny: int, nx: int):
         return np.outer(_ones_box_1d(ny - wy + 1, wy), _ones_box_1d(nx - wx + 1, wx))
     starts = full[wy - 1 : wy - 1 + ny - wy + 1, wx - 1 : wx - 1 + nx - wx + 1]
     return _box_sum(starts, wy, wx)
-
-
-def _all_window_gram(spectrum, fft_shape, wy: int, wx: int) -> NDArray[np.float64]:
-    """``G[a, b]`` summed over all windows of the zero-padded grid.
-
-    That is the 2-D autocorrelation of the grid at lag ``b - a``, from its spectrum.
-    """
-    acf = scipy.fft.irfft2(spectrum * spectrum.conj(), fft_shape)
-    ay, ax = np.divmod(np.arange(wy * wx), wx)
-    lag_y = (ay[None, :] - ay[:, None]) % fft_shape[0]
-    lag_x = (ax[None, :] - ax[:, None]) % fft_shape[1]
-    return acf[lag_y, lag_x]
 
 
 def _averaging_kernel(u: NDArray[np.float64], wy: int, wx: int):

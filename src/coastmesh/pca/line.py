@@ -39,14 +39,13 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.fft
-import scipy.linalg
 from numpy.lib.stride_tricks import as_strided, sliding_window_view
 from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import InputDataError
-from coastmesh.pca.checks import check_modes, check_window
 from coastmesh.pca._eigen import leading_eigenvectors
 from coastmesh.pca._threads import single_threaded_blas
+from coastmesh.pca.checks import check_modes, check_window
 
 __all__ = ["contour_modes", "simplify_contour"]
 
@@ -79,8 +78,9 @@ def simplify_contour(
     Raises
     ------
     ValueError
-        If ``coords`` is not of shape (n, 2) or holds NaN or infinite values, or if
-        ``window`` or ``modes`` are out of range (:class:`~coastmesh.errors.ConfigError`).
+        If ``coords`` is not of shape (n, 2) or holds NaN or infinite values, or
+        if ``window`` or ``modes`` are out of range
+        (:class:`~coastmesh.errors.ConfigError`).
 
     Notes
     -----
@@ -175,7 +175,7 @@ def _as_coords(coords: ArrayLike) -> NDArray[np.float64]:
 def _approximate(z: NDArray[np.float64], window: int, modes: int, closed: bool):
     """FFT path for ``z`` of shape (k, n): returns the approximated (k, n)."""
     n = z.shape[1]
-    framed, spectrum, size, covs = _covariances(z, window, closed)
+    _, spectrum, size, covs = _covariances(z, window, closed)
     kernels = np.zeros((len(z), size))
     corrections = np.zeros((len(z), n))
     for dim, cov in enumerate(covs):
@@ -220,7 +220,7 @@ def _covariances(z: NDArray[np.float64], window: int, closed: bool):
             lags[dim, : window - 1] -= np.correlate(tail[dim], tail[dim], "full")[
                 window - 2 :
             ]
-        grams = [scipy.linalg.toeplitz(row) for row in lags]
+        grams = [_toeplitz(row) for row in lags]
         n_windows = n
     else:
         framed = np.pad(z, ((0, 0), (window - 1, window - 1)))
@@ -228,13 +228,19 @@ def _covariances(z: NDArray[np.float64], window: int, closed: bool):
         lags = scipy.fft.irfft(spectrum * spectrum.conj(), size)[:, :window]
         grams = []
         for dim, row in enumerate(lags):
-            gram = scipy.linalg.toeplitz(row)
+            gram = _toeplitz(row).copy()
             gram -= _overhang_gram(z[dim], window)
             gram -= _overhang_gram(z[dim, ::-1], window)[::-1, ::-1]
             grams.append(gram)
         n_windows = n - window + 1
     covs = np.stack([_centre(g) / n_windows for g in grams])
     return framed, spectrum, size, covs
+
+
+def _toeplitz(row: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Read-only symmetric Toeplitz view ``T[a, b] = row[|b - a|]``."""
+    both = np.concatenate([row[:0:-1], row])  # both[L-1+d] = row[|d|]
+    return sliding_window_view(both, len(row))[::-1]
 
 
 def _centre(gram: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -254,10 +260,12 @@ def _overhang(z: NDArray[np.float64], window: int):
 
 
 def _overhang_gram(z: NDArray[np.float64], window: int) -> NDArray[np.float64]:
-    """``sum_k s_k s_k^T`` over the windows of the zero-padded line that start before
-    it, in ``O(L^2)``: ``H[a, a+d] = sum_{j<a} z[j] z[j+d]``, prefix sums of the lag
-    products along each diagonal. The windows past the end are this of the reversed
-    line, reversed."""
+    """Sum ``s_k s_k^T`` over the windows of the zero-padded line before its start.
+
+    In ``O(L^2)``: ``H[a, a+d] = sum_{j<a} z[j] z[j+d]``, prefix sums of the lag
+    products along each diagonal. The windows past the end are this of the
+    reversed line, reversed.
+    """
     padded = np.concatenate([z[: 2 * window - 2], np.zeros(window)])
     products = padded[: window - 1, None] * sliding_window_view(
         padded[: 2 * window - 2], window
@@ -279,7 +287,9 @@ def _skew(rows: NDArray[np.float64]) -> NDArray[np.float64]:
     count, width = rows.shape
     buffer = np.zeros((count, count + width))
     step = buffer.strides
-    as_strided(buffer, shape=rows.shape, strides=(step[0] + step[1], step[1]))[...] = rows
+    as_strided(buffer, shape=rows.shape, strides=(step[0] + step[1], step[1]))[...] = (
+        rows
+    )
     return buffer[:, : count + width - 1]
 
 
@@ -314,7 +324,7 @@ def _averaging_kernel(u: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def _open_counts(n: int, window: int) -> NDArray[np.float64]:
-    """Number of partitions of an open line of ``n`` points holding each point."""
+    """Count the partitions of an open line of ``n`` points holding each point."""
     j = np.arange(n)
     last = n - window
     return (np.minimum(j, last) - np.maximum(0, j - window + 1) + 1).astype(float)
