@@ -24,11 +24,15 @@ from pyproj.exceptions import CRSError
 
 from coastmesh.datasets import path as data_path
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
-from coastmesh.geometry.shoreline import ShorelineReport, simplify_shorelines
+from coastmesh.geometry.shoreline import (
+    ShorelineReport,
+    check_coordinates,
+    simplify_shorelines,
+)
 from coastmesh.io._atomic import AtomicOutputs, atomic_directory, check_output
 from coastmesh.io._inputs import check_bbox
 from coastmesh.io._registry import plot_format, raster_driver, vector_driver
-from coastmesh.io.vector import check_finite, read_features, write_features
+from coastmesh.io.vector import read_features, write_features
 from coastmesh.pca import check_modes, check_window, check_window_2d, simplify_raster
 from coastmesh.reports import RasterReport, raster_report
 from coastmesh.types import Features
@@ -142,7 +146,10 @@ def simplify_shoreline_file(
 
     features = read_features(src, layer=layer, bbox=box)
     features = _with_crs(features, assigned)
-    check_finite(features)
+    try:
+        check_coordinates(features.geometry)
+    except InputDataError as exc:
+        raise _locate(exc, features) from exc
     _check_shoreline_types(features)
     try:
         geometry, report = simplify_shorelines(

@@ -9,7 +9,9 @@ import shapely
 from conftest import ORKNEY_BBOX
 
 from coastmesh.errors import ConfigError, FormatError, InputDataError
-from coastmesh.io.vector import check_finite, read_features, write_features
+from coastmesh.geometry import check_coordinates
+from coastmesh.io.vector import read_features, write_features
+from coastmesh.pipeline import simplify_shoreline_file
 from coastmesh.types import Features
 
 ORKNEY_FIELDS = [
@@ -272,13 +274,13 @@ def test_nan_vertex_is_named(tmp_path, make_gpkg):
         [shapely.box(0, 0, 1, 1), shapely.box(2, 2, 3, 3), bad],
         crs="EPSG:4326",
     )
-    coast = read_features(path)
     with pytest.raises(InputDataError) as info:
-        check_finite(coast)
+        simplify_shoreline_file(path, tmp_path / "out.gpkg", window=2, modes=1)
+    assert not (tmp_path / "out.gpkg").exists()
     message = str(info.value)
     assert message.startswith(f"{path}, layer 'coast', feature 3: vertex 2 has a NaN")
     assert info.value.feature == 3  # GeoPackage fids start at 1
 
 
 def test_finite_features_pass(orkney_clip):
-    assert check_finite(orkney_clip) is None
+    assert check_coordinates(orkney_clip.geometry) is None

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
-from coastmesh.geometry.shoreline import ShorelineReport, simplify_shorelines
+from coastmesh.geometry.shoreline import (
+    ShorelineReport,
+    check_coordinates,
+    simplify_shorelines,
+)
 
-__all__ = ["ShorelineReport", "simplify_shorelines"]
+__all__ = ["ShorelineReport", "check_coordinates", "simplify_shorelines"]

@@ -22,7 +22,7 @@ from coastmesh.pca._threads import single_threaded_blas
 from coastmesh.pca.checks import check_modes, check_window
 from coastmesh.pca.line import simplify_contour
 
-__all__ = ["ShorelineReport", "simplify_shorelines"]
+__all__ = ["ShorelineReport", "check_coordinates", "simplify_shorelines"]
 
 _POLYGONAL = (shapely.GeometryType.POLYGON, shapely.GeometryType.MULTIPOLYGON)
 _SINGLE = (
@@ -125,6 +125,7 @@ def simplify_shorelines(
     window = check_window(window)
     modes = check_modes(modes, window)
     geoms = np.asarray(geometries, dtype=object).ravel()
+    check_coordinates(geoms)
     present = ~(shapely.is_missing(geoms) | shapely.is_empty(geoms))
     types = shapely.get_type_id(geoms)
     polygonal = present & np.isin(types, _POLYGONAL)
@@ -149,7 +150,6 @@ def simplify_shorelines(
     contours = np.concatenate([rings, lines])
     contour_part = np.concatenate([ring_part, line_part]).astype(np.int64)
     coords, contour_of = shapely.get_coordinates(contours, return_index=True)
-    _check_finite(coords, contour_of, part_feature[contour_part])
     stored = np.bincount(contour_of, minlength=len(contours))
     starts = np.concatenate([[0], np.cumsum(stored)[:-1]])
     is_ring = np.zeros(len(contours), dtype=bool)
@@ -210,16 +210,42 @@ def _count_points(geoms) -> int:
     )
 
 
-def _check_finite(coords, contour_of, feature_of_contour) -> None:
-    bad = ~np.isfinite(coords).all(axis=1)
-    if bad.any():
-        first = int(np.flatnonzero(bad)[0])
-        contour = contour_of[first]
-        vertex = first - int(np.searchsorted(contour_of, contour))
-        raise InputDataError(
-            f"vertex {vertex} has a non-finite coordinate {tuple(coords[first])}",
-            feature=int(feature_of_contour[contour]),
-        )
+def check_coordinates(geometries: ArrayLike) -> None:
+    """Check that every vertex of every geometry has finite coordinates.
+
+    Parameters
+    ----------
+    geometries : array_like of shapely geometries, shape (F,)
+        The geometries to check; None is allowed.
+
+    Raises
+    ------
+    InputDataError
+        For the first geometry with a NaN or infinite coordinate; ``feature`` is
+        its index, and the message names the vertex (counted over the whole
+        geometry) and the value.
+
+    Examples
+    --------
+    >>> import shapely
+    >>> check_coordinates([shapely.box(0, 0, 1, 1), None]) is None
+    True
+    """
+    geoms = np.asarray(geometries, dtype=object).ravel()
+    coords, index = shapely.get_coordinates(geoms, return_index=True)
+    bad = np.flatnonzero(~np.isfinite(coords).all(axis=1))
+    if bad.size == 0:
+        return
+    row = bad[0]
+    feature = int(index[row])
+    vertex = int(row - np.searchsorted(index, feature))
+    x, y = coords[row]
+    kind = "NaN" if np.isnan(coords[row]).any() else "infinite"
+    others = np.unique(index[bad]).size - 1
+    more = f" (and {others} more features)" if others else ""
+    raise InputDataError(
+        f"vertex {vertex} has a {kind} coordinate ({x}, {y}){more}", feature=feature
+    )
 
 
 def _rebuild(

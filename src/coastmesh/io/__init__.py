@@ -19,11 +19,10 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from coastmesh.io._inputs import check_bbox
     from coastmesh.io.raster import read_raster, write_raster
-    from coastmesh.io.vector import check_finite, read_features, write_features
+    from coastmesh.io.vector import read_features, write_features
 
 __all__ = [
     "check_bbox",
-    "check_finite",
     "read_features",
     "read_raster",
     "write_features",
@@ -32,7 +31,6 @@ __all__ = [
 
 _HOME = {
     "check_bbox": "coastmesh.io._inputs",
-    "check_finite": "coastmesh.io.vector",
     "read_features": "coastmesh.io.vector",
     "write_features": "coastmesh.io.vector",
     "read_raster": "coastmesh.io.raster",

@@ -28,7 +28,7 @@ from coastmesh.io._inputs import check_bbox, check_input
 from coastmesh.io._registry import vector_driver
 from coastmesh.types import Features
 
-__all__ = ["check_finite", "read_features", "write_features"]
+__all__ = ["read_features", "write_features"]
 
 logger = logging.getLogger(__name__)
 
@@ -220,39 +220,6 @@ def write_features(
                 f"{target}: the {driver} driver cannot write these features: {exc}"
             ) from None
     logger.debug("wrote %s: %d features", target, len(features))
-
-
-def check_finite(features: Features) -> None:
-    """Check that every vertex of every feature has finite coordinates.
-
-    Parameters
-    ----------
-    features : Features
-        The features to check.
-
-    Raises
-    ------
-    InputDataError
-        For the first feature with a NaN or infinite coordinate; the message
-        names the file, layer, feature id, vertex and value.
-    """
-    coords, index = shapely.get_coordinates(features.geometry, return_index=True)
-    bad = np.flatnonzero(~np.isfinite(coords).all(axis=1))
-    if bad.size == 0:
-        return
-    row = bad[0]
-    position = int(index[row])
-    vertex = int(row - np.searchsorted(index, position))
-    x, y = coords[row]
-    kind = "NaN" if np.isnan(coords[row]).any() else "infinite"
-    others = np.unique(index[bad]).size - 1
-    more = f" (and {others} more features)" if others else ""
-    raise InputDataError(
-        f"vertex {vertex} has a {kind} coordinate ({x}, {y}){more}",
-        path=features.path,
-        layer=features.layer,
-        feature=int(features.fids[position]),
-    )
 
 
 def _pick_layer(source: str, layer: str | None) -> str:
