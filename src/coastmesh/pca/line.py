@@ -214,7 +214,7 @@ def _covariances(z: NDArray[np.float64], window: int, closed: bool):
         # cyclic lag products sum_j z[j] z[(j+d) mod n]: the frame's lag products
         # less those starting in the L-1 points added before and after the ring
         head = sliding_window_view(framed[:, : 2 * window - 2], window - 1, axis=1)
-        lags -= np.einsum("kdi,ki->kd", head[:, :window], framed[:, : window - 1])
+        lags -= (head[:, :window] @ framed[:, : window - 1, None])[..., 0]
         tail = framed[:, n + window - 1 :]
         for dim in range(len(z)):
             lags[dim, : window - 1] -= np.correlate(tail[dim], tail[dim], "full")[
@@ -228,25 +228,27 @@ def _covariances(z: NDArray[np.float64], window: int, closed: bool):
         lags = scipy.fft.irfft(spectrum * spectrum.conj(), size)[:, :window]
         grams = []
         for dim, row in enumerate(lags):
-            gram = _toeplitz(row).copy()
+            gram = _toeplitz(row)
             gram -= _overhang_gram(z[dim], window)
             gram -= _overhang_gram(z[dim, ::-1], window)[::-1, ::-1]
             grams.append(gram)
         n_windows = n - window + 1
-    covs = np.stack([_centre(g) / n_windows for g in grams])
+    covs = np.stack([_centre(g) for g in grams])
+    covs /= n_windows
     return framed, spectrum, size, covs
 
 
 def _toeplitz(row: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Read-only symmetric Toeplitz view ``T[a, b] = row[|b - a|]``."""
+    """Symmetric Toeplitz matrix ``T[a, b] = row[|b - a|]``."""
     both = np.concatenate([row[:0:-1], row])  # both[L-1+d] = row[|d|]
-    return sliding_window_view(both, len(row))[::-1]
+    return np.ascontiguousarray(sliding_window_view(both, len(row))[::-1])
 
 
 def _centre(gram: NDArray[np.float64]) -> NDArray[np.float64]:
     """Return ``Q G Q`` with ``Q = I - 11^T/L`` (per-partition mean removal)."""
     row = gram.mean(axis=0)
-    out = gram - (row[:, None] + row[None, :])  # exactly symmetric
+    out = np.add.outer(row, row)  # exactly symmetric, as gram is
+    np.subtract(gram, out, out=out)
     out += row.mean()
     return out
 
