@@ -1,0 +1,15 @@
+"""Mesh-size fields: gradation from shoreline sets, combination, gradation limit."""
+
+from __future__ import annotations
+
+from coastmesh.sizing.distance import distance_to_lines
+from coastmesh.sizing.gradation import gradation_size, limit_gradation
+from coastmesh.sizing.units import EARTH_RADIUS, to_metres
+
+__all__ = [
+    "EARTH_RADIUS",
+    "distance_to_lines",
+    "gradation_size",
+    "limit_gradation",
+    "to_metres",
+]
