@@ -1,7 +1,13 @@
-"""Geometry: shoreline approximation on shapely arrays, loxodromes on WGS84."""
+"""Geometry: shoreline approximation, loxodromes on WGS84, model domains."""
 
 from __future__ import annotations
 
+from coastmesh.geometry.domain import (
+    DomainReport,
+    DomainSegment,
+    OpenBoundary,
+    build_domain,
+)
 from coastmesh.geometry.rhumb import Loxodrome, blend_loxodromes, paper_bearing
 from coastmesh.geometry.shoreline import (
     ShorelineReport,
@@ -10,9 +16,13 @@ from coastmesh.geometry.shoreline import (
 )
 
 __all__ = [
+    "DomainReport",
+    "DomainSegment",
     "Loxodrome",
+    "OpenBoundary",
     "ShorelineReport",
     "blend_loxodromes",
+    "build_domain",
     "check_coordinates",
     "paper_bearing",
     "simplify_shorelines",

@@ -1,0 +1,116 @@
+"""build_domain against independent shapely constructions and on real shorelines."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+import shapely
+
+import coastmesh
+from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.geometry.domain import OpenBoundary, build_domain
+from coastmesh.geometry.rhumb import Loxodrome
+
+DATA = Path(coastmesh.__file__).parent / "data"
+
+
+def _bay():
+    """A U-shaped coast (land on three sides) closed by one open line."""
+    land = shapely.box(0, 0, 10, 10).difference(shapely.box(2, 2, 8, 12))
+    island = shapely.box(4, 5, 5, 6)
+    mouth = OpenBoundary(np.array([(1.0, 9.0), (9.0, 9.0)]), "mouth", 3)
+    return [land, island], [mouth]
+
+
+def test_bay_against_shapely():
+    land, walls = _bay()
+    poly, segments, report = build_domain(land, walls, crs="EPSG:32630")
+    expected = shapely.box(2, 2, 8, 9).difference(shapely.box(4, 5, 5, 6))
+    assert poly.is_valid
+    assert shapely.equals(poly, expected)
+    assert report.holes == 1 and report.sea_faces == 1
+    # the segments cover every ring, in order, and carry the right ids
+    kinds = {(s.kind, s.name, s.physical_id) for s in segments}
+    assert kinds == {("open", "mouth", 3), ("shoreline", "shoreline", 1)}
+    for seg in segments:
+        line = shapely.LineString(seg.coords)
+        if seg.kind == "open":
+            assert line.length == pytest.approx(6.0)
+            assert np.allclose(seg.coords[:, 1], 9.0)
+        else:
+            assert line.distance(shapely.boundary(shapely.union_all(land))) < 1e-12
+    total = sum(shapely.LineString(s.coords).length for s in segments)
+    assert total == pytest.approx(poly.length)
+
+
+def test_seed_chooses_the_face_and_errors():
+    land, walls = _bay()
+    outer = OpenBoundary(
+        np.array(
+            [(-5.0, -5.0), (15.0, -5.0), (15.0, 15.0), (-5.0, 15.0), (-5.0, -5.0)]
+        ),
+        "outer",
+        4,
+    )
+    poly, _, report = build_domain(
+        land, [*walls, outer], crs="EPSG:32630", seed=(12.0, 0.0)
+    )
+    assert report.sea_faces == 2
+    assert shapely.contains(poly, shapely.Point(12, 0))
+    assert not shapely.contains(poly, shapely.Point(3, 3))
+    with pytest.raises(ConfigError, match=r"seed = \(1.0, 1.0\): lies on land"):
+        build_domain(land, walls, crs="EPSG:32630", seed=(1.0, 1.0))
+    with pytest.raises(ConfigError, match="in no sea region"):
+        build_domain(land, walls, crs="EPSG:32630", seed=(50.0, 50.0))
+    with pytest.raises(InputDataError, match="enclose no sea"):
+        build_domain(land, [], crs="EPSG:32630")
+
+
+def test_repairs_and_merges_dirty_land():
+    land, walls = _bay()
+    bowtie = shapely.Polygon([(3, 3), (3.5, 3.5), (3, 3.5), (3.5, 3)])  # invalid
+    overlap = shapely.box(4.5, 5.5, 5.5, 6.5)  # overlaps the island
+    poly, _, report = build_domain([*land, bowtie, overlap], walls, crs="EPSG:32630")
+    assert poly.is_valid
+    assert report.land_repaired == 1 and report.land_overlaps_merged >= 1
+    assert report.holes == 3  # the merged island and the bow-tie's two triangles
+
+
+def test_small_islands_dropped_by_area():
+    land, walls = _bay()
+    poly, _, report = build_domain(land, walls, crs="EPSG:32630", min_area=2.0)
+    assert report.holes == 0 and report.holes_dropped == 1
+    assert poly.area == pytest.approx(42.0)  # 6 x 7, the island filled
+
+
+def test_real_orkney_closed_by_loxodromes():
+    """Scapa Flow region: Orkney shorelines closed by rhumb lines on two sides."""
+    features = json.loads((DATA / "orkney_gshhg_f.geojson").read_text())["features"]
+    land = [shapely.from_geojson(json.dumps(f["geometry"])) for f in features]
+    west = Loxodrome((-3.5, 58.6), 0.0, end_lat=59.5).sample(2_000)
+    north = Loxodrome((-3.6, 59.45), 90.0, end_lon=-2.3).sample(2_000)
+    east = Loxodrome((-2.35, 59.5), 180.0, end_lat=58.55).sample(2_000)
+    south = Loxodrome((-2.3, 58.62), 270.0, end_lon=-3.6).sample(2_000)
+    walls = [
+        OpenBoundary(c, n, i)
+        for c, n, i in [
+            (west, "west", 2),
+            (north, "north", 3),
+            (east, "east", 4),
+            (south, "south", 5),
+        ]
+    ]
+    poly, segments, report = build_domain(
+        land, walls, crs="EPSG:4326", seed=(-3.1, 58.85), min_area=1e5
+    )
+    assert poly.is_valid
+    assert report.holes >= 5  # Hoy, Flotta, South Ronaldsay, ... as islands
+    names = {s.name for s in segments}
+    assert "shoreline" in names and len(names & {"west", "north", "east", "south"}) >= 3
+    # every ring is covered by its segments, which join end to start
+    assert sum(len(s.coords) - 1 for s in segments) == sum(
+        len(r.coords) - 1 for r in [poly.exterior, *poly.interiors]
+    )
