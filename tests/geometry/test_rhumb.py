@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, example, given, settings
 from hypothesis import strategies as st
 from pyproj import Geod, Transformer
 
@@ -27,6 +27,7 @@ def _azimuth_in_mercator(points):
     azimuth=st.floats(0, 360).filter(lambda a: abs(np.cos(np.radians(a))) > 0.05),
     dlat=st.floats(0.5, 10),
 )
+@example(lon=0.0, lat=0.0, azimuth=267.0, dlat=10.0)  # crosses 180: skipped
 def test_straight_in_ellipsoidal_mercator(lon, lat, azimuth, dlat):
     """A rhumb line is the straight line at its azimuth on EPSG:3395."""
     north = np.cos(np.radians(azimuth)) > 0
@@ -34,6 +35,8 @@ def test_straight_in_ellipsoidal_mercator(lon, lat, azimuth, dlat):
     if end == lat:
         return
     line = Loxodrome((lon, lat), azimuth, end_lat=end)
+    # stay within one turn of longitude: EPSG:3395 wraps x at the antimeridian
+    assume(abs(line.end[0] - lon) < 170)
     points = line.sample(5_000)
     az, x, y = _azimuth_in_mercator(points)
     off = (az - azimuth + 180.0) % 360.0 - 180.0  # each step's Mercator heading
