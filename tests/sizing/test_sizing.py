@@ -148,3 +148,30 @@ def test_polygons_use_their_rings():
     d = distance_to_lines([island], [0.0], [60.0], crs="EPSG:4326", resolution=10.0)
     # the centre is about 0.1 deg of latitude from the ring (north/south side)
     assert 5_000 < d[0, 0] < 11_200
+
+
+def test_size_field_combines_by_minimum_and_limits():
+    from coastmesh.sizing import Gradation, size_field
+
+    coast = shapely.LineString([(500_000, 6_500_000), (520_000, 6_500_000)])
+    site = shapely.Point(510_000, 6_503_000).buffer(300.0)
+    coarse = Gradation(np.array([coast]), h_min=1_000.0, d_hold=0.0, d_grade=20_000.0)
+    fine = Gradation(np.array([site]), h_min=50.0, d_hold=500.0, d_grade=5_000.0)
+    bounds = (495_000, 6_490_000, 525_000, 6_510_000)
+    args = {"crs": "EPSG:32630", "h_max": 5_000.0, "cell": 250.0}
+    both = size_field(bounds, [coarse, fine], **args)
+    only_coarse = size_field(bounds, [coarse], **args)
+    only_fine = size_field(bounds, [fine], **args)
+    np.testing.assert_array_equal(
+        both.values, np.minimum(only_coarse, only_fine).values
+    )
+    assert float(both.min()) == 50.0 and float(both.max()) <= 5_000.0
+    assert both.dims == ("y", "x") and both.attrs["units"] == "m"
+    limited = size_field(bounds, [coarse, fine], rate=0.1, **args)
+    assert np.all(limited.values <= both.values)
+    h = limited.values  # neighbours along rows, columns and diagonals
+    assert np.abs(np.diff(h, axis=0)).max() <= 0.1 * 250.0 + 1e-9
+    assert np.abs(np.diff(h, axis=1)).max() <= 0.1 * 250.0 + 1e-9
+    assert np.abs(h[1:, 1:] - h[:-1, :-1]).max() <= 0.1 * 250.0 * np.sqrt(2) + 1e-9
+    with pytest.raises(ConfigError, match="not projected"):
+        size_field(bounds, [coarse], crs="EPSG:4326", h_max=5_000.0, cell=250.0)
