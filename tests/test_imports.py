@@ -17,8 +17,10 @@ STATEMENTS = {
     # the package itself, errors, pca and geometry come with the shoreline module
     "core": (
         "import coastmesh.geometry.shoreline, coastmesh.types, coastmesh.datasets, "
-        "coastmesh.reports"
+        "coastmesh.reports, coastmesh.geometry, coastmesh.sizing, coastmesh.pca, "
+        "coastmesh.meshing"
     ),
+    "msh": "import coastmesh.io.msh",
     "cli": "import coastmesh.cli.main",
     "vector": "import coastmesh.io.vector",
     "raster": "import coastmesh.io.raster",
@@ -50,6 +52,11 @@ def loaded() -> dict[str, set[str]]:
 def test_core_modules_stay_light(loaded):
     assert "coastmesh" in loaded["core"] and "numpy" in loaded["core"]
     assert loaded["core"] & HEAVY == set()
+
+
+def test_msh_io_does_not_load_gmsh(loaded):
+    """Only meshing/engine.py talks to gmsh, and only while meshing."""
+    assert loaded["msh"] & {"gmsh", "matplotlib", "rasterio", "pyogrio"} == set()
 
 
 def test_command_line_help_does_not_load_the_io_stack(loaded):

@@ -18,14 +18,17 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from coastmesh.io._inputs import check_bbox
+    from coastmesh.io.msh import read_msh, write_msh
     from coastmesh.io.raster import read_raster, write_raster
     from coastmesh.io.vector import read_features, write_features
 
 __all__ = [
     "check_bbox",
     "read_features",
+    "read_msh",
     "read_raster",
     "write_features",
+    "write_msh",
     "write_raster",
 ]
 
@@ -35,6 +38,8 @@ _HOME = {
     "write_features": "coastmesh.io.vector",
     "read_raster": "coastmesh.io.raster",
     "write_raster": "coastmesh.io.raster",
+    "read_msh": "coastmesh.io.msh",
+    "write_msh": "coastmesh.io.msh",
 }
 
 

@@ -1,0 +1,203 @@
+"""Gmsh ``.msh`` files (versions 2.2 and 4.1, ASCII or binary) through meshio.
+
+meshio writes and reads msh without starting Gmsh, whose process-global state
+belongs to :mod:`coastmesh.meshing.engine` alone. The gmsh reader and writer of
+meshio are called directly: ``meshio.read`` prints and exits on a bad file.
+Boundary edges are written as
+line elements with their physical id, triangles with the surface id: Fluidity and
+Thetis read msh 2.2 with these physical line ids. Each physical id gets its own
+geometrical entity, so the ids survive in version 4.1 (kept in ``$Entities``).
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from typing import Any
+
+import numpy as np
+from pyproj import CRS
+
+from coastmesh.errors import FormatError
+from coastmesh.io._atomic import atomic_write
+from coastmesh.meshing.types import Mesh
+
+__all__ = ["MSH_VERSIONS", "read_msh", "write_msh"]
+
+logger = logging.getLogger(__name__)
+
+MSH_VERSIONS = ("2.2", "4.1")
+
+
+def write_msh(
+    path: str | os.PathLike[str],
+    mesh: Mesh,
+    *,
+    version: str = "2.2",
+    binary: bool = False,
+    overwrite: bool = False,
+) -> None:
+    """Write a mesh to a Gmsh ``.msh`` file, with physical ids.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The output file.
+    mesh : Mesh
+        The mesh; its CRS is not stored (msh has no place for it).
+    version : {"2.2", "4.1"}, default "2.2"
+        The msh format version; 2.2 is what Fluidity and Thetis read.
+    binary : bool, default False
+        Write binary instead of ASCII.
+    overwrite : bool, default False
+        Whether an existing file may be replaced.
+
+    Raises
+    ------
+    FormatError
+        If ``version`` is not one of :data:`MSH_VERSIONS`.
+    OutputExistsError
+        If ``path`` exists and ``overwrite`` is false.
+
+    Notes
+    -----
+    Nodes are written with z = 0. Line elements are grouped by physical id, one
+    geometrical entity per id (entities 1, 2, ... in increasing id order); the
+    triangles are surface entity 1. In version 4.1 each node belongs to the first
+    curve entity that holds it, or to the surface.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> m = Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]],
+    ...          [1, 1, 2], 7, None)
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "tri.msh"
+    >>> write_msh(path, m)
+    >>> read_msh(path).boundary_ids.tolist(), read_msh(path).surface_id
+    ([1, 1, 2], 7)
+    """
+    import meshio.gmsh
+
+    if version not in MSH_VERSIONS:
+        raise FormatError(
+            f"{os.fspath(path)}: msh version {version!r} is not supported; pick one "
+            f"of {', '.join(MSH_VERSIONS)}"
+        )
+    out = _to_meshio(meshio, mesh)
+    with atomic_write(path, overwrite=overwrite) as tmp:
+        meshio.gmsh.write(tmp, out, fmt_version=version, binary=binary)
+    logger.debug(
+        "wrote %s: msh %s %s, %d nodes, %d triangles, %d boundary edges",
+        path,
+        version,
+        "binary" if binary else "ASCII",
+        len(mesh.points),
+        len(mesh.triangles),
+        len(mesh.boundary_edges),
+    )
+
+
+def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
+    """Read a 2D triangle mesh with physical ids from a Gmsh ``.msh`` file.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file; msh 2.2 or 4.1, ASCII or binary.
+    crs : pyproj.CRS or CRS-like, optional
+        The CRS of the coordinates, which msh does not store.
+
+    Returns
+    -------
+    Mesh
+        Points (x, y), triangles, boundary edges (line elements) with their
+        physical ids (grouped by id, as written), and the triangles' physical id as
+        ``surface_id``. Nodes that no element uses are kept. Nodes are in file
+        order: the order written for msh 2.2; grouped by entity (boundary nodes
+        first) for msh 4.1, with the elements renumbered to match.
+
+    Raises
+    ------
+    FileNotFoundError
+        If ``path`` does not exist.
+    FormatError
+        If the file cannot be read, is not a flat triangle mesh, lacks physical
+        ids, or its triangles carry more than one physical id.
+
+    Examples
+    --------
+    See :func:`write_msh`.
+    """
+    import meshio.gmsh
+
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"{os.fspath(path)}: no such file")
+    try:
+        data = meshio.gmsh.read(os.fspath(path))
+    except (meshio.ReadError, ValueError, KeyError, IndexError, EOFError) as exc:
+        raise FormatError(
+            f"{os.fspath(path)}: not a readable msh file ({exc})"
+        ) from exc
+    name = os.fspath(path)
+    points = np.asarray(data.points, dtype=np.float64)
+    if points.shape[1] == 3 and np.any(points[:, 2] != 0):
+        raise FormatError(f"{name}: nodes have z != 0; expected a flat 2D mesh")
+    physical = data.cell_data.get("gmsh:physical")
+    if physical is None:
+        raise FormatError(f"{name}: no physical ids; expected tagged elements")
+    triangles, edges, ids, surface = [], [], [], []
+    for block, tags in zip(data.cells, physical, strict=True):
+        if block.type == "triangle":
+            triangles.append(block.data)
+            surface.append(np.asarray(tags))
+        elif block.type == "line":
+            edges.append(block.data)
+            ids.append(np.asarray(tags))
+    if not triangles:
+        raise FormatError(f"{name}: no triangles")
+    if any((np.asarray(t) <= 0).any() for t in surface + ids):
+        raise FormatError(
+            f"{name}: some elements have no physical id (tag 0); tag every line and "
+            "triangle with a physical group"
+        )
+    surface_ids = np.unique(np.concatenate(surface))
+    if len(surface_ids) != 1:
+        raise FormatError(
+            f"{name}: triangles carry physical ids {surface_ids.tolist()}; "
+            "expected one surface id"
+        )
+    return Mesh(
+        points[:, :2],
+        np.concatenate(triangles),
+        np.concatenate(edges) if edges else np.empty((0, 2), dtype=np.int64),
+        np.concatenate(ids) if ids else np.empty(0, dtype=np.int64),
+        int(surface_ids[0]),
+        None if crs is None else CRS.from_user_input(crs),
+    )
+
+
+def _to_meshio(meshio: Any, mesh: Mesh) -> Any:
+    """Build a meshio Mesh with physical and geometrical tags (and entities)."""
+    ids = np.unique(mesh.boundary_ids)
+    cells, physical, geometrical = [], [], []
+    dim_tags = np.tile(np.array([2, 1], dtype=np.int64), (len(mesh.points), 1))
+    assigned = np.zeros(len(mesh.points), dtype=bool)
+    for entity, pid in enumerate(ids, start=1):
+        block = mesh.boundary_edges[mesh.boundary_ids == pid].astype(np.uint64)
+        cells.append(meshio.CellBlock("line", block))
+        physical.append(np.full(len(block), pid, dtype=np.int32))
+        geometrical.append(np.full(len(block), entity, dtype=np.int32))
+        nodes = np.unique(block.astype(np.int64))
+        nodes = nodes[~assigned[nodes]]
+        dim_tags[nodes] = (1, entity)
+        assigned[nodes] = True
+    cells.append(meshio.CellBlock("triangle", mesh.triangles.astype(np.uint64)))
+    physical.append(np.full(len(mesh.triangles), mesh.surface_id, dtype=np.int32))
+    geometrical.append(np.ones(len(mesh.triangles), dtype=np.int32))
+    points = np.column_stack([mesh.points, np.zeros(len(mesh.points))])
+    return meshio.Mesh(
+        points,
+        cells,
+        point_data={"gmsh:dim_tags": dim_tags},
+        cell_data={"gmsh:physical": physical, "gmsh:geometrical": geometrical},
+    )
