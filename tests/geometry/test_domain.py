@@ -27,23 +27,23 @@ def _bay():
 
 def test_bay_against_shapely():
     land, walls = _bay()
-    poly, segments, report = build_domain(land, walls, crs="EPSG:32630")
+    domain, report = build_domain(land, walls, crs="EPSG:32630")
     expected = shapely.box(2, 2, 8, 9).difference(shapely.box(4, 5, 5, 6))
-    assert poly.is_valid
-    assert shapely.equals(poly, expected)
+    assert domain.polygon.is_valid
+    assert shapely.equals(domain.polygon, expected)
     assert report.holes == 1 and report.sea_faces == 1
-    # the segments cover every ring, in order, and carry the right ids
-    kinds = {(s.kind, s.name, s.physical_id) for s in segments}
+    # the domain.segments cover every ring, in order, and carry the right ids
+    kinds = {(s.kind, s.name, s.physical_id) for s in domain.segments}
     assert kinds == {("open", "mouth", 3), ("shoreline", "shoreline", 1)}
-    for seg in segments:
+    for seg in domain.segments:
         line = shapely.LineString(seg.coords)
         if seg.kind == "open":
             assert line.length == pytest.approx(6.0)
             assert np.allclose(seg.coords[:, 1], 9.0)
         else:
             assert line.distance(shapely.boundary(shapely.union_all(land))) < 1e-12
-    total = sum(shapely.LineString(s.coords).length for s in segments)
-    assert total == pytest.approx(poly.length)
+    total = sum(shapely.LineString(s.coords).length for s in domain.segments)
+    assert total == pytest.approx(domain.polygon.length)
 
 
 def test_seed_chooses_the_face_and_errors():
@@ -55,12 +55,12 @@ def test_seed_chooses_the_face_and_errors():
         "outer",
         4,
     )
-    poly, _, report = build_domain(
+    domain, report = build_domain(
         land, [*walls, outer], crs="EPSG:32630", seed=(12.0, 0.0)
     )
     assert report.sea_faces == 2
-    assert shapely.contains(poly, shapely.Point(12, 0))
-    assert not shapely.contains(poly, shapely.Point(3, 3))
+    assert shapely.contains(domain.polygon, shapely.Point(12, 0))
+    assert not shapely.contains(domain.polygon, shapely.Point(3, 3))
     with pytest.raises(ConfigError, match=r"seed = \(1.0, 1.0\): lies on land"):
         build_domain(land, walls, crs="EPSG:32630", seed=(1.0, 1.0))
     with pytest.raises(ConfigError, match="in no sea region"):
@@ -73,17 +73,17 @@ def test_repairs_and_merges_dirty_land():
     land, walls = _bay()
     bowtie = shapely.Polygon([(3, 3), (3.5, 3.5), (3, 3.5), (3.5, 3)])  # invalid
     overlap = shapely.box(4.5, 5.5, 5.5, 6.5)  # overlaps the island
-    poly, _, report = build_domain([*land, bowtie, overlap], walls, crs="EPSG:32630")
-    assert poly.is_valid
+    domain, report = build_domain([*land, bowtie, overlap], walls, crs="EPSG:32630")
+    assert domain.polygon.is_valid
     assert report.land_repaired == 1 and report.land_overlaps_merged >= 1
     assert report.holes == 3  # the merged island and the bow-tie's two triangles
 
 
 def test_small_islands_dropped_by_area():
     land, walls = _bay()
-    poly, _, report = build_domain(land, walls, crs="EPSG:32630", min_area=2.0)
+    domain, report = build_domain(land, walls, crs="EPSG:32630", min_area=2.0)
     assert report.holes == 0 and report.holes_dropped == 1
-    assert poly.area == pytest.approx(42.0)  # 6 x 7, the island filled
+    assert domain.polygon.area == pytest.approx(42.0)  # 6 x 7, the island filled
 
 
 def test_real_orkney_closed_by_loxodromes():
@@ -103,14 +103,14 @@ def test_real_orkney_closed_by_loxodromes():
             (south, "south", 5),
         ]
     ]
-    poly, segments, report = build_domain(
+    domain, report = build_domain(
         land, walls, crs="EPSG:4326", seed=(-3.1, 58.85), min_area=1e5
     )
-    assert poly.is_valid
+    assert domain.polygon.is_valid
     assert report.holes >= 5  # Hoy, Flotta, South Ronaldsay, ... as islands
-    names = {s.name for s in segments}
+    names = {s.name for s in domain.segments}
     assert "shoreline" in names and len(names & {"west", "north", "east", "south"}) >= 3
-    # every ring is covered by its segments, which join end to start
-    assert sum(len(s.coords) - 1 for s in segments) == sum(
-        len(r.coords) - 1 for r in [poly.exterior, *poly.interiors]
+    # every ring is covered by its domain.segments, which join end to start
+    assert sum(len(s.coords) - 1 for s in domain.segments) == sum(
+        len(r.coords) - 1 for r in [domain.polygon.exterior, *domain.polygon.interiors]
     )

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from coastmesh.geometry.domain import (
     DomainReport,
-    DomainSegment,
     OpenBoundary,
     build_domain,
 )
@@ -17,7 +16,6 @@ from coastmesh.geometry.shoreline import (
 
 __all__ = [
     "DomainReport",
-    "DomainSegment",
     "Loxodrome",
     "OpenBoundary",
     "ShorelineReport",

@@ -18,8 +18,9 @@ from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS, Geod
 
 from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.meshing.types import BoundarySegment, Domain
 
-__all__ = ["DomainReport", "DomainSegment", "OpenBoundary", "build_domain"]
+__all__ = ["DomainReport", "OpenBoundary", "build_domain"]
 
 _GEOD = Geod(ellps="WGS84")
 
@@ -60,16 +61,6 @@ class OpenBoundary:
 
 
 @dataclass(frozen=True, slots=True)
-class DomainSegment:
-    """A run of the domain boundary with one kind and id."""
-
-    coords: NDArray[np.float64]
-    kind: str  # "shoreline" or "open"
-    name: str
-    physical_id: int
-
-
-@dataclass(frozen=True, slots=True)
 class DomainReport:
     """What :func:`build_domain` found and changed."""
 
@@ -99,7 +90,8 @@ def build_domain(
     seed: tuple[float, float] | None = None,
     min_area: float = 0.0,
     shoreline_id: int = 1,
-) -> tuple[shapely.Polygon, list[DomainSegment], DomainReport]:
+    surface_id: int = 1,
+) -> tuple[Domain, DomainReport]:
     """Build the sea polygon closed by shorelines and open boundaries.
 
     Parameters
@@ -118,14 +110,14 @@ def build_domain(
         area for a geographic CRS).
     shoreline_id : int
         Boundary id of the shoreline edges.
+    surface_id : int
+        Physical id of the domain's surface (its triangles).
 
     Returns
     -------
-    polygon : shapely.Polygon
-        The domain, valid.
-    segments : list of DomainSegment
-        Runs of the boundary, covering every ring in order, consecutive runs
-        sharing their end points.
+    domain : coastmesh.meshing.Domain
+        The valid sea polygon and its boundary as tagged segments: runs covering
+        every ring in order, consecutive runs sharing their end points.
     report : DomainReport
 
     Raises
@@ -140,7 +132,8 @@ def build_domain(
     >>> import shapely
     >>> land = [shapely.box(0, 0, 10, 2), shapely.box(4, 5, 5, 6)]
     >>> walls = [OpenBoundary([(1, 1), (1, 9), (9, 9), (9, 1)], "open", 2)]
-    >>> poly, segs, rep = build_domain(land, walls, crs="EPSG:3857")
+    >>> domain, report = build_domain(land, walls, crs="EPSG:3857")
+    >>> poly, segs = domain.polygon, domain.segments
     >>> poly.area, len(poly.interiors), sorted({s.kind for s in segs})
     (55.0, 1, ['open', 'shoreline'])
     """
@@ -197,7 +190,7 @@ def build_domain(
         holes_dropped=dropped,
         segments=counts,
     )
-    return domain, segments, report
+    return Domain(domain, tuple(segments), crs, surface_id), report
 
 
 def _area(polygons, crs: CRS) -> NDArray[np.float64]:
@@ -221,7 +214,7 @@ def _tag_boundary(domain, open_boundaries, shoreline_id):
     )
     extent = max(np.ptp(np.asarray(domain.exterior.coords), axis=0).max(), 1.0)
     tolerance = 1e-9 * extent
-    segments: list[DomainSegment] = []
+    segments: list[BoundarySegment] = []
     for ring in [domain.exterior, *domain.interiors]:
         xy = np.asarray(ring.coords)[:-1]
         n = len(xy)
@@ -249,8 +242,8 @@ def _tag_boundary(domain, open_boundaries, shoreline_id):
     return segments
 
 
-def _segment(coords, owner, open_boundaries, shoreline_id) -> DomainSegment:
+def _segment(coords, owner, open_boundaries, shoreline_id) -> BoundarySegment:
     if owner < 0:
-        return DomainSegment(coords, "shoreline", "shoreline", shoreline_id)
+        return BoundarySegment(coords, "shoreline", "shoreline", shoreline_id)
     b = open_boundaries[owner]
-    return DomainSegment(coords, "open", b.name, b.physical_id)
+    return BoundarySegment(coords, "open", b.name, b.physical_id)
