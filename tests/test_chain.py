@@ -58,7 +58,7 @@ def test_orkney_chain(tmp_path):
     )
     mesh = generate_mesh(
         domain,
-        SizeGrid(field.x.values, field.y.values, field.values),
+        SizeGrid.from_dataarray(field),
         mesh_crs=utm,
     )
     # every boundary edge carries an id, from the shoreline or one of the sides
@@ -74,3 +74,20 @@ def test_orkney_chain(tmp_path):
     np.testing.assert_array_equal(
         np.sort(back.boundary_ids), np.sort(mesh.boundary_ids)
     )
+
+
+def test_size_grid_from_dataarray_checks_dims():
+    import pytest
+    import xarray as xr
+
+    from coastmesh.meshing import SizeGrid
+
+    field = xr.DataArray(
+        np.full((2, 3), 5.0),
+        dims=("y", "x"),
+        coords={"y": [0.0, 1.0], "x": [0.0, 1.0, 2.0]},
+    )
+    grid = SizeGrid.from_dataarray(field)
+    assert grid.values.shape == (2, 3) and grid.x.tolist() == [0.0, 1.0, 2.0]
+    with pytest.raises(ValueError, match=r"dims \('x', 'y'\)"):
+        SizeGrid.from_dataarray(field.transpose())

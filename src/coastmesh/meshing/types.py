@@ -6,7 +6,7 @@ All are frozen dataclasses, validated when built; constructors never read files.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 import shapely
@@ -207,6 +207,23 @@ class SizeGrid:
         for name, array in (*axes.items(), ("values", values)):
             array.flags.writeable = False
             object.__setattr__(self, name, array)
+
+    @classmethod
+    def from_dataarray(cls, field: Any) -> SizeGrid:
+        """Build from a size field DataArray with dims ``("y", "x")``.
+
+        Parameters
+        ----------
+        field : xarray.DataArray
+            Such as :func:`coastmesh.sizing.size_field` returns (metres).
+
+        Returns
+        -------
+        SizeGrid
+        """
+        if tuple(field.dims) != ("y", "x"):
+            raise ValueError(f"field has dims {tuple(field.dims)}, expected ('y', 'x')")
+        return cls(field["x"].values, field["y"].values, field.values)
 
 
 @dataclass(frozen=True, slots=True)
