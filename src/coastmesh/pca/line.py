@@ -17,17 +17,20 @@ The partitions overlap by ``L-1`` points, so ``S`` is a Hankel (trajectory) matr
 and nothing here ever builds it. With ``Q = I - 11^T/L`` the per-partition centring,
 ``C = Q G Q / M`` where ``G[a, b] = sum_k z[k+a] z[k+b]`` is a lag product:
 
-* closed ring: ``G`` is the Toeplitz matrix of the cyclic autocorrelation of ``z``
-  (one real FFT of length ``n``);
+* closed ring: ``G`` is the Toeplitz matrix of the cyclic autocorrelation of ``z``,
+  taken from the linear autocorrelation of the ring extended cyclically by ``L-1``
+  points on either side (one FFT), less the lag products of the extensions;
 * open line: ``G`` is the Toeplitz matrix of the linear autocorrelation (all windows
-  of the zero-padded line) minus the ``2(L-1)`` windows that stick out of the line.
+  of the zero-padded line) minus the ``2(L-1)`` windows that stick out of the line,
+  summed in ``O(L^2)`` by prefix sums along the diagonals.
 
 With ``U`` the leading eigenvectors, partition ``k`` is rebuilt as ``B s_k`` with
 ``B = U U^T Q + 11^T/L``. Summing the rebuilt partitions over every partition that
-holds a point is a correlation of the line with the kernel ``h[d] = sum_{m-i=d}
-B[i, m]`` of ``2L-1`` taps: one FFT convolution, cyclic for a ring (where the kernel
-wraps onto itself when ``n < 2L-1``), or on the zero-padded line minus the
-overhanging windows for an open line. Time is ``O(n log n + L^2 r)`` plus the
+holds a point is a correlation of the extended line with the kernel
+``h[d] = sum_{m-i=d} B[i, m]`` of ``2L-1`` taps: one FFT convolution reusing the
+spectrum above. For a ring the cyclic extension makes the kernel wrap onto itself
+when ``n < 2L-1``, so short rings stay exact; for an open line the overhanging
+windows are subtracted. Time is ``O(n log n + L^2 r)`` plus the
 eigenproblem, memory ``O(n + L^2)``. Small problems take a direct path that builds
 the ``M x L`` windows as a strided view, which is faster below about 2^17 values.
 
@@ -155,7 +158,7 @@ def contour_modes(
     window = check_window(window)
     if z.ndim != 1 or len(z) < window:
         raise ValueError(f"values must be 1-D with at least window ({window}) points")
-    covs = _covariances((z - z.mean())[None, :], window, bool(closed))[3]
+    covs = _covariances((z - z.mean())[None, :], window, bool(closed))[2]
     return np.linalg.eigvalsh(covs[0])[::-1]
 
 
@@ -175,7 +178,7 @@ def _as_coords(coords: ArrayLike) -> NDArray[np.float64]:
 def _approximate(z: NDArray[np.float64], window: int, modes: int, closed: bool):
     """FFT path for ``z`` of shape (k, n): returns the approximated (k, n)."""
     n = z.shape[1]
-    _, spectrum, size, covs = _covariances(z, window, closed)
+    spectrum, size, covs = _covariances(z, window, closed)
     kernels = np.zeros((len(z), size))
     corrections = np.zeros((len(z), n))
     for dim, cov in enumerate(covs):
@@ -200,9 +203,9 @@ def _approximate(z: NDArray[np.float64], window: int, modes: int, closed: bool):
 def _covariances(z: NDArray[np.float64], window: int, closed: bool):
     """Partition covariances ``C = Q G Q / M`` of each row of ``z`` (k, n).
 
-    Returns the framed rows (ring extended cyclically, or line zero-padded, by
-    ``L-1`` points on either side), their spectrum, the FFT size and the (k, L, L)
-    covariances. No trajectory matrix is built.
+    Returns the spectrum of the framed rows (ring extended cyclically, or line
+    zero-padded, by ``L-1`` points on either side), the FFT size and the
+    (k, L, L) covariances. No trajectory matrix is built.
     """
     n = z.shape[1]
     # room for the frame, and for lags up to L-1 past it without wrapping
@@ -235,7 +238,7 @@ def _covariances(z: NDArray[np.float64], window: int, closed: bool):
         n_windows = n - window + 1
     covs = np.stack([_centre(g) for g in grams])
     covs /= n_windows
-    return framed, spectrum, size, covs
+    return spectrum, size, covs
 
 
 def _toeplitz(row: NDArray[np.float64]) -> NDArray[np.float64]:
