@@ -12,17 +12,25 @@ The contract (Avdis et al. 2015, section II.B) for a grid of ``ny x nx`` cells
 
 How it is computed fast
 -----------------------
-Let ``z`` be the grid minus the mean of its valid cells, with missing cells set to
-zero and the grid padded with ``w-1`` zeros on every side. Over *all* windows of the
-padded grid, the lag products ``G[a, b] = sum_k z[k+a] z[k+b]`` are the 2-D
-autocorrelation of ``z`` (one 2-D FFT), laid out block-Toeplitz. Windows that hold
-no valid cell contribute nothing; windows that hold some valid cells but are not
-partitions (they overlap the edge of the grid or a missing cell) are few, and their
-contribution is subtracted explicitly. The same split serves the reconstruction:
-the sum of the rebuilt windows over all windows is a 2-D correlation of ``z`` with a
-``(2wy-1) x (2wx-1)`` kernel (one FFT convolution), from which the partial windows
-are subtracted. Cost: ``O(N log N)`` for ``N`` cells plus ``O(L r)`` per partial
-window, against ``O(N L^2)`` for the literal method; memory ``O(N)``.
+Let ``z`` be the grid minus a typical value (the mean of the first strip's valid
+cells), with missing cells set to zero, and think of it padded with ``w-1`` zeros
+on every side. Over *all* windows of the padded grid, sums of products at fixed
+offsets are 2-D correlations, one FFT each:
+
+* the covariance uses each window relative to its first cell, a fixed linear map
+  of the window's internal x and y differences, so it is assembled from the auto-
+  and cross-correlations of the two difference fields (differences between missing
+  cells count as zero). FFT rounding then scales with the relief's roughness, not
+  with its depth range;
+* the sum of the rebuilt windows over all windows is a correlation of ``z`` with a
+  ``(2wy-1) x (2wx-1)`` kernel.
+
+Windows with no valid cell contribute nothing; windows with some valid cells that
+are not partitions (they overlap the grid's edge or a missing cell) are few, and
+both sums subtract them explicitly. The grid is processed in strips of rows in two
+passes (covariance, then reconstruction), so working memory stays bounded. Cost:
+``O(N log N)`` for ``N`` cells plus ``O(L r)`` per partial window, against
+``O(N L^2)`` for the literal method.
 """
 
 from __future__ import annotations
@@ -126,6 +134,7 @@ def simplify_raster(
     if n_windows == 0:  # no complete window: every cell keeps its value
         for r0, r1 in strips:
             out[r0:r1] = np.asarray(values[r0:r1], dtype=np.float64)
+        report(steps, steps)
         return out
     _, u = leading_eigenvectors(_centred_covariance(gram, n_windows), modes)
     ny = shape[0]
