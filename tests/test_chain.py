@@ -7,23 +7,22 @@ graded from the coast in metres; the mesh is made in UTM and written as msh 2.2.
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 import shapely
 from pyproj import Transformer
 
-import coastmesh
+from coastmesh import datasets
 from coastmesh.geometry import Loxodrome, OpenBoundary, build_domain
 from coastmesh.io.msh import read_msh, write_msh
 from coastmesh.meshing import SizeGrid, default_mesh_crs, generate_mesh
 from coastmesh.sizing import Gradation, size_field, to_metres
 
-DATA = Path(coastmesh.__file__).parent / "data"
-
 
 def test_orkney_chain(tmp_path):
-    features = json.loads((DATA / "orkney_gshhg_f.geojson").read_text())["features"]
+    features = json.loads((datasets.path("orkney_gshhg_f.geojson")).read_text())[
+        "features"
+    ]
     land = np.array([shapely.from_geojson(json.dumps(f["geometry"])) for f in features])
     sides = [
         ("west", 2, Loxodrome((-3.5, 58.6), 0.0, end_lat=59.5)),

@@ -3,23 +3,20 @@
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
 import shapely
 
-import coastmesh
+from coastmesh import datasets
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry import simplify_shorelines
 from coastmesh.pca import simplify_contour
 
-DATA = Path(coastmesh.__file__).parent / "data"
-
 
 @pytest.fixture(scope="module")
 def norway():
-    text = (DATA / "norway_west_gshhg_f.geojson").read_text()
+    text = datasets.path("norway_west_gshhg_f.geojson").read_text()
     features = json.loads(text)["features"]
     return np.array([shapely.from_geojson(json.dumps(f["geometry"])) for f in features])
 

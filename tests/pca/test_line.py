@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import tracemalloc
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,11 +11,9 @@ from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 from reference import simplify_contour_dense, simplify_contour_reference
 
-import coastmesh
+from coastmesh import datasets
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.pca import contour_modes, line, simplify_contour
-
-DATA = Path(coastmesh.__file__).parent / "data"
 
 
 def _walk(seed: int, n: int) -> np.ndarray:
@@ -119,7 +116,7 @@ def test_smooths_noise_on_a_circle():
 
 
 def _norway_rings(min_points: int):
-    data = json.loads((DATA / "norway_west_gshhg_f.geojson").read_text())
+    data = json.loads(datasets.path("norway_west_gshhg_f.geojson").read_text())
     for feature in data["features"]:
         geom = feature["geometry"]
         polygons = (
