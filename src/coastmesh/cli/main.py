@@ -18,6 +18,7 @@ import click
 
 from coastmesh import __version__
 from coastmesh.cli.demo import demo
+from coastmesh.cli.run import run
 from coastmesh.cli.simplify_raster import simplify_raster
 from coastmesh.cli.simplify_shoreline import simplify_shoreline
 
@@ -141,7 +142,9 @@ def cli(ctx: click.Context, verbose: int, quiet: int) -> None:
     """Shorelines and bathymetry to meshes for tidal ocean models.
 
     Approximate shorelines and bathymetry by principal component analysis (PCA)
-    of overlapping windows (Avdis et al. 2015). Start with 'coastmesh demo'.
+    of overlapping windows (Avdis et al. 2015), close model domains with
+    loxodrome open boundaries, and mesh them with Gmsh. Start with 'coastmesh demo';
+    run a whole case with 'coastmesh run CASE.toml'.
     """
     ctx.call_on_close(configure_logging(verbose - quiet))
     ctx.ensure_object(dict)
@@ -151,6 +154,7 @@ def cli(ctx: click.Context, verbose: int, quiet: int) -> None:
 cli.add_command(simplify_shoreline)
 cli.add_command(simplify_raster)
 cli.add_command(demo)
+cli.add_command(run)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

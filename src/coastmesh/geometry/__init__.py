@@ -7,7 +7,12 @@ from coastmesh.geometry.domain import (
     OpenBoundary,
     build_domain,
 )
-from coastmesh.geometry.rhumb import Loxodrome, blend_loxodromes, paper_bearing
+from coastmesh.geometry.rhumb import (
+    Loxodrome,
+    blend_loxodromes,
+    great_circle,
+    paper_bearing,
+)
 from coastmesh.geometry.shoreline import (
     ShorelineReport,
     check_coordinates,
@@ -22,6 +27,7 @@ __all__ = [
     "blend_loxodromes",
     "build_domain",
     "check_coordinates",
+    "great_circle",
     "paper_bearing",
     "simplify_shorelines",
 ]

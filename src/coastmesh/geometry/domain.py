@@ -10,6 +10,7 @@ is tagged as shoreline or as the open boundary it lies on.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -91,6 +92,7 @@ def build_domain(
     min_area: float = 0.0,
     shoreline_id: int = 1,
     surface_id: int = 1,
+    shorelines: Sequence[tuple[str, int, shapely.Geometry | None]] | None = None,
 ) -> tuple[Domain, DomainReport]:
     """Build the sea polygon closed by shorelines and open boundaries.
 
@@ -109,9 +111,14 @@ def build_domain(
         Islands (holes) smaller than this are dropped, square metres (geodesic
         area for a geographic CRS).
     shoreline_id : int
-        Boundary id of the shoreline edges.
+        Boundary id of the shoreline edges (when ``shorelines`` is not given).
     surface_id : int
         Physical id of the domain's surface (its triangles).
+    shorelines : sequence of (name, physical_id, region), optional
+        Shoreline sets by region, as :func:`~coastmesh.geometry.stitch_shorelines`
+        returns them: a shoreline edge takes the name and id of the first set whose
+        region holds its midpoint, or of the set whose region is None. Default: one
+        set ``("shoreline", shoreline_id, None)``.
 
     Returns
     -------
@@ -138,13 +145,10 @@ def build_domain(
     (55.0, 1, ['open', 'shoreline'])
     """
     crs = CRS.from_user_input(crs)
-    if shoreline_id <= 0:
-        raise ConfigError(f"shoreline_id = {shoreline_id}: must be > 0")
-    ids = [b.physical_id for b in open_boundaries]
-    if shoreline_id in ids:
-        raise ConfigError(
-            f"shoreline_id = {shoreline_id} is also the id of an open boundary"
-        )
+    if shorelines is None:
+        shorelines = [("shoreline", shoreline_id, None)]
+    shorelines = list(shorelines)
+    _check_ids(shorelines, open_boundaries)
     geoms = np.asarray(land, dtype=object).ravel()
     geoms = geoms[~(shapely.is_missing(geoms) | shapely.is_empty(geoms))]
     invalid = ~shapely.is_valid(geoms)
@@ -177,7 +181,7 @@ def build_domain(
     else:
         domain = sea[np.argmax(shapely.area(sea))]
     domain, dropped = _drop_small_holes(domain, min_area, crs)
-    segments = _tag_boundary(domain, open_boundaries, shoreline_id)
+    segments = _tag_boundary(domain, open_boundaries, shorelines)
     counts: dict[str, int] = {}
     for s in segments:
         counts[s.name] = counts.get(s.name, 0) + len(s.coords) - 1
@@ -208,42 +212,69 @@ def _drop_small_holes(domain: shapely.Polygon, min_area: float, crs: CRS):
     return shapely.Polygon(domain.exterior, kept), int((~keep).sum())
 
 
-def _tag_boundary(domain, open_boundaries, shoreline_id):
+def _check_ids(shorelines, open_boundaries) -> None:
+    names = [name for name, _, _ in shorelines] + [b.name for b in open_boundaries]
+    if len(set(names)) != len(names):
+        raise ConfigError(f"boundary names repeat: {names}")
+    for name, physical_id, _ in shorelines:
+        if isinstance(physical_id, bool) or int(physical_id) <= 0:
+            raise ConfigError(f"shoreline {name!r}: id = {physical_id!r} must be > 0")
+    if sum(region is None for _, _, region in shorelines) != 1:
+        raise ConfigError("shorelines: exactly one set must have region None")
+    owners = {b.physical_id: b.name for b in open_boundaries}
+    for name, physical_id, _ in shorelines:
+        if physical_id in owners:
+            raise ConfigError(
+                f"shoreline {name!r}: id {physical_id} is also the id of open "
+                f"boundary {owners[physical_id]!r}"
+            )
+
+
+def _tag_boundary(domain, open_boundaries, shorelines):
     lines = np.array(
         [shapely.LineString(b.coords) for b in open_boundaries], dtype=object
     )
     extent = max(np.ptp(np.asarray(domain.exterior.coords), axis=0).max(), 1.0)
     tolerance = 1e-9 * extent
+    background = next(k for k, (_, _, r) in enumerate(shorelines) if r is None)
     segments: list[BoundarySegment] = []
     for ring in [domain.exterior, *domain.interiors]:
         xy = np.asarray(ring.coords)[:-1]
         n = len(xy)
         mid = 0.5 * (xy + np.roll(xy, -1, axis=0))  # edge i runs from i to i+1
-        owner = np.full(n, -1)
+        points = shapely.points(mid)
+        # owners: k >= 0 an open boundary, -1 - k the shoreline set k
+        owner = np.full(n, -1 - background)
+        free = np.ones(n, dtype=bool)
+        for k, (_, _, region) in enumerate(shorelines):
+            if region is None:
+                continue
+            shapely.prepare(region)
+            inside = free & shapely.dwithin(region, points, tolerance)
+            owner[inside] = -1 - k
+            free &= ~inside
         if len(lines):
-            points = shapely.points(mid)
             near = shapely.dwithin(points[:, None], lines[None, :], tolerance)
             hit = near.any(axis=1)
             owner[hit] = np.argmax(near[hit], axis=1)
         changes = np.flatnonzero(owner != np.roll(owner, 1))
         if len(changes) == 0:  # the whole ring is one run
             segments.append(
-                _segment(
-                    np.vstack([xy, xy[:1]]), owner[0], open_boundaries, shoreline_id
-                )
+                _segment(np.vstack([xy, xy[:1]]), owner[0], open_boundaries, shorelines)
             )
             continue
         for k, start in enumerate(changes):
             stop = changes[(k + 1) % len(changes)]
             idx = np.arange(start, start + ((stop - start) % n or n) + 1) % n
             segments.append(
-                _segment(xy[idx], owner[start], open_boundaries, shoreline_id)
+                _segment(xy[idx], owner[start], open_boundaries, shorelines)
             )
     return segments
 
 
-def _segment(coords, owner, open_boundaries, shoreline_id) -> BoundarySegment:
+def _segment(coords, owner, open_boundaries, shorelines) -> BoundarySegment:
     if owner < 0:
-        return BoundarySegment(coords, "shoreline", "shoreline", shoreline_id)
+        name, physical_id, _ = shorelines[-1 - owner]
+        return BoundarySegment(coords, "shoreline", name, physical_id)
     b = open_boundaries[owner]
     return BoundarySegment(coords, "open", b.name, b.physical_id)

@@ -27,7 +27,7 @@ from pyproj import Geod
 
 from coastmesh.errors import ConfigError
 
-__all__ = ["Loxodrome", "blend_loxodromes", "paper_bearing"]
+__all__ = ["Loxodrome", "blend_loxodromes", "great_circle", "paper_bearing"]
 
 _GEOD = Geod(ellps="WGS84")
 _E = np.sqrt(_GEOD.es)
@@ -286,3 +286,44 @@ def blend_loxodromes(
         if np.max(steps) <= spacing:
             return curve
         count = int(np.ceil(count * np.max(steps) / spacing)) + 1
+
+
+def great_circle(
+    start: tuple[float, float], end: tuple[float, float], *, spacing: float
+) -> NDArray[np.float64]:
+    """Sample the geodesic (great-circle arc on WGS84) from ``start`` to ``end``.
+
+    Parameters
+    ----------
+    start, end : (float, float)
+        ``(lon, lat)`` of the two ends, degrees; distinct.
+    spacing : float
+        Largest distance between consecutive points, metres (> 0).
+
+    Returns
+    -------
+    ndarray of shape (k, 2)
+        ``(lon, lat)`` rows from ``start`` to ``end``, equally spaced along the
+        geodesic (pyproj's ``Geod.npts``), ``k >= 2``.
+
+    Examples
+    --------
+    >>> p = great_circle((-10.0, 50.0), (10.0, 50.0), spacing=50_000)
+    >>> p[0].tolist(), p[-1].tolist(), bool(p[:, 1].max() > 50.4)  # bulges north
+    ([-10.0, 50.0], [10.0, 50.0], True)
+    """
+    if not spacing > 0:
+        raise ConfigError(f"spacing = {spacing}: must be > 0 metres")
+    (lon0, lat0), (lon1, lat1) = (tuple(float(v) for v in p) for p in (start, end))
+    for name, lat in (("start", lat0), ("end", lat1)):
+        if not -90 <= lat <= 90:
+            raise ConfigError(f"great circle {name} latitude = {lat}: not in [-90, 90]")
+    _, _, length = _GEOD.inv(lon0, lat0, lon1, lat1)
+    if not length > 0:
+        raise ConfigError(f"great circle from {start} to {end}: the ends coincide")
+    inner = max(0, int(np.ceil(length / spacing)) - 1)
+    middle = np.array(_GEOD.npts(lon0, lat0, lon1, lat1, inner)).reshape(-1, 2)
+    line = np.vstack([[lon0, lat0], middle, [lon1, lat1]])
+    # npts wraps longitudes to [-180, 180]; keep the line continuous from start
+    line[1:, 0] = lon0 + (line[1:, 0] - lon0 + 180.0) % 360.0 - 180.0
+    return line

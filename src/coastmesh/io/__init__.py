@@ -5,6 +5,9 @@
 :func:`write_features` :class:`~coastmesh.types.Features` -> vector file
 :func:`read_raster`    raster band -> :class:`xarray.DataArray` (``y``, ``x``)
 :func:`write_raster`   :class:`xarray.DataArray` -> GeoTIFF or NetCDF
+:func:`write_mesh`     :class:`~coastmesh.meshing.types.Mesh` -> msh, GeoPackage, ...
+:func:`mesh_formats`   the mesh output formats, by name
+:func:`write_domain`   :class:`~coastmesh.meshing.types.Domain` -> GeoPackage
 =====================  ==========================================================
 
 The submodules are imported on first use, so reading vectors does not import
@@ -18,16 +21,21 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from coastmesh.io._inputs import check_bbox
+    from coastmesh.io.domain_gpkg import write_domain
     from coastmesh.io.msh import read_msh, write_msh
     from coastmesh.io.raster import read_raster, write_raster
     from coastmesh.io.vector import read_features, write_features
+    from coastmesh.io.writers import mesh_formats, write_mesh
 
 __all__ = [
     "check_bbox",
+    "mesh_formats",
     "read_features",
     "read_msh",
     "read_raster",
+    "write_domain",
     "write_features",
+    "write_mesh",
     "write_msh",
     "write_raster",
 ]
@@ -40,6 +48,9 @@ _HOME = {
     "write_raster": "coastmesh.io.raster",
     "read_msh": "coastmesh.io.msh",
     "write_msh": "coastmesh.io.msh",
+    "write_mesh": "coastmesh.io.writers",
+    "mesh_formats": "coastmesh.io.writers",
+    "write_domain": "coastmesh.io.domain_gpkg",
 }
 
 

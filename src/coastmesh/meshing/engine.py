@@ -17,7 +17,8 @@ from typing import Any
 import numpy as np
 import shapely
 from numpy.typing import NDArray
-from pyproj import CRS, Transformer
+from pyproj import CRS, Proj, Transformer
+from pyproj.crs import ProjectedCRS
 
 from coastmesh.errors import MeshingError
 from coastmesh.meshing.boundary import resample_rings
@@ -36,10 +37,36 @@ _LOCK = threading.Lock()
 _DENSIFY_FRACTION = 1e-3
 # Relative precision of Gmsh's integral of 1/h along each curve (boundary nodes).
 _INTEGRATION_PRECISION = 1e-4
+# default_mesh_crs: UTM for domains at most this many degrees of longitude wide ...
+_UTM_MAX_WIDTH = 6.0
+# ... and within this many degrees of latitude of the equator.
+_UTM_MAX_LAT = 80.0
+# A mesh CRS whose angular distortion (degrees) exceeds this anywhere on the size
+# grid is not conformal; conformal ones give ~1e-6 from PROJ's numerical derivatives.
+_MAX_ANGULAR_DISTORTION = 1e-3
+# Size grid nodes per block when computing scale factors (bounds the memory used).
+_SCALE_BLOCK = 1 << 18
 
 
 def default_mesh_crs(domain: Domain) -> CRS:
     """Return the CRS :func:`generate_mesh` meshes in when none is given.
+
+    A conformal projection keeps the triangles' shapes on the Earth; its point
+    scale factor k (map length per metre on the Earth) then only changes their
+    size, and :func:`generate_mesh` corrects for it. The choice keeps k close
+    to 1 over the domain:
+
+    - a projected ``domain.crs`` is used as it is;
+    - a geographic domain at most 6 degrees of longitude wide and within
+      80 degrees of latitude of the equator gets the WGS 84 UTM zone (north or
+      south) of its centroid, where k stays within about 1 % of 1;
+    - a wider or polar geographic domain gets an oblique stereographic
+      projection on WGS 84 centred on its centroid (``+proj=sterea +lat_0=..
+      +lon_0=.. +k=1 +x_0=0 +y_0=0 +datum=WGS84 +units=m``). Its k is 1 at the
+      centroid and grows alike in every direction with the angular distance c
+      from it, k = 2 / (1 + cos c) (1.017 at 15 degrees), half as fast as a
+      transverse Mercator's grows away from its central meridian; and unlike
+      UTM it is defined at the poles.
 
     Parameters
     ----------
@@ -49,8 +76,12 @@ def default_mesh_crs(domain: Domain) -> CRS:
     Returns
     -------
     pyproj.CRS
-        ``domain.crs`` if it is projected; otherwise the WGS 84 UTM zone (north or
-        south) of the domain's centroid, a conformal projection in metres.
+        A projected, conformal CRS in metres: ``domain.crs``, a UTM zone, or an
+        oblique stereographic projection as above.
+
+    See Also
+    --------
+    generate_mesh : converts the target sizes by the scale factor of this CRS.
 
     Examples
     --------
@@ -61,13 +92,52 @@ def default_mesh_crs(domain: Domain) -> CRS:
     ...            crs="EPSG:4326")
     >>> default_mesh_crs(d).to_epsg()
     32630
+
+    The north-west European shelf is too wide for one UTM zone:
+
+    >>> ring = [[-15, 45], [10, 45], [10, 70], [-15, 70], [-15, 45]]
+    >>> d = Domain(shapely.Polygon(ring), (BoundarySegment(ring, "open", "b", 1),),
+    ...            crs="EPSG:4326")
+    >>> default_mesh_crs(d).name
+    'WGS 84 / oblique stereographic 57.5N 2.5W'
     """
     if domain.crs.is_projected:
         return domain.crs
     to_lonlat = Transformer.from_crs(domain.crs, "EPSG:4326", always_xy=True)
-    lon, lat = to_lonlat.transform(domain.polygon.centroid.x, domain.polygon.centroid.y)
-    zone = int(np.clip(np.floor((lon + 180.0) / 6.0) + 1, 1, 60))
-    return CRS.from_epsg((32600 if lat >= 0 else 32700) + zone)
+    ring = shapely.get_coordinates(domain.polygon.exterior)
+    lon, lat = to_lonlat.transform(ring[:, 0], ring[:, 1])
+    centroid = domain.polygon.centroid
+    c_lon, c_lat = to_lonlat.transform(centroid.x, centroid.y)
+    c_lon = (c_lon + 180.0) % 360.0 - 180.0
+    if _lon_extent(lon) <= _UTM_MAX_WIDTH and np.abs(lat).max() <= _UTM_MAX_LAT:
+        zone = int(np.clip(np.floor((c_lon + 180.0) / 6.0) + 1, 1, 60))
+        return CRS.from_epsg((32600 if c_lat >= 0 else 32700) + zone)
+    return _oblique_stereographic(float(c_lat), float(c_lon))
+
+
+def _lon_extent(lon: NDArray[np.float64]) -> float:
+    """Return the degrees of longitude spanned: 360 minus the widest empty arc."""
+    lon = np.sort(np.mod(np.asarray(lon, dtype=np.float64), 360.0))
+    gaps = np.diff(np.concatenate([lon, lon[:1] + 360.0]))
+    return float(360.0 - gaps.max())
+
+
+def _oblique_stereographic(lat: float, lon: float) -> CRS:
+    """Return a named oblique stereographic CRS on WGS 84 centred on (lat, lon)."""
+    lat, lon = round(lat, 6), round(lon, 6)
+    proj = (
+        f"+proj=sterea +lat_0={lat} +lon_0={lon} +k=1 +x_0=0 +y_0=0 "
+        "+datum=WGS84 +units=m +no_defs"
+    )
+    name = (
+        f"WGS 84 / oblique stereographic {abs(lat):g}{'N' if lat >= 0 else 'S'} "
+        f"{abs(lon):g}{'E' if lon >= 0 else 'W'}"
+    )
+    return ProjectedCRS(
+        CRS.from_proj4(proj).coordinate_operation,
+        name=name,
+        geodetic_crs=CRS.from_epsg(4326),
+    )
 
 
 def sample_size(grid: SizeGrid, xy: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -107,6 +177,87 @@ def sample_size(grid: SizeGrid, xy: NDArray[np.float64]) -> NDArray[np.float64]:
     )
 
 
+def _scale_factor(
+    x: NDArray[np.float64], y: NDArray[np.float64], mesh_crs: CRS
+) -> NDArray[np.float64]:
+    """Return the point scale factor k of a conformal ``mesh_crs`` at points.
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Projected coordinates in ``mesh_crs``, of the same shape.
+    mesh_crs : pyproj.CRS
+        A projected CRS.
+
+    Returns
+    -------
+    ndarray
+        k at each point, the same shape as ``x``: map units per metre on the
+        Earth (PROJ's meridional scale, equal to the parallel scale).
+
+    Raises
+    ------
+    ValueError
+        If a point has no longitude and latitude or no scale factor, or if
+        ``mesh_crs`` is not conformal there (angular distortion above 1e-3
+        degrees).
+    """
+    x, y = np.broadcast_arrays(np.asarray(x, np.float64), np.asarray(y, np.float64))
+    to_lonlat = Transformer.from_crs(mesh_crs, mesh_crs.geodetic_crs, always_xy=True)
+    projection = Proj(mesh_crs)
+    flat_x, flat_y = x.ravel(), y.ravel()
+    k = np.empty(flat_x.size)
+    distortion = 0.0
+    for start in range(0, flat_x.size, _SCALE_BLOCK):
+        block = slice(start, start + _SCALE_BLOCK)
+        lon, lat = to_lonlat.transform(flat_x[block], flat_y[block])
+        factors = projection.get_factors(lon, lat)
+        k[block] = factors.meridional_scale
+        bad = ~(np.isfinite(lon) & np.isfinite(lat) & np.isfinite(k[block]))
+        bad |= ~(k[block] > 0)
+        if bad.any():
+            i = start + int(np.argmax(bad))
+            raise ValueError(
+                f"the size grid node at ({flat_x[i]:.1f}, {flat_y[i]:.1f}) has no "
+                f"longitude, latitude or scale factor in mesh_crs {mesh_crs.name!r}; "
+                "keep the grid inside the projection's valid area"
+            )
+        distortion = max(distortion, float(np.max(factors.angular_distortion)))
+    if not distortion <= _MAX_ANGULAR_DISTORTION:
+        raise ValueError(
+            f"mesh_crs {mesh_crs.name!r} is not conformal: its angular distortion "
+            f"reaches {distortion:.3g} degrees over the size grid, so triangles "
+            "would be distorted on the Earth; mesh_crs must be conformal (UTM, "
+            "stereographic, Lambert conformal conic, Mercator; default: "
+            "default_mesh_crs)"
+        )
+    return k.reshape(x.shape)
+
+
+def _to_map_units(size: SizeGrid, mesh_crs: CRS) -> SizeGrid:
+    """Convert a size grid from metres on the Earth to ``mesh_crs`` map units.
+
+    Parameters
+    ----------
+    size : SizeGrid
+        Target edge lengths in metres on the Earth, at nodes in ``mesh_crs``.
+    mesh_crs : pyproj.CRS
+        A projected, conformal CRS.
+
+    Returns
+    -------
+    SizeGrid
+        The same nodes with values ``size.values * k``, k the point scale factor
+        (:func:`_scale_factor`).
+    """
+    gx, gy = np.meshgrid(size.x, size.y)
+    k = _scale_factor(gx, gy, mesh_crs)
+    logger.info(
+        "size: scale factor %.4f to %.4f in %s", k.min(), k.max(), mesh_crs.name
+    )
+    return SizeGrid(size.x, size.y, size.values * k)
+
+
 def generate_mesh(
     domain: Domain,
     size: SizeGrid,
@@ -125,12 +276,12 @@ def generate_mesh(
     domain : Domain
         The polygon and its tagged boundary segments, in ``domain.crs``.
     size : SizeGrid
-        Target edge length in metres on a regular grid in ``mesh_crs`` coordinates;
-        clamped to the nearest grid value outside the grid. Build it in
-        :func:`default_mesh_crs` when ``mesh_crs`` is not given.
+        Target edge length in metres on the Earth, on a regular grid in
+        ``mesh_crs`` coordinates; clamped to the nearest grid value outside the
+        grid. Build it in :func:`default_mesh_crs` when ``mesh_crs`` is not given.
     mesh_crs : pyproj.CRS or CRS-like, optional
-        The CRS to mesh in: projected, in metres, and conformal so elements keep
-        their shape on the Earth. Default :func:`default_mesh_crs`.
+        The CRS to mesh in: projected and conformal, so elements keep their shape
+        on the Earth. Default :func:`default_mesh_crs`.
     output_crs : pyproj.CRS or CRS-like, optional
         The CRS of the returned points. Default ``domain.crs``.
     seed : int, default 0
@@ -148,15 +299,17 @@ def generate_mesh(
         Points in ``output_crs``; triangles counter-clockwise; every boundary edge
         oriented with the domain on its left and tagged with the ``physical_id``
         of its segment; ``surface_id`` from the domain. ``point_data["size"]`` is
-        the target size at each node in metres.
+        the target size at each node in metres on the Earth, from ``size``.
 
     Raises
     ------
     TypeError
         If ``domain`` or ``size`` has the wrong type.
     ValueError
-        If ``algorithm``, ``seed`` or ``mesh_crs`` is invalid (a geographic
-        ``mesh_crs``).
+        If ``algorithm``, ``seed`` or ``mesh_crs`` is invalid: a geographic or
+        non-conformal ``mesh_crs`` (angular distortion above 1e-3 degrees on the
+        size grid), or one in which a size grid node has no longitude and
+        latitude.
     MeshingError
         If the boundary self-intersects after resampling, or Gmsh fails; the
         message carries Gmsh's last error.
@@ -168,6 +321,14 @@ def generate_mesh(
 
     Notes
     -----
+    The sizes are metres on the Earth, and a conformal projection maps a length
+    of h metres near a point to h * k map units, k the point scale factor there
+    (``pyproj.Proj(mesh_crs).get_factors``, at each grid node's longitude and
+    latitude in ``mesh_crs.geodetic_crs``). k is 0.9996 to 1.001 in a UTM zone
+    but 2 at 60 degrees latitude in Mercator, so the grid is converted once to
+    map units, ``size.values * k``, before the boundary is resampled and Gmsh
+    sees it; edge lengths measured on the ellipsoid then follow ``size``.
+
     Each segment is projected to ``mesh_crs`` and resampled to about two points
     per local target edge (:func:`~coastmesh.meshing.boundary.resample_rings`),
     keeping end points and corners. Every piece between kept points becomes a
@@ -216,8 +377,9 @@ def generate_mesh(
             progress(done, total)
 
     started = time.perf_counter()
+    map_size = _to_map_units(size, mesh_crs)
     rings, ids = _project_rings(domain, mesh_crs)
-    resampled, dropped = resample_rings(rings, lambda xy: sample_size(size, xy))
+    resampled, dropped = resample_rings(rings, lambda xy: sample_size(map_size, xy))
     ids = [ring_ids for r, ring_ids in enumerate(ids) if r not in set(dropped)]
     _check_boundary(resampled)
     n_boundary = sum(len(p) - 1 for ring in resampled for seg in ring for p in seg)
@@ -234,7 +396,7 @@ def generate_mesh(
             gmsh,
             resampled,
             ids,
-            size,
+            map_size,
             domain.surface_id,
             seed,
             algorithm,

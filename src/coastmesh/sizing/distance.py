@@ -23,6 +23,7 @@ def distance_to_lines(
     *,
     crs: CRS | str,
     resolution: float,
+    max_distance: float | None = None,
 ) -> NDArray[np.float64]:
     """Distance from every node of a grid to the nearest of a set of lines.
 
@@ -38,6 +39,9 @@ def distance_to_lines(
         Accuracy wanted, metres (> 0): the lines are densified so that no point of
         a line is farther than ``resolution`` from a vertex, and the distances are
         exact to within ``resolution``.
+    max_distance : float, optional
+        Nodes farther than this (metres) from every line get ``inf``; the search
+        stops there, which is much faster when most nodes are far away.
 
     Returns
     -------
@@ -86,8 +90,14 @@ def distance_to_lines(
     )
     gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
     nodes = np.column_stack(to_ecef.transform(gx.ravel(), gy.ravel(), 0 * gx.ravel()))
-    chord, _ = tree.query(nodes, workers=-1)
+    bound = np.inf
+    if max_distance is not None:
+        # the chord of an arc of length s is 2 R sin(s / 2R) <= s
+        half = min(max_distance / (2 * EARTH_RADIUS), np.pi / 2)
+        bound = 2 * EARTH_RADIUS * np.sin(half) * (1 + 1e-9) + resolution
+    chord, _ = tree.query(nodes, workers=-1, distance_upper_bound=bound)
     arc = 2 * EARTH_RADIUS * np.arcsin(np.minimum(chord / (2 * EARTH_RADIUS), 1.0))
+    arc[np.isinf(chord)] = np.inf
     return arc.reshape(gx.shape)
 
 

@@ -107,7 +107,14 @@ def size_field(
         lines = np.asarray(g.lines, dtype=object)
         if len(lines) == 0 or shapely.is_empty(lines).all():
             continue
-        distance = distance_to_lines(lines, x, y, crs=crs, resolution=cell / 4)
+        distance = distance_to_lines(
+            lines,
+            x,
+            y,
+            crs=crs,
+            resolution=cell / 4,
+            max_distance=g.d_hold + g.d_grade,
+        )
         np.minimum(
             size,
             gradation_size(distance, g.h_min, h_max, g.d_hold, g.d_grade),

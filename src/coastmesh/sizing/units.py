@@ -8,14 +8,14 @@ import re
 
 from coastmesh.errors import ConfigError
 
-__all__ = ["EARTH_RADIUS", "to_metres"]
+__all__ = ["EARTH_RADIUS", "to_metres", "to_seconds", "to_square_metres"]
 
 #: Mean radius of the Earth (IUGG, R1 of WGS84), metres: the length of one radian
 #: of great-circle arc, used for lengths the paper gives in degrees.
 EARTH_RADIUS = 6_371_008.8
 
 _UNITS = {"m": 1.0, "km": 1000.0, "deg": EARTH_RADIUS * math.pi / 180.0}
-_PATTERN = re.compile(r"^\s*(\S+?)\s*([a-zA-Z]+)\s*$")
+_PATTERN = re.compile(r"^\s*(\S+?)\s*([a-zA-Z]+[0-9]?)\s*$")
 
 
 def to_metres(
@@ -78,3 +78,72 @@ def to_metres(
     if not math.isfinite(number):
         raise ConfigError(f"{name} = {value!r}: not a finite number")
     return number * _UNITS[unit]
+
+
+_AREA_UNITS = {"m2": 1.0, "km2": 1e6, "ha": 1e4}
+_TIME_UNITS = {"s": 1.0, "min": 60.0, "h": 3600.0}
+
+
+def to_square_metres(value: str | float, *, name: str = "area") -> float:
+    """Convert an area with its unit (``"0.2 km2"``, ``"5000 m2"``, ``"3 ha"``).
+
+    Parameters
+    ----------
+    value : str or float
+        An area with a unit; a bare number is an error, except 0.
+    name : str
+        The parameter's name, for error messages.
+
+    Returns
+    -------
+    float
+        The area in square metres.
+
+    Raises
+    ------
+    ConfigError
+        For a missing or unknown unit, or a value that is not a finite number.
+
+    Examples
+    --------
+    >>> to_square_metres("0.2 km2")
+    200000.0
+    """
+    return _with_unit(value, _AREA_UNITS, name, "'0.2 km2', '5000 m2' or '3 ha'")
+
+
+def to_seconds(value: str | float, *, name: str = "time") -> float:
+    """Convert a duration with its unit (``"12.42 h"``, ``"30 min"``, ``"60 s"``).
+
+    Examples
+    --------
+    >>> to_seconds("1.5 h")
+    5400.0
+    """
+    return _with_unit(value, _TIME_UNITS, name, "'12.42 h', '30 min' or '60 s'")
+
+
+def _with_unit(
+    value: str | float, units: dict[str, float], name: str, example: str
+) -> float:
+    if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == 0:
+        return 0.0
+    match = _PATTERN.match(value) if isinstance(value, str) else None
+    if match is None:
+        raise ConfigError(
+            f"{name} = {value!r}: write a number and a unit, e.g. {example}"
+        )
+    number_text, unit = match.groups()
+    try:
+        number = float(number_text)
+    except ValueError:
+        raise ConfigError(
+            f"{name} = {value!r}: {number_text!r} is not a number"
+        ) from None
+    if unit not in units:
+        raise ConfigError(
+            f"{name} = {value!r}: unknown unit {unit!r}; use {', '.join(units)}"
+        )
+    if not math.isfinite(number):
+        raise ConfigError(f"{name} = {value!r}: not a finite number")
+    return number * units[unit]

@@ -1,0 +1,84 @@
+"""``coastmesh run``: a whole case from its TOML file."""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Callable, Iterator
+from pathlib import Path
+
+import click
+
+from coastmesh.cli._common import ProgressBar, translate_errors
+from coastmesh.cli.options import overwrite_option
+
+__all__ = ["run"]
+
+
+@click.command("run")
+@click.argument(
+    "case",
+    metavar="CASE.toml",
+    type=click.Path(dir_okay=False, path_type=Path),
+)
+@click.option(
+    "-o",
+    "--output",
+    type=click.Path(file_okay=False, path_type=Path),
+    help="Output folder; overrides [case] output in the case file.",
+)
+@click.option(
+    "--check",
+    is_flag=True,
+    help="Only read and check the case file (keys, values, names, ids); run nothing.",
+)
+@overwrite_option
+@click.pass_context
+@translate_errors
+def run(
+    ctx: click.Context, *, case: Path, output: Path | None, check: bool, overwrite: bool
+) -> None:
+    """Build a mesh from a case file: shorelines, open boundaries, sizes, Gmsh.
+
+    CASE.toml names the shoreline file, the shoreline sets (full resolution or PCA
+    reconstructions) and the regions that use them, the open boundaries
+    (loxodromes, blended loxodromes, great circles, polylines) with their boundary
+    ids, the size gradations and the outputs. Relative paths are relative to
+    CASE.toml. See docs/case-files.md and examples/.
+
+    Everything is written into OUTPUT.partial-XXXX/ and renamed to OUTPUT at the
+    end, so a failed run leaves nothing. OUTPUT must not exist or be empty, unless
+    --overwrite is given.
+    """
+    from coastmesh.config import load_case
+
+    config = load_case(case)
+    quiet = ctx.find_root().obj.get("quiet", False)
+    if check:
+        if not quiet:
+            click.echo(
+                f"{case}: OK: {len(config.sets)} shoreline sets, "
+                f"{len(config.regions)} regions, {len(config.boundaries)} open "
+                f"boundaries, {len(config.size.gradations)} gradations; output "
+                f"{output or config.output}"
+            )
+        return
+    from coastmesh.case import run_case
+
+    result = run_case(config, output=output, overwrite=overwrite, stage=_stages(quiet))
+    if not quiet:
+        click.echo(result.summary())
+        click.echo(
+            f"Look at {result.output / 'summary.txt'} and the figures in "
+            f"{result.output / 'figures'}/"
+            if (result.output / "figures").is_dir()
+            else f"Look at {result.output / 'summary.txt'}"
+        )
+
+
+def _stages(quiet: bool) -> Callable[[str], contextlib.AbstractContextManager]:
+    @contextlib.contextmanager
+    def stage(label: str) -> Iterator[ProgressBar]:
+        with ProgressBar(label, enabled=not quiet) as bar:
+            yield bar
+
+    return stage

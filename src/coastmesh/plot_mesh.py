@@ -1,0 +1,192 @@
+"""Figures of a case: the domain with its boundary ids, the mesh, the size field.
+
+Like :mod:`coastmesh.plot`, these build a :class:`matplotlib.figure.Figure`
+without pyplot; save them with :func:`coastmesh.plot.save_figure`. Boundary ids
+get the same colour in every figure.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from coastmesh.plot import _geographic_axes
+
+if TYPE_CHECKING:
+    import xarray as xr
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from coastmesh.meshing.types import Domain, Mesh
+
+__all__ = ["domain_figure", "mesh_figure", "size_figure"]
+
+#: Above this many triangles the mesh figure draws the boundary only.
+MAX_DRAWN_TRIANGLES = 400_000
+
+
+def _palette(ids: Any) -> dict[int, Any]:
+    """One distinct colour per boundary id, in increasing id order."""
+    from matplotlib import colormaps
+
+    ids = sorted({int(i) for i in ids})
+    cmap = colormaps["tab10" if len(ids) <= 10 else "tab20"]
+    return {i: cmap(k % cmap.N) for k, i in enumerate(ids)}
+
+
+def _legend(ax: Axes, labels: dict[int, str], colours: dict[int, Any]) -> None:
+    from matplotlib.lines import Line2D
+
+    handles = [
+        Line2D([], [], color=colours[i], linewidth=2.5, label=f"{i}: {name}")
+        for i, name in sorted(labels.items())
+    ]
+    ax.legend(handles=handles, title="boundary id", loc="best", fontsize="small")
+
+
+def domain_figure(domain: Domain, *, title: str | None = None) -> Figure:
+    """Draw a domain: its boundary segments coloured by physical id.
+
+    Parameters
+    ----------
+    domain : coastmesh.meshing.Domain
+        The domain.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import shapely
+    >>> from coastmesh.meshing.types import BoundarySegment, Domain
+    >>> ring = [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]
+    >>> d = Domain(shapely.Polygon(ring),
+    ...            (BoundarySegment(ring, "open", "sea", 2),), crs="EPSG:32630")
+    >>> len(domain_figure(d).axes[0].collections)
+    1
+    """
+    from matplotlib.collections import LineCollection
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(9, 8), layout="constrained")
+    ax = figure.add_subplot()
+    ax.fill(*domain.polygon.exterior.xy, color="#dbe9f6", zorder=0)
+    for ring in domain.polygon.interiors:
+        ax.fill(*ring.xy, color="white", zorder=0)
+    colours = _palette(s.physical_id for s in domain.segments)
+    ax.add_collection(
+        LineCollection(
+            [s.coords for s in domain.segments],
+            colors=[colours[s.physical_id] for s in domain.segments],
+            linewidths=1.2,
+        )
+    )
+    _frame(ax, domain.polygon.bounds, domain.crs)
+    _legend(ax, {s.physical_id: s.name for s in domain.segments}, colours)
+    if title:
+        ax.set_title(title)
+    return figure
+
+
+def mesh_figure(
+    mesh: Mesh,
+    *,
+    names: dict[int, str] | None = None,
+    title: str | None = None,
+) -> Figure:
+    """Draw a mesh: its triangles, and its boundary edges coloured by id.
+
+    Parameters
+    ----------
+    mesh : coastmesh.meshing.Mesh
+        The mesh.
+    names : dict of int to str, optional
+        Names of the boundary ids for the legend.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Meshes with more than :data:`MAX_DRAWN_TRIANGLES` triangles are drawn by
+        their boundary only (the title says so).
+    """
+    from matplotlib.collections import LineCollection
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=(9, 8), layout="constrained")
+    ax = figure.add_subplot()
+    points = mesh.points
+    note = ""
+    if len(mesh.triangles) <= MAX_DRAWN_TRIANGLES:
+        ax.triplot(points[:, 0], points[:, 1], mesh.triangles, color="0.55", lw=0.2)
+    else:
+        note = f" (boundary only: {len(mesh.triangles):,} triangles)"
+    ids = np.unique(mesh.boundary_ids)
+    colours = _palette(ids)
+    ax.add_collection(
+        LineCollection(
+            points[mesh.boundary_edges],
+            colors=[colours[int(i)] for i in mesh.boundary_ids],
+            linewidths=1.2,
+        )
+    )
+    bounds = (*points.min(axis=0), *points.max(axis=0))
+    _frame(ax, bounds, mesh.crs)
+    _legend(ax, {int(i): (names or {}).get(int(i), "") for i in ids}, colours)
+    ax.set_title(
+        (title or "mesh")
+        + f": {len(points):,} nodes, {len(mesh.triangles):,} triangles{note}"
+    )
+    return figure
+
+
+def size_figure(field: xr.DataArray, *, title: str | None = None) -> Figure:
+    """Draw a size field (metres) on a logarithmic colour scale.
+
+    Parameters
+    ----------
+    field : xarray.DataArray
+        Dims ``("y", "x")``, values in metres, a ``crs`` attr.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.colors import LogNorm
+    from matplotlib.figure import Figure
+    from pyproj import CRS
+
+    figure = Figure(figsize=(9, 8), layout="constrained")
+    ax = figure.add_subplot()
+    x, y = field["x"].values, field["y"].values
+    values = np.asarray(field.values, dtype=float)
+    low, high = float(np.nanmin(values)), float(np.nanmax(values))
+    image = ax.pcolormesh(
+        x,
+        y,
+        values,
+        shading="nearest",
+        cmap="viridis",
+        norm=LogNorm(low, high) if high > low > 0 else None,
+    )
+    figure.colorbar(image, ax=ax, label="target element size (m)")
+    crs = CRS.from_user_input(field.attrs["crs"]) if "crs" in field.attrs else None
+    _frame(ax, (x.min(), y.min(), x.max(), y.max()), crs)
+    if title:
+        ax.set_title(title)
+    return figure
+
+
+def _frame(ax: Axes, bounds: tuple[float, ...], crs: Any) -> None:
+    minx, miny, maxx, maxy = (float(v) for v in bounds)
+    padx, pady = 0.02 * (maxx - minx), 0.02 * (maxy - miny)
+    ax.set_xlim(minx - padx, maxx + padx)
+    ax.set_ylim(miny - pady, maxy + pady)
+    _geographic_axes(ax, crs, (minx, miny, maxx, maxy))
