@@ -330,15 +330,37 @@ def _build_sets(
             land = shapely.get_parts(land)
             land = land[shapely.get_type_id(land) == shapely.GeometryType.POLYGON]
             small = _areas(land, crs) < config.shorelines.min_area
-            sets[s.name] = land[~small]
+            land, lakes = _fill_lakes(land[~small], crs, config.shorelines.min_area)
+            sets[s.name] = land
             report |= {
                 "polygons": int((~small).sum()),
                 "polygons_below_min_area": int(small.sum()),
-                "points_out": int(shapely.get_num_coordinates(land[~small]).sum()),
+                "lakes_below_min_area": lakes,
+                "points_out": int(shapely.get_num_coordinates(land).sum()),
             }
             reports[s.name] = report
             logger.info("%s: %s", label, report)
     return sets, reports
+
+
+def _fill_lakes(
+    land: NDArray[np.object_], crs: CRS, min_area: float
+) -> tuple[NDArray[np.object_], int]:
+    """Fill the holes (lakes) of land polygons that are smaller than ``min_area``."""
+    if min_area <= 0 or len(land) == 0:
+        return land, 0
+    holed = np.flatnonzero(shapely.get_num_interior_rings(land) > 0)
+    filled = 0
+    land = land.copy()
+    for k in holed:
+        polygon = land[k]
+        lakes = np.array([shapely.Polygon(r) for r in polygon.interiors], dtype=object)
+        keep = _areas(lakes, crs) >= min_area
+        if not keep.all():
+            filled += int((~keep).sum())
+            kept = [r for r, k_ in zip(polygon.interiors, keep, strict=True) if k_]
+            land[k] = shapely.Polygon(polygon.exterior, kept)
+    return land, filled
 
 
 def _areas(polygons: NDArray[np.object_], crs: CRS) -> NDArray[np.float64]:
@@ -727,8 +749,8 @@ def _summary_text(report: dict[str, Any]) -> str:
     for name, r in report["shoreline_sets"].items():
         lines.append(
             f"  {name}: {r['kind']}, {r['polygons']} polygons "
-            f"({r['polygons_below_min_area']} below min_area), {r['points_out']:,} "
-            "points"
+            f"({r['polygons_below_min_area']} islands and {r['lakes_below_min_area']} "
+            f"lakes below min_area dropped), {r['points_out']:,} points"
         )
     d = report["domain"]
     lines.append(

@@ -9,7 +9,12 @@ from hypothesis import strategies as st
 from pyproj import Geod, Transformer
 
 from coastmesh.errors import ConfigError
-from coastmesh.geometry.rhumb import Loxodrome, blend_loxodromes, paper_bearing
+from coastmesh.geometry.rhumb import (
+    Loxodrome,
+    blend_loxodromes,
+    great_circle,
+    paper_bearing,
+)
 
 GEOD = Geod(ellps="WGS84")
 TO_MERCATOR = Transformer.from_crs("EPSG:4326", "EPSG:3395", always_xy=True)
@@ -124,3 +129,29 @@ def test_bad_definitions(kwargs, match):
 def test_bad_spacing():
     with pytest.raises(ConfigError, match="spacing = 0"):
         Loxodrome((0, 60), 0, end_lat=61).sample(0)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    lon0=st.floats(-30, 30),
+    lat0=st.floats(-70, 70),
+    lon1=st.floats(-30, 30),
+    lat1=st.floats(-70, 70),
+)
+def test_great_circle_follows_the_geodesic(lon0, lat0, lon1, lat1):
+    _, _, length = GEOD.inv(lon0, lat0, lon1, lat1)
+    assume(length > 1_000.0)
+    p = great_circle((lon0, lat0), (lon1, lat1), spacing=length / 7.3)
+    assert p[0].tolist() == [lon0, lat0] and p[-1].tolist() == [lon1, lat1]
+    _, _, steps = GEOD.inv(p[:-1, 0], p[:-1, 1], p[1:, 0], p[1:, 1])
+    # on the geodesic, the steps add up to its length, and are equal
+    assert steps.sum() == pytest.approx(length, rel=1e-9)
+    assert steps.max() <= length / 7.3 * (1 + 1e-9)
+    np.testing.assert_allclose(steps, steps.mean(), rtol=1e-6)
+
+
+def test_great_circle_errors():
+    with pytest.raises(ConfigError, match="coincide"):
+        great_circle((1.0, 2.0), (1.0, 2.0), spacing=10.0)
+    with pytest.raises(ConfigError, match="latitude = 95"):
+        great_circle((1.0, 95.0), (1.0, 2.0), spacing=10.0)

@@ -144,3 +144,17 @@ def test_collapsing_exterior_is_an_error():
 def test_bad_input_is_refused(coords, size, ppe, match):
     with pytest.raises(ValueError, match=match):
         resample_segment(coords, size, points_per_edge=ppe)
+
+
+@pytest.mark.parametrize(("radius", "kept"), [(0.3, False), (0.7, True)])
+def test_islands_need_three_edges_around_them(radius, kept):
+    """A hole whose perimeter is under three target edges would mesh degenerate."""
+    box = [np.array([[0, 0], [20, 0], [20, 20], [0, 20], [0, 0]], float)]
+    t = np.linspace(0, 2 * np.pi, 65)
+    island = [np.column_stack([10 + radius * np.cos(t), 10 + radius * np.sin(t)])]
+    island[0][-1] = island[0][0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", SmallIslandWarning)
+        rings, dropped = resample_rings([box, island], lambda xy: np.ones(len(xy)))
+    # perimeter / size: 1.9 (dropped), 4.4 (kept)
+    assert (len(rings) == 2) == kept and (dropped == []) == kept

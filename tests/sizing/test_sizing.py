@@ -37,6 +37,22 @@ def test_units():
             to_metres(bad, name="h_min")
 
 
+def test_area_and_time_units():
+    from coastmesh.sizing.units import to_seconds, to_square_metres
+
+    assert to_square_metres("0.2 km2") == 200_000.0
+    assert to_square_metres("5000 m2") == 5000.0
+    assert to_square_metres("3 ha") == 30_000.0
+    assert to_square_metres(0) == 0.0
+    assert to_seconds("12.42 h") == pytest.approx(44_712.0)
+    assert to_seconds("30 min") == 1800.0
+    for bad, match in [("2 km", "unknown unit 'km'"), (5, "a number and a unit")]:
+        with pytest.raises(ConfigError, match=match):
+            to_square_metres(bad, name="min_area")
+    with pytest.raises(ConfigError, match="period = '3 days'"):
+        to_seconds("3 days", name="period")
+
+
 @settings(max_examples=50, deadline=None)
 @given(
     h=st.tuples(st.floats(1, 1e4), st.floats(1, 1e4)).map(sorted),
@@ -125,9 +141,6 @@ def test_distance_against_geodesics(crs):
         lines = [
             shapely.transform(coast, lambda c: np.column_stack(to.transform(*c.T)))
         ]
-        x = np.linspace(
-            *to.transform(-4.0, 59.0)[0:1], 1
-        )  # placeholder, replaced below
         x0, y0 = to.transform(-4.0, 58.5)
         x1, y1 = to.transform(-2.0, 59.6)
         x, y = np.linspace(x0, x1, 9), np.linspace(y0, y1, 7)
@@ -175,3 +188,17 @@ def test_size_field_combines_by_minimum_and_limits():
     assert np.abs(h[1:, 1:] - h[:-1, :-1]).max() <= 0.1 * 250.0 * np.sqrt(2) + 1e-9
     with pytest.raises(ConfigError, match="not projected"):
         size_field(bounds, [coarse], crs="EPSG:4326", h_max=5_000.0, cell=250.0)
+
+
+def test_max_distance_only_cuts_the_far_nodes():
+    coast = shapely.LineString([(-3.4, 58.9), (-3.0, 59.1), (-2.6, 58.95)])
+    x, y = np.linspace(-4.5, -1.5, 31), np.linspace(58.0, 60.0, 21)
+    full = distance_to_lines([coast], x, y, crs="EPSG:4326", resolution=50.0)
+    cut = distance_to_lines(
+        [coast], x, y, crs="EPSG:4326", resolution=50.0, max_distance=30_000.0
+    )
+    near = full <= 30_000.0
+    assert near.any() and (~near).any()
+    np.testing.assert_array_equal(cut[near], full[near])
+    far = full > 30_000.0 + 100.0
+    assert np.isinf(cut[far]).all()

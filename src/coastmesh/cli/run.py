@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
 
@@ -78,7 +79,11 @@ def run(
 def _stages(quiet: bool) -> Callable[[str], contextlib.AbstractContextManager]:
     @contextlib.contextmanager
     def stage(label: str) -> Iterator[ProgressBar]:
+        started = time.perf_counter()
         with ProgressBar(label, enabled=not quiet) as bar:
             yield bar
+        if not quiet:
+            seconds = time.perf_counter() - started
+            click.echo(f"  {label}: {seconds:.1f} s", err=True)
 
     return stage

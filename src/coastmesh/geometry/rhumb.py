@@ -325,5 +325,7 @@ def great_circle(
     middle = np.array(_GEOD.npts(lon0, lat0, lon1, lat1, inner)).reshape(-1, 2)
     line = np.vstack([[lon0, lat0], middle, [lon1, lat1]])
     # npts wraps longitudes to [-180, 180]; keep the line continuous from start
-    line[1:, 0] = lon0 + (line[1:, 0] - lon0 + 180.0) % 360.0 - 180.0
+    lon = line[1:, 0]
+    jump = np.abs(lon - lon0) > 180.0
+    lon[jump] = lon0 + (lon[jump] - lon0 + 180.0) % 360.0 - 180.0
     return line

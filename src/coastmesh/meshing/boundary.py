@@ -106,8 +106,9 @@ def resample_rings(
         split at its corners, so each piece is smooth. Consecutive pieces share end
         points.
     dropped : list of int
-        Indices (into ``rings``) of holes dropped because they had fewer than 3
-        distinct points after resampling.
+        Indices (into ``rings``) of holes dropped because their perimeter is less
+        than three target edges (fewer than ``3 * points_per_edge`` distinct points
+        after resampling): Gmsh would put fewer than three edges around them.
 
     Raises
     ------
@@ -141,7 +142,9 @@ def resample_rings(
             points, corners = _resample(coords, size_at, points_per_edge)
             segments.append([points[a : b + 1] for a, b in itertools.pairwise(corners)])
             distinct += len(points) - 1
-        if distinct < 3:
+        # A hole needs three mesh edges around it; Gmsh puts about
+        # ``distinct / points_per_edge`` edges on it.
+        if distinct < (3 if r == 0 else 3 * points_per_edge):
             if r == 0:
                 raise MeshingError(
                     f"the domain exterior collapses to {distinct} points at the "

@@ -1,0 +1,209 @@
+"""``coastmesh run`` end to end on the bundled real data (GSHHG Orkney, ETOPO1).
+
+The example case in examples/orkney is run once; its outputs are checked against
+independent calculations: msh read back by meshio, geodesic areas and lengths by
+pyproj, the domain by shapely.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pyogrio.raw
+import pytest
+import shapely
+from pyproj import Geod
+
+from coastmesh.case import run_case
+from coastmesh.config import load_case, parse_case
+from coastmesh.errors import ConfigError, InputDataError, OutputExistsError
+from coastmesh.io.msh import read_msh
+
+EXAMPLE = Path(__file__).parents[1] / "examples" / "orkney" / "pentland_firth.toml"
+GEOD = Geod(ellps="WGS84")
+
+
+def _coarse(**replace: str):
+    """The example with coarser sizes (a few seconds), read from memory."""
+    text = EXAMPLE.read_text()
+    for old, new in {
+        'h_min = "150 m"': 'h_min = "600 m"',
+        'h_min = "400 m"': 'h_min = "800 m"',
+        'h_min = "1 km"': 'h_min = "1.5 km"',
+        **replace,
+    }.items():
+        assert old in text, old
+        text = text.replace(old, new)
+    return parse_case(text, EXAMPLE)  # relative paths still from examples/orkney
+
+
+@pytest.fixture(scope="module")
+def example_run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("run") / "pentland_firth"
+    result = run_case(EXAMPLE, output=out)
+    return result, out
+
+
+def test_example_writes_every_output(example_run):
+    result, out = example_run
+    expected = {
+        "pentland_firth.msh",
+        "pentland_firth-msh4.msh",
+        "pentland_firth.gpkg",
+        "domain.gpkg",
+        "size.tif",
+        "figures/domain.png",
+        "figures/mesh.png",
+        "figures/size.png",
+        "case.toml",
+        "report.json",
+        "summary.txt",
+    }
+    written = {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()}
+    assert written == expected == set(result.files)
+    assert not list(out.parent.glob("*.partial-*"))
+    report = json.loads((out / "report.json").read_text())
+    assert report["mesh"]["nodes"] == result.nodes > 5_000
+    assert result.seconds < 60
+
+
+def test_msh_round_trip_and_boundary_ids(example_run):
+    result, out = example_run
+    case = load_case(EXAMPLE)
+    mesh2 = read_msh(out / "pentland_firth.msh")
+    mesh4 = read_msh(out / "pentland_firth-msh4.msh")
+    for mesh in (mesh2, mesh4):
+        assert len(mesh.points) == result.nodes
+        assert len(mesh.triangles) == result.triangles
+    # msh 4.1 groups the nodes by entity: the same nodes, in another order
+    np.testing.assert_allclose(
+        mesh2.points[np.lexsort(mesh2.points.T)],
+        mesh4.points[np.lexsort(mesh4.points.T)],
+    )
+    ids = {s.physical_id for s in case.sets} | {b.physical_id for b in case.boundaries}
+    assert set(np.unique(mesh2.boundary_ids)) == ids  # every set and boundary
+    # every edge used by one triangle only is a boundary edge, and carries an id
+    unique, count = _edges(mesh2.triangles)
+    outer = {tuple(e) for e in unique[count == 1]}
+    tagged = {tuple(e) for e in np.sort(mesh2.boundary_edges, axis=1)}
+    assert outer == tagged
+    assert mesh2.surface_id == 1
+
+
+def test_mesh_covers_the_domain(example_run):
+    """The triangles' geodesic area equals the domain's, and nodes lie in it."""
+    _, out = example_run
+    mesh = read_msh(out / "pentland_firth.msh")
+    wkb, _ = _layer(out / "domain.gpkg", "domain")
+    domain = shapely.from_wkb(wkb[0])
+    tri = mesh.points[mesh.triangles]
+    area = sum(abs(GEOD.polygon_area_perimeter(t[:, 0], t[:, 1])[0]) for t in tri[::1])
+    expected = abs(GEOD.geometry_area_perimeter(domain)[0])
+    # boundary curves are resampled to the local size: a small area change
+    assert area == pytest.approx(expected, rel=0.01)
+    inside = shapely.dwithin(domain, shapely.points(mesh.points), 0.003)
+    assert inside.all()
+
+
+def test_mesh_follows_the_size_field(example_run):
+    _, out = example_run
+    mesh = read_msh(out / "pentland_firth.msh")
+    from coastmesh.io import read_raster
+    from coastmesh.meshing import SizeGrid, sample_size
+
+    field = read_raster(out / "size.tif")
+    edges, _ = _edges(mesh.triangles)
+    a, b = mesh.points[edges[:, 0]], mesh.points[edges[:, 1]]
+    _, _, length = GEOD.inv(a[:, 0], a[:, 1], b[:, 0], b[:, 1])
+    from pyproj import Transformer
+
+    to_grid = Transformer.from_crs("EPSG:4326", field.attrs["crs"], always_xy=True)
+    mid = np.column_stack(to_grid.transform(*((a + b) / 2).T))
+    grid = SizeGrid.from_dataarray(field.sortby("y"))
+    ratio = length / sample_size(grid, mid)
+    assert 0.75 < np.median(ratio) < 1.25
+    assert np.percentile(ratio, 5) > 0.4 and np.percentile(ratio, 95) < 1.8
+
+
+def test_domain_geopackage_boundaries(example_run):
+    _, out = example_run
+    case = load_case(EXAMPLE)
+    wkb, fields = _layer(out / "domain.gpkg", "boundaries")
+    lines = shapely.from_wkb(wkb)
+    names = set(fields["name"])
+    assert names == {s.name for s in case.sets} | {b.name for b in case.boundaries}
+    untrimmed, ufields = _layer(out / "domain.gpkg", "open_boundaries_untrimmed")
+    walls = dict(zip(ufields["name"], shapely.from_wkb(untrimmed), strict=True))
+    for line, name, kind in zip(lines, fields["name"], fields["kind"], strict=True):
+        if kind == "open":  # trimmed, but still on its untrimmed line
+            assert (
+                shapely.hausdorff_distance(
+                    line, shapely.intersection(walls[name], line.buffer(1e-9))
+                )
+                < 1e-6
+            )
+    # the full-resolution coast lies within its region (plus the seam tolerance)
+    region = shapely.box(-3.45, 58.55, -2.85, 58.76).buffer(0.002)
+    full = lines[fields["name"] == "full"]
+    assert len(full) and shapely.within(full, region).all()
+
+
+@pytest.mark.filterwarnings("ignore::coastmesh.meshing.SmallIslandWarning")
+def test_same_input_same_mesh(tmp_path):
+    case = _coarse()
+    first = run_case(case, output=tmp_path / "a")
+    second = run_case(case, output=tmp_path / "b")
+    assert first.nodes == second.nodes
+    assert (tmp_path / "a" / "pentland_firth.msh").read_bytes() == (
+        tmp_path / "b" / "pentland_firth.msh"
+    ).read_bytes()
+
+
+def test_failures_leave_nothing(tmp_path):
+    out = tmp_path / "out"
+    bad_seed = _coarse(**{"seed = [-3.1, 58.85]": "seed = [-3.2, 58.98]"})
+    with pytest.raises(ConfigError, match=r"seed = \(-3.2, 58.98\): lies on land"):
+        run_case(bad_seed, output=out)
+    assert not out.exists() and not list(tmp_path.glob("out.partial*"))
+    missing = parse_case(
+        EXAMPLE.read_text().replace("orkney_gshhg_f.geojson", "nope.geojson"),
+        EXAMPLE,
+    )
+    with pytest.raises(InputDataError, match=r"nope\.geojson"):
+        run_case(missing, output=out)
+    assert not out.exists()
+    out.mkdir()
+    (out / "keep.txt").write_text("mine")
+    with pytest.raises(OutputExistsError, match="not empty"):
+        run_case(EXAMPLE, output=out)
+    assert [p.name for p in out.iterdir()] == ["keep.txt"]
+
+
+def _edges(triangles):
+    """Unique undirected edges of a triangulation, and how many triangles use each."""
+    pairs = np.concatenate([triangles[:, [a, b]] for a, b in ((0, 1), (1, 2), (2, 0))])
+    return np.unique(np.sort(pairs, axis=1), axis=0, return_counts=True)
+
+
+def _layer(path: Path, layer: str):
+    meta, _, geometry, values = pyogrio.raw.read(path, layer=layer)
+    return geometry, dict(zip(meta["fields"], values, strict=True))
+
+
+def test_small_lakes_are_filled_and_counted():
+    from pyproj import CRS
+
+    from coastmesh.case import _fill_lakes
+
+    land = shapely.Polygon(
+        [(0, 0), (10_000, 0), (10_000, 10_000), (0, 10_000)],
+        [
+            [(1_000, 1_000), (1_100, 1_000), (1_100, 1_100), (1_000, 1_100)],  # 1 ha
+            [(5_000, 5_000), (8_000, 5_000), (8_000, 8_000), (5_000, 8_000)],  # 9 km2
+        ],
+    )
+    out, filled = _fill_lakes(np.array([land]), CRS("EPSG:32630"), 1e6)
+    assert filled == 1 and len(out[0].interiors) == 1
+    assert out[0].area == pytest.approx(1e8 - 9e6)
