@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from coastmesh.config import load_case, parse_case
@@ -114,6 +115,24 @@ def test_errors_name_the_key(old, new, message):
     with pytest.raises(ConfigError, match=message) as info:
         parse(text)
     assert str(info.value).startswith("/cases/t.toml")
+
+
+def test_loxodrome_between_two_points():
+    text = BASE.replace(
+        "bearing_west = 20\nend_lat = 70.0", "end = [-4.0, 48.5]"
+    ).replace("start = [-15.0, 57.0]\nend", "start = [-15.0, 57.0]\nend", 1)
+    case = parse(text)
+    from coastmesh.geometry import Loxodrome
+
+    lox = case.boundaries[0].loxodrome
+    line = Loxodrome(lox.start, lox.azimuth, end_lat=lox.end_lat)
+    np.testing.assert_allclose(line.end, (-4.0, 48.5), atol=1e-9)
+    with pytest.raises(ConfigError, match="either end or bearing"):
+        parse(
+            BASE.replace(
+                "bearing_west = 20\nend_lat = 70.0", "end = [1, 2]\nbearing = 3"
+            )
+        )
 
 
 def test_one_background_set():

@@ -560,11 +560,27 @@ def _loxodrome(t: _Table) -> LoxodromeConfig:
     start = t.get("start", _point)
     if not -90 < start[1] < 90:
         raise t.error("start", f"= {list(start)}: latitude must be in (-90, 90)")
+    if t.has("end"):
+        others = [
+            k for k in ("bearing", "bearing_west", "end_lat", "end_lon") if t.has(k)
+        ]
+        if others:
+            raise t.error("end", f"give either end or {' and '.join(others)}, not both")
+        from coastmesh.geometry.rhumb import Loxodrome
+
+        end = t.get("end", _point)
+        try:
+            line = Loxodrome.between(start, end)
+        except ConfigError as exc:
+            raise t.error("end", str(exc)) from None
+        t.done()
+        return LoxodromeConfig(start, line.azimuth, line.end_lat, line.end_lon)
     if t.has("bearing") == t.has("bearing_west"):
         raise t.error(
             "bearing",
             "give exactly one of bearing (degrees clockwise from north) and "
-            "bearing_west (degrees west of north, as the paper writes them)",
+            "bearing_west (degrees west of north, as the paper writes them), or "
+            "the end point as end = [lon, lat]",
         )
     if t.has("bearing"):
         azimuth = t.get("bearing", _number) % 360.0

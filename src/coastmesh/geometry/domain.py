@@ -231,9 +231,13 @@ def _check_ids(shorelines, open_boundaries) -> None:
 
 
 def _tag_boundary(domain, open_boundaries, shorelines):
-    lines = np.array(
-        [shapely.LineString(b.coords) for b in open_boundaries], dtype=object
-    )
+    # every open-boundary line cut into its 2-point pieces, in one R-tree
+    pieces, owners = [], []
+    for k, b in enumerate(open_boundaries):
+        pieces.append(shapely.linestrings(np.stack([b.coords[:-1], b.coords[1:]], 1)))
+        owners.append(np.full(len(b.coords) - 1, k))
+    tree = shapely.STRtree(np.concatenate(pieces) if pieces else [])
+    owners = np.concatenate(owners) if owners else np.empty(0, dtype=int)
     extent = max(np.ptp(np.asarray(domain.exterior.coords), axis=0).max(), 1.0)
     tolerance = 1e-9 * extent
     background = next(k for k, (_, _, r) in enumerate(shorelines) if r is None)
@@ -253,10 +257,13 @@ def _tag_boundary(domain, open_boundaries, shorelines):
             inside = free & shapely.dwithin(region, points, tolerance)
             owner[inside] = -1 - k
             free &= ~inside
-        if len(lines):
-            near = shapely.dwithin(points[:, None], lines[None, :], tolerance)
-            hit = near.any(axis=1)
-            owner[hit] = np.argmax(near[hit], axis=1)
+        if len(owners):
+            edge, piece = tree.query(points, predicate="dwithin", distance=tolerance)
+            # an edge near several lines (where two cross) goes to the first one
+            first = np.full(n, len(open_boundaries))
+            np.minimum.at(first, edge, owners[piece])
+            hit = first < len(open_boundaries)
+            owner[hit] = first[hit]
         changes = np.flatnonzero(owner != np.roll(owner, 1))
         if len(changes) == 0:  # the whole ring is one run
             segments.append(

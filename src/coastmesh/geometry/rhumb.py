@@ -165,6 +165,29 @@ class Loxodrome:
                     f"end_lon = {self.end_lon} (longitudes are not wrapped)"
                 )
 
+    @classmethod
+    def between(cls, start: tuple[float, float], end: tuple[float, float]) -> Loxodrome:
+        """Return the loxodrome from ``start`` to ``end`` (``(lon, lat)``, degrees).
+
+        The azimuth solves ``tan(alpha) = (lambda1 - lambda0) / (psi1 - psi0)`` on
+        the ellipsoid; the shorter way round in longitude is not sought
+        (longitudes are not wrapped).
+
+        Examples
+        --------
+        >>> line = Loxodrome.between((-15.0, 57.0), (-4.0, 48.5))
+        >>> round(line.azimuth, 3), [round(v, 9) for v in line.end]
+        (141.974, [-4.0, 48.5])
+        """
+        (lon0, lat0), (lon1, lat1) = (tuple(float(v) for v in p) for p in (start, end))
+        if (lon0, lat0) == (lon1, lat1):
+            raise ConfigError(f"loxodrome from {start} to {end}: the ends coincide")
+        dpsi = float(_isometric(np.array([lat1]))[0] - _isometric(np.array([lat0]))[0])
+        azimuth = float(np.degrees(np.arctan2(np.radians(lon1 - lon0), dpsi)) % 360.0)
+        if lat1 == lat0:
+            return cls((lon0, lat0), azimuth, end_lon=lon1)
+        return cls((lon0, lat0), azimuth, end_lat=lat1)
+
     @property
     def _parallel(self) -> bool:
         return bool(np.isclose(np.cos(np.radians(self.azimuth)), 0.0, atol=1e-12))

@@ -5,9 +5,9 @@ resolution near the sites of interest and PCA reconstructions further away. Here
 each :class:`ShorelineSet` owns a region; regions are made disjoint in the order
 given (an earlier set wins where regions overlap) and the one set without a region
 takes everything else. Each set's land is clipped to its region and the pieces are
-unioned in one overlay on a fixed precision grid (GEOS snap-rounding), so pieces
-that meet along a seam share its vertices exactly: no gaps and no overlaps between
-them.
+unioned; the pieces that meet along a seam are unioned on a fixed precision grid
+(GEOS snap-rounding), so they share the seam's vertices exactly: no gaps and no
+overlaps between them.
 
 Where two versions of the coast meet at a seam they differ by the PCA error, so the
 seam can leave thin sea channels or thin land strips along the region boundary.
@@ -174,8 +174,8 @@ def stitch_shorelines(
         pieces.append(clipped)
         regions.append((s.name, int(s.physical_id), mine))
     everything = np.concatenate(pieces) if pieces else np.empty(0, dtype=object)
-    land_union = shapely.union_all(everything, grid_size=grid)
     seams = shapely.boundary(claimed) if not claimed.is_empty else None
+    land_union = _union(everything, seams, grid)
     filled = removed = 0
     if tolerance > 0 and seams is not None and not land_union.is_empty:
         land_union, filled, removed = _clean_seams(land_union, seams, tolerance, crs)
@@ -199,6 +199,21 @@ def _polygons(geoms: ArrayLike) -> NDArray[np.object_]:
         geoms = np.where(invalid, shapely.make_valid(geoms), geoms)
     parts = shapely.get_parts(geoms)
     return parts[shapely.get_type_id(parts) == shapely.GeometryType.POLYGON]
+
+
+def _union(
+    pieces: NDArray[np.object_], seams: shapely.Geometry | None, grid: float
+) -> shapely.Geometry:
+    """Union the pieces; those that meet at a seam on the precision grid.
+
+    Snap-rounding costs about 20 times a floating overlay, and only pieces that
+    touch a seam share near-coincident edges, so only they are snapped.
+    """
+    if seams is None or len(pieces) == 0:
+        return shapely.union_all(pieces)
+    touch = shapely.dwithin(pieces, seams, 2 * grid)
+    seamed = shapely.union_all(pieces[touch], grid_size=grid)
+    return shapely.union_all([seamed, *pieces[~touch]])
 
 
 def _grid_size(sets: Sequence[ShorelineSet]) -> float:
