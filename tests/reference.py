@@ -121,3 +121,33 @@ def simplify_raster_dense(values, window, modes):
     covered = count > 0
     out[covered] = total[covered] / count[covered]
     return out
+
+
+def limit_gradation_brute(size, spacing, rate):
+    """Largest field below ``size`` with slope <= ``rate``: min over all cells.
+
+    ``h(p) = min_q size(q) + rate |p - q|`` by the all-pairs distance matrix,
+    O(N^2) memory. Returns ``(distances, h)``.
+    """
+    ny, nx = size.shape
+    yy, xx = np.mgrid[0:ny, 0:nx]
+    p = np.column_stack([yy.ravel() * spacing[0], xx.ravel() * spacing[1]])
+    d = np.hypot(*(p[:, None, :] - p[None, :, :]).transpose(2, 0, 1))
+    return d, (size.ravel()[None, :] + rate * d).min(axis=1).reshape(size.shape)
+
+
+def distance_to_points_geodesic(lon, lat, line_lon, line_lat):
+    """Shortest WGS84 geodesic from each (lon, lat) to any of the line's vertices.
+
+    One ``Geod.inv`` call per node against every vertex: the literal reference of
+    ``coastmesh.sizing.distance_to_lines`` (densify the lines first).
+    """
+    from pyproj import Geod
+
+    geod = Geod(ellps="WGS84")
+    out = np.empty(len(lon))
+    for i, (a, b) in enumerate(zip(lon, lat, strict=True)):
+        out[i] = geod.inv(
+            np.full_like(line_lon, a), np.full_like(line_lat, b), line_lon, line_lat
+        )[2].min()
+    return out

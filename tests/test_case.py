@@ -207,3 +207,18 @@ def test_small_lakes_are_filled_and_counted():
     out, filled = _fill_lakes(np.array([land]), CRS("EPSG:32630"), 1e6)
     assert filled == 1 and len(out[0].interiors) == 1
     assert out[0].area == pytest.approx(1e8 - 9e6)
+
+
+def test_shoreline_lines_are_refused_naming_the_feature(tmp_path):
+    lines = tmp_path / "lines.geojson"
+    lines.write_text(
+        '{"type": "FeatureCollection", "features": [{"type": "Feature", '
+        '"properties": {}, "geometry": {"type": "LineString", '
+        '"coordinates": [[-3, 58], [-2, 59]]}}]}'
+    )
+    text = EXAMPLE.read_text().replace(
+        "../../src/coastmesh/data/orkney_gshhg_f.geojson", lines.as_posix()
+    )
+    with pytest.raises(InputDataError, match=r"feature 0 is a LineString.*polygons"):
+        run_case(parse_case(text, EXAMPLE), output=tmp_path / "out")
+    assert not (tmp_path / "out").exists()

@@ -273,9 +273,8 @@ def _read_shorelines(config: CaseConfig) -> tuple[Features, CRS]:
     if len(bad):
         k = int(bad[0])
         raise InputDataError(
-            f"{s.path}: feature {features.fids[k]} is a "
-            f"{shapely.get_type_id(geometry[k]) and geometry[k].geom_type}; the "
-            "shoreline file must hold land polygons (e.g. GSHHG level 1)",
+            f"{s.path}: feature {features.fids[k]} is a {geometry[k].geom_type}; "
+            "the shoreline file must hold land polygons (e.g. GSHHG level 1)",
             path=str(s.path),
             feature=int(features.fids[k]),
         )

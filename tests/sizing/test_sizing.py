@@ -7,7 +7,8 @@ import pytest
 import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from pyproj import Geod, Transformer
+from pyproj import Transformer
+from reference import distance_to_points_geodesic, limit_gradation_brute
 
 from coastmesh.errors import ConfigError
 from coastmesh.sizing import (
@@ -17,8 +18,6 @@ from coastmesh.sizing import (
     limit_gradation,
     to_metres,
 )
-
-GEOD = Geod(ellps="WGS84")
 
 
 def test_units():
@@ -77,14 +76,6 @@ def test_gradation_errors():
         gradation_size([0.0], 1.0, 5.0, 0.0, 0.0)
 
 
-def _brute_limit(size, spacing, rate):
-    ny, nx = size.shape
-    yy, xx = np.mgrid[0:ny, 0:nx]
-    p = np.column_stack([yy.ravel() * spacing[0], xx.ravel() * spacing[1]])
-    d = np.hypot(*(p[:, None, :] - p[None, :, :]).transpose(2, 0, 1))
-    return d, (size.ravel()[None, :] + rate * d).min(axis=1).reshape(size.shape)
-
-
 @settings(max_examples=40, deadline=None)
 @given(
     seed=st.integers(0, 2**32 - 1),
@@ -98,7 +89,7 @@ def test_limit_gradation_against_brute_force(seed, ny, nx, rate, dx):
     size = rng.uniform(1, 50, (ny, nx)) * rng.choice([1, 10], (ny, nx))
     spacing = (1.0, dx)
     h = limit_gradation(size, spacing, rate)
-    d, exact = _brute_limit(size, spacing, rate)
+    d, exact = limit_gradation_brute(size, spacing, rate)
     flat = h.ravel()
     # below the input, and the slope bound holds between every pair of cells
     assert np.all(h <= size + 1e-12)
@@ -106,7 +97,7 @@ def test_limit_gradation_against_brute_force(seed, ny, nx, rate, dx):
     # close to the largest such field: between the exact one and the octagonal one
     assert np.all(h <= exact + 1e-9)
     widest = max(np.arctan2(1.0, dx), np.arctan2(dx, 1.0))  # between step directions
-    _, tight = _brute_limit(size, spacing, rate * np.cos(widest / 2))
+    _, tight = limit_gradation_brute(size, spacing, rate * np.cos(widest / 2))
     assert np.all(h >= tight - 1e-9)
 
 
@@ -115,15 +106,6 @@ def test_limit_gradation_errors():
         limit_gradation(np.ones((3, 3)), (1.0, 1.0), 0)
     with pytest.raises(ConfigError, match="spacing"):
         limit_gradation(np.ones((3, 3)), (0.0, 1.0), 0.1)
-
-
-def _geodesic_min(lon, lat, line_lon, line_lat):
-    out = np.empty(len(lon))
-    for i, (a, b) in enumerate(zip(lon, lat, strict=True)):
-        out[i] = GEOD.inv(
-            np.full_like(line_lon, a), np.full_like(line_lat, b), line_lon, line_lat
-        )[2].min()
-    return out
 
 
 @pytest.mark.parametrize("crs", ["EPSG:4326", "EPSG:32630"])
@@ -152,7 +134,9 @@ def test_distance_against_geodesics(crs):
     else:
         glon, glat = gx.ravel(), gy.ravel()
     dense = shapely.get_coordinates(shapely.segmentize(coast, 0.0002))  # ~20 m
-    expected = _geodesic_min(glon, glat, dense[:, 0], dense[:, 1]).reshape(d.shape)
+    expected = distance_to_points_geodesic(
+        glon, glat, dense[:, 0], dense[:, 1]
+    ).reshape(d.shape)
     assert np.all(np.abs(d - expected) <= 50.0 + 0.005 * expected)
 
 
