@@ -52,32 +52,18 @@ def to_metres(
     166.793
     """
     if isinstance(value, str):
-        match = _PATTERN.match(value)
-        if match is None:
-            raise ConfigError(
-                f"{name} = {value!r}: write a number and a unit, e.g. '10 km', "
-                "'500 m' or '0.02 deg'"
-            )
-        number_text, unit = match.groups()
-        try:
-            number = float(number_text)
-        except ValueError:
-            raise ConfigError(
-                f"{name} = {value!r}: {number_text!r} is not a number"
-            ) from None
-    elif isinstance(value, numbers.Real) and not isinstance(value, bool):
-        number = float(value)
-        if unit is None:
-            raise ConfigError(f"{name} = {value!r}: give a unit (m, km or deg)")
-    else:
+        return _with_unit(value, _UNITS, name, "'10 km', '500 m' or '0.02 deg'")
+    if not isinstance(value, numbers.Real) or isinstance(value, bool):
         raise ConfigError(f"{name} = {value!r}: not a length")
+    if unit is None:
+        raise ConfigError(f"{name} = {value!r}: give a unit (m, km or deg)")
     if unit not in _UNITS:
         raise ConfigError(
             f"{name} = {value!r}: unknown unit {unit!r}; use m, km or deg"
         )
-    if not math.isfinite(number):
+    if not math.isfinite(value):
         raise ConfigError(f"{name} = {value!r}: not a finite number")
-    return number * _UNITS[unit]
+    return float(value) * _UNITS[unit]
 
 
 _AREA_UNITS = {"m2": 1.0, "km2": 1e6, "ha": 1e4}
