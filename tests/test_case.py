@@ -222,3 +222,37 @@ def test_shoreline_lines_are_refused_naming_the_feature(tmp_path):
     with pytest.raises(InputDataError, match=r"feature 0 is a LineString.*polygons"):
         run_case(parse_case(text, EXAMPLE), output=tmp_path / "out")
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.filterwarnings("ignore::coastmesh.meshing.SmallIslandWarning")
+def test_polyline_boundary_and_region_from_files(tmp_path):
+    """A polyline open boundary and a region polygon, each read from a file."""
+    line = tmp_path / "north.geojson"
+    line.write_text(
+        '{"type": "FeatureCollection", "features": [{"type": "Feature", '
+        '"properties": {}, "geometry": {"type": "LineString", '
+        '"coordinates": [[-3.7, 59.45], [-2.9, 59.47], [-2.0, 59.45]]}}]}'
+    )
+    region = tmp_path / "firth.geojson"
+    region.write_text(
+        '{"type": "FeatureCollection", "features": [{"type": "Feature", '
+        '"properties": {}, "geometry": {"type": "Polygon", "coordinates": '
+        "[[[-3.45, 58.55], [-2.85, 58.55], [-2.85, 58.76], [-3.45, 58.76], "
+        "[-3.45, 58.55]]]}}]}"
+    )
+    case = _coarse(
+        **{
+            'kind = "great_circle"\nstart = [-3.7, 59.45]\nend = [-2.0, 59.45]': (
+                f'kind = "polyline"\npath = "{line.as_posix()}"'
+            ),
+            "box = [-3.45, 58.55, -2.85, 58.76]": f'path = "{region.as_posix()}"',
+        }
+    )
+    result = run_case(case, output=tmp_path / "out")
+    wkb, fields = _layer(tmp_path / "out" / "domain.gpkg", "boundaries")
+    north = shapely.from_wkb(wkb)[fields["name"] == "north"]
+    assert len(north) == 1
+    # the trimmed boundary runs on the polyline, through its middle vertex
+    assert shapely.dwithin(north[0], shapely.Point(-2.9, 59.47), 1e-9)
+    assert result.boundary_edges["north (3)"] > 0
+    assert result.boundary_edges["full (10)"] > 0

@@ -151,7 +151,7 @@ def test_missing_tables_and_bad_toml(tmp_path):
 
 
 def test_example_cases_parse():
-    examples = sorted(Path(__file__).parents[1].glob("examples/**/*.toml"))
+    examples = sorted(Path(__file__).parents[1].glob("examples/*/*.toml"))
     assert examples
     for path in examples:
         case = load_case(path)

@@ -725,7 +725,11 @@ def _write_outputs(
         ):
             save_figure(figure, figures / f"{stem}.png")
             files.append(f"figures/{stem}.png")
-    (folder / "case.toml").write_text(config.text, encoding="utf-8")
+    header = (
+        f"# A copy of {config.source.resolve()}, as run by coastmesh {__version__}.\n"
+        "# Its relative paths are relative to that file, not to this copy.\n"
+    )
+    (folder / "case.toml").write_text(header + config.text, encoding="utf-8")
     files.append("case.toml")
     report = report | {"files": files, "coastmesh_version": __version__}
     (folder / "report.json").write_text(json.dumps(report, indent=2) + "\n")
