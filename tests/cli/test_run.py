@@ -26,6 +26,7 @@ def case_file(tmp_path):
         'h_min = "400 m"': 'h_min = "1 km"',
         'h_min = "1 km"': 'h_min = "1.5 km"',
         'formats = ["msh2", "msh4", "gpkg"]': 'formats = ["msh2"]\nfigures = false',
+        'output = "../../out/pentland_firth"\n': "",  # the default: out/NAME
     }.items():
         assert old in text, old
         text = text.replace(old, new)
