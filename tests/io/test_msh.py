@@ -179,3 +179,46 @@ def test_reads_a_file_written_by_gmsh(tmp_path, version):
     assert {int(i): int((mesh.boundary_ids == i).sum()) for i in (3, 4)} == n_lines
     used = mesh.points[np.unique(mesh.triangles)]
     assert used.min(axis=0).tolist() == [0, 0] and used.max(axis=0).tolist() == [3, 2]
+
+
+@pytest.mark.parametrize("version", ["2.2", "4.1"])
+def test_one_edge_boundaries_and_all_boundary_nodes(tmp_path, version):
+    """msh 4.1 needs a node per entity: one-edge ids and no interior node."""
+    m = Mesh(
+        [[0, 0], [1, 0], [1, 1], [0, 1]],
+        [[0, 1, 2], [0, 2, 3]],
+        [[0, 1], [1, 2], [2, 3], [3, 0]],
+        [5, 6, 6, 7],
+        3,
+        None,
+    )
+    write_msh(tmp_path / "m.msh", m, version=version)
+    back = read_msh(tmp_path / "m.msh")
+
+    def by_coordinates(mesh):
+        return {
+            tuple(sorted(mesh.points[edge].ravel())): pid
+            for edge, pid in zip(mesh.boundary_edges, mesh.boundary_ids, strict=True)
+        }
+
+    assert by_coordinates(back) == by_coordinates(m)
+    assert back.surface_id == 3
+
+
+def test_boundary_names_and_kinds_round_trip(tmp_path):
+    m = Mesh(
+        [[0, 0], [1, 0], [0, 1]],
+        [[0, 1, 2]],
+        [[0, 1], [1, 2], [2, 0]],
+        [1, 1, 2],
+        7,
+        None,
+        boundary_names={1: "coast", 2: "north"},
+        boundary_kinds={1: "shoreline", 2: "open"},
+    )
+    write_msh(tmp_path / "m.msh", m, version="2.2")
+    text = (tmp_path / "m.msh").read_text()
+    assert '1 2 "open:north"' in text and '2 7 "domain"' in text
+    back = read_msh(tmp_path / "m.msh")
+    assert back.boundary_names == {1: "coast", 2: "north"}
+    assert back.boundary_kinds == {1: "shoreline", 2: "open"}

@@ -83,7 +83,9 @@ def write_msh(
             f"{os.fspath(path)}: msh version {version!r} is not supported; pick one "
             f"of {', '.join(MSH_VERSIONS)}"
         )
-    out = _to_meshio(meshio, mesh)
+    # meshio 5.3 cannot read back the physical names it writes into msh 4.1, so
+    # 4.1 files carry the ids only
+    out = _to_meshio(meshio, mesh, names=version == "2.2")
     with atomic_write(path, overwrite=overwrite) as tmp:
         meshio.gmsh.write(tmp, out, fmt_version=version, binary=binary)
     logger.debug(
@@ -112,7 +114,9 @@ def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
     Mesh
         Points (x, y), triangles, boundary edges (line elements) with their
         physical ids (grouped by id, as written), and the triangles' physical id as
-        ``surface_id``. Nodes that no element uses are kept. Nodes are in file
+        ``surface_id``. Physical names ``kind:name`` (as :func:`write_msh` writes
+        them) give ``boundary_names`` and ``boundary_kinds``; other names give
+        ``boundary_names`` only. Nodes that no element uses are kept. Nodes are in file
         order: the order written for msh 2.2; grouped by entity (boundary nodes
         first) for msh 4.1, with the elements renumbered to match.
 
@@ -166,6 +170,7 @@ def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
             f"{name}: triangles carry physical ids {surface_ids.tolist()}; "
             "expected one surface id"
         )
+    names, kinds = _read_physical_names(data.field_data or {})
     return Mesh(
         points[:, :2],
         np.concatenate(triangles),
@@ -173,24 +178,44 @@ def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
         np.concatenate(ids) if ids else np.empty(0, dtype=np.int64),
         int(surface_ids[0]),
         None if crs is None else CRS.from_user_input(crs),
+        boundary_names=names,
+        boundary_kinds=kinds,
     )
 
 
-def _to_meshio(meshio: Any, mesh: Mesh) -> Any:
+def _to_meshio(meshio: Any, mesh: Mesh, *, names: bool = True) -> Any:
     """Build a meshio Mesh with physical and geometrical tags (and entities)."""
     ids = np.unique(mesh.boundary_ids)
     cells, physical, geometrical = [], [], []
     dim_tags = np.tile(np.array([2, 1], dtype=np.int64), (len(mesh.points), 1))
     assigned = np.zeros(len(mesh.points), dtype=bool)
-    for entity, pid in enumerate(ids, start=1):
-        block = mesh.boundary_edges[mesh.boundary_ids == pid].astype(np.uint64)
-        cells.append(meshio.CellBlock("line", block))
+    blocks = [mesh.boundary_edges[mesh.boundary_ids == pid] for pid in ids]
+    # msh 4.1 lists an entity only if it owns a node: the entities with the fewest
+    # nodes choose first, so a one-edge boundary keeps its two nodes
+    for entity in sorted(range(len(ids)), key=lambda k: (len(blocks[k]), k)):
+        nodes = np.unique(blocks[entity])
+        nodes = nodes[~assigned[nodes]]
+        if len(nodes) == 0:
+            raise FormatError(
+                f"boundary id {ids[entity]}: every node of its edges belongs to "
+                "another boundary id, so msh 4.1 cannot hold it; write msh 2.2"
+            )
+        dim_tags[nodes] = (1, entity + 1)
+        assigned[nodes] = True
+    if assigned.all() and len(ids):  # no interior node: the surface needs one too
+        owner = dim_tags[:, 1]
+        counts = np.bincount(owner, minlength=len(ids) + 1)
+        richest = int(np.argmax(counts))
+        if counts[richest] < 2:
+            raise FormatError(
+                "msh 4.1 needs a node for every boundary id and one for the surface; "
+                "this mesh has too few nodes: write msh 2.2"
+            )
+        dim_tags[np.flatnonzero(owner == richest)[0]] = (2, 1)
+    for entity, (pid, block) in enumerate(zip(ids, blocks, strict=True), start=1):
+        cells.append(meshio.CellBlock("line", block.astype(np.uint64)))
         physical.append(np.full(len(block), pid, dtype=np.int32))
         geometrical.append(np.full(len(block), entity, dtype=np.int32))
-        nodes = np.unique(block.astype(np.int64))
-        nodes = nodes[~assigned[nodes]]
-        dim_tags[nodes] = (1, entity)
-        assigned[nodes] = True
     cells.append(meshio.CellBlock("triangle", mesh.triangles.astype(np.uint64)))
     physical.append(np.full(len(mesh.triangles), mesh.surface_id, dtype=np.int32))
     geometrical.append(np.ones(len(mesh.triangles), dtype=np.int32))
@@ -200,4 +225,38 @@ def _to_meshio(meshio: Any, mesh: Mesh) -> Any:
         cells,
         point_data={"gmsh:dim_tags": dim_tags},
         cell_data={"gmsh:physical": physical, "gmsh:geometrical": geometrical},
+        field_data=_physical_names(mesh) if names else None,
     )
+
+
+def _physical_names(mesh: Mesh) -> dict[str, Any]:
+    """``$PhysicalNames``: ``kind:name`` per boundary id (e.g. ``open:north``)."""
+    names: dict[str, Any] = {}
+    for pid in map(int, np.unique(mesh.boundary_ids)):
+        name = mesh.boundary_names.get(pid)
+        kind = mesh.boundary_kinds.get(pid)
+        if name is None and kind is None:
+            continue
+        label = f"{kind}:{name or pid}" if kind else str(name)
+        if label in names:  # names must be unique in the file
+            label = f"{label}#{pid}"
+        names[label] = np.array([pid, 1])
+    if names:
+        names["domain"] = np.array([mesh.surface_id, 2])
+    return names
+
+
+def _read_physical_names(
+    field_data: dict[str, Any],
+) -> tuple[dict[int, str], dict[int, str]]:
+    names: dict[int, str] = {}
+    kinds: dict[int, str] = {}
+    for label, (pid, dim) in ((k, tuple(v)[:2]) for k, v in field_data.items()):
+        if int(dim) != 1:
+            continue
+        kind, sep, name = label.partition(":")
+        name = name.split("#")[0] if sep else label
+        if sep and kind in ("open", "shoreline"):
+            kinds[int(pid)] = kind
+        names[int(pid)] = name if sep else label
+    return names, kinds

@@ -423,6 +423,8 @@ def generate_mesh(
         domain.surface_id,
         output_crs,
         {"size": target},
+        {s.physical_id: s.name for s in domain.segments},
+        {s.physical_id: s.kind for s in domain.segments},
     )
 
 

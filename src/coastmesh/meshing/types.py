@@ -246,6 +246,11 @@ class Mesh:
         CRS of ``points``; None if unknown (a mesh read from a file).
     point_data : mapping of str to array_like of shape (N,), optional
         Values at the nodes, by name.
+    boundary_names : mapping of int to str, optional
+        Names of the boundary ids (e.g. ``{2: "north", 10: "full"}``).
+    boundary_kinds : mapping of int to str, optional
+        ``"open"`` (sea) or ``"shoreline"`` (land) for each boundary id; model
+        formats that separate open from land boundaries need it.
 
     Raises
     ------
@@ -269,6 +274,8 @@ class Mesh:
     surface_id: int
     crs: CRS | None
     point_data: dict[str, NDArray] = field(default_factory=dict)
+    boundary_names: dict[int, str] = field(default_factory=dict)
+    boundary_kinds: dict[int, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         points = np.array(self.points, dtype=np.float64)
@@ -296,6 +303,14 @@ class Mesh:
                 )
             point_data[str(name)] = array
         crs = None if self.crs is None else CRS.from_user_input(self.crs)
+        names = {int(k): str(v) for k, v in dict(self.boundary_names).items()}
+        kinds = {int(k): str(v) for k, v in dict(self.boundary_kinds).items()}
+        for pid, kind in kinds.items():
+            if kind not in SEGMENT_KINDS:
+                raise ValueError(
+                    f"boundary_kinds[{pid}] is {kind!r}, expected one of "
+                    f"{SEGMENT_KINDS}"
+                )
         for name, value in (
             ("points", points),
             ("triangles", triangles),
@@ -304,8 +319,32 @@ class Mesh:
             ("surface_id", int(self.surface_id)),
             ("crs", crs),
             ("point_data", point_data),
+            ("boundary_names", names),
+            ("boundary_kinds", kinds),
         ):
             object.__setattr__(self, name, value)
+
+    def with_point_data(self, **values: NDArray) -> Mesh:
+        """Return a copy with more (or replaced) node values.
+
+        Examples
+        --------
+        >>> m = Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]],
+        ...          [1, 1, 1], 1, None)
+        >>> sorted(m.with_point_data(depth=[1.0, 2.0, 3.0]).point_data)
+        ['depth']
+        """
+        return Mesh(
+            self.points,
+            self.triangles,
+            self.boundary_edges,
+            self.boundary_ids,
+            self.surface_id,
+            self.crs,
+            {**self.point_data, **values},
+            self.boundary_names,
+            self.boundary_kinds,
+        )
 
 
 def _index_array(values: object, name: str, width: int, n: int) -> NDArray[np.int64]:
