@@ -164,6 +164,22 @@ def run_case(
             optimize=config.mesh.optimize,
             progress=progress,
         )
+    cleanup_report = None
+    if config.cleanup.enabled:
+        with timed("cleanup"):
+            from coastmesh.meshing.cleanup import clean_mesh
+
+            mesh, cleanup_report = clean_mesh(
+                mesh,
+                boundary_triangles=config.cleanup.boundary_triangles,
+                max_valence=config.cleanup.max_valence,
+                min_angle=config.cleanup.min_angle,
+            )
+            logger.info("cleanup: %s", cleanup_report.summary())
+    depth_report = None
+    if config.bathymetry is not None:
+        with timed("depth at the nodes") as progress:
+            mesh, depth_report = _node_depths(config, mesh, progress)
     names = {s.physical_id: s.name for s in config.sets}
     names |= {b.physical_id: b.name for b in config.boundaries}
     ids, counts = np.unique(mesh.boundary_ids, return_counts=True)
@@ -206,6 +222,8 @@ def run_case(
             "boundary_edges": edges,
             "surface_id": mesh.surface_id,
         },
+        "cleanup": None if cleanup_report is None else cleanup_report.to_dict(),
+        "depth": None if depth_report is None else depth_report.to_dict(),
         "seconds": timings,
         # peak resident memory of this process so far (Linux reports KiB)
         "peak_memory_mb": round(
@@ -640,6 +658,34 @@ def _bathymetry_size(b: Any, field_: Any, mesh_crs: CRS) -> NDArray[np.float64]:
     return size
 
 
+# stage 5b: depth at the nodes
+
+
+def _node_depths(config: CaseConfig, mesh: Any, progress: Progress) -> tuple[Any, Any]:
+    from coastmesh.io import read_raster
+    from coastmesh.meshing.depth import depth_at_nodes
+
+    b = config.bathymetry
+    raster = read_raster(b.path)
+    progress(0, 2)
+    if b.window is not None:
+        from coastmesh.pca import simplify_raster
+
+        raster = raster.copy(data=simplify_raster(raster.values, b.window, b.modes))
+    progress(1, 2)
+    depth, report = depth_at_nodes(
+        mesh,
+        raster,
+        positive=b.positive,
+        method=b.method,
+        min_depth=b.min_depth,
+        max_slope=b.max_slope,
+    )
+    progress(2, 2)
+    logger.info("%s", report.summary())
+    return mesh.with_point_data(depth=depth), report
+
+
 # stage 6: outputs
 
 
@@ -667,7 +713,10 @@ def _write_outputs(
         if filename in taken:
             filename = f"{config.name}-{name}{suffix}"
         taken.add(filename)
-        write_mesh(folder / filename, mesh, format=name)
+        options = {}
+        if config.outputs.positive and name in config.outputs.positive:
+            options["positive"] = config.outputs.positive[name]
+        write_mesh(folder / filename, mesh, format=name, **options)
         files.append(filename)
     notes = {
         "coastmesh_version": __version__,

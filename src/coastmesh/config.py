@@ -29,10 +29,12 @@ __all__ = [
     "BathymetryConfig",
     "BoundaryConfig",
     "CaseConfig",
+    "CleanupConfig",
     "DomainConfig",
     "GradationConfig",
     "LoxodromeConfig",
     "MeshConfig",
+    "NodeDepthConfig",
     "OutputConfig",
     "RegionConfig",
     "ShorelineSetConfig",
@@ -354,6 +356,29 @@ class SizeConfig:
 
 
 @dataclass(frozen=True, slots=True)
+class NodeDepthConfig:
+    """``[bathymetry]``: the depth written at the mesh nodes."""
+
+    path: Path
+    positive: str = "up"
+    method: str = "bilinear"
+    min_depth: float | None = None
+    max_slope: float | None = None
+    window: int | None = None
+    modes: int | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class CleanupConfig:
+    """``[cleanup]``: fixes after meshing (see :mod:`coastmesh.meshing.cleanup`)."""
+
+    enabled: bool = True
+    boundary_triangles: bool = True
+    max_valence: int | None = None
+    min_angle: float = 20.0
+
+
+@dataclass(frozen=True, slots=True)
 class MeshConfig:
     """``[mesh]``: Gmsh options and CRSs."""
 
@@ -369,9 +394,11 @@ class OutputConfig:
     """``[output]``: what to write."""
 
     formats: tuple[str, ...] = ("msh2",)
+    positive: dict[str, str] | None = None
     domain: bool = True
     size_field: bool = True
     figures: bool = True
+    quality: bool = True
 
 
 @dataclass(frozen=True, slots=True)
@@ -390,6 +417,8 @@ class CaseConfig:
     size: SizeConfig
     mesh: MeshConfig
     outputs: OutputConfig
+    bathymetry: NodeDepthConfig | None = None
+    cleanup: CleanupConfig = CleanupConfig()
     text: str = ""
 
     @property
@@ -489,6 +518,13 @@ def parse_case(text: str, source: str | Path) -> CaseConfig:
     size = _size(root.table("mesh_size", required=True), path_of)
     mesh = _mesh(root.table("mesh"))
     outputs = _outputs(root.table("output"))
+    bathymetry = (
+        _node_depth(root.table("bathymetry"), path_of)
+        if root.has("bathymetry")
+        else None
+    )
+    root.taken.add("bathymetry")
+    cleanup = _cleanup(root.table("cleanup"))
     root.done()
     config = CaseConfig(
         source=source,
@@ -503,6 +539,8 @@ def parse_case(text: str, source: str | Path) -> CaseConfig:
         size=size,
         mesh=mesh,
         outputs=outputs,
+        bathymetry=bathymetry,
+        cleanup=cleanup,
         text=text,
     )
     _cross_check(config, label)
@@ -684,6 +722,47 @@ def _size(t: _Table, path_of: Callable[[Any, str], Path]) -> SizeConfig:
     return config
 
 
+def _node_depth(t: _Table, path_of: Callable[[Any, str], Path]) -> NodeDepthConfig:
+    from coastmesh.meshing.depth import DEPTH_METHODS
+
+    config = NodeDepthConfig(
+        path=t.get("path", path_of),
+        positive=t.get("positive", _choice(("up", "down")), "up"),
+        method=t.get("method", _choice(DEPTH_METHODS), "bilinear"),
+        min_depth=t.get("min_depth", _signed_length, None),
+        max_slope=t.get("max_slope", _positive, None),
+        window=t.get("window", _integer(2), None),
+        modes=t.get("modes", _integer(1), None),
+    )
+    if (config.window is None) != (config.modes is None):
+        raise t.error("window", "give window and modes together (PCA of the raster)")
+    if config.window is not None and config.modes > config.window**2:
+        raise t.error("modes", f"= {config.modes} is more than window**2")
+    t.done()
+    return config
+
+
+def _cleanup(t: _Table) -> CleanupConfig:
+    def angle(value: Any, key: str) -> float:
+        number = _number(value, key)
+        if not 0 < number < 60:
+            raise ConfigError(f"{key} = {value!r}: degrees between 0 and 60")
+        return number
+
+    config = CleanupConfig(
+        enabled=t.get("enabled", _boolean, True),
+        boundary_triangles=t.get("boundary_triangles", _boolean, True),
+        max_valence=t.get("max_valence", _integer(4), None),
+        min_angle=t.get("min_angle", angle, 20.0),
+    )
+    t.done()
+    return config
+
+
+def _signed_length(value: Any, key: str) -> float:
+    return to_metres(value, name=key)
+
+
 def _mesh(t: _Table) -> MeshConfig:
     config = MeshConfig(
         crs=t.get("crs", _crs, None),
@@ -711,11 +790,29 @@ def _outputs(t: _Table) -> OutputConfig:
             raise ConfigError(f"{key} = {list(names)}: a format is listed twice")
         return names
 
+    def signs(value: Any, key: str) -> dict[str, str]:
+        from coastmesh.io.writers import mesh_formats
+
+        if not isinstance(value, Mapping):
+            raise ConfigError(
+                f"{key} = {value!r}: expected a table, e.g. {{ mike = 'up' }}"
+            )
+        known = mesh_formats()
+        for name, sign in value.items():
+            if name not in known:
+                raise ConfigError(
+                    f"{key}.{name}: unknown format; known: {', '.join(known)}"
+                )
+            _choice(("up", "down"))(sign, f"{key}.{name}")
+        return dict(value)
+
     config = OutputConfig(
         formats=t.get("formats", formats, ("msh2",)),
+        positive=t.get("positive", signs, None),
         domain=t.get("domain", _boolean, True),
         size_field=t.get("size_field", _boolean, True),
         figures=t.get("figures", _boolean, True),
+        quality=t.get("quality", _boolean, True),
     )
     t.done()
     return config

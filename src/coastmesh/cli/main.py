@@ -17,6 +17,7 @@ from typing import Any
 import click
 
 from coastmesh import __version__
+from coastmesh.cli.convert import convert
 from coastmesh.cli.demo import demo
 from coastmesh.cli.run import run
 from coastmesh.cli.simplify_raster import simplify_raster
@@ -155,6 +156,7 @@ cli.add_command(simplify_shoreline)
 cli.add_command(simplify_raster)
 cli.add_command(demo)
 cli.add_command(run)
+cli.add_command(convert)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

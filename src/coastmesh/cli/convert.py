@@ -1,0 +1,122 @@
+"""``coastmesh convert``: a mesh to a model format, with bathymetry on the nodes."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from coastmesh.cli._common import translate_errors
+from coastmesh.cli.options import crs_option, overwrite_option
+
+__all__ = ["convert"]
+
+
+def _ids(ctx: click.Context, param: click.Parameter, value: str | None):
+    if value is None:
+        return None
+    try:
+        return [int(v) for v in value.split(",") if v.strip()]
+    except ValueError:
+        raise click.BadParameter(
+            f"{value!r}: give boundary ids separated by commas, e.g. 2,3,4"
+        ) from None
+
+
+@click.command("convert")
+@click.argument("src", metavar="MESH", type=click.Path(dir_okay=False, path_type=Path))
+@click.argument("dst", metavar="OUT", type=click.Path(dir_okay=False, path_type=Path))
+@click.option(
+    "--format",
+    "fmt",
+    metavar="NAME",
+    help="Output format by name (e.g. msh4); by default OUT's extension decides.",
+)
+@click.option(
+    "--bathymetry",
+    type=click.Path(dir_okay=False, path_type=Path),
+    metavar="RASTER",
+    help="Interpolate this raster (any GDAL raster) onto the nodes as depth.",
+)
+@click.option(
+    "--raster-positive",
+    type=click.Choice(["up", "down"]),
+    default="up",
+    show_default=True,
+    help="Sign of the raster: up for elevations (GEBCO, ETOPO), down for depths.",
+)
+@click.option(
+    "--method",
+    type=click.Choice(["bilinear", "mean"]),
+    default="bilinear",
+    show_default=True,
+    help="mean: average the cells around each node where the mesh is coarser.",
+)
+@click.option("--min-depth", type=float, metavar="M", help="Raise depths to this.")
+@click.option(
+    "--max-slope",
+    type=click.FloatRange(min=0, min_open=True),
+    metavar="S",
+    help="Limit |depth difference| / edge length along every edge.",
+)
+@click.option(
+    "--positive",
+    type=click.Choice(["up", "down"]),
+    help="Sign written (default: the format's own: down for fort.14/gr3, "
+    "up for Telemac BOTTOM and MIKE).",
+)
+@click.option(
+    "--open-ids",
+    callback=_ids,
+    metavar="IDS",
+    help="Boundary ids that are open boundaries, e.g. 2,3,4 (default: from the "
+    "mesh's physical names open:NAME).",
+)
+@crs_option
+@overwrite_option
+@click.pass_context
+@translate_errors
+def convert(
+    ctx: click.Context,
+    *,
+    src: Path,
+    dst: Path,
+    fmt: str | None,
+    bathymetry: Path | None,
+    raster_positive: str,
+    method: str,
+    min_depth: float | None,
+    max_slope: float | None,
+    positive: str | None,
+    open_ids: list[int] | None,
+    crs: object,
+    overwrite: bool,
+) -> None:
+    """Write the mesh MESH (.msh) in the format of OUT's extension.
+
+    \b
+    Extensions: .msh (msh 2.2), .14 / .grd (ADCIRC fort.14), .gr3 (SCHISM),
+    .slf (Telemac SELAFIN + .cli), .mesh (MIKE), .vtu, .nc (UGRID), .gpkg.
+
+    \b
+    Example:
+      coastmesh convert out/case/case.msh fort.14 --bathymetry gebco.nc --min-depth 5
+    """  # noqa: D301 (\b keeps click from rewrapping the lists)
+    from coastmesh.convert import convert_mesh
+
+    result = convert_mesh(
+        src,
+        dst,
+        format=fmt,
+        crs=crs if crs is not None else "EPSG:4326",
+        open_ids=open_ids,
+        bathymetry=bathymetry,
+        raster_positive=raster_positive,
+        method=method,
+        min_depth=min_depth,
+        max_slope=max_slope,
+        positive=positive,
+        overwrite=overwrite,
+    )
+    if not ctx.find_root().obj.get("quiet", False):
+        click.echo(result.summary())

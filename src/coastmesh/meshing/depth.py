@@ -1,0 +1,305 @@
+"""Bathymetry on the mesh nodes: interpolation, missing data, depth floor, slope limit.
+
+The rule for nodes the raster cannot give a value to (outside it, or next to a
+nodata cell) is the nearest valid cell on the Earth (a k-d tree in earth-centred
+coordinates), and the report counts them. Depths are metres, positive down.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+import xarray as xr
+from numpy.typing import NDArray
+from pyproj import CRS, Transformer
+from scipy.spatial import cKDTree
+
+from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.meshing.types import Mesh
+from coastmesh.sizing.units import EARTH_RADIUS
+
+__all__ = ["DEPTH_METHODS", "DepthReport", "depth_at_nodes", "limit_slope"]
+
+#: ``"bilinear"``: bilinear interpolation; ``"mean"``: the mean of the cells over
+#: each node's surrounding area where the mesh is coarser than the raster
+#: (bilinear elsewhere).
+DEPTH_METHODS = ("bilinear", "mean")
+_ECEF = CRS.from_epsg(4978)
+_METRES_PER_DEGREE = EARTH_RADIUS * np.pi / 180.0
+
+
+@dataclass(frozen=True, slots=True)
+class DepthReport:
+    """What :func:`depth_at_nodes` did."""
+
+    nodes: int
+    method: str
+    averaged: int
+    nearest: int
+    below_min_depth: int
+    slope_limited: int
+    min: float
+    max: float
+
+    def summary(self) -> str:
+        """Return a one-line summary."""
+        return (
+            f"depth at {self.nodes:,} nodes ({self.method}; {self.averaged:,} by cell "
+            f"means): {self.min:.1f} to {self.max:.1f} m; {self.nearest:,} nodes "
+            f"outside the raster or at nodata took the nearest valid cell; "
+            f"{self.below_min_depth:,} raised to the minimum depth; "
+            f"{self.slope_limited:,} changed by the slope limit"
+        )
+
+    def to_dict(self) -> dict[str, object]:
+        """Return the report as a JSON-ready dict."""
+        return asdict(self)
+
+
+def depth_at_nodes(
+    mesh: Mesh,
+    raster: xr.DataArray,
+    *,
+    positive: str = "up",
+    method: str = "bilinear",
+    min_depth: float | None = None,
+    max_slope: float | None = None,
+) -> tuple[NDArray[np.float64], DepthReport]:
+    """Interpolate a bathymetry raster onto the nodes of a mesh.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh; ``mesh.crs`` must be known.
+    raster : xarray.DataArray
+        Dims ``("y", "x")``, 1-D cell-centre coordinates, a ``crs`` attr, NaN for
+        nodata (as :func:`coastmesh.io.read_raster` returns).
+    positive : {"up", "down"}
+        The raster's sign: ``"up"`` for elevations (GEBCO, ETOPO), ``"down"`` for
+        depths.
+    method : {"bilinear", "mean"}
+        ``"mean"`` averages the valid cells within half the mean length of each
+        node's edges where that covers more than one cell, and interpolates
+        bilinearly elsewhere.
+    min_depth : float, optional
+        Depths below this (metres; e.g. 5 for a model without wetting and drying)
+        are raised to it.
+    max_slope : float, optional
+        Largest ``|depth difference| / edge length`` along any mesh edge; deeper
+        nodes are made shallower until it holds (:func:`limit_slope`).
+
+    Returns
+    -------
+    depth : ndarray of shape (N,)
+        Metres, positive down.
+    report : DepthReport
+
+    Raises
+    ------
+    ConfigError
+        For a bad ``positive``, ``method``, ``min_depth`` or ``max_slope``, or a
+        mesh without a CRS.
+    InputDataError
+        If the raster has no valid cell.
+
+    Examples
+    --------
+    >>> r = xr.DataArray([[-10.0, -20.0], [-30.0, -40.0]], dims=("y", "x"),
+    ...                  coords={"y": [0.0, 1.0], "x": [0.0, 1.0]},
+    ...                  attrs={"crs": "EPSG:4326"})
+    >>> m = Mesh([[0.5, 0.5], [0.0, 0.0], [3.0, 0.0]], [[1, 2, 0]],
+    ...          [[1, 2], [2, 0], [0, 1]], [1, 1, 1], 1, "EPSG:4326")
+    >>> depth, report = depth_at_nodes(m, r)
+    >>> depth.tolist(), report.nearest
+    ([25.0, 10.0, 20.0], 1)
+    """
+    if positive not in ("up", "down"):
+        raise ConfigError(f"positive = {positive!r}: use 'up' or 'down'")
+    if method not in DEPTH_METHODS:
+        raise ConfigError(f"method = {method!r}: use one of {DEPTH_METHODS}")
+    if min_depth is not None and not np.isfinite(min_depth):
+        raise ConfigError(f"min_depth = {min_depth}: not a finite number of metres")
+    if mesh.crs is None:
+        raise ConfigError("the mesh has no CRS: give the CRS of its coordinates")
+    if tuple(raster.dims) != ("y", "x") or "crs" not in raster.attrs:
+        raise ConfigError("raster: expected dims ('y', 'x') and a 'crs' attribute")
+    ry = np.asarray(raster["y"].values, dtype=float)
+    rx = np.asarray(raster["x"].values, dtype=float)
+    values = np.asarray(raster.values, dtype=float)
+    if ry[0] > ry[-1]:
+        ry, values = ry[::-1], values[::-1]
+    if not np.isfinite(values).any():
+        raise InputDataError("the bathymetry raster has no valid cell")
+    raster_crs = CRS.from_user_input(raster.attrs["crs"])
+    to_raster = Transformer.from_crs(mesh.crs, raster_crs, always_xy=True)
+    px, py = to_raster.transform(mesh.points[:, 0], mesh.points[:, 1])
+    z = _bilinear(rx, ry, values, px, py)
+    averaged = 0
+    if method == "mean":
+        radius = _node_radius(mesh)
+        means, used = _box_means(rx, ry, values, px, py, radius, raster_crs)
+        z = np.where(used, means, z)
+        averaged = int(used.sum())
+    missing = ~np.isfinite(z)
+    if missing.any():
+        z[missing] = _nearest_valid(
+            rx, ry, values, px[missing], py[missing], raster_crs
+        )
+    depth = -z if positive == "up" else z
+    shallow = 0
+    if min_depth is not None:
+        shallow = int((depth < min_depth).sum())
+        depth = np.maximum(depth, min_depth)
+    limited = 0
+    if max_slope is not None:
+        limited_depth = limit_slope(mesh, depth, max_slope)
+        limited = int((limited_depth != depth).sum())
+        depth = limited_depth
+    report = DepthReport(
+        nodes=len(depth),
+        method=method,
+        averaged=averaged,
+        nearest=int(missing.sum()),
+        below_min_depth=shallow,
+        slope_limited=limited,
+        min=float(depth.min()),
+        max=float(depth.max()),
+    )
+    return depth, report
+
+
+def limit_slope(
+    mesh: Mesh, depth: NDArray[np.float64], max_slope: float
+) -> NDArray[np.float64]:
+    """Make deep nodes shallower until no mesh edge is steeper than ``max_slope``.
+
+    The result is the largest field below ``depth`` with
+    ``h(p) <= h(q) + max_slope * L(p, q)`` along every edge: the min-plus
+    convolution over the mesh graph, ``h(p) = min_q depth(q) + s * dist(q, p)``,
+    computed by one multi-source Dijkstra (scipy). Shallow water and the coast
+    keep their depths; steep flanks are eased from the deep side.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh (edge lengths are measured on the Earth).
+    depth : ndarray of shape (N,)
+        Depths, metres.
+    max_slope : float
+        Largest slope (dimensionless, > 0), e.g. 0.1.
+
+    Returns
+    -------
+    ndarray of shape (N,)
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import dijkstra
+
+    if not (max_slope > 0 and np.isfinite(max_slope)):
+        raise ConfigError(f"max_slope = {max_slope}: must be a number > 0")
+    depth = np.asarray(depth, dtype=np.float64)
+    edges, lengths = _edges_on_earth(mesh)
+    n = len(depth)
+    base = depth.min()
+    # node n is a source joined to every node by its (shifted) depth
+    rows = np.concatenate([edges[:, 0], edges[:, 1], np.full(n, n)])
+    cols = np.concatenate([edges[:, 1], edges[:, 0], np.arange(n)])
+    weights = np.concatenate(
+        [max_slope * lengths, max_slope * lengths, depth - base + 1e-300]
+    )
+    graph = coo_matrix((weights, (rows, cols)), shape=(n + 1, n + 1)).tocsr()
+    limited = dijkstra(graph, directed=True, indices=n)[:n] + base
+    return np.minimum(limited, depth)
+
+
+def _bilinear(rx, ry, values, px, py) -> NDArray[np.float64]:
+    """Bilinear interpolation on cell centres; NaN outside or next to nodata."""
+    nx, ny = len(rx), len(ry)
+    out = np.full(len(px), np.nan)
+    if nx < 2 or ny < 2:
+        return out
+    inside = (px >= rx[0]) & (px <= rx[-1]) & (py >= ry[0]) & (py <= ry[-1])
+    x, y = px[inside], py[inside]
+    i = np.clip(np.searchsorted(rx, x, side="right") - 1, 0, nx - 2)
+    j = np.clip(np.searchsorted(ry, y, side="right") - 1, 0, ny - 2)
+    tx = (x - rx[i]) / (rx[i + 1] - rx[i])
+    ty = (y - ry[j]) / (ry[j + 1] - ry[j])
+    out[inside] = (
+        (1 - tx) * (1 - ty) * values[j, i]
+        + tx * (1 - ty) * values[j, i + 1]
+        + (1 - tx) * ty * values[j + 1, i]
+        + tx * ty * values[j + 1, i + 1]
+    )
+    return out
+
+
+def _edges_on_earth(mesh: Mesh) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
+    """Return the unique edges and their lengths, metres (earth-centred chords)."""
+    tri = mesh.triangles
+    pairs = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
+    edges = np.unique(np.sort(pairs, axis=1), axis=0)
+    xyz = _earth_xyz(mesh)
+    return edges, np.linalg.norm(xyz[edges[:, 0]] - xyz[edges[:, 1]], axis=1)
+
+
+def _earth_xyz(mesh: Mesh) -> NDArray[np.float64]:
+    if mesh.crs is None:
+        return np.column_stack([mesh.points, np.zeros(len(mesh.points))])
+    to_ecef = Transformer.from_crs(mesh.crs, _ECEF, always_xy=True)
+    x, y = mesh.points[:, 0], mesh.points[:, 1]
+    return np.column_stack(to_ecef.transform(x, y, np.zeros_like(x)))
+
+
+def _node_radius(mesh: Mesh) -> NDArray[np.float64]:
+    """Half the mean length of each node's edges, metres: its surrounding area."""
+    edges, lengths = _edges_on_earth(mesh)
+    n = len(mesh.points)
+    total = np.bincount(edges.ravel(), np.repeat(lengths, 2), minlength=n)
+    count = np.bincount(edges.ravel(), minlength=n)
+    return 0.5 * total / np.maximum(count, 1)
+
+
+def _box_means(rx, ry, values, px, py, radius, raster_crs: CRS):
+    """Mean of the valid cells within ``radius`` of each node (summed-area tables)."""
+    dx, dy = abs(rx[1] - rx[0]), abs(ry[1] - ry[0])
+    if raster_crs.is_geographic:
+        half_y = radius / _METRES_PER_DEGREE
+        half_x = half_y / np.maximum(np.cos(np.radians(py)), 1e-6)
+    else:
+        unit = raster_crs.axis_info[0].unit_conversion_factor
+        half_x = half_y = radius / unit
+    kx = np.floor(half_x / dx).astype(np.int64)
+    ky = np.floor(half_y / dy).astype(np.int64)
+    used = (kx >= 1) | (ky >= 1)
+    ci = np.rint((px - rx[0]) / (rx[1] - rx[0])).astype(np.int64)
+    cj = np.rint((py - ry[0]) / (ry[1] - ry[0])).astype(np.int64)
+    ny, nx = values.shape
+    used &= (ci >= 0) & (ci < nx) & (cj >= 0) & (cj < ny)
+    valid = np.isfinite(values)
+    sums = np.zeros((ny + 1, nx + 1))
+    sums[1:, 1:] = np.where(valid, values, 0.0).cumsum(0).cumsum(1)
+    counts = np.zeros((ny + 1, nx + 1))
+    counts[1:, 1:] = valid.cumsum(0).cumsum(1)
+    i0, i1 = np.clip(ci - kx, 0, nx), np.clip(ci + kx + 1, 0, nx)
+    j0, j1 = np.clip(cj - ky, 0, ny), np.clip(cj + ky + 1, 0, ny)
+
+    def box(table):
+        return table[j1, i1] - table[j0, i1] - table[j1, i0] + table[j0, i0]
+
+    n = box(counts)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        means = box(sums) / n
+    used &= n > 0
+    return means, used
+
+
+def _nearest_valid(rx, ry, values, px, py, raster_crs: CRS) -> NDArray[np.float64]:
+    """Values of the nearest valid cells on the Earth (earth-centred k-d tree)."""
+    gx, gy = np.meshgrid(rx, ry)
+    valid = np.isfinite(values)
+    to_ecef = Transformer.from_crs(raster_crs, _ECEF, always_xy=True)
+    cx, cy = gx[valid], gy[valid]
+    tree = cKDTree(np.column_stack(to_ecef.transform(cx, cy, np.zeros_like(cx))))
+    _, k = tree.query(np.column_stack(to_ecef.transform(px, py, np.zeros_like(px))))
+    return values[valid][k]
