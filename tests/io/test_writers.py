@@ -164,7 +164,11 @@ def test_gpkg_round_trip(tmp_path, write_read, request, name):
     path = tmp_path / "mesh.gpkg"
     write_read(path, write_mesh, lambda p: None, mesh, same_mesh)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["mesh.gpkg"]
-    assert pyogrio.list_layers(path)[:, 0].tolist() == ["triangles", "boundaries"]
+    layers = pyogrio.list_layers(path)[:, 0].tolist()
+    assert layers == ["nodes", "triangles", "boundaries"]
+    meta, points, fields = read_layer(path, "nodes")
+    np.testing.assert_array_equal(shapely.get_coordinates(points), mesh.points)
+    assert fields["id"].tolist() == list(range(len(mesh.points)))
 
     meta, polygons, fields = read_layer(path, "triangles")
     assert CRS.from_user_input(meta["crs"]) == CRS.from_epsg(32630)
@@ -401,3 +405,24 @@ def test_lazy_exports():
 
     assert coastmesh.io.write_domain is write_domain
     assert {"write_mesh", "mesh_formats", "write_domain"} <= set(coastmesh.io.__all__)
+
+
+def test_gpkg_nodes_carry_point_data_and_boundary_names(tmp_path, square):
+    mesh = Mesh(
+        square.points,
+        square.triangles,
+        square.boundary_edges,
+        [1, 1, 2, 2],
+        3,
+        "EPSG:32630",
+        {"depth": np.arange(len(square.points), dtype=float) * 2.5},
+        {1: "coast", 2: "north"},
+        {1: "shoreline", 2: "open"},
+    )
+    path = tmp_path / "m.gpkg"
+    write_mesh(path, mesh)
+    _, _, fields = read_layer(path, "nodes")
+    np.testing.assert_array_equal(fields["depth"], mesh.point_data["depth"])
+    _, _, fields = read_layer(path, "boundaries")
+    assert fields["name"].tolist() == ["coast", "coast", "north", "north"]
+    assert fields["kind"].tolist() == ["shoreline", "shoreline", "open", "open"]

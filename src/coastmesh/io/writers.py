@@ -379,7 +379,7 @@ def _write_gpkg(
 
 
 def _mesh_layers(mesh: Mesh) -> dict[str, Any]:
-    """Build the GeoPackage layers of a mesh: triangles and boundary edges."""
+    """Build the GeoPackage layers of a mesh: nodes, triangles, boundary edges."""
     from coastmesh.types import Features
 
     triangles = mesh.triangles
@@ -396,7 +396,27 @@ def _mesh_layers(mesh: Mesh) -> dict[str, Any]:
     )
     triangle_ids = np.arange(len(triangles), dtype=np.int64)
     edge_ids = np.arange(len(edges), dtype=np.int64)
+    node_ids = np.arange(len(mesh.points), dtype=np.int64)
+    names = np.array(
+        [mesh.boundary_names.get(int(i), "") for i in mesh.boundary_ids], dtype=object
+    )
+    kinds = np.array(
+        [mesh.boundary_kinds.get(int(i), "") for i in mesh.boundary_ids], dtype=object
+    )
+    node_fields: dict[str, Any] = {"id": node_ids}
+    for key, values in mesh.point_data.items():
+        values = np.asarray(values)
+        if values.ndim == 1 and np.issubdtype(values.dtype, np.number):
+            node_fields[key] = values.astype(np.float64)
     return {
+        "nodes": Features(
+            geometry=shapely.points(mesh.points),
+            crs=mesh.crs,
+            fields=node_fields,
+            fids=node_ids,
+            path="<memory>",
+            layer="nodes",
+        ),
         "triangles": Features(
             geometry=polygons,
             crs=mesh.crs,
@@ -408,7 +428,7 @@ def _mesh_layers(mesh: Mesh) -> dict[str, Any]:
         "boundaries": Features(
             geometry=lines,
             crs=mesh.crs,
-            fields={"physical_id": mesh.boundary_ids},
+            fields={"physical_id": mesh.boundary_ids, "name": names, "kind": kinds},
             fids=edge_ids,
             path="<memory>",
             layer="boundaries",
@@ -425,7 +445,8 @@ for _fmt in (
         "gpkg",
         (".gpkg",),
         _write_gpkg,
-        "GeoPackage: layers 'triangles' (id) and 'boundaries' (physical_id)",
+        "GeoPackage: layers 'nodes' (id, depth, size), 'triangles' (id) and "
+        "'boundaries' (physical_id, name, kind)",
     ),
 ):
     register_mesh_format(_fmt)
