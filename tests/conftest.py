@@ -42,6 +42,24 @@ def nwshelf_nc() -> Path:
     return datasets.path("etopo1_0.1deg_nwshelf.nc")
 
 
+EXAMPLE = Path(__file__).parents[1] / "examples" / "orkney" / "pentland_firth.toml"
+#: what the example case writes (its [output] formats, and the figures)
+MODEL_EXTENSIONS = ("msh", "14", "gr3", "slf", "cli", "mesh", "nc", "vtu", "gpkg")
+FIGURES = ("domain", "mesh", "size", "quality", "depth")
+
+
+@pytest.fixture(scope="session")
+def example_run(tmp_path_factory):
+    """The Orkney example case, run once for the whole test session."""
+    from coastmesh.case import run_case
+
+    out = tmp_path_factory.mktemp("example") / "pentland_firth"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = run_case(EXAMPLE, output=out)
+    return result, out
+
+
 @pytest.fixture
 def run_cli():
     """Call the ``coastmesh`` group in-process; return click's Result."""

@@ -14,6 +14,7 @@ import numpy as np
 import pyogrio.raw
 import pytest
 import shapely
+from conftest import EXAMPLE, FIGURES, MODEL_EXTENSIONS
 from pyproj import Geod
 
 from coastmesh.case import run_case
@@ -21,7 +22,6 @@ from coastmesh.config import load_case, parse_case
 from coastmesh.errors import ConfigError, InputDataError, OutputExistsError
 from coastmesh.io.msh import read_msh
 
-EXAMPLE = Path(__file__).parents[1] / "examples" / "orkney" / "pentland_firth.toml"
 GEOD = Geod(ellps="WGS84")
 
 
@@ -39,28 +39,18 @@ def _coarse(**replace: str):
     return parse_case(text, EXAMPLE)  # relative paths still from examples/orkney
 
 
-@pytest.fixture(scope="module")
-def example_run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("run") / "pentland_firth"
-    result = run_case(EXAMPLE, output=out)
-    return result, out
-
-
 def test_example_writes_every_output(example_run):
     result, out = example_run
-    expected = {
-        "pentland_firth.msh",
-        "pentland_firth-msh4.msh",
-        "pentland_firth.gpkg",
+    expected = {f"pentland_firth.{ext}" for ext in MODEL_EXTENSIONS} | {
         "domain.gpkg",
         "size.tif",
-        "figures/domain.png",
-        "figures/mesh.png",
-        "figures/size.png",
         "case.toml",
         "report.json",
         "summary.txt",
+        "quality.json",
+        "quality.txt",
     }
+    expected |= {f"figures/{name}.png" for name in FIGURES}
     written = {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()}
     assert written == expected == set(result.files)
     assert not list(out.parent.glob("*.partial-*"))
@@ -73,15 +63,8 @@ def test_msh_round_trip_and_boundary_ids(example_run):
     result, out = example_run
     case = load_case(EXAMPLE)
     mesh2 = read_msh(out / "pentland_firth.msh")
-    mesh4 = read_msh(out / "pentland_firth-msh4.msh")
-    for mesh in (mesh2, mesh4):
-        assert len(mesh.points) == result.nodes
-        assert len(mesh.triangles) == result.triangles
-    # msh 4.1 groups the nodes by entity: the same nodes, in another order
-    np.testing.assert_allclose(
-        mesh2.points[np.lexsort(mesh2.points.T)],
-        mesh4.points[np.lexsort(mesh4.points.T)],
-    )
+    assert len(mesh2.points) == result.nodes
+    assert len(mesh2.triangles) == result.triangles
     ids = {s.physical_id for s in case.sets} | {b.physical_id for b in case.boundaries}
     assert set(np.unique(mesh2.boundary_ids)) == ids  # every set and boundary
     # every edge used by one triangle only is a boundary edge, and carries an id

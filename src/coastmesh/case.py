@@ -20,9 +20,7 @@ The stages, each reported to the ``progress`` factory and the log:
 from __future__ import annotations
 
 import contextlib
-import json
 import logging
-import resource
 import time
 import warnings
 from collections.abc import Callable, Iterator
@@ -35,6 +33,7 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS, Geod, Transformer
 
+from coastmesh.case_outputs import CaseProducts, build_report, write_outputs
 from coastmesh.config import BoundaryConfig, CaseConfig, RegionConfig, load_case
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.types import Features
@@ -164,22 +163,7 @@ def run_case(
             optimize=config.mesh.optimize,
             progress=progress,
         )
-    cleanup_report = None
-    if config.cleanup.enabled:
-        with timed("cleanup"):
-            from coastmesh.meshing.cleanup import clean_mesh
-
-            mesh, cleanup_report = clean_mesh(
-                mesh,
-                boundary_triangles=config.cleanup.boundary_triangles,
-                max_valence=config.cleanup.max_valence,
-                min_angle=config.cleanup.min_angle,
-            )
-            logger.info("cleanup: %s", cleanup_report.summary())
-    depth_report = None
-    if config.bathymetry is not None:
-        with timed("depth at the nodes") as progress:
-            mesh, depth_report = _node_depths(config, mesh, progress)
+    mesh, after = _after_meshing(config, mesh, timed)
     names = {s.physical_id: s.name for s in config.sets}
     names |= {b.physical_id: b.name for b in config.boundaries}
     ids, counts = np.unique(mesh.boundary_ids, return_counts=True)
@@ -187,55 +171,29 @@ def run_case(
         f"{names.get(int(i), '?')} ({int(i)})": int(c)
         for i, c in zip(ids, counts, strict=True)
     }
-    report = {
-        "case": config.name,
-        "source": str(config.source),
-        "crs": crs.to_string(),
-        "mesh_crs": mesh_crs.to_wkt()
-        if mesh_crs.to_epsg() is None
-        else mesh_crs.to_string(),
-        "output_crs": output_crs.to_string(),
-        "shoreline_sets": set_reports,
-        "stitch": {
-            "polygons": stitch_report.polygons,
-            "sea_slivers_filled": stitch_report.sea_slivers_filled,
-            "land_slivers_removed": stitch_report.land_slivers_removed,
-        },
-        "domain": {
-            "land_polygons": domain_report.land_in,
-            "land_repaired": domain_report.land_repaired,
-            "land_overlaps_merged": domain_report.land_overlaps_merged,
-            "sea_faces": domain_report.sea_faces,
-            "islands": domain_report.holes,
-            "islands_dropped": domain_report.holes_dropped,
-            "boundary_vertices": domain_report.segments,
-        },
-        "size_field": {
-            "shape": list(field_.shape),
-            "cell_m": float(field_.x[1] - field_.x[0]),
-            "min_m": float(field_.min()),
-            "max_m": float(field_.max()),
-        },
-        "mesh": {
-            "nodes": len(mesh.points),
-            "triangles": len(mesh.triangles),
-            "boundary_edges": edges,
-            "surface_id": mesh.surface_id,
-        },
-        "cleanup": None if cleanup_report is None else cleanup_report.to_dict(),
-        "depth": None if depth_report is None else depth_report.to_dict(),
-        "seconds": timings,
-        # peak resident memory of this process so far (Linux reports KiB)
-        "peak_memory_mb": round(
-            resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024, 1
-        ),
-    }
+    report = build_report(
+        config,
+        crs=crs,
+        mesh_crs=mesh_crs,
+        output_crs=output_crs,
+        sets=set_reports,
+        stitch=stitch_report,
+        domain=domain_report,
+        size=field_,
+        mesh=mesh,
+        edges=edges,
+        after=after,
+        timings=timings,
+    )
     with (
         timed("writing outputs"),
         atomic_directory(target, overwrite=overwrite) as folder,
     ):
-        files = _write_outputs(
-            config, folder, mesh, domain, field_, regions, walls, crs, report
+        files = write_outputs(
+            config,
+            folder,
+            CaseProducts(mesh, domain, field_, regions, walls, crs, after["quality"]),
+            report,
         )
     seconds = time.perf_counter() - started
     result = CaseResult(
@@ -658,7 +616,33 @@ def _bathymetry_size(b: Any, field_: Any, mesh_crs: CRS) -> NDArray[np.float64]:
     return size
 
 
-# stage 5b: depth at the nodes
+# stage 5b: cleanup, depth at the nodes, quality
+
+
+def _after_meshing(
+    config: CaseConfig, mesh: Any, timed: StageFactory
+) -> tuple[Any, dict[str, Any]]:
+    after: dict[str, Any] = {"cleanup": None, "depth": None, "quality": None}
+    if config.cleanup.enabled:
+        with timed("cleanup"):
+            from coastmesh.meshing.cleanup import clean_mesh
+
+            mesh, after["cleanup"] = clean_mesh(
+                mesh,
+                boundary_triangles=config.cleanup.boundary_triangles,
+                max_valence=config.cleanup.max_valence,
+                min_angle=config.cleanup.min_angle,
+            )
+            logger.info("cleanup: %s", after["cleanup"].summary())
+    if config.bathymetry is not None:
+        with timed("depth at the nodes") as progress:
+            mesh, after["depth"] = _node_depths(config, mesh, progress)
+    if config.outputs.quality:
+        with timed("mesh quality"):
+            from coastmesh.meshing.quality import mesh_quality
+
+            after["quality"] = mesh_quality(mesh)
+    return mesh, after
 
 
 def _node_depths(config: CaseConfig, mesh: Any, progress: Progress) -> tuple[Any, Any]:
@@ -684,139 +668,3 @@ def _node_depths(config: CaseConfig, mesh: Any, progress: Progress) -> tuple[Any
     progress(2, 2)
     logger.info("%s", report.summary())
     return mesh.with_point_data(depth=depth), report
-
-
-# stage 6: outputs
-
-
-def _write_outputs(
-    config: CaseConfig,
-    folder: Path,
-    mesh: Any,
-    domain: Any,
-    field_: Any,
-    regions: list[Any],
-    walls: list[Any],
-    crs: CRS,
-    report: dict[str, Any],
-) -> list[str]:
-    from coastmesh import __version__
-    from coastmesh.io import write_domain, write_mesh
-    from coastmesh.io.writers import mesh_format
-
-    files: list[str] = []
-    taken: set[str] = set()
-    for name in config.outputs.formats:
-        fmt = mesh_format(name)
-        suffix = fmt.extensions[0]
-        filename = f"{config.name}{suffix}"
-        if filename in taken:
-            filename = f"{config.name}-{name}{suffix}"
-        taken.add(filename)
-        options = {}
-        if config.outputs.positive and name in config.outputs.positive:
-            options["positive"] = config.outputs.positive[name]
-        write_mesh(folder / filename, mesh, format=name, **options)
-        files.append(filename)
-    notes = {
-        "coastmesh_version": __version__,
-        "case": config.name,
-        "case_file": str(config.source),
-    }
-    if config.outputs.domain:
-        extra = {
-            "open_boundaries_untrimmed": Features(
-                np.array([shapely.LineString(w.coords) for w in walls], dtype=object),
-                crs,
-                {
-                    "name": np.array([w.name for w in walls], dtype=object),
-                    "physical_id": np.array([w.physical_id for w in walls]),
-                },
-                np.arange(len(walls)),
-                "<memory>",
-            ),
-        }
-        used = [(n, i, r) for n, i, r in regions if r is not None]
-        if used:
-            extra["regions"] = Features(
-                np.array([r for _, _, r in used], dtype=object),
-                crs,
-                {
-                    "shoreline_set": np.array([n for n, _, _ in used], dtype=object),
-                    "physical_id": np.array([i for _, i, _ in used]),
-                },
-                np.arange(len(used)),
-                "<memory>",
-            )
-        if len(walls) == 0:
-            del extra["open_boundaries_untrimmed"]
-        write_domain(folder / "domain.gpkg", domain, metadata=notes, extra_layers=extra)
-        files.append("domain.gpkg")
-    if config.outputs.size_field:
-        from coastmesh.io import write_raster
-
-        write_raster(folder / "size.tif", field_)
-        files.append("size.tif")
-    if config.outputs.figures:
-        from coastmesh import plot_mesh
-        from coastmesh.plot import save_figure
-
-        names = {s.physical_id: s.name for s in domain.segments}
-        figures = folder / "figures"
-        figures.mkdir()
-        for stem, figure in (
-            ("domain", plot_mesh.domain_figure(domain, title=f"{config.name}: domain")),
-            ("mesh", plot_mesh.mesh_figure(mesh, names=names, title=config.name)),
-            (
-                "size",
-                plot_mesh.size_figure(field_, title=f"{config.name}: element size"),
-            ),
-        ):
-            save_figure(figure, figures / f"{stem}.png")
-            files.append(f"figures/{stem}.png")
-    header = (
-        f"# A copy of {config.source.resolve()}, as run by coastmesh {__version__}.\n"
-        "# Its relative paths are relative to that file, not to this copy.\n"
-    )
-    (folder / "case.toml").write_text(header + config.text, encoding="utf-8")
-    files.append("case.toml")
-    report = report | {"files": files, "coastmesh_version": __version__}
-    (folder / "report.json").write_text(json.dumps(report, indent=2) + "\n")
-    files.append("report.json")
-    (folder / "summary.txt").write_text(_summary_text(report), encoding="utf-8")
-    files.append("summary.txt")
-    return files
-
-
-def _summary_text(report: dict[str, Any]) -> str:
-    mesh = report["mesh"]
-    lines = [
-        f"coastmesh case {report['case']} ({report['source']})",
-        f"mesh: {mesh['nodes']:,} nodes, {mesh['triangles']:,} triangles",
-        "boundary edges by name (id): "
-        + ", ".join(f"{k} {v}" for k, v in mesh["boundary_edges"].items()),
-        f"surface id: {mesh['surface_id']}",
-        "shoreline sets:",
-    ]
-    for name, r in report["shoreline_sets"].items():
-        lines.append(
-            f"  {name}: {r['kind']}, {r['polygons']} polygons "
-            f"({r['polygons_below_min_area']} islands and {r['lakes_below_min_area']} "
-            f"lakes below min_area dropped), {r['points_out']:,} points"
-        )
-    d = report["domain"]
-    lines.append(
-        f"domain: {d['islands']} islands ({d['islands_dropped']} dropped), "
-        f"{d['land_repaired']} land polygons repaired, {d['land_overlaps_merged']} "
-        "overlaps merged"
-    )
-    s = report["size_field"]
-    lines.append(
-        f"size field: {s['shape'][1]} x {s['shape'][0]} cells of {s['cell_m']:.0f} m, "
-        f"{s['min_m']:.0f} to {s['max_m']:.0f} m"
-    )
-    lines.append(
-        "time (s): " + ", ".join(f"{k} {v}" for k, v in report["seconds"].items())
-    )
-    lines.append("files: " + ", ".join(report["files"]))
-    return "\n".join(lines) + "\n"

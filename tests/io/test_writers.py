@@ -313,7 +313,7 @@ def test_unknown_extension(tmp_path, square, path):
         format_for_path(path)
     message = str(info.value)
     assert message.startswith(f"{path}:")
-    assert ".gpkg, .msh" in message
+    assert ".gpkg, .gr3, .grd, .mesh, .msh" in message
     with pytest.raises(FormatError, match="unknown mesh format"):
         write_mesh(tmp_path / "x.vtk", square)
     assert list(tmp_path.iterdir()) == []

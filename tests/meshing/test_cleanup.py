@@ -84,7 +84,7 @@ def test_real_mesh_stays_valid(tmp_path):
 
     example = Path(__file__).parents[2] / "examples" / "orkney" / "pentland_firth.toml"
     text = example.read_text().replace('h_min = "150 m"', 'h_min = "300 m"')
-    text += "\n[cleanup]\nenabled = false\n"  # the raw Gmsh mesh
+    text = text.replace("[cleanup]", "[cleanup]\nenabled = false")  # raw Gmsh mesh
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         result = run_case(parse_case(text, example), output=tmp_path / "o")

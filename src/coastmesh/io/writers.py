@@ -404,8 +404,8 @@ def _mesh_layers(mesh: Mesh) -> dict[str, Any]:
         [mesh.boundary_kinds.get(int(i), "") for i in mesh.boundary_ids], dtype=object
     )
     node_fields: dict[str, Any] = {"id": node_ids}
-    for key, values in mesh.point_data.items():
-        values = np.asarray(values)
+    for key, raw in mesh.point_data.items():
+        values = np.asarray(raw)
         if values.ndim == 1 and np.issubdtype(values.dtype, np.number):
             node_fields[key] = values.astype(np.float64)
     return {
@@ -436,6 +436,80 @@ def _mesh_layers(mesh: Mesh) -> dict[str, Any]:
     }
 
 
+def _write_fort14(
+    path: str | os.PathLike[str],
+    mesh: Mesh,
+    *,
+    overwrite: bool,
+    positive: str = "down",
+    title: str | None = None,
+) -> None:
+    from coastmesh.io.adcirc import write_fort14
+
+    write_fort14(path, mesh, overwrite=overwrite, positive=positive, title=title)
+
+
+def _write_gr3(
+    path: str | os.PathLike[str],
+    mesh: Mesh,
+    *,
+    overwrite: bool,
+    positive: str = "down",
+    title: str | None = None,
+) -> None:
+    from coastmesh.io.adcirc import write_gr3
+
+    write_gr3(path, mesh, overwrite=overwrite, positive=positive, title=title)
+
+
+def _write_mike(
+    path: str | os.PathLike[str],
+    mesh: Mesh,
+    *,
+    overwrite: bool,
+    positive: str = "up",
+    crs_wkt: str | None = None,
+) -> None:
+    from coastmesh.io.mike import write_mike_mesh
+
+    write_mike_mesh(path, mesh, overwrite=overwrite, positive=positive, crs_wkt=crs_wkt)
+
+
+def _write_selafin(
+    path: str | os.PathLike[str],
+    mesh: Mesh,
+    *,
+    overwrite: bool,
+    positive: str = "up",
+    cli: bool = True,
+    open_codes: str = "5 4 4",
+    title: str | None = None,
+) -> None:
+    from coastmesh.io.telemac import write_selafin
+
+    write_selafin(
+        path,
+        mesh,
+        overwrite=overwrite,
+        positive=positive,
+        cli=cli,
+        open_codes=open_codes,
+        title=title,
+    )
+
+
+def _write_ugrid(path: str | os.PathLike[str], mesh: Mesh, *, overwrite: bool) -> None:
+    from coastmesh.io.ugrid import write_ugrid
+
+    write_ugrid(path, mesh, overwrite=overwrite)
+
+
+def _write_vtu(path: str | os.PathLike[str], mesh: Mesh, *, overwrite: bool) -> None:
+    from coastmesh.io.ugrid import write_vtu
+
+    write_vtu(path, mesh, overwrite=overwrite)
+
+
 for _fmt in (
     MeshFormat(
         "msh2", (".msh",), _write_msh2, "Gmsh msh 2.2 (Fluidity, Thetis); default .msh"
@@ -447,6 +521,42 @@ for _fmt in (
         _write_gpkg,
         "GeoPackage: layers 'nodes' (id, depth, size), 'triangles' (id) and "
         "'boundaries' (physical_id, name, kind)",
+    ),
+    MeshFormat(
+        "fort14",
+        (".14", ".grd"),
+        _write_fort14,
+        "ADCIRC fort.14: depth positive down, open and land boundary segments",
+    ),
+    MeshFormat(
+        "gr3",
+        (".gr3",),
+        _write_gr3,
+        "SCHISM hgrid.gr3: depth positive down, open and land boundary segments",
+    ),
+    MeshFormat(
+        "selafin",
+        (".slf", ".selafin"),
+        _write_selafin,
+        "Telemac SELAFIN geometry (BOTTOM = bed elevation) + .cli boundary file",
+    ),
+    MeshFormat(
+        "mike",
+        (".mesh",),
+        _write_mike,
+        "DHI MIKE .mesh: z positive up, node codes 1 land, 2.. open ids in order",
+    ),
+    MeshFormat(
+        "ugrid",
+        (".nc",),
+        _write_ugrid,
+        "UGRID-1.0 netCDF: mesh2d, depth on nodes, boundary_id on edges",
+    ),
+    MeshFormat(
+        "vtu",
+        (".vtu",),
+        _write_vtu,
+        "VTK unstructured grid: triangles + boundary lines, point data",
     ),
 ):
     register_mesh_format(_fmt)

@@ -184,13 +184,20 @@ def boundary_strings(mesh: Mesh) -> list[BoundaryString]:
 def _directed_boundary(mesh: Mesh) -> NDArray[np.int64]:
     """Boundary edges oriented as in their triangle (domain on the left)."""
     tri = mesh.triangles
+    n = len(mesh.points)
     half = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
-    key = np.sort(half, axis=1)
-    _, inverse, count = np.unique(key, axis=0, return_inverse=True, return_counts=True)
-    outer = count[inverse.ravel()] == 1
-    boundary = half[outer]  # as the triangles run them
-    tagged = np.unique(np.sort(mesh.boundary_edges, axis=1), axis=0)
-    found = np.unique(np.sort(boundary, axis=1), axis=0)
+    # one int64 key per undirected edge: a 1-D sort is ~20x faster than axis=0
+    key = np.minimum(half[:, 0], half[:, 1]) * n + np.maximum(half[:, 0], half[:, 1])
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    starts = np.flatnonzero(np.r_[True, sorted_key[1:] != sorted_key[:-1]])
+    count = np.diff(np.r_[starts, len(key)])
+    single = np.zeros(len(key), dtype=bool)
+    single[order[starts[count == 1]]] = True
+    boundary = half[single]  # as the triangles run them
+    edges = mesh.boundary_edges
+    tagged = np.unique(np.minimum(edges[:, 0], edges[:, 1]) * n + edges.max(axis=1))
+    found = np.sort(key[single])
     if len(tagged) != len(found) or not np.array_equal(tagged, found):
         raise FormatError(
             f"the mesh's {len(mesh.boundary_edges)} tagged edges are not its "

@@ -1,0 +1,203 @@
+"""Figures of mesh quality and of depth on the mesh.
+
+Like :mod:`coastmesh.plot_mesh`, these build a :class:`matplotlib.figure.Figure`
+without pyplot; save them with :func:`coastmesh.plot.save_figure`.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from coastmesh.meshing.quality import (
+    EDGE_RATIO_RANGE,
+    QualityReport,
+    edge_quality,
+    mesh_quality,
+    triangle_quality,
+)
+from coastmesh.plot import _geographic_axes
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from numpy.typing import NDArray
+
+    from coastmesh.meshing.types import Mesh
+
+__all__ = ["depth_figure", "quality_figure"]
+
+_BINS = 90
+
+
+def quality_figure(
+    mesh: Mesh, report: QualityReport | None = None, *, title: str | None = None
+) -> Figure:
+    """Draw histograms of minimum angle, radius ratio and edge length / size.
+
+    Parameters
+    ----------
+    mesh : coastmesh.meshing.Mesh
+        The mesh; the edge panel needs ``point_data["size"]`` (metres).
+    report : QualityReport, optional
+        :func:`~coastmesh.meshing.quality.mesh_quality` of ``mesh``, for the
+        numbers in the panel titles; computed when not given.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels (minimum angle in degrees, radius ratio), or three with the
+        edge length over target size on a logarithmic axis. Counts are per
+        triangle (per edge in the third panel), on a logarithmic scale.
+
+    Examples
+    --------
+    >>> from coastmesh.meshing.types import Mesh
+    >>> m = Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]],
+    ...          [1, 1, 1], 1, None)
+    >>> len(quality_figure(m).axes)
+    2
+    """
+    from matplotlib.figure import Figure
+    from matplotlib.ticker import NullFormatter
+
+    if report is None:
+        report = mesh_quality(mesh)
+    shape = triangle_quality(mesh)
+    edges = edge_quality(mesh)
+    panels = 3 if "ratio" in edges else 2
+    figure = Figure(figsize=(5 * panels, 4), layout="constrained")
+    axes = figure.subplots(1, panels, squeeze=False)[0]
+    a, r = report.min_angle, report.radius_ratio
+    _histogram(axes[0], shape["min_angle"], np.linspace(0, 60, _BINS + 1), (20, 30))
+    axes[0].set_xlabel("minimum angle (degrees)")
+    axes[0].set_title(
+        f"min {a.min:.1f}, p5 {a.p5:.1f}; {a.below_30:,} below 30", fontsize="medium"
+    )
+    _histogram(axes[1], shape["radius_ratio"], np.linspace(0, 1, _BINS + 1), ())
+    axes[1].set_xlabel("radius ratio 2 r_in / r_circ")
+    axes[1].set_title(f"min {r.min:.3f}, p5 {r.p5:.3f}", fontsize="medium")
+    if panels == 3:
+        ratio = edges["ratio"]
+        low = min(float(ratio.min()), 0.25)
+        high = max(float(ratio.max()), 4.0)
+        _histogram(axes[2], ratio, np.geomspace(low, high, _BINS + 1), EDGE_RATIO_RANGE)
+        axes[2].set_xscale("log")
+        ticks = [t for t in 2.0 ** np.arange(-4, 5) if low <= t <= high]
+        axes[2].set_xticks(ticks, [f"{t:g}" for t in ticks])
+        axes[2].xaxis.set_minor_formatter(NullFormatter())
+        axes[2].set_xlabel("edge length / target size")
+        if report.edge_ratio is not None:
+            axes[2].set_title(
+                f"{100 * report.edge_ratio.within:.1f}% in [0.5, 2]",
+                fontsize="medium",
+            )
+    axes[0].set_ylabel("count")
+    figure.suptitle(
+        (title or "mesh quality")
+        + f": {report.triangles:,} triangles, {report.nodes:,} nodes"
+    )
+    return figure
+
+
+def depth_figure(mesh: Mesh, *, title: str | None = None) -> Figure:
+    """Draw the depth at the nodes on the mesh, in metres, positive down.
+
+    Parameters
+    ----------
+    mesh : coastmesh.meshing.Mesh
+        With ``point_data["depth"]`` (metres, positive down), one value per node;
+        triangles with a non-finite depth at a node are left blank.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One map (with lon/lat axes and an aspect ratio that keeps shapes for a
+        geographic CRS) and its colour bar.
+
+    Raises
+    ------
+    ValueError
+        If ``mesh.point_data`` has no ``"depth"``, or it is not one value per node.
+
+    Examples
+    --------
+    >>> from coastmesh.meshing.types import Mesh
+    >>> m = Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]],
+    ...          [1, 1, 1], 1, "EPSG:4326", {"depth": [5.0, 10.0, 20.0]})
+    >>> len(depth_figure(m).axes)
+    2
+    """
+    from matplotlib.figure import Figure
+    from matplotlib.tri import Triangulation
+
+    if "depth" not in mesh.point_data:
+        raise ValueError(
+            f"mesh.point_data has no 'depth' (it has {sorted(mesh.point_data)}); "
+            "add one with mesh.with_point_data(depth=...)"
+        )
+    depth = np.asarray(mesh.point_data["depth"], dtype=np.float64)
+    if depth.shape != (len(mesh.points),):
+        raise ValueError(
+            f"mesh.point_data['depth'] has shape {depth.shape}, expected "
+            f"({len(mesh.points)},): one depth (metres) per node"
+        )
+    x, y = mesh.points[:, 0], mesh.points[:, 1]
+    finite = np.isfinite(depth)
+    mask = ~finite[mesh.triangles].all(axis=1)
+    triangulation = Triangulation(
+        x, y, mesh.triangles, mask=mask if mask.any() else None
+    )
+    figure = Figure(figsize=(9, 8), layout="constrained")
+    ax = figure.add_subplot()
+    low, high = (
+        (float(depth[finite].min()), float(depth[finite].max()))
+        if finite.any()
+        else (0.0, 1.0)
+    )
+    image = ax.tripcolor(
+        triangulation,
+        np.where(finite, depth, low),
+        shading="gouraud",
+        cmap="viridis_r",
+        vmin=low,
+        vmax=high,
+    )
+    figure.colorbar(image, ax=ax, label="depth (m, positive down)")
+    _frame(ax, mesh.points)
+    _geographic_axes(ax, mesh.crs, _bounds(mesh.points))
+    ax.ticklabel_format(useOffset=False)
+    span = f"{low:,.1f} to {high:,.1f} m" if finite.any() else "no finite values"
+    ax.set_title(f"{title or 'depth'}: {span}")
+    return figure
+
+
+def _histogram(
+    ax: Axes,
+    values: NDArray[np.float64],
+    bins: NDArray[np.float64],
+    marks: tuple[float, ...],
+) -> None:
+    counts, edges = np.histogram(np.clip(values, bins[0], bins[-1]), bins=bins)
+    ax.stairs(counts, edges, fill=True, color="#4c72b0")
+    ax.set_yscale("log")
+    for mark in marks:
+        ax.axvline(mark, color="#c44e52", linestyle="--", linewidth=1)
+
+
+def _bounds(points: NDArray[np.float64]) -> tuple[float, float, float, float]:
+    minx, miny = points.min(axis=0)
+    maxx, maxy = points.max(axis=0)
+    return float(minx), float(miny), float(maxx), float(maxy)
+
+
+def _frame(ax: Axes, points: NDArray[np.float64]) -> None:
+    minx, miny, maxx, maxy = _bounds(points)
+    padx, pady = 0.02 * (maxx - minx), 0.02 * (maxy - miny)
+    ax.set_xlim(minx - padx, maxx + padx)
+    ax.set_ylim(miny - pady, maxy + pady)
