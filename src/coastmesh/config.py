@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -501,12 +502,13 @@ def parse_case(text: str, source: str | Path) -> CaseConfig:
 
     def path_of(value: Any, key: str) -> Path:
         p = Path(_string(value, key)).expanduser()
-        return p if p.is_absolute() else base / p
+        # normpath folds "examples/x/../../out" to "out" (it does not resolve links)
+        return p if p.is_absolute() else Path(os.path.normpath(base / p))
 
     root = _Table(data, "", label)
     case = root.table("case", required=True)
     name = case.get("name", _string)
-    output = case.get("output", path_of, base / "out" / name)
+    output = case.get("output", path_of, Path(os.path.normpath(base / "out" / name)))
     crs = case.get("crs", _crs, None)
     case.done()
 
