@@ -151,3 +151,46 @@ def distance_to_points_geodesic(lon, lat, line_lon, line_lat):
             np.full_like(line_lon, a), np.full_like(line_lat, b), line_lon, line_lat
         )[2].min()
     return out
+
+
+def bilinear_loop(rx, ry, values, px, py):
+    """Bilinear interpolation one point at a time (NaN outside or at nodata).
+
+    The literal reference of ``coastmesh.meshing.depth`` (ascending ``rx``, ``ry``).
+    """
+    out = np.full(len(px), np.nan)
+    for k, (x, y) in enumerate(zip(px, py, strict=True)):
+        if not (rx[0] <= x <= rx[-1] and ry[0] <= y <= ry[-1]):
+            continue
+        i = min(int(np.searchsorted(rx, x, side="right")) - 1, len(rx) - 2)
+        j = min(int(np.searchsorted(ry, y, side="right")) - 1, len(ry) - 2)
+        tx = (x - rx[i]) / (rx[i + 1] - rx[i])
+        ty = (y - ry[j]) / (ry[j + 1] - ry[j])
+        out[k] = (
+            (1 - tx) * (1 - ty) * values[j, i]
+            + tx * (1 - ty) * values[j, i + 1]
+            + (1 - tx) * ty * values[j + 1, i]
+            + tx * ty * values[j + 1, i + 1]
+        )
+    return out
+
+
+def write_fort14_loop(path, mesh, depth, open_strings, land_strings):
+    """fort.14 written one line at a time: the literal reference for timing."""
+    with open(path, "w") as f:
+        f.write("reference\n")
+        f.write(f"{len(mesh.triangles)} {len(mesh.points)}\n")
+        for k, ((x, y), d) in enumerate(zip(mesh.points, depth, strict=True), 1):
+            f.write(f"{k} {x!r} {y!r} {d!r}\n")
+        for k, (a, b, c) in enumerate(mesh.triangles, 1):
+            f.write(f"{k} 3 {a + 1} {b + 1} {c + 1}\n")
+        f.write(f"{len(open_strings)}\n{sum(len(s) for s in open_strings)}\n")
+        for s in open_strings:
+            f.write(f"{len(s)} 0\n")
+            for n in s:
+                f.write(f"{n + 1}\n")
+        f.write(f"{len(land_strings)}\n{sum(len(s) for s in land_strings)}\n")
+        for s in land_strings:
+            f.write(f"{len(s)} 0\n")
+            for n in s:
+                f.write(f"{n + 1}\n")

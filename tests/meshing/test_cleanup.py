@@ -95,7 +95,8 @@ def test_real_mesh_stays_valid(tmp_path):
     assert report.boundary_triangles_before == _all_boundary(mesh) > 0
     assert report.boundary_triangles_after == _all_boundary(clean)
     assert report.boundary_triangles_after < report.boundary_triangles_before
-    assert report.max_valence_after <= 7 or report.valence_flips > 0
+    # no flip raises a node above the limit
+    assert report.max_valence_after <= max(7, report.max_valence_before)
     # flips never go below min(old, min_angle); fixes stop at half of it
     assert report.min_angle_after >= min(report.min_angle_before, 10.0) - 1e-9
     _check_valid(mesh, clean)

@@ -115,7 +115,7 @@ def clean_mesh(
         flips, splits = work.fix_boundary_triangles(min_angle / 2)
     if max_valence is not None:
         valence_flips = work.reduce_valence(max_valence, min_angle)
-    sliver_flips = work.flip_slivers(min_angle)
+    sliver_flips = work.flip_slivers(min_angle, max_valence)
     after = work.stats(min_angle)
     report = CleanupReport(
         boundary_triangles_before=before[0],
@@ -338,7 +338,7 @@ class _Work:
                     flips += 1
         return flips
 
-    def flip_slivers(self, min_angle: float) -> int:
+    def flip_slivers(self, min_angle: float, limit: int | None) -> int:
         flips = 0
         for k in range(len(self.tri)):
             t = self.tri[k]
@@ -353,6 +353,14 @@ class _Work:
             k2, new1, new2 = flipped
             old = min(angles.min(), self.min_angle(self.tri[k2]))
             new = min(self.min_angle(new1), self.min_angle(new2))
+            gain = [w for w in set(new1) & set(new2) if w not in (u, v)]
+            if limit is not None and any(
+                w < len(self.valence)
+                and not self.on_boundary[w]
+                and self.valence[w] + 1 > limit
+                for w in gain
+            ):
+                continue
             if new > old and not (self.all_boundary(new1) or self.all_boundary(new2)):
                 self._apply(k, k2, new1, new2)
                 flips += 1
