@@ -71,8 +71,8 @@ RASTER_WINDOW = RasterWindowType()
 overwrite_option = click.option(
     "--overwrite",
     is_flag=True,
-    help="Replace OUT and the --plot file if they exist. Without it an existing "
-    "output is an error and nothing is written.",
+    help="Replace existing outputs (a file, or a non-empty output folder). Without "
+    "it an existing output is an error and nothing is written.",
 )
 
 
