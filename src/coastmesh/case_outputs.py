@@ -243,6 +243,15 @@ def _write_figures(
         figures.append(
             ("depth", lambda: plot_quality.depth_figure(mesh, title=f"{name}: depth"))
         )
+    if config.outputs.detail is not None:
+        figures.append(
+            (
+                "mesh_mercator",
+                lambda: plot_mesh.mercator_figure(
+                    mesh, detail=config.outputs.detail, names=names, title=name
+                ),
+            )
+        )
     (folder / "figures").mkdir()
     files = []
     for stem, draw in figures:

@@ -400,6 +400,7 @@ class OutputConfig:
     size_field: bool = True
     figures: bool = True
     quality: bool = True
+    detail: tuple[float, float, float, float] | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -815,6 +816,7 @@ def _outputs(t: _Table) -> OutputConfig:
         size_field=t.get("size_field", _boolean, True),
         figures=t.get("figures", _boolean, True),
         quality=t.get("quality", _boolean, True),
+        detail=t.get("detail", _box, None),
     )
     t.done()
     return config

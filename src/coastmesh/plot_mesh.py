@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from coastmesh.plot import _geographic_axes
 
@@ -20,7 +21,7 @@ if TYPE_CHECKING:
 
     from coastmesh.meshing.types import Domain, Mesh
 
-__all__ = ["domain_figure", "mesh_figure", "size_figure"]
+__all__ = ["domain_figure", "mercator_figure", "mesh_figure", "size_figure"]
 
 #: Above this many triangles the mesh figure draws the boundary only.
 MAX_DRAWN_TRIANGLES = 400_000
@@ -190,3 +191,90 @@ def _frame(ax: Axes, bounds: tuple[float, ...], crs: Any) -> None:
     ax.set_xlim(minx - padx, maxx + padx)
     ax.set_ylim(miny - pady, maxy + pady)
     _geographic_axes(ax, crs, (minx, miny, maxx, maxy))
+
+
+def mercator_figure(
+    mesh: Mesh,
+    *,
+    detail: tuple[float, float, float, float] | None = None,
+    names: dict[int, str] | None = None,
+    title: str | None = None,
+) -> Figure:
+    """Draw a mesh in Mercator (EPSG:3395), whole and around a detail box.
+
+    The paper's figure 5 style: the whole mesh, and a detail (e.g. Orkney) with
+    its triangles, both in the ellipsoidal Mercator projection, so shapes are kept
+    and north is up.
+
+    Parameters
+    ----------
+    mesh : coastmesh.meshing.Mesh
+        The mesh; its CRS must be known.
+    detail : (lon_min, lat_min, lon_max, lat_max), optional
+        The detail box in longitude/latitude; none: the whole mesh only.
+    names : dict of int to str, optional
+        Names of the boundary ids for the legend.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.collections import LineCollection
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Rectangle
+    from pyproj import Transformer
+
+    if mesh.crs is None:
+        raise ValueError("the mesh has no CRS; Mercator needs one")
+    to_merc = Transformer.from_crs(mesh.crs, "EPSG:3395", always_xy=True)
+    xy = np.column_stack(to_merc.transform(mesh.points[:, 0], mesh.points[:, 1]))
+    xy = xy / 1000.0  # km
+    panels = 2 if detail is not None else 1
+    figure = Figure(figsize=(8 * panels, 8), layout="constrained")
+    axes = np.atleast_1d(figure.subplots(1, panels))
+    ids = np.unique(mesh.boundary_ids)
+    colours = _palette(ids)
+
+    def draw(ax: Axes, triangles: NDArray[np.int64]) -> None:
+        if 0 < len(triangles) <= MAX_DRAWN_TRIANGLES:
+            ax.triplot(xy[:, 0], xy[:, 1], triangles, color="0.55", lw=0.2)
+        ax.add_collection(
+            LineCollection(
+                xy[mesh.boundary_edges],
+                colors=[colours[int(i)] for i in mesh.boundary_ids],
+                linewidths=1.0,
+            )
+        )
+        ax.set_aspect("equal")
+        ax.set_xlabel("Mercator x (km)")
+        ax.set_ylabel("Mercator y (km)")
+
+    draw(axes[0], mesh.triangles)
+    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    axes[0].set_xlim(lo[0], hi[0])
+    axes[0].set_ylim(lo[1], hi[1])
+    axes[0].set_title(f"{len(mesh.points):,} nodes, {len(mesh.triangles):,} triangles")
+    if detail is not None:
+        x0, y0 = to_merc.transform(detail[0], detail[1])
+        x1, y1 = to_merc.transform(detail[2], detail[3])
+        x0, y0, x1, y1 = x0 / 1000, y0 / 1000, x1 / 1000, y1 / 1000
+        centre = xy[mesh.triangles].mean(axis=1)
+        inside = (
+            (centre[:, 0] >= x0)
+            & (centre[:, 0] <= x1)
+            & (centre[:, 1] >= y0)
+            & (centre[:, 1] <= y1)
+        )
+        draw(axes[1], mesh.triangles[inside])
+        axes[1].set_xlim(x0, x1)
+        axes[1].set_ylim(y0, y1)
+        axes[1].set_title(f"detail: {int(inside.sum()):,} triangles")
+        axes[0].add_patch(
+            Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, edgecolor="k", lw=1.2)
+        )
+    _legend(axes[0], {int(i): (names or {}).get(int(i), "") for i in ids}, colours)
+    if title:
+        figure.suptitle(title)
+    return figure
