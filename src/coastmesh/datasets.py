@@ -25,7 +25,7 @@ __all__ = ["names", "path"]
 
 _PACKAGE = "coastmesh"
 _FOLDER = "data"
-_SUFFIXES = (".geojson", ".tif", ".nc", ".zip")
+_SUFFIXES = (".geojson", ".tif", ".nc", ".zip", ".toml")
 
 
 def names() -> list[str]:

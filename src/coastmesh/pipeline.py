@@ -15,7 +15,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from datetime import datetime, timezone
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import shapely
@@ -72,13 +72,13 @@ class DemoStep:
         What was done, e.g. ``"West Norway shoreline, window 100, 1 mode"``.
     outputs : tuple of str
         File names written into the demo folder (data, then plot).
-    report : ShorelineReport or RasterReport
-        What the step did.
+    report : ShorelineReport, RasterReport or CaseResult
+        What the step did (each has ``summary()``).
     """
 
     title: str
     outputs: tuple[str, ...]
-    report: ShorelineReport | RasterReport
+    report: Any
 
 
 def simplify_shoreline_file(
@@ -297,7 +297,11 @@ def run_demo(
     The West Norway shoreline (GSHHG) is approximated with windows of 100 and 500
     points and 1 mode, and 100 points and 5 modes; the ETOPO1 Orkney raster with
     8 x 8 windows and 1, 16 and 48 modes. Each result is written with a plot of
-    input and result, and ``README.txt`` lists the files.
+    input and result. Then the bundled Orkney case (``pentland_firth.toml``) runs
+    the whole chain into ``pentland_firth/``: shoreline PCA by region, loxodrome
+    open boundaries, a graded Gmsh mesh, depths from the PCA of the ETOPO1 grid,
+    eight model formats, the quality report and the figures. ``README.txt`` lists
+    the files.
 
     Parameters
     ----------
@@ -355,12 +359,44 @@ def run_demo(
             steps.append(DemoStep(title, (data, f"{stem}.png"), report))
             logger.info("demo: %s: %s", title, report.summary())
             if progress is not None:
-                progress(done, len(jobs))
+                progress(done, len(jobs) + _DEMO_CASES)
+        if _DEMO_CASES:
+            steps.append(_demo_case(folder, Path(outdir)))
+            if progress is not None:
+                progress(len(jobs) + 1, len(jobs) + 1)
         (folder / "README.txt").write_text(_demo_readme(steps), encoding="utf-8")
     return steps
 
 
 _DEMO_SHORELINES = ((100, 1), (500, 1), (100, 5))
+#: 1: also run the bundled Orkney case (the whole chain); 0 in quick tests
+_DEMO_CASES = 1
+
+
+def _demo_case(folder: Path, final: Path) -> DemoStep:
+    """Run the bundled Pentland Firth case into ``folder/pentland_firth``."""
+    import dataclasses
+    import warnings
+
+    from coastmesh.case import run_case
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoastmeshWarning)  # dropped small islands
+        result = run_case(
+            data_path("pentland_firth.toml"), output=folder / "pentland_firth"
+        )
+    title = (
+        "Orkney and the Pentland Firth: shoreline PCA by region, loxodrome open "
+        "boundaries, graded Gmsh mesh, depth from the PCA of ETOPO1, 8 model formats, "
+        "quality report"
+    )
+    outputs = ("pentland_firth/summary.txt", "pentland_firth/figures/mesh.png")
+    # the folder is renamed from its .partial name when the demo ends
+    result = dataclasses.replace(result, output=final / "pentland_firth")
+    logger.info("demo: %s", result.summary())
+    return DemoStep(title, outputs, result)
+
+
 _DEMO_RASTERS = ((8, 1), (8, 16), (8, 48))
 
 
@@ -368,11 +404,14 @@ def _demo_readme(steps: list[DemoStep]) -> str:
     from coastmesh import __version__
 
     lines = [
-        f"coastmesh {__version__} demo: PCA approximation of shorelines and bathymetry",
+        f"coastmesh {__version__} demo: PCA approximation of shorelines and "
+        "bathymetry, and a whole tidal-model mesh",
         "",
         "Inputs (bundled with coastmesh, see coastmesh/data/README.md):",
         "  norway_west_gshhg_f.geojson    GSHHG 2.3.6 full resolution, LGPL-3.0+",
         "  etopo1_0.1deg_orkney_wide.tif  ETOPO1 bedrock, 0.1 degree, public domain",
+        "  orkney_gshhg_f.geojson         GSHHG 2.3.6 full resolution, LGPL-3.0+",
+        "  pentland_firth.toml            the case run into pentland_firth/",
         "",
         "Outputs (the .png files draw input and result together):",
     ]

@@ -15,7 +15,7 @@ FULL_OUTPUTS = sorted(
         for ext in ("gpkg", "png")
     ]
     + [f"orkney_etopo1_8x8_r{r}.{ext}" for r in (1, 16, 48) for ext in ("tif", "png")]
-    + ["README.txt"]
+    + ["README.txt", "pentland_firth"]
 )
 
 
@@ -24,6 +24,7 @@ def small_demo(monkeypatch):
     """Run one shoreline and one raster step instead of six."""
     monkeypatch.setattr(coastmesh.pipeline, "_DEMO_SHORELINES", ((500, 1),))
     monkeypatch.setattr(coastmesh.pipeline, "_DEMO_RASTERS", ((8, 16),))
+    monkeypatch.setattr(coastmesh.pipeline, "_DEMO_CASES", 0)
 
 
 @pytest.fixture
@@ -31,6 +32,7 @@ def tiny_demo(monkeypatch):
     """Run the raster step only."""
     monkeypatch.setattr(coastmesh.pipeline, "_DEMO_SHORELINES", ())
     monkeypatch.setattr(coastmesh.pipeline, "_DEMO_RASTERS", ((8, 16),))
+    monkeypatch.setattr(coastmesh.pipeline, "_DEMO_CASES", 0)
 
 
 def test_demo_writes_results_and_says_where(
@@ -98,4 +100,15 @@ def test_full_demo(run_cli, tmp_path, folder_listing):
     result = run_cli("demo", out)
     assert result.exit_code == 0, result.output
     assert folder_listing(out) == FULL_OUTPUTS
-    assert len(result.stdout.strip().splitlines()) == 13  # 2 lines per step + 1
+    assert len(result.stdout.strip().splitlines()) == 15  # 2 lines per step + 1
+    case = out / "pentland_firth"
+    for name in (
+        "pentland_firth.msh",
+        "pentland_firth.14",
+        "quality.txt",
+        "figures/mesh.png",
+        "figures/depth.png",
+        "summary.txt",
+    ):
+        assert (case / name).is_file(), name
+    assert "pentland_firth/figures/mesh.png" in result.stdout.splitlines()[-1]

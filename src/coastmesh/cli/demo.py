@@ -30,8 +30,11 @@ def demo(ctx: click.Context, *, outdir: Path, overwrite: bool) -> None:
     The West Norway GSHHG shoreline is approximated with windows of 100 and 500
     points (1 mode) and 100 points with 5 modes; the ETOPO1 Orkney bathymetry with
     8 x 8 cell windows and 1, 16 and 48 modes. Each result comes with a PNG that
-    draws the input and the result together. OUTDIR must not exist or be empty,
-    unless --overwrite is given.
+    draws the input and the result together. Then the bundled Orkney case runs
+    the whole chain into OUTDIR/pentland_firth/: shoreline PCA by region,
+    loxodrome open boundaries, a graded Gmsh mesh, depths from the PCA of ETOPO1,
+    eight model formats, the quality report and figures. OUTDIR must not exist or
+    be empty, unless --overwrite is given.
     """
     from coastmesh.pipeline import run_demo
 
@@ -45,5 +48,5 @@ def demo(ctx: click.Context, *, outdir: Path, overwrite: bool) -> None:
         click.echo(f"    {outdir / step.outputs[0]}, {outdir / step.outputs[1]}")
     click.echo(
         f"Done: {len(steps)} results in {outdir}/ (see {outdir / 'README.txt'}); "
-        f"look at the .png files first, e.g. {outdir / steps[0].outputs[1]}"
+        f"look at the .png files first, e.g. {outdir / steps[-1].outputs[1]}"
     )
