@@ -185,3 +185,11 @@ def test_packaged_demo_case_is_the_example():
 
     assert without_paths(packaged) == without_paths(example)
     assert packaged.bathymetry.window == 8
+
+
+def test_case_kinds():
+    with pytest.raises(ConfigError, match=r"case.kind = 'bogus'"):
+        parse(BASE.replace('name = "t"', 'name = "t"\nkind = "bogus"'))
+    study = '[case]\nname = "s"\nkind = "shorelines"\n'
+    with pytest.raises(ConfigError, match=r"study: is missing"):
+        parse(study)

@@ -34,7 +34,13 @@ from numpy.typing import NDArray
 from pyproj import CRS, Geod, Transformer
 
 from coastmesh.case_outputs import CaseProducts, build_report, write_outputs
-from coastmesh.config import BoundaryConfig, CaseConfig, RegionConfig, load_case
+from coastmesh.config import (
+    BoundaryConfig,
+    CaseConfig,
+    RegionConfig,
+    StudyCase,
+    load_case,
+)
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.types import Features
 
@@ -118,10 +124,12 @@ def run_case(
     """
     from coastmesh.io._atomic import _check_directory, atomic_directory
 
-    config = case if isinstance(case, CaseConfig) else load_case(case)
+    config = case if isinstance(case, CaseConfig | StudyCase) else load_case(case)
     target = Path(output) if output is not None else config.output
     _check_directory(target, overwrite=overwrite)  # fail before the work
     stage = stage or _quiet_stage
+    if isinstance(config, StudyCase):
+        return _run_study(config, target, overwrite, stage)
     started = time.perf_counter()
     timings: dict[str, float] = {}
 
@@ -207,6 +215,28 @@ def run_case(
         report=report,
     )
     logger.info("%s", result.summary())
+    return result
+
+
+def _run_study(
+    config: StudyCase, target: Path, overwrite: bool, stage: StageFactory
+) -> Any:
+    """Run a PCA study case (``[case] kind``) into ``target``, atomically."""
+    import importlib
+
+    from coastmesh import __version__
+    from coastmesh.io._atomic import atomic_directory
+
+    module = importlib.import_module(f"coastmesh.studies.{config.kind}")
+    with atomic_directory(target, overwrite=overwrite) as folder:
+        result = module.run_study(config.study, folder, stage)
+        header = (
+            f"# A copy of {config.source.resolve()}, as run by coastmesh "
+            f"{__version__}.\n# Its relative paths are relative to that file.\n"
+        )
+        (folder / "case.toml").write_text(header + config.text, encoding="utf-8")
+        (folder / "summary.txt").write_text(result.summary() + "\n", encoding="utf-8")
+    logger.info("%s: %s", config.name, result.summary())
     return result
 
 

@@ -41,6 +41,7 @@ __all__ = [
     "ShorelineSetConfig",
     "ShorelinesConfig",
     "SizeConfig",
+    "StudyCase",
     "load_case",
     "parse_case",
 ]
@@ -49,6 +50,8 @@ T = TypeVar("T")
 _MISSING: Any = object()
 
 BOUNDARY_KINDS = ("loxodrome", "blend", "great_circle", "polyline")
+#: ``[case] kind``: a mesh (default), or one of the paper's PCA studies
+CASE_KINDS = ("mesh", "shorelines", "bathymetry")
 ALGORITHMS = ("frontal-delaunay", "delaunay", "meshadapt", "automatic")
 
 
@@ -430,7 +433,22 @@ class CaseConfig:
         return next(s for s in self.sets if s.name not in used)
 
 
-def load_case(path: str | Path) -> CaseConfig:
+@dataclass(frozen=True, slots=True)
+class StudyCase:
+    """A case of another kind than a mesh: one of the paper's PCA studies.
+
+    ``study`` is the parsed ``[study]`` table of ``coastmesh.studies.<kind>``.
+    """
+
+    source: Path
+    name: str
+    kind: str
+    output: Path
+    study: Any
+    text: str = ""
+
+
+def load_case(path: str | Path) -> CaseConfig | StudyCase:
     """Read and check a case file.
 
     Parameters
@@ -458,7 +476,7 @@ def load_case(path: str | Path) -> CaseConfig:
     return parse_case(text, source)
 
 
-def parse_case(text: str, source: str | Path) -> CaseConfig:
+def parse_case(text: str, source: str | Path) -> CaseConfig | StudyCase:
     """Parse case-file text; relative paths are taken from ``source``'s folder.
 
     Parameters
@@ -510,8 +528,16 @@ def parse_case(text: str, source: str | Path) -> CaseConfig:
     case = root.table("case", required=True)
     name = case.get("name", _string)
     output = case.get("output", path_of, Path(os.path.normpath(base / "out" / name)))
-    crs = case.get("crs", _crs, None)
+    kind = case.get("kind", _choice(CASE_KINDS), "mesh")
+    crs = case.get("crs", _crs, None) if kind == "mesh" else None
     case.done()
+    if kind != "mesh":
+        import importlib
+
+        module = importlib.import_module(f"coastmesh.studies.{kind}")
+        study = module.parse_study(root.table("study", required=True), path_of)
+        root.done()
+        return StudyCase(source, name, kind, output, study, text)
 
     shorelines = _shorelines(root.table("shorelines", required=True), path_of)
     sets = _sets(root.table("shoreline_sets", required=True))

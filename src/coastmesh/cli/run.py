@@ -50,12 +50,16 @@ def run(
     end, so a failed run leaves nothing. OUTPUT must not exist or be empty, unless
     --overwrite is given.
     """
-    from coastmesh.config import load_case
+    from coastmesh.config import StudyCase, load_case
 
     config = load_case(case)
     quiet = ctx.find_root().obj.get("quiet", False)
     if check:
-        if not quiet:
+        if not quiet and isinstance(config, StudyCase):
+            click.echo(
+                f"{case}: OK: a {config.kind} study; output {output or config.output}"
+            )
+        elif not quiet:
             click.echo(
                 f"{case}: OK: {len(config.sets)} shoreline sets, "
                 f"{len(config.regions)} regions, {len(config.boundaries)} open "
@@ -66,6 +70,13 @@ def run(
     from coastmesh.case import run_case
 
     result = run_case(config, output=output, overwrite=overwrite, stage=_stages(quiet))
+    if quiet:
+        return
+    if isinstance(config, StudyCase):
+        folder = output or config.output
+        click.echo(f"{config.name}: {result.summary()}")
+        click.echo(f"Look at {folder / 'figures'}/ and {folder / 'table.md'}")
+        return
     if not quiet:
         click.echo(result.summary())
         click.echo(
