@@ -534,8 +534,9 @@ def parse_case(text: str, source: str | Path) -> CaseConfig | StudyCase:
     if kind != "mesh":
         import importlib
 
+        table = root.table("study", required=True)
         module = importlib.import_module(f"coastmesh.studies.{kind}")
-        study = module.parse_study(root.table("study", required=True), path_of)
+        study = module.parse_study(table, path_of)
         root.done()
         return StudyCase(source, name, kind, output, study, text)
 
