@@ -270,7 +270,9 @@ class _Work:
 
     def fix_boundary_triangles(self, floor: float) -> tuple[int, int]:
         flips = splits = 0
-        for k in range(len(self.tri)):
+        # candidates found at once with numpy; the loop visits only those
+        candidates = np.flatnonzero(self.on_boundary[self.mesh.triangles].all(axis=1))
+        for k in candidates:
             t = self.tri[k]
             if not self.all_boundary(t):
                 continue
@@ -340,7 +342,10 @@ class _Work:
 
     def flip_slivers(self, min_angle: float, limit: int | None) -> int:
         flips = 0
-        for k in range(len(self.tri)):
+        tri = np.array(self.tri)
+        xy = np.concatenate([self.xy, np.array(self.extra_xy).reshape(-1, 2)])
+        candidates = np.flatnonzero(_angles(xy[tri]).min(axis=1) < min_angle)
+        for k in candidates:
             t = self.tri[k]
             angles = _angles(np.array([[self.point(v) for v in t]]))[0]
             if angles.min() >= min_angle:
