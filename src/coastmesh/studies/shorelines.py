@@ -1,0 +1,563 @@
+"""The paper's shoreline study (section III.A, figure 2): PCA reconstructions.
+
+A shoreline layer (GSHHG full resolution, say) is approximated by
+:func:`~coastmesh.geometry.simplify_shorelines` once per ``[[study.reconstructions]]``
+(window, modes). For each one the study writes the reconstruction as a GeoPackage
+and a row of a table: rings in and dropped (shorter than the window, the paper's
+small-island filter), points in and out, and how far the reconstruction departs from
+the original in metres. Two figures lay every reconstruction over the original: the
+whole layer and a detail box.
+
+A layer clipped to a data box (Eurasia in the bundled West Norway file) has cut
+edges hundreds of kilometres long between two vertices, and a PCA window spanning
+one pulls the reconstruction across land. With ``densify_long_edges`` (the default)
+such edges get vertices at the layer's median spacing before PCA, as mesh cases do
+(:mod:`coastmesh.case`); the table counts them as ``points added``, apart from the
+``points in`` of the file.
+
+Distances are measured in a local metric CRS (the UTM zone of the layer's centre
+for longitude/latitude data) between the original rings that are kept and the
+reconstructed rings. The Hausdorff distance is symmetric and discrete: each side is
+densified to ``hausdorff_spacing`` and the exact distance from every one of its
+points to the other side's segments is found with an STR-tree, so it is GEOS's
+densified Hausdorff distance (:func:`shapely.hausdorff_distance` with ``densify``)
+at the cost of a tree query rather than all pairs of vertices. It is exact to
+within half the spacing.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import json
+import logging
+import math
+import re
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from pyproj import CRS, Transformer
+
+from coastmesh.config import _boolean, _box, _integer, _length, _string, _Table
+from coastmesh.errors import ConfigError, InputDataError
+
+__all__ = [
+    "ReconstructionConfig",
+    "ShorelineStudyConfig",
+    "ShorelineStudyResult",
+    "parse_study",
+    "run_study",
+]
+
+logger = logging.getLogger(__name__)
+
+Progress = Callable[[int, int], None]
+StageFactory = Callable[[str], contextlib.AbstractContextManager[Progress]]
+
+_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
+#: line colours of the reconstructions, in order (figure 2 and the NW shelf cases)
+_COLOURS = ("tab:purple", "tab:red", "tab:blue", "tab:green", "tab:orange", "tab:cyan")
+_COLUMNS = (
+    ("label", "reconstruction"),
+    ("rings_in", "rings in"),
+    ("rings_dropped", "rings dropped"),
+    ("features_dropped", "features dropped"),
+    ("points_in", "points in"),
+    ("points_added", "points added"),
+    ("points_out", "points out"),
+    ("repaired", "repaired"),
+    ("hausdorff_m", "Hausdorff (m)"),
+    ("mean_distance_m", "mean distance (m)"),
+    ("seconds", "PCA time (s)"),
+)
+
+
+@dataclass(frozen=True, slots=True)
+class ReconstructionConfig:
+    """``[[study.reconstructions]]``: one PCA reconstruction.
+
+    Examples
+    --------
+    >>> ReconstructionConfig("pca_1_500", 500, 1).label
+    'PCA 1 mode / 500 points'
+    """
+
+    name: str
+    window: int
+    modes: int
+
+    @property
+    def label(self) -> str:
+        """Describe it, e.g. ``"PCA 5 modes / 100 points"``."""
+        modes = "1 mode" if self.modes == 1 else f"{self.modes} modes"
+        return f"PCA {modes} / {self.window} points"
+
+
+@dataclass(frozen=True, slots=True)
+class ShorelineStudyConfig:
+    """``[study]`` of a ``kind = "shorelines"`` case; paths are resolved.
+
+    ``bbox`` and ``detail`` are ``(minx, miny, maxx, maxy)`` in the layer's CRS;
+    ``hausdorff_spacing`` is in metres.
+    """
+
+    path: Path
+    reconstructions: tuple[ReconstructionConfig, ...]
+    layer: str | None = None
+    bbox: tuple[float, float, float, float] | None = None
+    detail: tuple[float, float, float, float] | None = None
+    densify_long_edges: bool = True
+    hausdorff_spacing: float = 25.0
+
+
+@dataclass(frozen=True, slots=True)
+class ShorelineStudyResult:
+    """What :func:`run_study` wrote: file names (relative to the folder), the rows."""
+
+    files: tuple[str, ...]
+    rows: tuple[dict[str, Any], ...]
+    seconds: float
+
+    def summary(self) -> str:
+        """Return a one-line summary."""
+        parts = ", ".join(
+            f"{r['name']} {r['points_out']:,} points, {r['rings_dropped']} rings "
+            f"dropped, Hausdorff {r['hausdorff_m'] / 1000:.2f} km"
+            for r in self.rows
+        )
+        points = self.rows[0]["points_in"] if self.rows else 0
+        return (
+            f"shorelines: {points:,} points in; {parts}; {len(self.files)} files "
+            f"in {self.seconds:.1f} s"
+        )
+
+
+def parse_study(
+    table: _Table, path_of: Callable[[Any, str], Path]
+) -> ShorelineStudyConfig:
+    """Read the ``[study]`` table of a shoreline study case.
+
+    Parameters
+    ----------
+    table : coastmesh.config._Table
+        The ``[study]`` table.
+    path_of : callable
+        ``path_of(value, key)`` resolves a path relative to the case file.
+
+    Returns
+    -------
+    ShorelineStudyConfig
+
+    Raises
+    ------
+    ConfigError
+        For an unknown or missing key or a bad value, naming the file and the key.
+
+    Examples
+    --------
+    >>> from pathlib import Path
+    >>> t = _Table({"path": "c.gpkg", "reconstructions": [{"window": 100, "modes": 5}]},
+    ...            "study", "case.toml")
+    >>> study = parse_study(t, lambda value, key: Path("/cases") / value)
+    >>> study.path.as_posix(), study.reconstructions[0].name
+    ('/cases/c.gpkg', 'pca_5_100')
+    """
+    path = table.get("path", path_of)
+    layer = table.get("layer", _string, None)
+    bbox = table.get("bbox", _box, None)
+    detail = table.get("detail", _box, None)
+    densify = table.get("densify_long_edges", _boolean, True)
+    spacing = table.get("hausdorff_spacing", _length(), 25.0)
+    reconstructions = []
+    for r in table.tables("reconstructions"):
+        window = r.get("window", _integer(2))
+        modes = r.get("modes", _integer(1))
+        if modes > window:
+            raise r.error("modes", f"= {modes} is more than window = {window}")
+        name = r.get("name", _string, f"pca_{modes}_{window}")
+        if not _NAME.match(name):
+            raise r.error(
+                "name", f"= {name!r}: use letters, digits, '_', '.' and '-' only"
+            )
+        if name in {c.name for c in reconstructions}:
+            raise r.error("name", f"= {name!r} is used twice; give each a name")
+        reconstructions.append(ReconstructionConfig(name, window, modes))
+        r.done()
+    if not reconstructions:
+        raise table.error(
+            "reconstructions", "give at least one [[study.reconstructions]]"
+        )
+    table.done()
+    return ShorelineStudyConfig(
+        path, tuple(reconstructions), layer, bbox, detail, densify, spacing
+    )
+
+
+def run_study(
+    config: ShorelineStudyConfig, folder: Path, stage: StageFactory
+) -> ShorelineStudyResult:
+    """Reconstruct the shoreline by PCA and write the study into ``folder``.
+
+    Parameters
+    ----------
+    config : ShorelineStudyConfig
+        The study.
+    folder : pathlib.Path
+        An existing, empty folder.
+    stage : callable
+        ``stage(label)`` returns a context manager yielding ``progress(done, total)``.
+
+    Returns
+    -------
+    ShorelineStudyResult
+        One row per reconstruction (also in ``table.md``, ``table.csv`` and
+        ``study.json``); ``<name>.gpkg`` per reconstruction; ``figures/``.
+
+    Raises
+    ------
+    InputDataError
+        If the file is missing, declares no CRS, or holds no land polygons.
+    ConfigError
+        If the ``detail`` box holds no shoreline.
+    """
+    from coastmesh.case import _densify_long_edges
+    from coastmesh.geometry import simplify_shorelines
+    from coastmesh.plot import _detail_bounds
+
+    started = time.perf_counter()
+    with stage("reading shorelines"):
+        features = _read(config)
+    crs = features.crs
+    bounds = tuple(float(v) for v in shapely.total_bounds(features.geometry))
+    detail = config.detail or _detail_bounds(features.geometry, crs)
+    if not shapely.intersects(shapely.box(*detail), features.geometry).any():
+        raise ConfigError(
+            f"study.detail = {list(detail)}: the box holds no shoreline of "
+            f"{config.path} (extent {[round(b, 4) for b in bounds]})"
+        )
+    metric, to_metric = _metric(crs, bounds)
+    land = features.geometry
+    if config.densify_long_edges:
+        land = _densify_long_edges(land)
+    points = (_distinct_points(features.geometry), _distinct_points(land))
+    rings, ring_part = shapely.get_rings(shapely.get_parts(land), return_index=True)
+    original = to_metric(rings)
+    rows, results = [], []
+    for rec in config.reconstructions:
+        with stage(f"{rec.name}: {rec.label}") as progress:
+            t0 = time.perf_counter()
+            out, report = simplify_shorelines(
+                land, rec.window, rec.modes, progress=progress
+            )
+            seconds = time.perf_counter() - t0
+        with stage(f"{rec.name}: distances"):
+            kept = _kept_rings(rings, ring_part, rec.window)
+            rebuilt = to_metric(shapely.get_rings(shapely.get_parts(out)))
+            distances = _distances(
+                original[kept], rebuilt, config.hausdorff_spacing, metric, crs
+            )
+        rows.append(_row(rec, report, points, distances, seconds))
+        results.append(out)
+        logger.info("%s: %s; %s", rec.name, report.summary(), distances)
+    files = []
+    with stage("writing GeoPackages") as progress:
+        for k, (rec, out) in enumerate(
+            zip(config.reconstructions, results, strict=True)
+        ):
+            files.append(_write_gpkg(folder, rec, features, out))
+            progress(k + 1, len(results))
+    with stage("figures"):
+        files += _figures(folder, config, features.geometry, results, detail, crs)
+    with stage("tables"):
+        setup = {
+            "path": str(config.path),
+            "layer": features.layer,
+            "bbox": config.bbox,
+            "crs": crs.to_string(),
+            "metric_crs": metric.to_string(),
+            "densify_long_edges": config.densify_long_edges,
+            "hausdorff_spacing_m": config.hausdorff_spacing,
+            "detail": list(detail),
+            "features": len(features),
+        }
+        files += _tables(folder, rows, setup)
+    seconds = time.perf_counter() - started
+    return ShorelineStudyResult(tuple(files), tuple(rows), seconds)
+
+
+def _read(config: ShorelineStudyConfig) -> Any:
+    from coastmesh.io import read_features
+
+    features = read_features(config.path, layer=config.layer, bbox=config.bbox)
+    if features.crs is None:
+        raise InputDataError(
+            "the file declares no CRS; distances need one", path=str(config.path)
+        )
+    geometry = features.geometry
+    present = ~(shapely.is_missing(geometry) | shapely.is_empty(geometry))
+    polygonal = np.isin(
+        shapely.get_type_id(geometry),
+        (shapely.GeometryType.POLYGON, shapely.GeometryType.MULTIPOLYGON),
+    )
+    bad = np.flatnonzero(present & ~polygonal)
+    if len(bad):
+        k = int(bad[0])
+        raise InputDataError(
+            f"feature {features.fids[k]} is a {geometry[k].geom_type}; a shoreline "
+            "study needs land polygons (e.g. GSHHG level 1)",
+            path=str(config.path),
+            feature=int(features.fids[k]),
+        )
+    if not present.any():
+        raise InputDataError("no land polygons", path=str(config.path))
+    return features.take(present)
+
+
+def _row(
+    rec: ReconstructionConfig,
+    report: Any,
+    points: tuple[int, int],
+    distances: dict[str, float],
+    seconds: float,
+) -> dict[str, Any]:
+    """One row of the table: the reconstruction, its counts and distances."""
+    return {
+        "name": rec.name,
+        "label": rec.label,
+        "window": rec.window,
+        "modes": rec.modes,
+        "rings_in": report.contours_in,
+        "rings_dropped": report.contours_dropped,
+        "features_in": report.features_in,
+        "features_dropped": report.features_dropped,
+        "points_in": points[0],
+        "points_added": points[1] - points[0],
+        "points_out": report.points_out,
+        "repaired": report.repaired,
+        **distances,
+        "seconds": round(seconds, 3),
+    }
+
+
+def _distinct_points(geometry: NDArray[np.object_]) -> int:
+    """Vertices of polygon rings, a ring's closing vertex not counted."""
+    rings = shapely.get_rings(shapely.get_parts(geometry))
+    return int(shapely.get_num_coordinates(rings).sum() - len(rings))
+
+
+def _kept_rings(
+    rings: NDArray[np.object_], ring_part: NDArray[np.int64], window: int
+) -> NDArray[np.bool_]:
+    """Rings that PCA keeps: long enough, and (holes) in a shell that is kept."""
+    long_enough = shapely.get_num_coordinates(rings) - 1 >= window
+    shell = np.r_[True, ring_part[1:] != ring_part[:-1]]
+    shell_kept = np.zeros(int(ring_part.max()) + 1 if len(rings) else 0, dtype=bool)
+    shell_kept[ring_part[shell & long_enough]] = True
+    return long_enough & shell_kept[ring_part]
+
+
+def _metric(
+    crs: CRS, bounds: tuple[float, ...]
+) -> tuple[CRS, Callable[[NDArray[np.object_]], NDArray[np.object_]]]:
+    """Pick a metric CRS for the layer; return it and a function into it.
+
+    Examples
+    --------
+    >>> crs, _ = _metric(CRS.from_epsg(4326), (4.5, 60.0, 8.2, 62.5))
+    >>> crs.to_epsg()
+    32632
+    """
+    if crs.is_geographic:
+        lon, lat = (bounds[0] + bounds[2]) / 2, (bounds[1] + bounds[3]) / 2
+        zone = min(max(math.floor((lon + 180) / 6) + 1, 1), 60)
+        metric = CRS.from_epsg((32600 if lat >= 0 else 32700) + zone)
+        forward = Transformer.from_crs(crs, metric, always_xy=True)
+        return metric, lambda g: shapely.transform(
+            g, lambda xy: np.column_stack(forward.transform(xy[:, 0], xy[:, 1]))
+        )
+    if not crs.is_projected:
+        raise InputDataError(f"CRS {crs.name!r} is neither geographic nor projected")
+    factor = crs.axis_info[0].unit_conversion_factor or 1.0
+    return crs, lambda g: shapely.transform(g, lambda xy: xy * factor)
+
+
+def _distances(
+    original: NDArray[np.object_],
+    rebuilt: NDArray[np.object_],
+    spacing: float,
+    metric: CRS,
+    crs: CRS,
+) -> dict[str, float]:
+    """Symmetric Hausdorff distance, where it is reached, and the mean distance.
+
+    All lengths in metres; ``original`` and ``rebuilt`` are rings in ``metric``.
+    """
+    nan = {"hausdorff_m": math.nan, "hausdorff_lon": math.nan}
+    nan |= {"hausdorff_lat": math.nan, "mean_distance_m": math.nan}
+    if len(original) == 0 or len(rebuilt) == 0:
+        return nan
+    to_rebuilt, to_original = _segment_tree(rebuilt), _segment_tree(original)
+    a = shapely.get_coordinates(shapely.segmentize(original, spacing))
+    b = shapely.get_coordinates(shapely.segmentize(rebuilt, spacing))
+    da = _nearest(to_rebuilt, a)
+    db = _nearest(to_original, b)
+    far = a[np.argmax(da)] if da.max() >= db.max() else b[np.argmax(db)]
+    back = Transformer.from_crs(metric, crs, always_xy=True)
+    lon, lat = back.transform(*far)
+    coords, ring = shapely.get_coordinates(rebuilt, return_index=True)
+    vertices = coords[np.r_[ring[1:] == ring[:-1], False]]  # closing ones left out
+    return {
+        "hausdorff_m": round(float(max(da.max(), db.max())), 1),
+        "hausdorff_lon": round(float(lon), 5),
+        "hausdorff_lat": round(float(lat), 5),
+        "mean_distance_m": round(float(_nearest(to_original, vertices).mean()), 1),
+    }
+
+
+def _segment_tree(rings: NDArray[np.object_]) -> shapely.STRtree:
+    """Build an STR-tree of every segment of the rings."""
+    coords, index = shapely.get_coordinates(rings, return_index=True)
+    same = index[1:] == index[:-1]
+    pairs = np.stack([coords[:-1][same], coords[1:][same]], axis=1)
+    return shapely.STRtree(shapely.linestrings(pairs))
+
+
+def _nearest(tree: shapely.STRtree, xy: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Distance from each point to the nearest segment in ``tree``."""
+    _, distance = tree.query_nearest(
+        shapely.points(xy), return_distance=True, all_matches=False
+    )
+    return distance
+
+
+def _write_gpkg(
+    folder: Path, rec: ReconstructionConfig, features: Any, out: NDArray[np.object_]
+) -> str:
+    from coastmesh import __version__
+    from coastmesh.io import write_features
+
+    name = f"{rec.name}.gpkg"
+    alive = ~shapely.is_missing(out)
+    write_features(
+        folder / name,
+        features.take(alive).with_geometry(out[alive]),
+        metadata={
+            "window": str(rec.window),
+            "modes": str(rec.modes),
+            "source": features.path,
+            "coastmesh": __version__,
+        },
+    )
+    return name
+
+
+def _figures(
+    folder: Path,
+    config: ShorelineStudyConfig,
+    original: NDArray[np.object_],
+    results: list[NDArray[np.object_]],
+    detail: tuple[float, float, float, float],
+    crs: CRS,
+) -> list[str]:
+    from matplotlib.collections import LineCollection
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Rectangle
+
+    from coastmesh.plot import (
+        _contours,
+        _geographic_axes,
+        _total_bounds,
+        _x_stretch,
+        save_figure,
+    )
+
+    (folder / "figures").mkdir(exist_ok=True)
+    extent = _total_bounds(original)
+    names = []
+    for view, box, width in (("whole", extent, 0.5), ("detail", detail, 1.2)):
+        ratio = (box[2] - box[0]) / _x_stretch(crs, box) / (box[3] - box[1])
+        figure = Figure(
+            figsize=(min(max(9 * ratio, 5), 16) + 2, 9), layout="constrained"
+        )
+        ax = figure.add_subplot()
+        ax.add_collection(
+            LineCollection(
+                _contours(original),
+                colors="0.15",
+                linewidths=width * 1.4,
+                label=f"original ({_distinct_points(original):,} points)",
+            )
+        )
+        for k, (rec, out) in enumerate(
+            zip(config.reconstructions, results, strict=True)
+        ):
+            ax.add_collection(
+                LineCollection(
+                    _contours(out),
+                    colors=_COLOURS[k % len(_COLOURS)],
+                    linewidths=width,
+                    label=f"{rec.label} ({rec.name})",
+                )
+            )
+        ax.set_xlim(box[0], box[2])
+        ax.set_ylim(box[1], box[3])
+        _geographic_axes(ax, crs, box)
+        if view == "whole":
+            ax.add_patch(
+                Rectangle(
+                    detail[:2],
+                    detail[2] - detail[0],
+                    detail[3] - detail[1],
+                    fill=False,
+                    edgecolor="black",
+                    linestyle="--",
+                    linewidth=1.0,
+                )
+            )
+            ax.set_title("whole layer (dashed: the detail box)")
+        else:
+            ax.set_title(f"detail {list(detail)}")
+        ax.legend(loc="lower right", fontsize="small")
+        name = f"figures/overlay_{view}.png"
+        save_figure(figure, folder / name)
+        names.append(name)
+    return names
+
+
+def _tables(
+    folder: Path, rows: list[dict[str, Any]], setup: dict[str, Any]
+) -> list[str]:
+    from coastmesh import __version__
+
+    def cell(key: str, value: Any) -> str:
+        if isinstance(value, float):
+            digits = 2 if key == "seconds" else 1
+            return "n/a" if math.isnan(value) else f"{value:,.{digits}f}"
+        return f"{value:,}" if isinstance(value, int) else str(value)
+
+    head = [title for _, title in _COLUMNS]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    lines += [
+        "| " + " | ".join(cell(k, r[k]) for k, _ in _COLUMNS) + " |" for r in rows
+    ]
+    (folder / "table.md").write_text("\n".join(lines) + "\n", encoding="utf-8")
+    with (folder / "table.csv").open("w", newline="", encoding="utf-8") as stream:
+        writer = csv.DictWriter(stream, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    study = {"coastmesh": __version__, "study": "shorelines"} | setup
+    study["rows"] = [
+        {
+            k: (None if isinstance(v, float) and math.isnan(v) else v)
+            for k, v in r.items()
+        }
+        for r in rows
+    ]
+    (folder / "study.json").write_text(json.dumps(study, indent=2) + "\n")
+    return ["table.md", "table.csv", "study.json"]
