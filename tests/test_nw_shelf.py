@@ -10,7 +10,8 @@ import pyogrio.raw
 import pytest
 import shapely
 
-from coastmesh.case import _densify_long_edges, run_case
+from coastmesh.case import run_case
+from coastmesh.geometry import densify_long_edges
 from coastmesh.io.msh import read_msh
 
 CASES = Path(__file__).parents[1] / "examples" / "nw_european_shelf"
@@ -68,7 +69,7 @@ def test_clipped_box_edges_are_densified_before_pca():
     coast = np.column_stack([np.linspace(0, 1, 201), 0.01 * np.sin(np.arange(201))])
     ring = np.vstack([coast, [[1.0, -5.0], [0.0, -5.0]]])  # a 5-unit cut edge
     land = np.array([shapely.Polygon(ring)], dtype=object)
-    out = _densify_long_edges(land)
+    out = densify_long_edges(land)
     xy = shapely.get_coordinates(out[0])
     assert len(xy) > len(ring) + 500  # the cut edges got vertices
     # every original vertex is still there, in order
@@ -78,4 +79,4 @@ def test_clipped_box_edges_are_densified_before_pca():
     # the coast itself is untouched
     np.testing.assert_array_equal(xy[:201], coast)
     circle = np.array([shapely.Point(0, 0).buffer(1.0)], dtype=object)
-    assert _densify_long_edges(circle) is circle  # nothing long: unchanged
+    assert densify_long_edges(circle) is circle  # nothing long: unchanged

@@ -309,7 +309,7 @@ def _read_shorelines(config: CaseConfig) -> tuple[Features, CRS]:
 def _build_sets(
     config: CaseConfig, features: Features, crs: CRS, timed: StageFactory
 ) -> tuple[dict[str, NDArray[np.object_]], dict[str, dict[str, Any]]]:
-    from coastmesh.geometry import simplify_shorelines
+    from coastmesh.geometry import densify_long_edges, simplify_shorelines
 
     sets: dict[str, NDArray[np.object_]] = {}
     reports: dict[str, dict[str, Any]] = {}
@@ -322,7 +322,7 @@ def _build_sets(
                 report: dict[str, Any] = {"kind": s.label, "points_in": points_in}
             else:
                 land, pca = simplify_shorelines(
-                    _densify_long_edges(features.geometry),
+                    densify_long_edges(features.geometry),
                     s.window,
                     s.modes,
                     progress=progress,
@@ -349,75 +349,6 @@ def _build_sets(
             reports[s.name] = report
             logger.info("%s: %s", label, report)
     return sets, reports
-
-
-#: Edges longer than this many times the median edge are split before PCA.
-LONG_EDGE_FACTOR = 50.0
-
-
-def _densify_long_edges(geoms: NDArray[np.object_]) -> NDArray[np.object_]:
-    """Split edges far longer than the data's typical spacing before PCA.
-
-    PCA partitions count vertices, not distance. A shoreline clipped to a data box
-    (GSHHG's Eurasia, say) has cut edges hundreds of kilometres long between two
-    vertices; a window spanning one averages points far apart and pulls the
-    reconstruction across land. Such edges (longer than ``LONG_EDGE_FACTOR``
-    times the layer's median edge; in GSHHG full resolution the longest real
-    edges are about 20 times the median) get vertices at the median spacing;
-    every other edge and vertex stays as it is.
-    """
-    rings = shapely.get_rings(shapely.get_parts(geoms[~shapely.is_missing(geoms)]))
-    if len(rings) == 0:
-        return geoms
-    steps = np.concatenate(
-        [np.hypot(*np.diff(shapely.get_coordinates(r), axis=0).T) for r in rings]
-    )
-    steps = steps[steps > 0]
-    if len(steps) == 0:
-        return geoms
-    spacing = float(np.median(steps))
-    limit = LONG_EDGE_FACTOR * spacing
-    if steps.max() <= limit:
-        return geoms
-
-    def densify(xy: NDArray[np.float64]) -> NDArray[np.float64]:
-        length = np.hypot(*np.diff(xy, axis=0).T)
-        pieces = [xy[:1]]
-        for k in range(len(length)):
-            if length[k] > limit:
-                count = int(np.ceil(length[k] / spacing))
-                t = np.linspace(0.0, 1.0, count + 1)[1:, None]
-                pieces.append(xy[k] + t * (xy[k + 1] - xy[k]))
-            else:
-                pieces.append(xy[k + 1 : k + 2])
-        return np.concatenate(pieces)
-
-    out = geoms.copy()
-    split = 0
-    for index, geom in enumerate(geoms):
-        if geom is None or shapely.is_empty(geom):
-            continue
-        parts = shapely.get_parts(geom)
-        longest = max(
-            np.hypot(*np.diff(shapely.get_coordinates(r), axis=0).T).max(initial=0.0)
-            for r in shapely.get_rings(parts)
-        )
-        if longest <= limit:
-            continue
-        rebuilt = []
-        for part in parts:
-            shell = densify(shapely.get_coordinates(part.exterior))
-            holes = [densify(shapely.get_coordinates(r)) for r in part.interiors]
-            rebuilt.append(shapely.Polygon(shell, holes))
-        out[index] = rebuilt[0] if len(rebuilt) == 1 else shapely.MultiPolygon(rebuilt)
-        split += 1
-    logger.info(
-        "%d shoreline features have edges over %g x the median spacing (clipped "
-        "data boxes); those edges get vertices at the median spacing before PCA",
-        split,
-        LONG_EDGE_FACTOR,
-    )
-    return out
 
 
 def _fill_lakes(

@@ -16,6 +16,7 @@ from coastmesh.geometry.rhumb import (
 from coastmesh.geometry.shoreline import (
     ShorelineReport,
     check_coordinates,
+    densify_long_edges,
     simplify_shorelines,
 )
 
@@ -27,6 +28,7 @@ __all__ = [
     "blend_loxodromes",
     "build_domain",
     "check_coordinates",
+    "densify_long_edges",
     "great_circle",
     "paper_bearing",
     "simplify_shorelines",

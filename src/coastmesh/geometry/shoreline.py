@@ -10,6 +10,7 @@ repaired with GEOS ``make_valid``.
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -22,7 +23,14 @@ from coastmesh.pca._threads import single_threaded_blas
 from coastmesh.pca.checks import check_modes, check_window
 from coastmesh.pca.line import simplify_contour
 
-__all__ = ["ShorelineReport", "check_coordinates", "simplify_shorelines"]
+logger = logging.getLogger(__name__)
+
+__all__ = [
+    "ShorelineReport",
+    "check_coordinates",
+    "densify_long_edges",
+    "simplify_shorelines",
+]
 
 _POLYGONAL = (shapely.GeometryType.POLYGON, shapely.GeometryType.MULTIPOLYGON)
 _SINGLE = (
@@ -334,3 +342,83 @@ def _repair(result, polygonal, types):
     result = result.copy()
     result[invalid] = out
     return result, int(invalid.sum())
+
+
+#: Edges longer than this many times the median edge are split before PCA.
+LONG_EDGE_FACTOR = 50.0
+
+
+def densify_long_edges(geoms: NDArray[np.object_]) -> NDArray[np.object_]:
+    """Split edges far longer than the data's typical spacing before PCA.
+
+    PCA partitions count vertices, not distance. A shoreline clipped to a data box
+    (GSHHG's Eurasia, say) has cut edges hundreds of kilometres long between two
+    vertices; a window spanning one averages points far apart and pulls the
+    reconstruction across land. Such edges (longer than ``LONG_EDGE_FACTOR``
+    times the layer's median edge; in GSHHG full resolution the longest real
+    edges are about 20 times the median) get vertices at the median spacing;
+    every other edge and vertex stays as it is.
+
+    Parameters
+    ----------
+    geoms : ndarray of shapely polygons (None allowed)
+        The shoreline layer.
+
+    Returns
+    -------
+    ndarray
+        ``geoms`` itself when no edge is that long, else a copy with the long edges
+        split.
+    """
+    rings = shapely.get_rings(shapely.get_parts(geoms[~shapely.is_missing(geoms)]))
+    if len(rings) == 0:
+        return geoms
+    steps = np.concatenate(
+        [np.hypot(*np.diff(shapely.get_coordinates(r), axis=0).T) for r in rings]
+    )
+    steps = steps[steps > 0]
+    if len(steps) == 0:
+        return geoms
+    spacing = float(np.median(steps))
+    limit = LONG_EDGE_FACTOR * spacing
+    if steps.max() <= limit:
+        return geoms
+
+    def densify(xy: NDArray[np.float64]) -> NDArray[np.float64]:
+        length = np.hypot(*np.diff(xy, axis=0).T)
+        pieces = [xy[:1]]
+        for k in range(len(length)):
+            if length[k] > limit:
+                count = int(np.ceil(length[k] / spacing))
+                t = np.linspace(0.0, 1.0, count + 1)[1:, None]
+                pieces.append(xy[k] + t * (xy[k + 1] - xy[k]))
+            else:
+                pieces.append(xy[k + 1 : k + 2])
+        return np.concatenate(pieces)
+
+    out = geoms.copy()
+    split = 0
+    for index, geom in enumerate(geoms):
+        if geom is None or shapely.is_empty(geom):
+            continue
+        parts = shapely.get_parts(geom)
+        longest = max(
+            np.hypot(*np.diff(shapely.get_coordinates(r), axis=0).T).max(initial=0.0)
+            for r in shapely.get_rings(parts)
+        )
+        if longest <= limit:
+            continue
+        rebuilt = []
+        for part in parts:
+            shell = densify(shapely.get_coordinates(part.exterior))
+            holes = [densify(shapely.get_coordinates(r)) for r in part.interiors]
+            rebuilt.append(shapely.Polygon(shell, holes))
+        out[index] = rebuilt[0] if len(rebuilt) == 1 else shapely.MultiPolygon(rebuilt)
+        split += 1
+    logger.info(
+        "%d shoreline features have edges over %g x the median spacing (clipped "
+        "data boxes); those edges get vertices at the median spacing before PCA",
+        split,
+        LONG_EDGE_FACTOR,
+    )
+    return out

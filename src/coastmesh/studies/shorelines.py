@@ -226,8 +226,7 @@ def run_study(
     ConfigError
         If the ``detail`` box holds no shoreline.
     """
-    from coastmesh.case import _densify_long_edges
-    from coastmesh.geometry import simplify_shorelines
+    from coastmesh.geometry import densify_long_edges, simplify_shorelines
     from coastmesh.plot import _detail_bounds
 
     started = time.perf_counter()
@@ -244,7 +243,7 @@ def run_study(
     metric, to_metric = _metric(crs, bounds)
     land = features.geometry
     if config.densify_long_edges:
-        land = _densify_long_edges(land)
+        land = densify_long_edges(land)
     points = (_distinct_points(features.geometry), _distinct_points(land))
     rings, ring_part = shapely.get_rings(shapely.get_parts(land), return_index=True)
     original = to_metric(rings)
