@@ -49,6 +49,36 @@ FIGURES = ("domain", "mesh", "size", "quality", "depth")
 
 
 @pytest.fixture(scope="session")
+def mesh_with_islands():
+    """A Gmsh mesh of a 4 x 3 km square with two islands, with depth on its nodes.
+
+    Boundary ids: 2 the open south side, 1 the rest of the coast and the square
+    island, 3 the triangular island. UTM 30N, 250 m elements.
+    """
+    from coastmesh.meshing import SizeGrid, generate_mesh
+    from coastmesh.meshing.types import BoundarySegment, Domain
+
+    outer = [[0, 0], [4000, 0], [4000, 3000], [0, 3000], [0, 0]]
+    holes = [
+        [[1000, 1000], [1000, 1500], [1500, 1500], [1500, 1000], [1000, 1000]],
+        [[2500, 1000], [2500, 2000], [3000, 2000], [2500, 1000]],
+    ]
+    polygon = shapely.Polygon(outer, holes)
+    segments = (
+        BoundarySegment([[0, 0], [4000, 0]], "open", "south", 2),
+        BoundarySegment(
+            [[4000, 0], [4000, 3000], [0, 3000], [0, 0]], "shoreline", "coast", 1
+        ),
+        BoundarySegment(polygon.interiors[0].coords, "shoreline", "coast", 1),
+        BoundarySegment(polygon.interiors[1].coords, "shoreline", "rock", 3),
+    )
+    domain = Domain(polygon, segments, crs="EPSG:32630")
+    grid = SizeGrid([0.0, 4000.0], [0.0, 3000.0], np.full((2, 2), 250.0))
+    mesh = generate_mesh(domain, grid)
+    return mesh.with_point_data(depth=5.0 + mesh.points[:, 0] / 100.0)
+
+
+@pytest.fixture(scope="session")
 def example_run(tmp_path_factory):
     """The Orkney example case, run once for the whole test session."""
     from coastmesh.case import run_case

@@ -244,7 +244,7 @@ def _run_study(
 
 
 def _read_shorelines(config: CaseConfig) -> tuple[Features, CRS]:
-    from coastmesh.geometry import check_coordinates
+    from coastmesh.geometry import check_coordinates, land_polygons
     from coastmesh.io import read_features
 
     s = config.shorelines
@@ -269,28 +269,7 @@ def _read_shorelines(config: CaseConfig) -> tuple[Features, CRS]:
     except InputDataError as exc:
         fid = features.fids[exc.feature] if exc.feature is not None else None
         raise InputDataError(exc.message, path=str(s.path), feature=fid) from None
-    geometry = features.geometry
-    present = ~(shapely.is_missing(geometry) | shapely.is_empty(geometry))
-    polygonal = np.isin(
-        shapely.get_type_id(geometry),
-        (shapely.GeometryType.POLYGON, shapely.GeometryType.MULTIPOLYGON),
-    )
-    bad = np.flatnonzero(present & ~polygonal)
-    if len(bad):
-        k = int(bad[0])
-        raise InputDataError(
-            f"{s.path}: feature {features.fids[k]} is a {geometry[k].geom_type}; "
-            "the shoreline file must hold land polygons (e.g. GSHHG level 1)",
-            path=str(s.path),
-            feature=int(features.fids[k]),
-        )
-    if not present.any():
-        raise InputDataError(
-            f"{s.path}: no land polygons"
-            + (f" in bbox {list(s.bbox)}" if s.bbox else ""),
-            path=str(s.path),
-        )
-    features = features.take(present)
+    features = land_polygons(features, purpose="the shoreline file")
     crs = CRS.from_user_input(config.crs) if config.crs else features.crs
     if crs != features.crs:
         to_case = Transformer.from_crs(features.crs, crs, always_xy=True)

@@ -7,7 +7,6 @@ import warnings
 
 import numpy as np
 import pytest
-import shapely
 
 from coastmesh.errors import (
     CoastmeshWarning,
@@ -18,8 +17,7 @@ from coastmesh.errors import (
 )
 from coastmesh.io import adcirc
 from coastmesh.io.adcirc import read_fort14, write_fort14, write_gr3
-from coastmesh.meshing import SizeGrid, generate_mesh
-from coastmesh.meshing.types import BoundarySegment, Domain, Mesh
+from coastmesh.meshing.types import Mesh
 
 WRITERS = [("fort.14", write_fort14), ("hgrid.gr3", write_gr3)]
 
@@ -255,36 +253,9 @@ def test_island_of_two_ids_is_two_mainland_segments(tmp_path, name, writer):
 
 
 @pytest.fixture(scope="module")
-def generated():
-    outer = [[0, 0], [4000, 0], [4000, 3000], [0, 3000], [0, 0]]
-    holes = [
-        [[1000, 1000], [1000, 1500], [1500, 1500], [1500, 1000], [1000, 1000]],
-        [[2500, 1000], [2500, 2000], [3000, 2000], [2500, 1000]],
-    ]
-    polygon = shapely.Polygon(outer, holes)
-    segments = (
-        BoundarySegment([[0, 0], [4000, 0]], "open", "south", 2),
-        BoundarySegment(
-            [[4000, 0], [4000, 3000], [0, 3000], [0, 0]], "shoreline", "coast", 1
-        ),
-        BoundarySegment(polygon.interiors[0].coords, "shoreline", "coast", 1),
-        BoundarySegment(polygon.interiors[1].coords, "shoreline", "rock", 3),
-    )
-    domain = Domain(polygon, segments, crs="EPSG:32630")
-    grid = SizeGrid([0.0, 4000.0], [0.0, 3000.0], np.full((2, 2), 250.0))
-    mesh = generate_mesh(domain, grid)
-    depth = 5.0 + mesh.points[:, 0] / 100.0
-    return Mesh(
-        mesh.points,
-        mesh.triangles,
-        mesh.boundary_edges,
-        mesh.boundary_ids,
-        mesh.surface_id,
-        mesh.crs,
-        {"depth": depth},
-        mesh.boundary_names,
-        {1: "shoreline", 2: "open", 3: "shoreline"},
-    )
+def generated(mesh_with_islands):
+    """The shared square with two islands (tests/conftest.py), with depth."""
+    return mesh_with_islands
 
 
 def edge_ids(mesh):

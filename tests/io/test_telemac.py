@@ -13,9 +13,8 @@ from coastmesh.errors import CoastmeshWarning, FormatError, OutputExistsError
 from coastmesh.io import telemac
 from coastmesh.io.telemac import write_selafin
 from coastmesh.io.writers import MeshFormat
-from coastmesh.meshing import SizeGrid, generate_mesh
 from coastmesh.meshing.topology import boundary_rings
-from coastmesh.meshing.types import BoundarySegment, Domain, Mesh
+from coastmesh.meshing.types import Mesh
 
 
 def grid_mesh(nx=6, ny=5, dx=100.0, x0=0.0, y0=0.0, ids=None, crs="EPSG:32630"):
@@ -54,26 +53,9 @@ def grid_mesh(nx=6, ny=5, dx=100.0, x0=0.0, y0=0.0, ids=None, crs="EPSG:32630"):
 
 
 @pytest.fixture(scope="module")
-def island_mesh():
-    """Square with two islands (as tests/meshing/test_topology.py), with depth."""
-    outer = [[0, 0], [4000, 0], [4000, 3000], [0, 3000], [0, 0]]
-    holes = [
-        [[1000, 1000], [1000, 1500], [1500, 1500], [1500, 1000], [1000, 1000]],
-        [[2500, 1000], [2500, 2000], [3000, 2000], [2500, 1000]],
-    ]
-    polygon = shapely.Polygon(outer, holes)
-    segments = (
-        BoundarySegment([[0, 0], [4000, 0]], "open", "south", 2),
-        BoundarySegment(
-            [[4000, 0], [4000, 3000], [0, 3000], [0, 0]], "shoreline", "coast", 1
-        ),
-        BoundarySegment(polygon.interiors[0].coords, "shoreline", "coast", 1),
-        BoundarySegment(polygon.interiors[1].coords, "shoreline", "rock", 3),
-    )
-    domain = Domain(polygon, segments, crs="EPSG:32630")
-    grid = SizeGrid([0.0, 4000.0], [0.0, 3000.0], np.full((2, 2), 250.0))
-    mesh = generate_mesh(domain, grid)
-    return mesh.with_point_data(depth=5.0 + mesh.points[:, 0] / 100.0)
+def island_mesh(mesh_with_islands):
+    """The shared square with two islands (tests/conftest.py), with depth."""
+    return mesh_with_islands
 
 
 def read_cli(path):

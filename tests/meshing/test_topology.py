@@ -7,30 +7,8 @@ import pytest
 import shapely
 
 from coastmesh.errors import FormatError
-from coastmesh.meshing import SizeGrid, generate_mesh
 from coastmesh.meshing.topology import boundary_rings, boundary_strings
-from coastmesh.meshing.types import BoundarySegment, Domain, Mesh
-
-
-@pytest.fixture(scope="module")
-def mesh_with_islands():
-    outer = [[0, 0], [4000, 0], [4000, 3000], [0, 3000], [0, 0]]
-    holes = [
-        [[1000, 1000], [1000, 1500], [1500, 1500], [1500, 1000], [1000, 1000]],
-        [[2500, 1000], [2500, 2000], [3000, 2000], [2500, 1000]],
-    ]
-    polygon = shapely.Polygon(outer, holes)
-    segments = (
-        BoundarySegment([[0, 0], [4000, 0]], "open", "south", 2),
-        BoundarySegment(
-            [[4000, 0], [4000, 3000], [0, 3000], [0, 0]], "shoreline", "coast", 1
-        ),
-        BoundarySegment(polygon.interiors[0].coords, "shoreline", "coast", 1),
-        BoundarySegment(polygon.interiors[1].coords, "shoreline", "rock", 3),
-    )
-    domain = Domain(polygon, segments, crs="EPSG:32630")
-    grid = SizeGrid([0.0, 4000.0], [0.0, 3000.0], np.full((2, 2), 250.0))
-    return generate_mesh(domain, grid)
+from coastmesh.meshing.types import Mesh
 
 
 def test_rings_cover_every_boundary_edge_once(mesh_with_islands):

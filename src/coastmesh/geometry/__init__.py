@@ -17,6 +17,7 @@ from coastmesh.geometry.shoreline import (
     ShorelineReport,
     check_coordinates,
     densify_long_edges,
+    land_polygons,
     simplify_shorelines,
 )
 
@@ -30,6 +31,7 @@ __all__ = [
     "check_coordinates",
     "densify_long_edges",
     "great_circle",
+    "land_polygons",
     "paper_bearing",
     "simplify_shorelines",
 ]

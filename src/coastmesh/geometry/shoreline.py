@@ -22,6 +22,7 @@ from coastmesh.errors import InputDataError
 from coastmesh.pca._threads import single_threaded_blas
 from coastmesh.pca.checks import check_modes, check_window
 from coastmesh.pca.line import simplify_contour
+from coastmesh.types import Features
 
 logger = logging.getLogger(__name__)
 
@@ -422,3 +423,45 @@ def densify_long_edges(geoms: NDArray[np.object_]) -> NDArray[np.object_]:
         LONG_EDGE_FACTOR,
     )
     return out
+
+
+def land_polygons(features: Features, *, purpose: str = "land") -> Features:
+    """Return the non-empty features of a layer that must hold land polygons.
+
+    Parameters
+    ----------
+    features : coastmesh.types.Features
+        The layer as read.
+    purpose : str
+        What the polygons are for, for the error message.
+
+    Returns
+    -------
+    Features
+        The features with a polygon or multipolygon (empty ones left out).
+
+    Raises
+    ------
+    InputDataError
+        If a feature holds another geometry type, or none holds a polygon; the
+        message names the file and the feature id.
+    """
+    geometry = features.geometry
+    present = ~(shapely.is_missing(geometry) | shapely.is_empty(geometry))
+    polygonal = np.isin(
+        shapely.get_type_id(geometry),
+        (shapely.GeometryType.POLYGON, shapely.GeometryType.MULTIPOLYGON),
+    )
+    bad = np.flatnonzero(present & ~polygonal)
+    if len(bad):
+        k = int(bad[0])
+        raise InputDataError(
+            f"{features.path}: feature {features.fids[k]} is a "
+            f"{geometry[k].geom_type}; {purpose} needs land polygons (e.g. GSHHG "
+            "level 1)",
+            path=features.path,
+            feature=int(features.fids[k]),
+        )
+    if not present.any():
+        raise InputDataError(f"{features.path}: no land polygons", path=features.path)
+    return features.take(present)

@@ -298,24 +298,9 @@ def _read(config: ShorelineStudyConfig) -> Any:
         raise InputDataError(
             "the file declares no CRS; distances need one", path=str(config.path)
         )
-    geometry = features.geometry
-    present = ~(shapely.is_missing(geometry) | shapely.is_empty(geometry))
-    polygonal = np.isin(
-        shapely.get_type_id(geometry),
-        (shapely.GeometryType.POLYGON, shapely.GeometryType.MULTIPOLYGON),
-    )
-    bad = np.flatnonzero(present & ~polygonal)
-    if len(bad):
-        k = int(bad[0])
-        raise InputDataError(
-            f"feature {features.fids[k]} is a {geometry[k].geom_type}; a shoreline "
-            "study needs land polygons (e.g. GSHHG level 1)",
-            path=str(config.path),
-            feature=int(features.fids[k]),
-        )
-    if not present.any():
-        raise InputDataError("no land polygons", path=str(config.path))
-    return features.take(present)
+    from coastmesh.geometry import land_polygons
+
+    return land_polygons(features, purpose="a shoreline study")
 
 
 def _row(
