@@ -44,7 +44,8 @@ def run(
     reconstructions) and the regions that use them, the open boundaries
     (loxodromes, blended loxodromes, great circles, polylines) with their boundary
     ids, the size gradations and the outputs. Relative paths are relative to
-    CASE.toml. See docs/case-files.md and examples/.
+    CASE.toml. With [case] kind = "shorelines" or "bathymetry" it runs one of the
+    paper's PCA studies instead. See docs/case-files.md and examples/.
 
     Everything is written into OUTPUT.partial-XXXX/ and renamed to OUTPUT at the
     end, so a failed run leaves nothing. OUTPUT must not exist or be empty, unless
