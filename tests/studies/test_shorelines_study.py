@@ -130,7 +130,7 @@ def test_parse_needs_a_path():
 def test_example_case_parses():
     case = load_case(EXAMPLE)
     assert case.kind == "shorelines" and case.name == "sognefjorden"
-    assert case.output == ROOT / "out" / "sognefjorden"
+    assert case.output == ROOT / "out" / "examples" / "sognefjorden"
     config = case.study
     assert isinstance(config, ShorelineStudyConfig)
     assert config.path.is_file()
