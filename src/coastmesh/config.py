@@ -16,12 +16,11 @@ from __future__ import annotations
 import math
 import numbers
 import os
+import tomllib
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, TypeVar
-
-import tomllib
 
 from coastmesh.errors import ConfigError
 from coastmesh.sizing.units import to_metres, to_seconds, to_square_metres

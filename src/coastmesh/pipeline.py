@@ -13,7 +13,7 @@ import time
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -513,7 +513,7 @@ def _provenance(command: str, src: PathLike, **parameters: object) -> dict[str, 
     from coastmesh import __version__
 
     settings = " ".join(f"--{k} {v}" for k, v in parameters.items())
-    stamp = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
+    stamp = datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
     notes = {
         "history": f"{stamp} coastmesh {__version__} {command} {os.fspath(src)} "
         f"{settings}",
