@@ -4,17 +4,24 @@ The stages, each reported to the ``progress`` factory and the log:
 
 1. read the shoreline file (clip to ``bbox``; fill in a missing CRS);
 2. build each shoreline set: full resolution, or a PCA reconstruction
-   (:func:`~coastmesh.geometry.simplify_shorelines`); drop land polygons below
-   ``min_area``;
-3. stitch the sets by region (:func:`~coastmesh.geometry.stitch_shorelines`),
+   (:func:`~coastmesh.geometry.simplify_shorelines`, after
+   :func:`~coastmesh.geometry.densify_long_edges`); drop land polygons and fill
+   lakes below ``min_area``;
+3. stitch the sets by region (:func:`~coastmesh.geometry.stitch.stitch_shorelines`),
    draw the open boundaries (loxodromes, blends, great circles, polylines) and
    build the domain (:func:`~coastmesh.geometry.build_domain`);
 4. the size field: gradations from named shoreline sets and open boundaries,
    bathymetry terms, a gradation limit, on a grid in the meshing CRS;
-5. mesh with Gmsh (:func:`~coastmesh.meshing.generate_mesh`);
-6. write the mesh formats, the domain GeoPackage, the size field, a JSON report,
-   a text summary and figures into ``<output>.partial-XXXX/``, renamed to
-   ``<output>`` at the end: a failed run leaves nothing.
+5. mesh with Gmsh (:func:`~coastmesh.meshing.generate_mesh`), then clean up
+   (:mod:`~coastmesh.meshing.cleanup`), put depths on the nodes
+   (:mod:`~coastmesh.meshing.depth`) and measure the quality
+   (:mod:`~coastmesh.meshing.quality`);
+6. write the mesh formats, the domain GeoPackage, the size field, the reports
+   and figures (:mod:`coastmesh.case_outputs`) into ``<output>.partial-XXXX/``,
+   renamed to ``<output>`` at the end: a failed run leaves nothing.
+
+A case with ``[case] kind = "shorelines"`` or ``"bathymetry"`` runs one of the
+paper's PCA studies (:mod:`coastmesh.studies`) instead.
 """
 
 from __future__ import annotations
