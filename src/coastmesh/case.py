@@ -38,9 +38,14 @@ from typing import Any
 import numpy as np
 import shapely
 from numpy.typing import NDArray
-from pyproj import CRS, Geod, Transformer
+from pyproj import CRS, Transformer
 
-from coastmesh.case_outputs import CaseProducts, build_report, write_outputs
+from coastmesh.case_outputs import (
+    CaseProducts,
+    build_report,
+    write_case_copy,
+    write_outputs,
+)
 from coastmesh.config import (
     BoundaryConfig,
     CaseConfig,
@@ -49,6 +54,7 @@ from coastmesh.config import (
     load_case,
 )
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
+from coastmesh.geometry.domain import polygon_areas
 from coastmesh.types import Features
 
 __all__ = ["CaseResult", "run_case"]
@@ -59,7 +65,6 @@ Progress = Callable[[int, int], None]
 #: ``stage(label)`` returns a context manager yielding a ``progress(done, total)``
 StageFactory = Callable[[str], contextlib.AbstractContextManager[Progress]]
 
-_GEOD = Geod(ellps="WGS84")
 _LONLAT = CRS.from_epsg(4326)
 
 
@@ -231,17 +236,12 @@ def _run_study(
     """Run a PCA study case (``[case] kind``) into ``target``, atomically."""
     import importlib
 
-    from coastmesh import __version__
     from coastmesh.io._atomic import atomic_directory
 
     module = importlib.import_module(f"coastmesh.studies.{config.kind}")
     with atomic_directory(target, overwrite=overwrite) as folder:
         result = module.run_study(config.study, folder, stage)
-        header = (
-            f"# A copy of {config.source.resolve()}, as run by coastmesh "
-            f"{__version__}.\n# Its relative paths are relative to that file.\n"
-        )
-        (folder / "case.toml").write_text(header + config.text, encoding="utf-8")
+        write_case_copy(folder, config.source, config.text)
         (folder / "summary.txt").write_text(result.summary() + "\n", encoding="utf-8")
     logger.info("%s: %s", config.name, result.summary())
     return result
@@ -323,7 +323,7 @@ def _build_sets(
                 }
             land = shapely.get_parts(land)
             land = land[shapely.get_type_id(land) == shapely.GeometryType.POLYGON]
-            small = _areas(land, crs) < config.shorelines.min_area
+            small = polygon_areas(land, crs) < config.shorelines.min_area
             land, lakes = _fill_lakes(land[~small], crs, config.shorelines.min_area)
             sets[s.name] = land
             report |= {
@@ -349,27 +349,12 @@ def _fill_lakes(
     for k in holed:
         polygon = land[k]
         lakes = np.array([shapely.Polygon(r) for r in polygon.interiors], dtype=object)
-        keep = _areas(lakes, crs) >= min_area
+        keep = polygon_areas(lakes, crs) >= min_area
         if not keep.all():
             filled += int((~keep).sum())
             kept = [r for r, k_ in zip(polygon.interiors, keep, strict=True) if k_]
             land[k] = shapely.Polygon(polygon.exterior, kept)
     return land, filled
-
-
-def _areas(polygons: NDArray[np.object_], crs: CRS) -> NDArray[np.float64]:
-    """Areas in square metres: geodesic for a geographic CRS."""
-    if len(polygons) == 0:
-        return np.zeros(0)
-    if crs.is_geographic:
-        if crs.to_epsg() != 4326:
-            to_ll = Transformer.from_crs(crs, _LONLAT, always_xy=True)
-            polygons = shapely.transform(
-                polygons, lambda xy: np.column_stack(to_ll.transform(*xy.T))
-            )
-        return np.array([abs(_GEOD.geometry_area_perimeter(p)[0]) for p in polygons])
-    unit = crs.axis_info[0].unit_conversion_factor if crs.axis_info else 1.0
-    return shapely.area(polygons) * unit**2
 
 
 # stage 3: the domain

@@ -15,7 +15,7 @@ from pyproj import CRS
 from coastmesh.config import CaseConfig
 from coastmesh.types import Features
 
-__all__ = ["CaseProducts", "build_report", "write_outputs"]
+__all__ = ["CaseProducts", "build_report", "write_case_copy", "write_outputs"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -140,11 +140,7 @@ def write_outputs(
         files += ["quality.json", "quality.txt"]
     if config.outputs.figures:
         files += _write_figures(config, folder, products)
-    header = (
-        f"# A copy of {config.source.resolve()}, as run by coastmesh {__version__}.\n"
-        "# Its relative paths are relative to that file, not to this copy.\n"
-    )
-    (folder / "case.toml").write_text(header + config.text, encoding="utf-8")
+    write_case_copy(folder, config.source, config.text)
     files.append("case.toml")
     report = report | {"files": files, "coastmesh_version": __version__}
     (folder / "report.json").write_text(json.dumps(report, indent=2) + "\n")
@@ -152,6 +148,17 @@ def write_outputs(
     (folder / "summary.txt").write_text(_summary_text(report), encoding="utf-8")
     files.append("summary.txt")
     return files
+
+
+def write_case_copy(folder: Path, source: Path, text: str) -> None:
+    """Keep the case file as run, as ``case.toml``, saying where it came from."""
+    from coastmesh import __version__
+
+    header = (
+        f"# A copy of {source.resolve()}, as run by coastmesh {__version__}.\n"
+        "# Its relative paths are relative to that file, not to this copy.\n"
+    )
+    (folder / "case.toml").write_text(header + text, encoding="utf-8")
 
 
 def _write_models(config: CaseConfig, folder: Path, mesh: Any) -> list[str]:

@@ -116,26 +116,17 @@ def mesh_figure(
         Meshes with more than :data:`MAX_DRAWN_TRIANGLES` triangles are drawn by
         their boundary only (the title says so).
     """
-    from matplotlib.collections import LineCollection
     from matplotlib.figure import Figure
 
     figure = Figure(figsize=(9, 8), layout="constrained")
     ax = figure.add_subplot()
     points = mesh.points
     note = ""
-    if len(mesh.triangles) <= MAX_DRAWN_TRIANGLES:
-        ax.triplot(points[:, 0], points[:, 1], mesh.triangles, color="0.55", lw=0.2)
-    else:
+    if len(mesh.triangles) > MAX_DRAWN_TRIANGLES:
         note = f" (boundary only: {len(mesh.triangles):,} triangles)"
     ids = np.unique(mesh.boundary_ids)
     colours = _palette(ids)
-    ax.add_collection(
-        LineCollection(
-            points[mesh.boundary_edges],
-            colors=[colours[int(i)] for i in mesh.boundary_ids],
-            linewidths=1.2,
-        )
-    )
+    _draw_mesh(ax, points, mesh, mesh.triangles, colours, linewidth=1.2)
     bounds = (*points.min(axis=0), *points.max(axis=0))
     _frame(ax, bounds, mesh.crs)
     _legend(ax, {int(i): (names or {}).get(int(i), "") for i in ids}, colours)
@@ -185,6 +176,29 @@ def size_figure(field: xr.DataArray, *, title: str | None = None) -> Figure:
     return figure
 
 
+def _draw_mesh(
+    ax: Axes,
+    xy: NDArray[np.float64],
+    mesh: Mesh,
+    triangles: NDArray[np.int64],
+    colours: dict[int, Any],
+    *,
+    linewidth: float,
+) -> None:
+    """Draw triangles (up to MAX_DRAWN_TRIANGLES) and boundary edges by id."""
+    from matplotlib.collections import LineCollection
+
+    if 0 < len(triangles) <= MAX_DRAWN_TRIANGLES:
+        ax.triplot(xy[:, 0], xy[:, 1], triangles, color="0.55", lw=0.2)
+    ax.add_collection(
+        LineCollection(
+            xy[mesh.boundary_edges],
+            colors=[colours[int(i)] for i in mesh.boundary_ids],
+            linewidths=linewidth,
+        )
+    )
+
+
 def _frame(ax: Axes, bounds: tuple[float, ...], crs: Any) -> None:
     minx, miny, maxx, maxy = (float(v) for v in bounds)
     padx, pady = 0.02 * (maxx - minx), 0.02 * (maxy - miny)
@@ -221,7 +235,6 @@ def mercator_figure(
     -------
     matplotlib.figure.Figure
     """
-    from matplotlib.collections import LineCollection
     from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
     from pyproj import Transformer
@@ -238,15 +251,7 @@ def mercator_figure(
     colours = _palette(ids)
 
     def draw(ax: Axes, triangles: NDArray[np.int64]) -> None:
-        if 0 < len(triangles) <= MAX_DRAWN_TRIANGLES:
-            ax.triplot(xy[:, 0], xy[:, 1], triangles, color="0.55", lw=0.2)
-        ax.add_collection(
-            LineCollection(
-                xy[mesh.boundary_edges],
-                colors=[colours[int(i)] for i in mesh.boundary_ids],
-                linewidths=1.0,
-            )
-        )
+        _draw_mesh(ax, xy, mesh, triangles, colours, linewidth=1.0)
         ax.set_aspect("equal")
         ax.set_xlabel("Mercator x (km)")
         ax.set_ylabel("Mercator y (km)")

@@ -6,6 +6,7 @@ from coastmesh.geometry.domain import (
     DomainReport,
     OpenBoundary,
     build_domain,
+    polygon_areas,
 )
 from coastmesh.geometry.rhumb import (
     Loxodrome,
@@ -33,5 +34,6 @@ __all__ = [
     "great_circle",
     "land_polygons",
     "paper_bearing",
+    "polygon_areas",
     "simplify_shorelines",
 ]

@@ -16,12 +16,12 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
-from pyproj import CRS, Geod
+from pyproj import CRS, Geod, Transformer
 
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.meshing.types import BoundarySegment, Domain
 
-__all__ = ["DomainReport", "OpenBoundary", "build_domain"]
+__all__ = ["DomainReport", "OpenBoundary", "build_domain", "polygon_areas"]
 
 _GEOD = Geod(ellps="WGS84")
 
@@ -197,17 +197,36 @@ def build_domain(
     return Domain(domain, tuple(segments), crs, surface_id), report
 
 
-def _area(polygons, crs: CRS) -> NDArray[np.float64]:
+def polygon_areas(polygons: ArrayLike, crs: CRS) -> NDArray[np.float64]:
+    """Return the areas of polygons in square metres.
+
+    Geodesic (WGS84) for a geographic CRS, planar in the CRS's unit otherwise.
+
+    Examples
+    --------
+    >>> import shapely
+    >>> polygon_areas([shapely.box(0, 0, 10, 20)], CRS("EPSG:32630")).tolist()
+    [200.0]
+    """
+    polygons = np.asarray(polygons, dtype=object).ravel()
+    if len(polygons) == 0:
+        return np.zeros(0)
     if crs.is_geographic:
+        if crs.to_epsg() != 4326:
+            to_ll = Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
+            polygons = shapely.transform(
+                polygons, lambda xy: np.column_stack(to_ll.transform(*xy.T))
+            )
         return np.array([abs(_GEOD.geometry_area_perimeter(p)[0]) for p in polygons])
-    return shapely.area(polygons)
+    unit = crs.axis_info[0].unit_conversion_factor if crs.axis_info else 1.0
+    return shapely.area(polygons) * unit**2
 
 
 def _drop_small_holes(domain: shapely.Polygon, min_area: float, crs: CRS):
     holes = [shapely.Polygon(r) for r in domain.interiors]
     if not holes or min_area <= 0:
         return domain, 0
-    keep = _area(holes, crs) >= min_area
+    keep = polygon_areas(holes, crs) >= min_area
     kept = [r for r, k in zip(domain.interiors, keep, strict=True) if k]
     return shapely.Polygon(domain.exterior, kept), int((~keep).sum())
 

@@ -35,6 +35,14 @@ import shapely
 
 from coastmesh.errors import ConfigError, FormatError
 from coastmesh.io._atomic import check_output
+
+# The model writers need only numpy, pyproj and coastmesh itself (their heavy
+# readers and writers, meshio and xarray, are imported inside them), so they are
+# registered as they are.
+from coastmesh.io.adcirc import write_fort14, write_gr3
+from coastmesh.io.mike import write_mike_mesh
+from coastmesh.io.telemac import write_selafin
+from coastmesh.io.ugrid import write_ugrid, write_vtu
 from coastmesh.meshing.types import Mesh
 
 __all__ = [
@@ -436,80 +444,6 @@ def _mesh_layers(mesh: Mesh) -> dict[str, Any]:
     }
 
 
-def _write_fort14(
-    path: str | os.PathLike[str],
-    mesh: Mesh,
-    *,
-    overwrite: bool,
-    positive: str = "down",
-    title: str | None = None,
-) -> None:
-    from coastmesh.io.adcirc import write_fort14
-
-    write_fort14(path, mesh, overwrite=overwrite, positive=positive, title=title)
-
-
-def _write_gr3(
-    path: str | os.PathLike[str],
-    mesh: Mesh,
-    *,
-    overwrite: bool,
-    positive: str = "down",
-    title: str | None = None,
-) -> None:
-    from coastmesh.io.adcirc import write_gr3
-
-    write_gr3(path, mesh, overwrite=overwrite, positive=positive, title=title)
-
-
-def _write_mike(
-    path: str | os.PathLike[str],
-    mesh: Mesh,
-    *,
-    overwrite: bool,
-    positive: str = "up",
-    crs_wkt: str | None = None,
-) -> None:
-    from coastmesh.io.mike import write_mike_mesh
-
-    write_mike_mesh(path, mesh, overwrite=overwrite, positive=positive, crs_wkt=crs_wkt)
-
-
-def _write_selafin(
-    path: str | os.PathLike[str],
-    mesh: Mesh,
-    *,
-    overwrite: bool,
-    positive: str = "up",
-    cli: bool = True,
-    open_codes: str = "5 4 4",
-    title: str | None = None,
-) -> None:
-    from coastmesh.io.telemac import write_selafin
-
-    write_selafin(
-        path,
-        mesh,
-        overwrite=overwrite,
-        positive=positive,
-        cli=cli,
-        open_codes=open_codes,
-        title=title,
-    )
-
-
-def _write_ugrid(path: str | os.PathLike[str], mesh: Mesh, *, overwrite: bool) -> None:
-    from coastmesh.io.ugrid import write_ugrid
-
-    write_ugrid(path, mesh, overwrite=overwrite)
-
-
-def _write_vtu(path: str | os.PathLike[str], mesh: Mesh, *, overwrite: bool) -> None:
-    from coastmesh.io.ugrid import write_vtu
-
-    write_vtu(path, mesh, overwrite=overwrite)
-
-
 for _fmt in (
     MeshFormat(
         "msh2", (".msh",), _write_msh2, "Gmsh msh 2.2 (Fluidity, Thetis); default .msh"
@@ -525,37 +459,37 @@ for _fmt in (
     MeshFormat(
         "fort14",
         (".14", ".grd"),
-        _write_fort14,
+        write_fort14,
         "ADCIRC fort.14: depth positive down, open and land boundary segments",
     ),
     MeshFormat(
         "gr3",
         (".gr3",),
-        _write_gr3,
+        write_gr3,
         "SCHISM hgrid.gr3: depth positive down, open and land boundary segments",
     ),
     MeshFormat(
         "selafin",
         (".slf", ".selafin"),
-        _write_selafin,
+        write_selafin,
         "Telemac SELAFIN geometry (BOTTOM = bed elevation) + .cli boundary file",
     ),
     MeshFormat(
         "mike",
         (".mesh",),
-        _write_mike,
+        write_mike_mesh,
         "DHI MIKE .mesh: z positive up, node codes 1 land, 2.. open ids in order",
     ),
     MeshFormat(
         "ugrid",
         (".nc",),
-        _write_ugrid,
+        write_ugrid,
         "UGRID-1.0 netCDF: mesh2d, depth on nodes, boundary_id on edges",
     ),
     MeshFormat(
         "vtu",
         (".vtu",),
-        _write_vtu,
+        write_vtu,
         "VTK unstructured grid: triangles + boundary lines, point data",
     ),
 ):

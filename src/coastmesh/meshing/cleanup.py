@@ -134,16 +134,18 @@ def clean_mesh(
     return work.result(), report
 
 
-def _local_plane(mesh: Mesh) -> NDArray[np.float64]:
-    """Node coordinates in a conformal plane: angles there are angles on the Earth."""
+def _local_plane(mesh: Mesh) -> Transformer | None:
+    """Return the map to a conformal plane (angles there are angles on the Earth).
+
+    None for a projected (or planar) mesh: its own plane is used.
+    """
     if mesh.crs is None or mesh.crs.is_projected:
-        return mesh.points.copy()
+        return None
     lon, lat = np.median(mesh.points, axis=0)
     plane = CRS.from_proj4(
         f"+proj=sterea +lat_0={lat} +lon_0={lon} +k=1 +datum=WGS84 +units=m"
     )
-    to_plane = Transformer.from_crs(mesh.crs, plane, always_xy=True)
-    return np.column_stack(to_plane.transform(mesh.points[:, 0], mesh.points[:, 1]))
+    return Transformer.from_crs(mesh.crs, plane, always_xy=True)
 
 
 def _angles(xy: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -164,7 +166,12 @@ class _Work:
 
     def __init__(self, mesh: Mesh) -> None:
         self.mesh = mesh
-        self.xy = _local_plane(mesh)
+        self.to_plane = _local_plane(mesh)
+        self.xy = (
+            mesh.points.copy()
+            if self.to_plane is None
+            else np.column_stack(self.to_plane.transform(*mesh.points.T))
+        )
         self.extra_xy: list[NDArray[np.float64]] = []
         self.extra_from: list[tuple[int, int, int]] = []
         self.tri = [list(map(int, t)) for t in mesh.triangles]
@@ -395,18 +402,13 @@ class _Work:
         point_data = dict(mesh.point_data)
         if self.extra_from:
             sources = np.array(self.extra_from)
-            points = np.vstack([points, points[sources].mean(axis=1)])
-            if mesh.crs is not None and mesh.crs.is_geographic:
-                # the centroid of the triangle in the plane, back to lon/lat
-                plane_points = np.array(self.extra_xy)
-                lon, lat = np.median(mesh.points, axis=0)
-                plane = CRS.from_proj4(
-                    f"+proj=sterea +lat_0={lat} +lon_0={lon} +k=1 +datum=WGS84 +units=m"
+            # the triangles' centroids in the plane, back in the mesh's CRS
+            centres = np.array(self.extra_xy)
+            if self.to_plane is not None:
+                centres = np.column_stack(
+                    self.to_plane.transform(*centres.T, direction="INVERSE")
                 )
-                back = Transformer.from_crs(plane, mesh.crs, always_xy=True)
-                points[len(mesh.points) :] = np.column_stack(
-                    back.transform(plane_points[:, 0], plane_points[:, 1])
-                )
+            points = np.vstack([points, centres])
             for name, values in point_data.items():
                 point_data[name] = np.concatenate(
                     [values, np.asarray(values)[sources].mean(axis=1)]

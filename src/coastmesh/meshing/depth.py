@@ -16,6 +16,7 @@ from pyproj import CRS, Transformer
 from scipy.spatial import cKDTree
 
 from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.meshing.topology import unique_edges
 from coastmesh.meshing.types import Mesh
 from coastmesh.sizing.units import EARTH_RADIUS
 
@@ -215,30 +216,19 @@ def limit_slope(
 
 def _bilinear(rx, ry, values, px, py) -> NDArray[np.float64]:
     """Bilinear interpolation on cell centres; NaN outside or next to nodata."""
-    nx, ny = len(rx), len(ry)
-    out = np.full(len(px), np.nan)
-    if nx < 2 or ny < 2:
-        return out
-    inside = (px >= rx[0]) & (px <= rx[-1]) & (py >= ry[0]) & (py <= ry[-1])
-    x, y = px[inside], py[inside]
-    i = np.clip(np.searchsorted(rx, x, side="right") - 1, 0, nx - 2)
-    j = np.clip(np.searchsorted(ry, y, side="right") - 1, 0, ny - 2)
-    tx = (x - rx[i]) / (rx[i + 1] - rx[i])
-    ty = (y - ry[j]) / (ry[j + 1] - ry[j])
-    out[inside] = (
-        (1 - tx) * (1 - ty) * values[j, i]
-        + tx * (1 - ty) * values[j, i + 1]
-        + (1 - tx) * ty * values[j + 1, i]
-        + tx * ty * values[j + 1, i + 1]
+    from scipy.interpolate import RegularGridInterpolator
+
+    if len(rx) < 2 or len(ry) < 2:
+        return np.full(len(px), np.nan)
+    interpolate = RegularGridInterpolator(
+        (ry, rx), values, method="linear", bounds_error=False, fill_value=np.nan
     )
-    return out
+    return interpolate(np.column_stack([py, px]))
 
 
 def _edges_on_earth(mesh: Mesh) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
     """Return the unique edges and their lengths, metres (earth-centred chords)."""
-    tri = mesh.triangles
-    pairs = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
-    edges = np.unique(np.sort(pairs, axis=1), axis=0)
+    edges, _ = unique_edges(mesh.triangles, len(mesh.points))
     xyz = _earth_xyz(mesh)
     return edges, np.linalg.norm(xyz[edges[:, 0]] - xyz[edges[:, 1]], axis=1)
 

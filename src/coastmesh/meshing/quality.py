@@ -21,6 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS, Transformer
 
+from coastmesh.meshing.topology import unique_edges
 from coastmesh.meshing.types import Mesh
 
 __all__ = [
@@ -624,28 +625,8 @@ def _edge_measures(
     planar: bool,
     node_size: NDArray[np.float64] | None,
 ) -> dict[str, NDArray[Any]]:
-    """Every edge once: sort the keys ``lo * n + hi`` of the triangles' sides."""
-    triangles, n = mesh.triangles, max(len(mesh.points), 1)
-    m = len(triangles)
-    keys = np.empty(3 * m, dtype=np.int64)
-    for k in range(3):
-        i, j = triangles[:, k], triangles[:, (k + 1) % 3]
-        part = keys[k * m : (k + 1) * m]
-        np.multiply(np.minimum(i, j), n, out=part)
-        part += np.maximum(i, j)
-    keys.sort()
-    new = np.empty(len(keys), dtype=bool)
-    new[:1] = True
-    np.not_equal(keys[1:], keys[:-1], out=new[1:])
-    starts = np.flatnonzero(new)
-    del new
-    shared = np.diff(starts, append=len(keys))
-    keys = keys[starts]
-    del starts
-    edges = np.empty((len(keys), 2), dtype=np.int64)
-    np.floor_divide(keys, n, out=edges[:, 0])
-    np.subtract(keys, edges[:, 0] * n, out=edges[:, 1])
-    del keys
+    """Every edge once (:func:`~coastmesh.meshing.topology.unique_edges`)."""
+    edges, shared = unique_edges(mesh.triangles, len(mesh.points))
     length = np.empty(len(edges))
     for start in range(0, len(edges), _BLOCK):
         lo, hi = edges[start : start + _BLOCK].T

@@ -16,7 +16,13 @@ from numpy.typing import NDArray
 from coastmesh.errors import FormatError
 from coastmesh.meshing.types import Mesh
 
-__all__ = ["BoundaryRing", "BoundaryString", "boundary_rings", "boundary_strings"]
+__all__ = [
+    "BoundaryRing",
+    "BoundaryString",
+    "boundary_rings",
+    "boundary_strings",
+    "unique_edges",
+]
 
 
 @dataclass(frozen=True, slots=True)
@@ -179,6 +185,57 @@ def boundary_strings(mesh: Mesh) -> list[BoundaryString]:
                 )
             )
     return strings
+
+
+def unique_edges(
+    triangles: NDArray[np.int64], n_points: int
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Every edge of a triangulation once, and how many triangles share it.
+
+    Each side becomes one int64 key ``lo * n + hi``; one 1-D sort groups them
+    (``np.unique(axis=0)`` on the pairs is about 20 times slower), built in place
+    to keep the memory at a few arrays of ``3 M`` integers for ``M`` triangles.
+
+    Parameters
+    ----------
+    triangles : ndarray of shape (M, 3)
+        Node indices.
+    n_points : int
+        Number of nodes (indices are below it).
+
+    Returns
+    -------
+    edges : ndarray of shape (K, 2)
+        Node pairs, lower index first, in increasing order of ``lo * n + hi``.
+    count : ndarray of shape (K,)
+        Triangles at each edge: 1 on the boundary, 2 inside.
+
+    Examples
+    --------
+    >>> edges, count = unique_edges(np.array([[0, 1, 2], [0, 2, 3]]), 4)
+    >>> edges.tolist(), count.tolist()
+    ([[0, 1], [0, 2], [0, 3], [1, 2], [2, 3]], [1, 2, 1, 1, 1])
+    """
+    n, m = max(int(n_points), 1), len(triangles)
+    keys = np.empty(3 * m, dtype=np.int64)
+    for k in range(3):
+        i, j = triangles[:, k], triangles[:, (k + 1) % 3]
+        part = keys[k * m : (k + 1) * m]
+        np.multiply(np.minimum(i, j), n, out=part)
+        part += np.maximum(i, j)
+    keys.sort()
+    new = np.empty(len(keys), dtype=bool)
+    new[:1] = True
+    np.not_equal(keys[1:], keys[:-1], out=new[1:])
+    starts = np.flatnonzero(new)
+    del new
+    count = np.diff(starts, append=len(keys))
+    keys = keys[starts]
+    del starts
+    edges = np.empty((len(keys), 2), dtype=np.int64)
+    np.floor_divide(keys, n, out=edges[:, 0])
+    np.subtract(keys, edges[:, 0] * n, out=edges[:, 1])
+    return edges, count
 
 
 def _directed_boundary(mesh: Mesh) -> NDArray[np.int64]:
