@@ -44,7 +44,7 @@ from reference import (  # noqa: E402
     limit_gradation_brute,
 )
 
-from coastmesh import datasets  # noqa: E402
+from coastmesh.data import path as data_path  # noqa: E402
 from coastmesh.sizing import distance_to_lines, limit_gradation  # noqa: E402
 
 EXAMPLE = ROOT / "examples" / "orkney" / "pentland_firth.toml"
@@ -64,7 +64,7 @@ def bench_distance() -> None:
     print("\n### Distance to the Orkney coast (GSHHG full), metres\n")
     print("| grid | line vertices | reference s | fast s | ratio | max diff (m) |")
     print("|---|---:|---:|---:|---:|---:|")
-    features = json.loads(datasets.path("orkney_gshhg_f.geojson").read_text())
+    features = json.loads(data_path("orkney_gshhg_f.geojson").read_text())
     land = np.array(
         [shapely.from_geojson(json.dumps(f["geometry"])) for f in features["features"]]
     )

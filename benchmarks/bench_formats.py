@@ -35,14 +35,14 @@ sys.path.insert(0, str(ROOT / "tests"))
 from reference import bilinear_loop, write_fort14_loop  # noqa: E402
 from reference_quality import triangle_quality_reference  # noqa: E402
 
-from coastmesh import datasets  # noqa: E402
+from coastmesh.data import path as data_path  # noqa: E402
 from coastmesh.io import read_raster  # noqa: E402
 from coastmesh.io.writers import mesh_formats, write_mesh  # noqa: E402
 from coastmesh.meshing.cleanup import clean_mesh  # noqa: E402
 from coastmesh.meshing.depth import depth_at_nodes  # noqa: E402
 from coastmesh.meshing.quality import mesh_quality, triangle_quality  # noqa: E402
 from coastmesh.meshing.topology import boundary_strings  # noqa: E402
-from coastmesh.meshing.types import Mesh  # noqa: E402
+from coastmesh.types import Mesh  # noqa: E402
 
 
 def grid_mesh(triangles: int) -> Mesh:
@@ -94,7 +94,7 @@ def main() -> None:
     args = parser.parse_args()
     mesh = grid_mesh(args.triangles)
     print(f"\nmesh: {len(mesh.points):,} nodes, {len(mesh.triangles):,} triangles\n")
-    raster = read_raster(datasets.path("etopo1_0.1deg_nwshelf.tif"))
+    raster = read_raster(data_path("etopo1_0.1deg_nwshelf.tif"))
 
     print("| stage | fast s | reference s (scaled from sample) | ratio | agreement |")
     print("|---|---:|---:|---:|---|")

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import shapely
 
-from coastmesh import datasets
+from coastmesh.data import path as data_path
 
 # Small real clips of the bundled data (minx, miny, maxx, maxy), EPSG:4326.
 ORKNEY_BBOX = (-3.45, 58.85, -2.85, 59.15)  # Mainland Orkney, west half
@@ -19,27 +19,27 @@ ORKNEY_RASTER_BBOX = (-4.0, 58.0, -2.0, 60.0)  # 21 x 21 cells
 
 @pytest.fixture(scope="session")
 def orkney_geojson() -> Path:
-    return datasets.path("orkney_gshhg_f.geojson")
+    return data_path("orkney_gshhg_f.geojson")
 
 
 @pytest.fixture(scope="session")
 def norway_geojson() -> Path:
-    return datasets.path("norway_west_gshhg_f.geojson")
+    return data_path("norway_west_gshhg_f.geojson")
 
 
 @pytest.fixture(scope="session")
 def orkney_tif() -> Path:
-    return datasets.path("etopo1_0.1deg_orkney_wide.tif")
+    return data_path("etopo1_0.1deg_orkney_wide.tif")
 
 
 @pytest.fixture(scope="session")
 def nwshelf_tif() -> Path:
-    return datasets.path("etopo1_0.1deg_nwshelf.tif")
+    return data_path("etopo1_0.1deg_nwshelf.tif")
 
 
 @pytest.fixture(scope="session")
 def nwshelf_nc() -> Path:
-    return datasets.path("etopo1_0.1deg_nwshelf.nc")
+    return data_path("etopo1_0.1deg_nwshelf.nc")
 
 
 EXAMPLE = Path(__file__).parents[1] / "examples" / "orkney" / "pentland_firth.toml"
@@ -56,7 +56,7 @@ def mesh_with_islands():
     island, 3 the triangular island. UTM 30N, 250 m elements.
     """
     from coastmesh.meshing import SizeGrid, generate_mesh
-    from coastmesh.meshing.types import BoundarySegment, Domain
+    from coastmesh.types import BoundarySegment, Domain
 
     outer = [[0, 0], [4000, 0], [4000, 3000], [0, 3000], [0, 0]]
     holes = [

@@ -18,7 +18,7 @@ from conftest import EXAMPLE, FIGURES, MODEL_EXTENSIONS
 from pyproj import Geod
 
 from coastmesh.case import run_case
-from coastmesh.config import load_case, parse_case
+from coastmesh.case.config import load_case, parse_case
 from coastmesh.errors import ConfigError, InputDataError, OutputExistsError
 from coastmesh.io.msh import read_msh
 
@@ -178,7 +178,7 @@ def _layer(path: Path, layer: str):
 def test_small_lakes_are_filled_and_counted():
     from pyproj import CRS
 
-    from coastmesh.case import _fill_lakes
+    from coastmesh.case.run import _fill_lakes
 
     land = shapely.Polygon(
         [(0, 0), (10_000, 0), (10_000, 10_000), (0, 10_000)],

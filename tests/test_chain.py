@@ -12,7 +12,7 @@ import numpy as np
 import shapely
 from pyproj import Transformer
 
-from coastmesh import datasets
+from coastmesh.data import path as data_path
 from coastmesh.geometry import Loxodrome, OpenBoundary, build_domain
 from coastmesh.io.msh import read_msh, write_msh
 from coastmesh.meshing import SizeGrid, default_mesh_crs, generate_mesh
@@ -20,9 +20,7 @@ from coastmesh.sizing import Gradation, size_field, to_metres
 
 
 def test_orkney_chain(tmp_path):
-    features = json.loads((datasets.path("orkney_gshhg_f.geojson")).read_text())[
-        "features"
-    ]
+    features = json.loads((data_path("orkney_gshhg_f.geojson")).read_text())["features"]
     land = np.array([shapely.from_geojson(json.dumps(f["geometry"])) for f in features])
     sides = [
         ("west", 2, Loxodrome((-3.5, 58.6), 0.0, end_lat=59.5)),

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from coastmesh.config import load_case, parse_case
+from coastmesh.case.config import load_case, parse_case
 from coastmesh.errors import ConfigError
 
 BASE = """
@@ -153,7 +153,7 @@ def test_missing_tables_and_bad_toml(tmp_path):
 def test_example_cases_parse():
     examples = sorted(Path(__file__).parents[1].glob("examples/*/*.toml"))
     assert examples
-    from coastmesh.config import StudyCase
+    from coastmesh.case.config import StudyCase
 
     for path in examples:
         case = load_case(path)
@@ -165,12 +165,12 @@ def test_example_cases_parse():
 
 def test_packaged_demo_case_is_the_example():
     """coastmesh demo runs a copy of examples/orkney: they must not drift apart."""
-    from coastmesh import datasets
+    from coastmesh.data import path as data_path
 
     example = load_case(
         Path(__file__).parents[1] / "examples/orkney/pentland_firth.toml"
     )
-    packaged = load_case(datasets.path("pentland_firth.toml"))
+    packaged = load_case(data_path("pentland_firth.toml"))
     # the installed package and the repository may be different folders: compare
     # the data files by name, everything else exactly
     from dataclasses import replace

@@ -16,15 +16,14 @@ HEAVY = {"gmsh", "matplotlib", "rasterio", "pyogrio", "click"}
 STATEMENTS = {
     # the package itself, errors, pca and geometry come with the shoreline module
     "core": (
-        "import coastmesh.geometry.shoreline, coastmesh.types, coastmesh.datasets, "
-        "coastmesh.reports, coastmesh.geometry, coastmesh.sizing, coastmesh.pca, "
-        "coastmesh.meshing"
+        "import coastmesh.geometry.shoreline, coastmesh.types, coastmesh.data, "
+        "coastmesh.geometry, coastmesh.sizing, coastmesh.pca, coastmesh.meshing"
     ),
     "msh": "import coastmesh.io.msh",
     "cli": "import coastmesh.cli.main",
     "vector": "import coastmesh.io.vector",
     "raster": "import coastmesh.io.raster",
-    "plot": "import coastmesh.plot, coastmesh.pipeline",
+    "plot": "import coastmesh.plot, coastmesh.commands",
 }
 
 

@@ -9,14 +9,14 @@ import pytest
 import shapely
 from conftest import ORKNEY_BBOX, ORKNEY_RASTER_BBOX
 
-from coastmesh.errors import ConfigError
-from coastmesh.io.raster import read_raster
-from coastmesh.io.vector import read_features
-from coastmesh.pipeline import (
+from coastmesh.commands import (
     RasterReport,
     simplify_raster_file,
     simplify_shoreline_file,
 )
+from coastmesh.errors import ConfigError
+from coastmesh.io.raster import read_raster
+from coastmesh.io.vector import read_features
 
 
 def test_shoreline_report_matches_the_output(orkney_geojson, tmp_path):

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from coastmesh import datasets
+from coastmesh.data import path as data_path
 from coastmesh.io.adcirc import read_fort14
 from coastmesh.io.msh import read_msh, write_msh
 
@@ -12,7 +12,7 @@ from coastmesh.io.msh import read_msh, write_msh
 def test_convert_to_fort14_with_bathymetry(run_cli, example_run, tmp_path):
     _, out = example_run
     src = out / "pentland_firth.msh"
-    raster = datasets.path("etopo1_0.1deg_orkney_wide.tif")
+    raster = data_path("etopo1_0.1deg_orkney_wide.tif")
     dst = tmp_path / "fort.14"
     result = run_cli("convert", src, dst, "--bathymetry", raster, "--min-depth", "2")
     assert result.exit_code == 0, result.output
@@ -25,7 +25,7 @@ def test_convert_to_fort14_with_bathymetry(run_cli, example_run, tmp_path):
 
 
 def test_convert_needs_kinds_for_plain_msh(run_cli, tmp_path):
-    from coastmesh.meshing.types import Mesh
+    from coastmesh.types import Mesh
 
     m = Mesh(
         [[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5]],

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-import coastmesh.pipeline
+import coastmesh.commands.demo
 from coastmesh.io.raster import read_raster
 from coastmesh.io.vector import read_features
 
@@ -22,17 +22,17 @@ FULL_OUTPUTS = sorted(
 @pytest.fixture
 def small_demo(monkeypatch):
     """Run one shoreline and one raster step instead of six."""
-    monkeypatch.setattr(coastmesh.pipeline, "_DEMO_SHORELINES", ((500, 1),))
-    monkeypatch.setattr(coastmesh.pipeline, "_DEMO_RASTERS", ((8, 16),))
-    monkeypatch.setattr(coastmesh.pipeline, "_DEMO_CASES", 0)
+    monkeypatch.setattr(coastmesh.commands.demo, "_DEMO_SHORELINES", ((500, 1),))
+    monkeypatch.setattr(coastmesh.commands.demo, "_DEMO_RASTERS", ((8, 16),))
+    monkeypatch.setattr(coastmesh.commands.demo, "_DEMO_CASES", 0)
 
 
 @pytest.fixture
 def tiny_demo(monkeypatch):
     """Run the raster step only."""
-    monkeypatch.setattr(coastmesh.pipeline, "_DEMO_SHORELINES", ())
-    monkeypatch.setattr(coastmesh.pipeline, "_DEMO_RASTERS", ((8, 16),))
-    monkeypatch.setattr(coastmesh.pipeline, "_DEMO_CASES", 0)
+    monkeypatch.setattr(coastmesh.commands.demo, "_DEMO_SHORELINES", ())
+    monkeypatch.setattr(coastmesh.commands.demo, "_DEMO_RASTERS", ((8, 16),))
+    monkeypatch.setattr(coastmesh.commands.demo, "_DEMO_CASES", 0)
 
 
 def test_demo_writes_results_and_says_where(
@@ -86,7 +86,7 @@ def test_a_failing_demo_leaves_nothing(run_cli, tmp_path, tiny_demo, monkeypatch
     def broken(*args, **kwargs):
         raise OSError(28, "No space left on device", "somewhere")
 
-    monkeypatch.setattr(coastmesh.pipeline, "simplify_raster_file", broken)
+    monkeypatch.setattr(coastmesh.commands.demo, "simplify_raster_file", broken)
     result = run_cli("demo", tmp_path / "demo")
     assert result.exit_code == 1
     assert "No space left on device" in result.output

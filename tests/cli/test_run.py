@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from coastmesh import datasets
+from coastmesh.data import path as data_path
 
 EXAMPLE = Path(__file__).parents[2] / "examples" / "orkney" / "pentland_firth.toml"
 
@@ -17,10 +17,10 @@ def case_file(tmp_path):
     """The example, coarse, with absolute data paths, in a temporary folder."""
     text = EXAMPLE.read_text()
     for old, new in {
-        "../../src/coastmesh/data/orkney_gshhg_f.geojson": datasets.path(
+        "../../src/coastmesh/data/orkney_gshhg_f.geojson": data_path(
             "orkney_gshhg_f.geojson"
         ).as_posix(),
-        "../../src/coastmesh/data/etopo1_0.1deg_orkney_wide.tif": datasets.path(
+        "../../src/coastmesh/data/etopo1_0.1deg_orkney_wide.tif": data_path(
             "etopo1_0.1deg_orkney_wide.tif"
         ).as_posix(),
         'h_min = "150 m"': 'h_min = "800 m"',

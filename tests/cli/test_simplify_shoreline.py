@@ -300,12 +300,14 @@ def test_crs_option_cannot_contradict_the_file(run_cli, orkney_geojson, tmp_path
 def test_feature_errors_name_the_real_fid(
     run_cli, orkney_geojson, tmp_path, monkeypatch
 ):
-    import coastmesh.pipeline
+    import coastmesh.commands.simplify_shoreline
 
     def broken(geometries, window, modes, *, progress=None):
         raise InputDataError("vertex 3 has a non-finite coordinate", feature=1)
 
-    monkeypatch.setattr(coastmesh.pipeline, "simplify_shorelines", broken)
+    monkeypatch.setattr(
+        coastmesh.commands.simplify_shoreline, "simplify_shorelines", broken
+    )
     result = run_cli(
         "simplify-shoreline", orkney_geojson, tmp_path / "c.gpkg", "--bbox", *BBOX
     )

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import shapely
 
-from coastmesh import datasets
+from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry.domain import OpenBoundary, build_domain
 from coastmesh.geometry.rhumb import Loxodrome
@@ -85,9 +85,7 @@ def test_small_islands_dropped_by_area():
 
 def test_real_orkney_closed_by_loxodromes():
     """Scapa Flow region: Orkney shorelines closed by rhumb lines on two sides."""
-    features = json.loads(datasets.path("orkney_gshhg_f.geojson").read_text())[
-        "features"
-    ]
+    features = json.loads(data_path("orkney_gshhg_f.geojson").read_text())["features"]
     land = [shapely.from_geojson(json.dumps(f["geometry"])) for f in features]
     west = Loxodrome((-3.5, 58.6), 0.0, end_lat=59.5).sample(2_000)
     north = Loxodrome((-3.6, 59.45), 90.0, end_lon=-2.3).sample(2_000)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import shapely
 
-from coastmesh import datasets
+from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry import simplify_shorelines
 from coastmesh.pca import simplify_contour
@@ -16,7 +16,7 @@ from coastmesh.pca import simplify_contour
 
 @pytest.fixture(scope="module")
 def norway():
-    text = datasets.path("norway_west_gshhg_f.geojson").read_text()
+    text = data_path("norway_west_gshhg_f.geojson").read_text()
     features = json.loads(text)["features"]
     return np.array([shapely.from_geojson(json.dumps(f["geometry"])) for f in features])
 

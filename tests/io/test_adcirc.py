@@ -17,7 +17,7 @@ from coastmesh.errors import (
 )
 from coastmesh.io import adcirc
 from coastmesh.io.adcirc import read_fort14, write_fort14, write_gr3
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 WRITERS = [("fort.14", write_fort14), ("hgrid.gr3", write_gr3)]
 

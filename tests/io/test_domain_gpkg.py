@@ -12,8 +12,7 @@ from pyproj import CRS
 
 from coastmesh.errors import ConfigError, FormatError, OutputExistsError
 from coastmesh.io.domain_gpkg import segment_lengths, write_domain, write_layers
-from coastmesh.meshing.types import BoundarySegment, Domain
-from coastmesh.types import Features
+from coastmesh.types import BoundarySegment, Domain, Features
 
 # Integer corners, axis-aligned sides and one 3-4-5 diagonal: every length is exact.
 OUTER = np.array(

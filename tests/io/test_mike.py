@@ -8,7 +8,7 @@ import pytest
 from coastmesh.errors import CoastmeshWarning, FormatError, OutputExistsError
 from coastmesh.io import mike
 from coastmesh.io.mike import write_mike_mesh
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 N = 4  # cells per side
 

@@ -10,7 +10,7 @@ import shapely
 from coastmesh.errors import FormatError, OutputExistsError
 from coastmesh.io.msh import read_msh, write_msh
 from coastmesh.meshing.engine import _gmsh_session, generate_mesh
-from coastmesh.meshing.types import BoundarySegment, Domain, Mesh, SizeGrid
+from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
 
 FORMATS = [("2.2", False), ("2.2", True), ("4.1", False), ("4.1", True)]
 

@@ -14,7 +14,7 @@ from coastmesh.io import telemac
 from coastmesh.io.telemac import write_selafin
 from coastmesh.io.writers import MeshFormat
 from coastmesh.meshing.topology import boundary_rings
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 
 def grid_mesh(nx=6, ny=5, dx=100.0, x0=0.0, y0=0.0, ids=None, crs="EPSG:32630"):

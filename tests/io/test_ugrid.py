@@ -12,7 +12,7 @@ from pyproj import CRS
 from coastmesh.errors import FormatError, OutputExistsError
 from coastmesh.io.ugrid import write_ugrid, write_vtu
 from coastmesh.io.writers import MeshFormat
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 
 def grid_mesh(nx=5, ny=4, dx=100.0, x0=0.0, y0=0.0, crs="EPSG:32630"):

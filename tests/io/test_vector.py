@@ -8,10 +8,10 @@ import pytest
 import shapely
 from conftest import ORKNEY_BBOX
 
+from coastmesh.commands import simplify_shoreline_file
 from coastmesh.errors import ConfigError, FormatError, InputDataError
 from coastmesh.geometry import check_coordinates
 from coastmesh.io.vector import read_features, write_features
-from coastmesh.pipeline import simplify_shoreline_file
 from coastmesh.types import Features
 
 ORKNEY_FIELDS = [
@@ -188,9 +188,9 @@ def test_missing_file(tmp_path):
 
 @pytest.mark.parametrize("name", ["etopo1_0.1deg_orkney_wide.tif", "README.md"])
 def test_not_a_vector_file(tmp_path, name):
-    from coastmesh import datasets
+    from coastmesh.data import path as data_path
 
-    path = datasets.path(name) if name.endswith(".tif") else tmp_path / name
+    path = data_path(name) if name.endswith(".tif") else tmp_path / name
     if not path.exists():
         path.write_text("# not vector data\n")
     with pytest.raises(FormatError, match="not a vector file") as info:

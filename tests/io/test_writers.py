@@ -23,7 +23,7 @@ from coastmesh.io.writers import (
     register_mesh_format,
     write_mesh,
 )
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 
 @pytest.fixture

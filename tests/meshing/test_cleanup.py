@@ -10,7 +10,7 @@ import pytest
 from coastmesh.errors import ConfigError
 from coastmesh.meshing.cleanup import clean_mesh
 from coastmesh.meshing.topology import boundary_rings
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 
 def _check_valid(before: Mesh, after: Mesh) -> None:
@@ -80,7 +80,7 @@ def test_real_mesh_stays_valid(tmp_path):
     from pathlib import Path
 
     from coastmesh.case import run_case
-    from coastmesh.config import parse_case
+    from coastmesh.case.config import parse_case
 
     example = Path(__file__).parents[2] / "examples" / "orkney" / "pentland_firth.toml"
     text = example.read_text().replace('h_min = "150 m"', 'h_min = "300 m"')

@@ -8,12 +8,12 @@ import xarray as xr
 from pyproj import Geod
 from scipy.interpolate import RegularGridInterpolator
 
-from coastmesh import datasets
+from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError
 from coastmesh.io import read_raster
 from coastmesh.meshing import SizeGrid, generate_mesh
 from coastmesh.meshing.depth import depth_at_nodes, limit_slope
-from coastmesh.meshing.types import BoundarySegment, Domain, Mesh
+from coastmesh.types import BoundarySegment, Domain, Mesh
 
 GEOD = Geod(ellps="WGS84")
 
@@ -37,7 +37,7 @@ def orkney_mesh():
 
 @pytest.fixture(scope="module")
 def etopo():
-    return read_raster(datasets.path("etopo1_0.1deg_orkney_wide.tif"))
+    return read_raster(data_path("etopo1_0.1deg_orkney_wide.tif"))
 
 
 def test_bilinear_matches_scipy(orkney_mesh, etopo):

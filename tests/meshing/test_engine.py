@@ -20,7 +20,7 @@ from coastmesh.meshing.engine import (
     generate_mesh,
     sample_size,
 )
-from coastmesh.meshing.types import BoundarySegment, Domain, Mesh, SizeGrid
+from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
 
 OUTER = np.array([[0, 0], [10000, 0], [10000, 10000], [0, 10000], [0, 0]], float)
 ISLAND = np.array(

@@ -23,8 +23,8 @@ from coastmesh.io.msh import write_msh
 from coastmesh.meshing import SizeGrid, generate_mesh
 from coastmesh.meshing import quality as quality_module
 from coastmesh.meshing.quality import edge_quality, mesh_quality, triangle_quality
-from coastmesh.meshing.types import BoundarySegment, Domain, Mesh
-from coastmesh.plot_quality import depth_figure, quality_figure
+from coastmesh.plot.quality import depth_figure, quality_figure
+from coastmesh.types import BoundarySegment, Domain, Mesh
 
 GEOD = Geod(ellps="WGS84")
 RTOL = 1e-6

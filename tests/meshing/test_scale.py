@@ -13,7 +13,7 @@ from coastmesh.meshing.engine import (
     default_mesh_crs,
     generate_mesh,
 )
-from coastmesh.meshing.types import BoundarySegment, Domain, SizeGrid
+from coastmesh.types import BoundarySegment, Domain, SizeGrid
 
 GEOD = Geod(ellps="WGS84")
 H = 5000.0  # target edge length, metres on the Earth

@@ -8,7 +8,7 @@ import shapely
 
 from coastmesh.errors import FormatError
 from coastmesh.meshing.topology import boundary_rings, boundary_strings
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 
 def test_rings_cover_every_boundary_edge_once(mesh_with_islands):

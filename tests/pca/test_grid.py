@@ -8,7 +8,7 @@ from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 from reference import simplify_raster_dense, simplify_raster_reference
 
-from coastmesh import datasets
+from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError
 from coastmesh.pca import grid as grid_module
 from coastmesh.pca import raster_modes, simplify_raster
@@ -110,7 +110,7 @@ def test_uncovered_cells_keep_their_values(strips):
 @pytest.mark.parametrize("modes", [1, 16, 48, 64])
 def test_real_orkney_raster(strips, modes):
     rasterio = pytest.importorskip("rasterio")
-    with rasterio.open(datasets.path("etopo1_0.1deg_orkney_wide.tif")) as src:
+    with rasterio.open(data_path("etopo1_0.1deg_orkney_wide.tif")) as src:
         grid = src.read(1).astype(float)
     expected = simplify_raster_reference(grid, 8, modes)
     got = simplify_raster(grid, 8, modes)
@@ -122,7 +122,7 @@ def test_real_orkney_raster(strips, modes):
 def test_real_shelf_raster_with_missing_land(strips):
     """The NW shelf grid with land masked out as missing (a real nodata pattern)."""
     rasterio = pytest.importorskip("rasterio")
-    with rasterio.open(datasets.path("etopo1_0.1deg_nwshelf.tif")) as src:
+    with rasterio.open(data_path("etopo1_0.1deg_nwshelf.tif")) as src:
         grid = src.read(1).astype(float)
     grid[grid > 0] = np.nan
     for modes in (1, 16):

@@ -11,7 +11,7 @@ from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 from reference import simplify_contour_dense, simplify_contour_reference
 
-from coastmesh import datasets
+from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.pca import contour_modes, line, simplify_contour
 
@@ -116,7 +116,7 @@ def test_smooths_noise_on_a_circle():
 
 
 def _norway_rings(min_points: int):
-    data = json.loads(datasets.path("norway_west_gshhg_f.geojson").read_text())
+    data = json.loads(data_path("norway_west_gshhg_f.geojson").read_text())
     for feature in data["features"]:
         geom = feature["geometry"]
         polygons = (

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from pyproj import Transformer
 
-from coastmesh import datasets
+from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError
 from coastmesh.io import read_raster
 from coastmesh.sizing import M2_PERIOD, depth_on_grid, slope_size, wavelength_size
@@ -30,7 +30,7 @@ def _bilinear(raster, lon, lat):
 
 
 def test_depth_on_a_utm_grid_matches_bilinear():
-    raster = read_raster(datasets.path("etopo1_0.1deg_orkney_wide.tif"))
+    raster = read_raster(data_path("etopo1_0.1deg_orkney_wide.tif"))
     to_utm = Transformer.from_crs("EPSG:4326", "EPSG:32630", always_xy=True)
     x0, y0 = to_utm.transform(-4.0, 58.0)
     x = x0 + 7_000.0 * np.arange(12)

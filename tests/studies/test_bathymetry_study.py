@@ -19,16 +19,16 @@ import rasterio
 import rasterio.windows
 from reference import simplify_raster_dense
 
-from coastmesh import datasets
-from coastmesh.config import StudyCase, _Table, load_case
-from coastmesh.errors import ConfigError, InputDataError
-from coastmesh.studies.bathymetry import (
+from coastmesh.case.config import StudyCase, _Table, load_case
+from coastmesh.case.studies.bathymetry import (
     BathymetryStudyConfig,
     _maps_figure,
     _surfaces_figure,
     parse_study,
     run_study,
 )
+from coastmesh.data import path as data_path
+from coastmesh.errors import ConfigError, InputDataError
 
 EXAMPLE = Path(__file__).parents[2] / "examples" / "orkney_bathymetry" / "orkney.toml"
 BBOX = (-4.0, 58.0, -2.0, 60.0)  # 21 x 21 cells around Orkney and Caithness
@@ -57,7 +57,7 @@ def study(tmp_path_factory):
         yield lambda done, total: calls[label].append((done, total))
 
     config = BathymetryStudyConfig(
-        datasets.path("etopo1_0.1deg_orkney_wide.tif"), BBOX, 8, MODES, "orkney"
+        data_path("etopo1_0.1deg_orkney_wide.tif"), BBOX, 8, MODES, "orkney"
     )
     folder = tmp_path_factory.mktemp("bathymetry")
     result = run_study(config, folder, stage)
@@ -151,7 +151,7 @@ def test_example_case_parses():
     assert (case.name, case.kind) == ("orkney_bathymetry", "bathymetry")
     # the repository's data file (the installed package may sit elsewhere)
     assert case.study.path.is_file()
-    assert case.study.path.name == datasets.path("etopo1_0.1deg_orkney_wide.tif").name
+    assert case.study.path.name == data_path("etopo1_0.1deg_orkney_wide.tif").name
     assert case.study == BathymetryStudyConfig(
         case.study.path, None, 8, (1, 16, 32, 48), "orkney"
     )
@@ -244,7 +244,7 @@ def test_rasters_match_the_literal_algorithm(study, source_grid):
 
 def test_too_small_a_raster_is_refused(tmp_path):
     config = BathymetryStudyConfig(
-        datasets.path("etopo1_0.1deg_orkney_wide.tif"), (-3.3, 58.8, -2.9, 59.2)
+        data_path("etopo1_0.1deg_orkney_wide.tif"), (-3.3, 58.8, -2.9, 59.2)
     )
     with pytest.raises(
         InputDataError,

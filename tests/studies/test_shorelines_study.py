@@ -14,15 +14,15 @@ import shapely
 from pyproj import CRS, Transformer
 from scipy.spatial import cKDTree
 
-from coastmesh.config import _Table, load_case
-from coastmesh.errors import ConfigError
-from coastmesh.io import read_features, write_features
-from coastmesh.studies.shorelines import (
+from coastmesh.case.config import _Table, load_case
+from coastmesh.case.studies.shorelines import (
     ShorelineStudyConfig,
     _distances,
     parse_study,
     run_study,
 )
+from coastmesh.errors import ConfigError
+from coastmesh.io import read_features, write_features
 
 ROOT = Path(__file__).parents[2]
 EXAMPLE = ROOT / "examples" / "norway" / "sognefjorden.toml"

@@ -102,7 +102,7 @@ def convert(
     Example:
       coastmesh convert out/case/case.msh fort.14 --bathymetry gebco.nc --min-depth 5
     """  # noqa: D301 (\b keeps click from rewrapping the lists)
-    from coastmesh.convert import convert_mesh
+    from coastmesh.commands.convert import convert_mesh
 
     result = convert_mesh(
         src,

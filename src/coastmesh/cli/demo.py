@@ -36,7 +36,7 @@ def demo(ctx: click.Context, *, outdir: Path, overwrite: bool) -> None:
     eight model formats, the quality report and figures. OUTDIR must not exist or
     be empty, unless --overwrite is given.
     """
-    from coastmesh.pipeline import run_demo
+    from coastmesh.commands.demo import run_demo
 
     quiet = ctx.find_root().obj.get("quiet", False)
     with ProgressBar("demo steps", enabled=not quiet) as progress:

@@ -82,7 +82,7 @@ def _check_bbox(
     if value is None:
         return None
     from coastmesh.errors import ConfigError
-    from coastmesh.io._inputs import check_bbox
+    from coastmesh.io import check_bbox
 
     try:
         return check_bbox(value)

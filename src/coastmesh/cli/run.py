@@ -51,7 +51,7 @@ def run(
     end, so a failed run leaves nothing. OUTPUT must not exist or be empty, unless
     --overwrite is given.
     """
-    from coastmesh.config import StudyCase, load_case
+    from coastmesh.case.config import StudyCase, load_case
 
     config = load_case(case)
     quiet = ctx.find_root().obj.get("quiet", False)

@@ -75,7 +75,7 @@ def simplify_raster(
             f"window; use 1 to {rows * columns}",
             param_hint="'--modes'",
         )
-    from coastmesh.pipeline import simplify_raster_file
+    from coastmesh.commands.simplify_raster import simplify_raster_file
 
     quiet = ctx.find_root().obj.get("quiet", False)
     with ProgressBar("raster stages", enabled=not quiet) as progress:

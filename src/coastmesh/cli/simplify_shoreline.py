@@ -70,7 +70,7 @@ def simplify_shoreline(
             f"{modes} is more than --window ({window}); use 1 to {window}",
             param_hint="'--modes'",
         )
-    from coastmesh.pipeline import simplify_shoreline_file
+    from coastmesh.commands.simplify_shoreline import simplify_shoreline_file
 
     quiet = ctx.find_root().obj.get("quiet", False)
     start = time.perf_counter()

@@ -19,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS, Geod, Transformer
 
 from coastmesh.errors import ConfigError, InputDataError
-from coastmesh.meshing.types import BoundarySegment, Domain
+from coastmesh.types import BoundarySegment, Domain
 
 __all__ = ["DomainReport", "OpenBoundary", "build_domain", "polygon_areas"]
 

@@ -19,9 +19,9 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import InputDataError
-from coastmesh.pca._threads import single_threaded_blas
 from coastmesh.pca.checks import check_modes, check_window
 from coastmesh.pca.line import simplify_contour
+from coastmesh.pca.threads import single_threaded_blas
 from coastmesh.types import Features
 
 logger = logging.getLogger(__name__)

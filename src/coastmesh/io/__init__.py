@@ -5,9 +5,9 @@
 :func:`write_features` :class:`~coastmesh.types.Features` -> vector file
 :func:`read_raster`    raster band -> :class:`xarray.DataArray` (``y``, ``x``)
 :func:`write_raster`   :class:`xarray.DataArray` -> GeoTIFF or NetCDF
-:func:`write_mesh`     :class:`~coastmesh.meshing.types.Mesh` -> msh, GeoPackage, ...
+:func:`write_mesh`     :class:`~coastmesh.types.Mesh` -> msh, GeoPackage, ...
 :func:`mesh_formats`   the mesh output formats, by name
-:func:`write_domain`   :class:`~coastmesh.meshing.types.Domain` -> GeoPackage
+:func:`write_domain`   :class:`~coastmesh.types.Domain` -> GeoPackage
 =====================  ==========================================================
 
 The submodules are imported on first use, so reading vectors does not import
@@ -20,19 +20,48 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from coastmesh.io._inputs import check_bbox
+    from coastmesh.io._atomic import (
+        AtomicOutputs,
+        atomic_directory,
+        atomic_write,
+        check_directory,
+        check_output,
+    )
+    from coastmesh.io._inputs import check_bbox, check_input
+    from coastmesh.io._registry import plot_format, raster_driver, vector_driver
     from coastmesh.io.domain_gpkg import write_domain
     from coastmesh.io.msh import read_msh, write_msh
-    from coastmesh.io.raster import read_raster, write_raster
+    from coastmesh.io.raster import raster_transform, read_raster, write_raster
     from coastmesh.io.vector import read_features, write_features
-    from coastmesh.io.writers import mesh_formats, write_mesh
+    from coastmesh.io.writers import (
+        MeshFormat,
+        format_for_path,
+        mesh_format,
+        mesh_formats,
+        register_mesh_format,
+        write_mesh,
+    )
 
 __all__ = [
+    "AtomicOutputs",
+    "MeshFormat",
+    "atomic_directory",
+    "atomic_write",
     "check_bbox",
+    "check_directory",
+    "check_input",
+    "check_output",
+    "format_for_path",
+    "mesh_format",
     "mesh_formats",
+    "plot_format",
+    "raster_driver",
+    "raster_transform",
     "read_features",
     "read_msh",
     "read_raster",
+    "register_mesh_format",
+    "vector_driver",
     "write_domain",
     "write_features",
     "write_mesh",
@@ -41,15 +70,29 @@ __all__ = [
 ]
 
 _HOME = {
+    "AtomicOutputs": "coastmesh.io._atomic",
+    "atomic_directory": "coastmesh.io._atomic",
+    "atomic_write": "coastmesh.io._atomic",
+    "check_directory": "coastmesh.io._atomic",
+    "check_output": "coastmesh.io._atomic",
     "check_bbox": "coastmesh.io._inputs",
+    "check_input": "coastmesh.io._inputs",
+    "plot_format": "coastmesh.io._registry",
+    "raster_driver": "coastmesh.io._registry",
+    "vector_driver": "coastmesh.io._registry",
     "read_features": "coastmesh.io.vector",
     "write_features": "coastmesh.io.vector",
+    "raster_transform": "coastmesh.io.raster",
     "read_raster": "coastmesh.io.raster",
     "write_raster": "coastmesh.io.raster",
     "read_msh": "coastmesh.io.msh",
     "write_msh": "coastmesh.io.msh",
-    "write_mesh": "coastmesh.io.writers",
+    "MeshFormat": "coastmesh.io.writers",
+    "format_for_path": "coastmesh.io.writers",
+    "mesh_format": "coastmesh.io.writers",
     "mesh_formats": "coastmesh.io.writers",
+    "register_mesh_format": "coastmesh.io.writers",
+    "write_mesh": "coastmesh.io.writers",
     "write_domain": "coastmesh.io.domain_gpkg",
 }
 

@@ -27,6 +27,7 @@ __all__ = [
     "AtomicOutputs",
     "atomic_directory",
     "atomic_write",
+    "check_directory",
     "check_output",
 ]
 
@@ -238,12 +239,12 @@ def atomic_directory(
         If ``path`` is a file, or a non-empty folder and ``overwrite`` is false.
     """
     target = Path(path)
-    _check_directory(target, overwrite=overwrite)
+    check_directory(target, overwrite=overwrite)
     made_dirs = _make_parents(target.parent)
     partial = _unique_folder(target.parent, f"{target.name}.partial-")
     try:
         yield partial
-        _check_directory(target, overwrite=overwrite)
+        check_directory(target, overwrite=overwrite)
         _publish_directory(partial, target)
     except BaseException:
         shutil.rmtree(partial, ignore_errors=True)
@@ -251,7 +252,27 @@ def atomic_directory(
         raise
 
 
-def _check_directory(target: Path, *, overwrite: bool) -> None:
+def check_directory(path: str | os.PathLike[str], *, overwrite: bool = False) -> Path:
+    """Check that an output folder may be filled at ``path``.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The folder. An absent or empty folder may be filled.
+    overwrite : bool, default False
+        Whether a non-empty folder may be replaced.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    OutputExistsError
+        If ``path`` is a file, or a non-empty folder and ``overwrite`` is false.
+    """
+    target = Path(path)
     if target.exists() and not target.is_dir():
         raise OutputExistsError(f"{target} exists and is not a folder")
     if target.is_dir() and any(target.iterdir()) and not overwrite:
@@ -259,6 +280,7 @@ def _check_directory(target: Path, *, overwrite: bool) -> None:
             f"{target} already exists and is not empty; use --overwrite "
             "(overwrite=True) to replace it"
         )
+    return target
 
 
 def _publish_directory(partial: Path, target: Path) -> None:

@@ -43,7 +43,7 @@ from numpy.typing import NDArray
 from coastmesh.errors import CoastmeshWarning, ConfigError, FormatError, InputDataError
 from coastmesh.io._atomic import atomic_write
 from coastmesh.meshing.topology import BoundaryString, boundary_strings
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 __all__ = ["read_fort14", "write_fort14", "write_gr3"]
 

@@ -20,8 +20,7 @@ from pyproj import CRS, Geod
 
 from coastmesh.errors import ConfigError, FormatError
 from coastmesh.io._atomic import atomic_write
-from coastmesh.meshing.types import Domain
-from coastmesh.types import Features
+from coastmesh.types import Domain, Features
 
 __all__ = ["segment_lengths", "write_domain", "write_layers"]
 
@@ -75,7 +74,7 @@ def write_domain(
     --------
     >>> import tempfile, pathlib, pyogrio
     >>> import shapely
-    >>> from coastmesh.meshing.types import BoundarySegment
+    >>> from coastmesh.types import BoundarySegment
     >>> ring = [[0, 0], [1000, 0], [1000, 1000], [0, 1000], [0, 0]]
     >>> domain = Domain(
     ...     shapely.Polygon(ring),
@@ -147,7 +146,7 @@ def segment_lengths(domain: Domain) -> np.ndarray:
     Examples
     --------
     >>> import shapely
-    >>> from coastmesh.meshing.types import BoundarySegment
+    >>> from coastmesh.types import BoundarySegment
     >>> ring = [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]
     >>> domain = Domain(
     ...     shapely.Polygon(ring),

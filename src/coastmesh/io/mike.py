@@ -30,7 +30,7 @@ from coastmesh.errors import FormatError
 from coastmesh.io._atomic import atomic_write
 from coastmesh.io.adcirc import node_depth, require_kinds, write_table
 from coastmesh.meshing.topology import boundary_rings
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 __all__ = ["write_mike_mesh"]
 

@@ -20,7 +20,7 @@ from pyproj import CRS
 
 from coastmesh.errors import FormatError
 from coastmesh.io._atomic import atomic_write
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 __all__ = ["MSH_VERSIONS", "read_msh", "write_msh"]
 

@@ -73,8 +73,8 @@ def read_raster(
 
     Examples
     --------
-    >>> from coastmesh import datasets
-    >>> depth = read_raster(datasets.path("etopo1_0.1deg_orkney_wide.tif"))
+    >>> from coastmesh.data import path as data_path
+    >>> depth = read_raster(data_path("etopo1_0.1deg_orkney_wide.tif"))
     >>> depth.shape, depth.dims
     ((51, 101), ('y', 'x'))
     """

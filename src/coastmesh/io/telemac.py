@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 from coastmesh.errors import CoastmeshWarning, FormatError
 from coastmesh.io._atomic import AtomicOutputs, check_output
 from coastmesh.meshing.topology import BoundaryRing, boundary_rings
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 __all__ = ["write_selafin"]
 

@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 from coastmesh.errors import FormatError
 from coastmesh.io._atomic import atomic_write
 from coastmesh.meshing.topology import unique_edges
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 __all__ = ["write_ugrid", "write_vtu"]
 

@@ -87,8 +87,8 @@ def read_features(
 
     Examples
     --------
-    >>> from coastmesh import datasets
-    >>> coast = read_features(datasets.path("orkney_gshhg_f.geojson"))
+    >>> from coastmesh.data import path as data_path
+    >>> coast = read_features(data_path("orkney_gshhg_f.geojson"))
     >>> len(coast), coast.crs.to_epsg()
     (84, 4326)
     """

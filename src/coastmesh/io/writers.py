@@ -43,7 +43,7 @@ from coastmesh.io.adcirc import write_fort14, write_gr3
 from coastmesh.io.mike import write_mike_mesh
 from coastmesh.io.telemac import write_selafin
 from coastmesh.io.ugrid import write_ugrid, write_vtu
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 __all__ = [
     "MeshFormat",
@@ -290,7 +290,7 @@ def write_mesh(
     FormatError
         If ``format`` is not given and the file name selects no format.
     TypeError
-        If ``mesh`` is not a :class:`~coastmesh.meshing.types.Mesh`.
+        If ``mesh`` is not a :class:`~coastmesh.types.Mesh`.
     OutputExistsError
         If ``path`` exists and ``overwrite`` is false.
 

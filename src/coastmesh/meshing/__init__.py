@@ -19,7 +19,7 @@ from coastmesh.meshing.boundary import (
     resample_segment,
 )
 from coastmesh.meshing.engine import default_mesh_crs, generate_mesh, sample_size
-from coastmesh.meshing.types import BoundarySegment, Domain, Mesh, SizeGrid
+from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
 
 __all__ = [
     "BoundarySegment",

@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 from pyproj import CRS, Transformer
 
 from coastmesh.errors import ConfigError
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 __all__ = ["CleanupReport", "clean_mesh"]
 

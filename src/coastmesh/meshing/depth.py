@@ -17,8 +17,8 @@ from scipy.spatial import cKDTree
 
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.meshing.topology import unique_edges
-from coastmesh.meshing.types import Mesh
 from coastmesh.sizing.units import EARTH_RADIUS
+from coastmesh.types import Mesh
 
 __all__ = ["DEPTH_METHODS", "DepthReport", "depth_at_nodes", "limit_slope"]
 

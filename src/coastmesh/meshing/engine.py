@@ -22,7 +22,7 @@ from pyproj.crs import ProjectedCRS
 
 from coastmesh.errors import MeshingError
 from coastmesh.meshing.boundary import resample_rings
-from coastmesh.meshing.types import Domain, Mesh, SizeGrid
+from coastmesh.types import Domain, Mesh, SizeGrid
 
 __all__ = ["ALGORITHMS", "default_mesh_crs", "generate_mesh", "sample_size"]
 
@@ -86,7 +86,7 @@ def default_mesh_crs(domain: Domain) -> CRS:
     Examples
     --------
     >>> import shapely
-    >>> from coastmesh.meshing.types import BoundarySegment
+    >>> from coastmesh.types import BoundarySegment
     >>> ring = [[-3, 58], [-2, 58], [-2, 59], [-3, 59], [-3, 58]]
     >>> d = Domain(shapely.Polygon(ring), (BoundarySegment(ring, "open", "b", 1),),
     ...            crs="EPSG:4326")
@@ -344,7 +344,7 @@ def generate_mesh(
     Examples
     --------
     >>> import shapely
-    >>> from coastmesh.meshing.types import BoundarySegment
+    >>> from coastmesh.types import BoundarySegment
     >>> ring = [[0, 0], [1000, 0], [1000, 1000], [0, 1000], [0, 0]]
     >>> d = Domain(shapely.Polygon(ring), (BoundarySegment(ring, "open", "b", 3),),
     ...            crs="EPSG:32630")

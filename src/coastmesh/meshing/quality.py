@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS, Transformer
 
 from coastmesh.meshing.topology import unique_edges
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 __all__ = [
     "EDGE_RATIO_RANGE",

@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from coastmesh.errors import FormatError
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 __all__ = [
     "BoundaryRing",

@@ -47,8 +47,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import InputDataError
 from coastmesh.pca._eigen import leading_eigenvectors
-from coastmesh.pca._threads import single_threaded_blas
 from coastmesh.pca.checks import check_modes, check_window
+from coastmesh.pca.threads import single_threaded_blas
 
 __all__ = ["contour_modes", "simplify_contour"]
 

@@ -1,6 +1,6 @@
 """Figures of mesh quality and of depth on the mesh.
 
-Like :mod:`coastmesh.plot_mesh`, these build a :class:`matplotlib.figure.Figure`
+Like :mod:`coastmesh.plot.mesh`, these build a :class:`matplotlib.figure.Figure`
 without pyplot; save them with :func:`coastmesh.plot.save_figure`.
 """
 
@@ -17,14 +17,14 @@ from coastmesh.meshing.quality import (
     mesh_quality,
     triangle_quality,
 )
-from coastmesh.plot import _geographic_axes
+from coastmesh.plot.base import geographic_axes
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
     from numpy.typing import NDArray
 
-    from coastmesh.meshing.types import Mesh
+    from coastmesh.types import Mesh
 
 __all__ = ["depth_figure", "quality_figure"]
 
@@ -55,7 +55,7 @@ def quality_figure(
 
     Examples
     --------
-    >>> from coastmesh.meshing.types import Mesh
+    >>> from coastmesh.types import Mesh
     >>> m = Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]],
     ...          [1, 1, 1], 1, None)
     >>> len(quality_figure(m).axes)
@@ -127,7 +127,7 @@ def depth_figure(mesh: Mesh, *, title: str | None = None) -> Figure:
 
     Examples
     --------
-    >>> from coastmesh.meshing.types import Mesh
+    >>> from coastmesh.types import Mesh
     >>> m = Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]],
     ...          [1, 1, 1], 1, "EPSG:4326", {"depth": [5.0, 10.0, 20.0]})
     >>> len(depth_figure(m).axes)
@@ -170,7 +170,7 @@ def depth_figure(mesh: Mesh, *, title: str | None = None) -> Figure:
     )
     figure.colorbar(image, ax=ax, label="depth (m, positive down)")
     _frame(ax, mesh.points)
-    _geographic_axes(ax, mesh.crs, _bounds(mesh.points))
+    geographic_axes(ax, mesh.crs, _bounds(mesh.points))
     ax.ticklabel_format(useOffset=False)
     span = f"{low:,.1f} to {high:,.1f} m" if finite.any() else "no finite values"
     ax.set_title(f"{title or 'depth'}: {span}")

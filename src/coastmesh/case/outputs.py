@@ -12,7 +12,7 @@ import numpy as np
 import shapely
 from pyproj import CRS
 
-from coastmesh.config import CaseConfig
+from coastmesh.case.config import CaseConfig
 from coastmesh.types import Features
 
 __all__ = ["CaseProducts", "build_report", "write_case_copy", "write_outputs"]
@@ -221,7 +221,8 @@ def _write_figures(
     config: CaseConfig, folder: Path, products: CaseProducts
 ) -> list[str]:
     """Draw the domain, mesh, size, quality and depth figures into figures/."""
-    from coastmesh import plot_mesh, plot_quality
+    from coastmesh.plot import mesh as plot_mesh
+    from coastmesh.plot import quality as plot_quality
     from coastmesh.plot import save_figure
 
     mesh, name = products.mesh, config.name

@@ -44,7 +44,7 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS, Transformer
 
-from coastmesh.config import _boolean, _box, _integer, _length, _string, _Table
+from coastmesh.case.config import _boolean, _box, _integer, _length, _string, _Table
 from coastmesh.errors import ConfigError, InputDataError
 
 __all__ = [
@@ -145,7 +145,7 @@ def parse_study(
 
     Parameters
     ----------
-    table : coastmesh.config._Table
+    table : coastmesh.case.config._Table
         The ``[study]`` table.
     path_of : callable
         ``path_of(value, key)`` resolves a path relative to the case file.
@@ -227,14 +227,14 @@ def run_study(
         If the ``detail`` box holds no shoreline.
     """
     from coastmesh.geometry import densify_long_edges, simplify_shorelines
-    from coastmesh.plot import _detail_bounds
+    from coastmesh.plot.base import detail_bounds
 
     started = time.perf_counter()
     with stage("reading shorelines"):
         features = _read(config)
     crs = features.crs
     bounds = tuple(float(v) for v in shapely.total_bounds(features.geometry))
-    detail = config.detail or _detail_bounds(features.geometry, crs)
+    detail = config.detail or detail_bounds(features.geometry, crs)
     if not shapely.intersects(shapely.box(*detail), features.geometry).any():
         raise ConfigError(
             f"study.detail = {list(detail)}: the box holds no shoreline of "
@@ -453,26 +453,26 @@ def _figures(
     from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
 
-    from coastmesh.plot import (
-        _contours,
-        _geographic_axes,
-        _total_bounds,
-        _x_stretch,
+    from coastmesh.plot.base import (
+        contours,
+        geographic_axes,
         save_figure,
+        total_bounds,
+        x_stretch,
     )
 
     (folder / "figures").mkdir(exist_ok=True)
-    extent = _total_bounds(original)
+    extent = total_bounds(original)
     names = []
     for view, box, width in (("whole", extent, 0.5), ("detail", detail, 1.2)):
-        ratio = (box[2] - box[0]) / _x_stretch(crs, box) / (box[3] - box[1])
+        ratio = (box[2] - box[0]) / x_stretch(crs, box) / (box[3] - box[1])
         figure = Figure(
             figsize=(min(max(9 * ratio, 5), 16) + 2, 9), layout="constrained"
         )
         ax = figure.add_subplot()
         ax.add_collection(
             LineCollection(
-                _contours(original),
+                contours(original),
                 colors="0.15",
                 linewidths=width * 1.4,
                 label=f"original ({_distinct_points(original):,} points)",
@@ -483,7 +483,7 @@ def _figures(
         ):
             ax.add_collection(
                 LineCollection(
-                    _contours(out),
+                    contours(out),
                     colors=_COLOURS[k % len(_COLOURS)],
                     linewidths=width,
                     label=f"{rec.label} ({rec.name})",
@@ -491,7 +491,7 @@ def _figures(
             )
         ax.set_xlim(box[0], box[2])
         ax.set_ylim(box[1], box[3])
-        _geographic_axes(ax, crs, box)
+        geographic_axes(ax, crs, box)
         if view == "whole":
             ax.add_patch(
                 Rectangle(

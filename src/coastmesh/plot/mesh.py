@@ -12,14 +12,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from coastmesh.plot import _geographic_axes
+from coastmesh.plot.base import geographic_axes
 
 if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from coastmesh.meshing.types import Domain, Mesh
+    from coastmesh.types import Domain, Mesh
 
 __all__ = ["domain_figure", "mercator_figure", "mesh_figure", "size_figure"]
 
@@ -63,7 +63,7 @@ def domain_figure(domain: Domain, *, title: str | None = None) -> Figure:
     Examples
     --------
     >>> import shapely
-    >>> from coastmesh.meshing.types import BoundarySegment, Domain
+    >>> from coastmesh.types import BoundarySegment, Domain
     >>> ring = [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]
     >>> d = Domain(shapely.Polygon(ring),
     ...            (BoundarySegment(ring, "open", "sea", 2),), crs="EPSG:32630")
@@ -204,7 +204,7 @@ def _frame(ax: Axes, bounds: tuple[float, ...], crs: Any) -> None:
     padx, pady = 0.02 * (maxx - minx), 0.02 * (maxy - miny)
     ax.set_xlim(minx - padx, maxx + padx)
     ax.set_ylim(miny - pady, maxy + pady)
-    _geographic_axes(ax, crs, (minx, miny, maxx, maxy))
+    geographic_axes(ax, crs, (minx, miny, maxx, maxy))
 
 
 def mercator_figure(

@@ -17,11 +17,11 @@ The stages, each reported to the ``progress`` factory and the log:
    (:mod:`~coastmesh.meshing.depth`) and measure the quality
    (:mod:`~coastmesh.meshing.quality`);
 6. write the mesh formats, the domain GeoPackage, the size field, the reports
-   and figures (:mod:`coastmesh.case_outputs`) into ``<output>.partial-XXXX/``,
+   and figures (:mod:`coastmesh.case.outputs`) into ``<output>.partial-XXXX/``,
    renamed to ``<output>`` at the end: a failed run leaves nothing.
 
 A case with ``[case] kind = "shorelines"`` or ``"bathymetry"`` runs one of the
-paper's PCA studies (:mod:`coastmesh.studies`) instead.
+paper's PCA studies (:mod:`coastmesh.case.studies`) instead.
 """
 
 from __future__ import annotations
@@ -40,18 +40,18 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS, Transformer
 
-from coastmesh.case_outputs import (
-    CaseProducts,
-    build_report,
-    write_case_copy,
-    write_outputs,
-)
-from coastmesh.config import (
+from coastmesh.case.config import (
     BoundaryConfig,
     CaseConfig,
     RegionConfig,
     StudyCase,
     load_case,
+)
+from coastmesh.case.outputs import (
+    CaseProducts,
+    build_report,
+    write_case_copy,
+    write_outputs,
 )
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry.domain import polygon_areas
@@ -108,7 +108,7 @@ def run_case(
     Parameters
     ----------
     case : CaseConfig or path
-        The case, or its TOML file (read with :func:`coastmesh.config.load_case`).
+        The case, or its TOML file (read with :func:`coastmesh.case.config.load_case`).
     output : str or path-like, optional
         The output folder; default: the case's ``[case] output``.
     overwrite : bool, default False
@@ -134,11 +134,11 @@ def run_case(
     OutputExistsError
         If the output folder exists, is not empty, and ``overwrite`` is false.
     """
-    from coastmesh.io._atomic import _check_directory, atomic_directory
+    from coastmesh.io import atomic_directory, check_directory
 
     config = case if isinstance(case, CaseConfig | StudyCase) else load_case(case)
     target = Path(output) if output is not None else config.output
-    _check_directory(target, overwrite=overwrite)  # fail before the work
+    check_directory(target, overwrite=overwrite)  # fail before the work
     stage = stage or _quiet_stage
     if isinstance(config, StudyCase):
         return _run_study(config, target, overwrite, stage)
@@ -236,9 +236,9 @@ def _run_study(
     """Run a PCA study case (``[case] kind``) into ``target``, atomically."""
     import importlib
 
-    from coastmesh.io._atomic import atomic_directory
+    from coastmesh.io import atomic_directory
 
-    module = importlib.import_module(f"coastmesh.studies.{config.kind}")
+    module = importlib.import_module(f"coastmesh.case.studies.{config.kind}")
     with atomic_directory(target, overwrite=overwrite) as folder:
         result = module.run_study(config.study, folder, stage)
         write_case_copy(folder, config.source, config.text)

@@ -436,7 +436,7 @@ class CaseConfig:
 class StudyCase:
     """A case of another kind than a mesh: one of the paper's PCA studies.
 
-    ``study`` is the parsed ``[study]`` table of ``coastmesh.studies.<kind>``.
+    ``study`` is the parsed ``[study]`` table of ``coastmesh.case.studies.<kind>``.
     """
 
     source: Path
@@ -534,7 +534,7 @@ def parse_case(text: str, source: str | Path) -> CaseConfig | StudyCase:
         import importlib
 
         table = root.table("study", required=True)
-        module = importlib.import_module(f"coastmesh.studies.{kind}")
+        module = importlib.import_module(f"coastmesh.case.studies.{kind}")
         study = module.parse_study(table, path_of)
         root.done()
         return StudyCase(source, name, kind, output, study, text)

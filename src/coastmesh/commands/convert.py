@@ -15,7 +15,7 @@ from typing import Any
 from pyproj import CRS
 
 from coastmesh.errors import ConfigError, FormatError
-from coastmesh.meshing.types import Mesh
+from coastmesh.types import Mesh
 
 __all__ = ["ConvertResult", "convert_mesh"]
 
@@ -96,8 +96,7 @@ def convert_mesh(
     ConfigError
         If ``open_ids`` names ids the mesh does not have.
     """
-    from coastmesh.io import read_msh
-    from coastmesh.io._atomic import check_output
+    from coastmesh.io import check_output, read_msh
     from coastmesh.io.writers import format_for_path, mesh_format, write_mesh
 
     fmt = mesh_format(format) if format else format_for_path(dst)

@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from coastmesh.config import _box, _integer, _Table
+from coastmesh.case.config import _box, _integer, _Table
 from coastmesh.errors import ConfigError, InputDataError
 
 if TYPE_CHECKING:
@@ -122,7 +122,7 @@ def parse_study(
 
     Parameters
     ----------
-    table : coastmesh.config._Table
+    table : coastmesh.case.config._Table
         The table; keys ``path`` (required), ``bbox``, ``window`` (default 8),
         ``modes`` (default: 1 and a quarter, half and three quarters of
         ``window**2``, i.e. 1, 16, 32, 48 for 8) and ``prefix`` (default: the
@@ -142,7 +142,7 @@ def parse_study(
     Examples
     --------
     >>> from pathlib import Path
-    >>> from coastmesh.config import _Table
+    >>> from coastmesh.case.config import _Table
     >>> table = _Table({"path": "orkney.tif", "window": 4}, "study", "case.toml")
     >>> study = parse_study(table, lambda value, key: Path("/data") / value)
     >>> study.path.as_posix(), study.window, study.modes, study.prefix
@@ -193,7 +193,7 @@ def run_study(
     """
     from coastmesh.io import read_raster, write_raster
     from coastmesh.pca import raster_modes, simplify_raster
-    from coastmesh.pca._threads import single_threaded_blas
+    from coastmesh.pca.threads import single_threaded_blas
 
     started = time.perf_counter()
     folder = Path(folder)
@@ -353,7 +353,7 @@ def _write_tables(folder, config, raster, rows, curve, spectrum) -> list[str]:
 
 
 def _write_figures(folder, config, raster, kept, curve, spectrum, progress):
-    from coastmesh.plot import save_figure
+    from coastmesh.plot.base import save_figure
 
     (folder / "figures").mkdir()
     panels = [(_title(r), kept[r]) for r in config.modes]
@@ -383,29 +383,29 @@ def _grid(count: int) -> tuple[int, int]:
 
 def _relief(panels) -> tuple[Any, Any]:
     """Colour map and norm shared by every panel: the range of all of them."""
-    from coastmesh.plot import _relief_style
+    from coastmesh.plot.base import relief_style
 
     low = min(float(np.nanmin(v)) for _, v in panels)
     high = max(float(np.nanmax(v)) for _, v in panels)
-    return _relief_style(None, low, high)
+    return relief_style(None, low, high)
 
 
 def _maps_figure(raster: xr.DataArray, panels) -> Figure:
     """Each approximation and the input as a map, on one colour scale."""
     from matplotlib.figure import Figure
 
-    from coastmesh.plot import _crs, _geographic_axes, _raster_extent
+    from coastmesh.plot.base import as_crs, geographic_axes, raster_extent
 
     rows, columns = _grid(len(panels))
     figure = Figure(figsize=(5.2 * columns, 3.6 * rows), layout="constrained")
     axes = np.asarray(figure.subplots(rows, columns, squeeze=False)).ravel()
     cmap, norm = _relief(panels)
-    extent = _raster_extent(raster)
-    crs = _crs(raster.attrs.get("crs"))
+    extent = raster_extent(raster)
+    crs = as_crs(raster.attrs.get("crs"))
     for k, (ax, (title, values)) in enumerate(zip(axes, panels, strict=False)):
         image = ax.imshow(values, extent=extent, origin="upper", cmap=cmap, norm=norm)
         ax.set_title(f"({chr(ord('a') + k)}) {title}")
-        _geographic_axes(ax, crs, (extent[0], extent[2], extent[1], extent[3]))
+        geographic_axes(ax, crs, (extent[0], extent[2], extent[1], extent[3]))
     for ax in axes[len(panels) :]:
         ax.set_axis_off()
     bar = figure.colorbar(image, ax=axes[: len(panels)].tolist(), shrink=0.8)
@@ -419,10 +419,10 @@ def _surfaces_figure(raster: xr.DataArray, panels) -> Figure:
     import mpl_toolkits.mplot3d  # noqa: F401  (registers the 3d projection)
     from matplotlib.figure import Figure
 
-    from coastmesh.plot import _crs
+    from coastmesh.plot.base import as_crs
 
     x, y = np.meshgrid(raster["x"].values, raster["y"].values)
-    crs = _crs(raster.attrs.get("crs"))
+    crs = as_crs(raster.attrs.get("crs"))
     low = min(float(np.nanmin(v)) for _, v in panels)
     high = max(float(np.nanmax(v)) for _, v in panels)
     width, depth = float(np.ptp(x)), float(np.ptp(y))

@@ -1,0 +1,48 @@
+"""Figures, drawn with matplotlib, which is imported only when a plot is made.
+
+=================================  ============================================
+:func:`shoreline_figure`           a shoreline over its PCA approximation
+:func:`raster_figure`              a raster, its approximation, the difference
+:func:`plot_shoreline_overlay`     the same on one Axes
+:func:`plot_raster_comparison`     the same on three Axes
+:func:`domain_figure`              a domain, boundary segments coloured by id
+:func:`mesh_figure`                a mesh, boundary edges coloured by id
+:func:`mercator_figure`            a mesh in Mercator, whole and a detail
+:func:`size_figure`                a size field on a logarithmic scale
+:func:`quality_figure`             histograms of angles, ratios, edge sizes
+:func:`depth_figure`               depth at the nodes
+:func:`save_figure`                save a figure atomically
+=================================  ============================================
+
+The ``plot_*`` functions draw on an Axes (a new pyplot one when ``ax`` is None,
+on the Agg backend when there is no display) and return it; the ``*_figure``
+functions build a whole :class:`matplotlib.figure.Figure` without pyplot, for
+:func:`save_figure`. :mod:`coastmesh.plot.base` has the helpers they share
+(axes in longitude and latitude, relief colours, extents).
+"""
+
+from __future__ import annotations
+
+from coastmesh.plot.base import save_figure
+from coastmesh.plot.mesh import domain_figure, mercator_figure, mesh_figure, size_figure
+from coastmesh.plot.pca import (
+    plot_raster_comparison,
+    plot_shoreline_overlay,
+    raster_figure,
+    shoreline_figure,
+)
+from coastmesh.plot.quality import depth_figure, quality_figure
+
+__all__ = [
+    "depth_figure",
+    "domain_figure",
+    "mercator_figure",
+    "mesh_figure",
+    "plot_raster_comparison",
+    "plot_shoreline_overlay",
+    "quality_figure",
+    "raster_figure",
+    "save_figure",
+    "shoreline_figure",
+    "size_figure",
+]

@@ -1,0 +1,41 @@
+"""The core data types of coastmesh, shared by every stage.
+
+=========================  ===================================================
+:class:`Features`          vector features: geometries, CRS, attributes, ids
+:class:`BoundarySegment`   a piece of a domain boundary with its physical id
+:class:`Domain`            a polygon to mesh and its tagged boundary segments
+:class:`SizeGrid`          target edge lengths (metres) on a regular grid
+:class:`Mesh`              triangles, tagged boundary edges, node data
+:data:`Progress`           ``progress(done, total)`` callbacks of long work
+:data:`StageFactory`       ``stage(label)``: a context manager per run stage
+=========================  ===================================================
+
+Types are few, immutable and validated when built. Constructors never read
+files: the readers in :mod:`coastmesh.io` return these types.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Callable
+
+from coastmesh.types.domain import SEGMENT_KINDS, BoundarySegment, Domain
+from coastmesh.types.features import Features
+from coastmesh.types.mesh import Mesh, SizeGrid
+
+__all__ = [
+    "SEGMENT_KINDS",
+    "BoundarySegment",
+    "Domain",
+    "Features",
+    "Mesh",
+    "Progress",
+    "SizeGrid",
+    "StageFactory",
+]
+
+#: A callback of long work: ``progress(done, total)``, in any units.
+Progress = Callable[[int, int], None]
+#: ``stage(label)`` returns a context manager that yields a :data:`Progress`;
+#: whole runs enter one per stage (the command line draws a bar for each).
+StageFactory = Callable[[str], contextlib.AbstractContextManager[Progress]]
