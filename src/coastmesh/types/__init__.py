@@ -8,6 +8,7 @@
 :class:`Mesh`              triangles, tagged boundary edges, node data
 :data:`Progress`           ``progress(done, total)`` callbacks of long work
 :data:`StageFactory`       ``stage(label)``: a context manager per run stage
+:class:`Report`            base of every report: ``to_dict()`` and ``summary()``
 =========================  ===================================================
 
 Types are few, immutable and validated when built. Constructors never read
@@ -22,6 +23,7 @@ from collections.abc import Callable
 from coastmesh.types.domain import SEGMENT_KINDS, BoundarySegment, Domain
 from coastmesh.types.features import Features
 from coastmesh.types.mesh import Mesh, SizeGrid
+from coastmesh.types.report import Report
 
 __all__ = [
     "SEGMENT_KINDS",
@@ -30,6 +32,7 @@ __all__ = [
     "Features",
     "Mesh",
     "Progress",
+    "Report",
     "SizeGrid",
     "StageFactory",
 ]
