@@ -166,7 +166,7 @@ def bench_resampling() -> None:
             length, target = _edge_lengths(result)
         tiny = int(np.sum(length < 0.25 * target))
         print(
-            f"| {label} | {result.report['seconds']['meshing']:.2f} | "
+            f"| {label} | {result.report.seconds['meshing']:.2f} | "
             f"{result.nodes:,} | {result.triangles:,} | "
             f"{sum(result.boundary_edges.values()):,} | {tiny:,} | {length.min():.1f} |"
         )
@@ -175,7 +175,8 @@ def bench_resampling() -> None:
 def _edge_lengths(result):
     """Geodesic length of every mesh edge and the target size at its middle (m)."""
     from coastmesh.io import read_msh, read_raster
-    from coastmesh.meshing import SizeGrid, sample_size
+    from coastmesh.meshing import sample_size
+    from coastmesh.types import SizeGrid
 
     mesh = read_msh(result.output / f"{result.name}.msh")
     tri = mesh.triangles

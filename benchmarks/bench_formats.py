@@ -12,7 +12,8 @@ regional tidal model. Timed, each in the same run:
    (``tests/reference.py``, on a sample of nodes, scaled);
 2. the quality report against the per-triangle geodesic reference
    (``tests/reference_quality.py``, on a sample of triangles, scaled);
-3. boundary topology, cleanup, and every model writer; fort.14 also against a
+3. boundary topology, cleanup, every model writer, and every reader (the file
+   just written read back with ``read_mesh``); fort.14 also against a
    line-by-line writer (``tests/reference.py``).
 
 Prints Markdown tables.
@@ -36,8 +37,7 @@ from reference import bilinear_loop, write_fort14_loop  # noqa: E402
 from reference_quality import triangle_quality_reference  # noqa: E402
 
 from coastmesh.data import path as data_path  # noqa: E402
-from coastmesh.io import read_raster  # noqa: E402
-from coastmesh.io.writers import mesh_formats, write_mesh  # noqa: E402
+from coastmesh.io import mesh_formats, read_mesh, read_raster, write_mesh  # noqa: E402
 from coastmesh.meshing.cleanup import clean_mesh  # noqa: E402
 from coastmesh.meshing.depth import depth_at_nodes  # noqa: E402
 from coastmesh.meshing.quality import mesh_quality, triangle_quality  # noqa: E402
@@ -157,6 +157,17 @@ def main() -> None:
             )
             size = sum(p.stat().st_size for p in Path(tmp).glob(f"mesh-{name}*"))
             print(f"| write {name} ({size / 1e6:.0f} MB) | {seconds:.2f} |")
+            if fmt.read is not None:
+                seconds, back = timed(
+                    lambda path=path, name=name: read_mesh(
+                        path, format=name, crs=mesh.crs
+                    )
+                )
+                ok = len(back.triangles) == len(mesh.triangles)
+                print(
+                    f"| read {name} ({'same' if ok else 'DIFFERENT'} size) | "
+                    f"{seconds:.2f} |"
+                )
     del report
 
 

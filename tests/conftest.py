@@ -55,8 +55,8 @@ def mesh_with_islands():
     Boundary ids: 2 the open south side, 1 the rest of the coast and the square
     island, 3 the triangular island. UTM 30N, 250 m elements.
     """
-    from coastmesh.meshing import SizeGrid, generate_mesh
-    from coastmesh.types import BoundarySegment, Domain
+    from coastmesh.meshing import generate_mesh
+    from coastmesh.types import BoundarySegment, Domain, SizeGrid
 
     outer = [[0, 0], [4000, 0], [4000, 3000], [0, 3000], [0, 0]]
     holes = [

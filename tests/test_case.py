@@ -17,8 +17,7 @@ import shapely
 from conftest import EXAMPLE, FIGURES, MODEL_EXTENSIONS
 from pyproj import Geod
 
-from coastmesh.case import run_case
-from coastmesh.case.config import load_case, parse_case
+from coastmesh.case import parse_case, read_case, run_case
 from coastmesh.errors import ConfigError, InputDataError, OutputExistsError
 from coastmesh.io.msh import read_msh
 
@@ -61,7 +60,7 @@ def test_example_writes_every_output(example_run):
 
 def test_msh_round_trip_and_boundary_ids(example_run):
     result, out = example_run
-    case = load_case(EXAMPLE)
+    case = read_case(EXAMPLE)
     mesh2 = read_msh(out / "pentland_firth.msh")
     assert len(mesh2.points) == result.nodes
     assert len(mesh2.triangles) == result.triangles
@@ -94,7 +93,8 @@ def test_mesh_follows_the_size_field(example_run):
     _, out = example_run
     mesh = read_msh(out / "pentland_firth.msh")
     from coastmesh.io import read_raster
-    from coastmesh.meshing import SizeGrid, sample_size
+    from coastmesh.meshing import sample_size
+    from coastmesh.types import SizeGrid
 
     field = read_raster(out / "size.tif")
     edges, _ = _edges(mesh.triangles)
@@ -112,7 +112,7 @@ def test_mesh_follows_the_size_field(example_run):
 
 def test_domain_geopackage_boundaries(example_run):
     _, out = example_run
-    case = load_case(EXAMPLE)
+    case = read_case(EXAMPLE)
     wkb, fields = _layer(out / "domain.gpkg", "boundaries")
     lines = shapely.from_wkb(wkb)
     names = set(fields["name"])
@@ -178,7 +178,7 @@ def _layer(path: Path, layer: str):
 def test_small_lakes_are_filled_and_counted():
     from pyproj import CRS
 
-    from coastmesh.case.run import _fill_lakes
+    from coastmesh.case.inputs import fill_lakes
 
     land = shapely.Polygon(
         [(0, 0), (10_000, 0), (10_000, 10_000), (0, 10_000)],
@@ -187,7 +187,7 @@ def test_small_lakes_are_filled_and_counted():
             [(5_000, 5_000), (8_000, 5_000), (8_000, 8_000), (5_000, 8_000)],  # 9 km2
         ],
     )
-    out, filled = _fill_lakes(np.array([land]), CRS("EPSG:32630"), 1e6)
+    out, filled = fill_lakes(np.array([land]), CRS("EPSG:32630"), 1e6)
     assert filled == 1 and len(out[0].interiors) == 1
     assert out[0].area == pytest.approx(1e8 - 9e6)
 

@@ -15,8 +15,9 @@ from pyproj import Transformer
 from coastmesh.data import path as data_path
 from coastmesh.geometry import Loxodrome, OpenBoundary, build_domain
 from coastmesh.io.msh import read_msh, write_msh
-from coastmesh.meshing import SizeGrid, default_mesh_crs, generate_mesh
+from coastmesh.meshing import default_mesh_crs, generate_mesh
 from coastmesh.sizing import Gradation, size_field, to_metres
+from coastmesh.types import SizeGrid
 
 
 def test_orkney_chain(tmp_path):
@@ -77,7 +78,7 @@ def test_size_grid_from_dataarray_checks_dims():
     import pytest
     import xarray as xr
 
-    from coastmesh.meshing import SizeGrid
+    from coastmesh.types import SizeGrid
 
     field = xr.DataArray(
         np.full((2, 3), 5.0),

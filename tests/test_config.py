@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from coastmesh.case.config import load_case, parse_case
+from coastmesh.case import parse_case, read_case
 from coastmesh.errors import ConfigError
 
 BASE = """
@@ -147,16 +147,16 @@ def test_missing_tables_and_bad_toml(tmp_path):
     with pytest.raises(ConfigError, match="not valid TOML"):
         parse("[case\n")
     with pytest.raises(ConfigError, match="no such case file"):
-        load_case(tmp_path / "nope.toml")
+        read_case(tmp_path / "nope.toml")
 
 
 def test_example_cases_parse():
     examples = sorted(Path(__file__).parents[1].glob("examples/*/*.toml"))
     assert examples
-    from coastmesh.case.config import StudyCase
+    from coastmesh.case import StudyCase
 
     for path in examples:
-        case = load_case(path)
+        case = read_case(path)
         if isinstance(case, StudyCase):
             assert case.study.path.exists(), path
             continue
@@ -167,10 +167,10 @@ def test_packaged_demo_case_is_the_example():
     """coastmesh demo runs a copy of examples/orkney: they must not drift apart."""
     from coastmesh.data import path as data_path
 
-    example = load_case(
+    example = read_case(
         Path(__file__).parents[1] / "examples/orkney/pentland_firth.toml"
     )
-    packaged = load_case(data_path("pentland_firth.toml"))
+    packaged = read_case(data_path("pentland_firth.toml"))
     # the installed package and the repository may be different folders: compare
     # the data files by name, everything else exactly
     from dataclasses import replace

@@ -140,3 +140,37 @@ def test_same_depth_in_every_format(reference):
     vtu = meshio.read(out / "pentland_firth.vtu")
     fort = read_fort14(out / "pentland_firth.14")
     np.testing.assert_allclose(fort["depth"], vtu.point_data["depth"], atol=1e-6)
+
+
+@pytest.mark.parametrize("suffix", ["14", "gr3", "mesh", "nc", "vtu", "gpkg", "msh"])
+def test_read_mesh_gives_back_the_case_mesh(reference, suffix):
+    """coastmesh's own readers: every readable format the case wrote, one mesh."""
+    import meshio
+
+    from coastmesh.io import read_mesh
+
+    _, out, mesh = reference
+    back = read_mesh(out / f"pentland_firth.{suffix}", crs="EPSG:4326")
+    assert back.crs == mesh.crs
+    np.testing.assert_allclose(back.points, mesh.points, rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(back.triangles, mesh.triangles)
+
+    def ids(m):
+        return {
+            (min(a, b), max(a, b)): int(i)
+            for (a, b), i in zip(m.boundary_edges.tolist(), m.boundary_ids, strict=True)
+        }
+
+    want = ids(mesh)
+    if suffix == "mesh":  # MIKE: one land code, open ids as codes 2, 3, ...
+        codes = {
+            pid: code
+            for code, pid in enumerate(
+                sorted(p for p, k in mesh.boundary_kinds.items() if k == "open"), 2
+            )
+        }
+        want = {edge: codes.get(pid, 1) for edge, pid in want.items()}
+    assert ids(back) == want
+    if suffix != "msh":
+        depth = meshio.read(out / "pentland_firth.vtu").point_data["depth"]
+        np.testing.assert_allclose(back.point_data["depth"], depth, atol=1e-9)

@@ -1,10 +1,38 @@
 """coastmesh: shorelines and bathymetry to meshes for tidal and coastal ocean models.
 
-The public API is re-exported here. Importing coastmesh imports neither gmsh,
-matplotlib nor rasterio.
+The public API:
+
+==============================  ================================================
+:func:`build_case`              a case (file, TOML text or :class:`CaseConfig`)
+                                -> :class:`CaseResult` in memory, nothing written
+:func:`run_case`                build, then write what ``coastmesh run`` writes
+:func:`read_case`               a case file -> :class:`CaseConfig`
+:func:`dump_case`               a :class:`CaseConfig` -> case-file text
+:func:`read_mesh`               a mesh file (msh, fort.14, gr3, UGRID, ...)
+                                -> :class:`Mesh`
+:func:`write_mesh`              a :class:`Mesh` -> any registered format
+:func:`mesh_formats`            the mesh formats, by name
+:func:`simplify_contour`        PCA of one shoreline contour
+:func:`simplify_raster`         PCA of a raster in 2-D windows
+:class:`Mesh`, :class:`Domain`, the core types (:mod:`coastmesh.types`)
+:class:`BoundarySegment`,
+:class:`SizeGrid`,
+:class:`Features`
+:mod:`coastmesh.data`           the bundled real data sets
+==============================  ================================================
+
+The stages are subpackages, each usable on its own: :mod:`coastmesh.pca`,
+:mod:`coastmesh.geometry`, :mod:`coastmesh.sizing`, :mod:`coastmesh.meshing`,
+:mod:`coastmesh.io`, :mod:`coastmesh.plot`, :mod:`coastmesh.case`,
+:mod:`coastmesh.commands`. Importing coastmesh imports neither gmsh,
+matplotlib nor rasterio: names and subpackages (``coastmesh.io``, ...) are
+loaded on first use (PEP 562).
 """
 
 from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
 
 from coastmesh.errors import (
     CoastmeshError,
@@ -16,30 +44,90 @@ from coastmesh.errors import (
     OutputExistsError,
 )
 
+if TYPE_CHECKING:
+    from coastmesh import data
+    from coastmesh.case import (
+        CaseConfig,
+        CaseResult,
+        build_case,
+        dump_case,
+        read_case,
+        run_case,
+    )
+    from coastmesh.io import mesh_formats, read_mesh, write_mesh
+    from coastmesh.pca import simplify_contour, simplify_raster
+    from coastmesh.types import BoundarySegment, Domain, Features, Mesh, SizeGrid
+
 __version__ = "0.1.0"
 
-# The kernels pull in scipy (0.3 s); load them on first use so that the command
-# line's --help and the error classes stay quick to import (PEP 562).
-_LAZY = {"simplify_contour": "coastmesh.pca", "simplify_raster": "coastmesh.pca"}
-
-
-def __getattr__(name: str):
-    if name in _LAZY:
-        import importlib
-
-        return getattr(importlib.import_module(_LAZY[name]), name)
-    raise AttributeError(f"module 'coastmesh' has no attribute {name!r}")
-
+_LAZY = {
+    "CaseConfig": "coastmesh.case",
+    "CaseResult": "coastmesh.case",
+    "build_case": "coastmesh.case",
+    "dump_case": "coastmesh.case",
+    "read_case": "coastmesh.case",
+    "run_case": "coastmesh.case",
+    "mesh_formats": "coastmesh.io",
+    "read_mesh": "coastmesh.io",
+    "write_mesh": "coastmesh.io",
+    "simplify_contour": "coastmesh.pca",
+    "simplify_raster": "coastmesh.pca",
+    "BoundarySegment": "coastmesh.types",
+    "Domain": "coastmesh.types",
+    "Features": "coastmesh.types",
+    "Mesh": "coastmesh.types",
+    "SizeGrid": "coastmesh.types",
+}
+#: subpackages reachable as attributes after ``import coastmesh`` alone
+_SUBMODULES = (
+    "case",
+    "commands",
+    "data",
+    "geometry",
+    "io",
+    "meshing",
+    "pca",
+    "plot",
+    "sizing",
+    "types",
+)
 
 __all__ = [
+    "BoundarySegment",
+    "CaseConfig",
+    "CaseResult",
     "CoastmeshError",
     "CoastmeshWarning",
     "ConfigError",
+    "Domain",
+    "Features",
     "FormatError",
     "InputDataError",
+    "Mesh",
     "MeshingError",
     "OutputExistsError",
+    "SizeGrid",
     "__version__",
+    "build_case",
+    "data",
+    "dump_case",
+    "mesh_formats",
+    "read_case",
+    "read_mesh",
+    "run_case",
     "simplify_contour",
     "simplify_raster",
+    "write_mesh",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    if name in _SUBMODULES:
+        return importlib.import_module(f"coastmesh.{name}")
+    raise AttributeError(f"module 'coastmesh' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

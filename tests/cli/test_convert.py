@@ -1,12 +1,12 @@
-"""``coastmesh convert``: a mesh to a model format, with depth on the nodes."""
+"""``coastmesh convert``: a mesh from any readable format to another, with depth."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from coastmesh.data import path as data_path
+from coastmesh.io import read_mesh, read_msh, write_mesh, write_msh
 from coastmesh.io.adcirc import read_fort14
-from coastmesh.io.msh import read_msh, write_msh
 
 
 def test_convert_to_fort14_with_bathymetry(run_cli, example_run, tmp_path):
@@ -62,3 +62,42 @@ def test_unknown_extension_and_existing_output(run_cli, example_run, tmp_path):
     again = run_cli("convert", out / "pentland_firth.msh", target)
     assert again.exit_code == 1 and "--overwrite" in again.output
     assert target.read_text() == "mine"
+
+
+def test_convert_from_any_readable_format(run_cli, mesh_with_islands, tmp_path):
+    """fort.14 -> UGRID -> gr3: ids, names, kinds, depth and CRS come along."""
+    write_mesh(tmp_path / "fort.14", mesh_with_islands)
+    ugrid = run_cli("convert", tmp_path / "fort.14", tmp_path / "mesh.nc")
+    assert ugrid.exit_code == 0, ugrid.output
+    assert ugrid.output.startswith(f"{tmp_path / 'mesh.nc'} (ugrid): 269 nodes")
+    gr3 = run_cli("convert", tmp_path / "mesh.nc", tmp_path / "hgrid.gr3")
+    assert gr3.exit_code == 0, gr3.output
+    back = read_mesh(tmp_path / "hgrid.gr3")
+    assert back.boundary_names == mesh_with_islands.boundary_names
+    assert back.boundary_kinds == mesh_with_islands.boundary_kinds
+    assert back.crs == mesh_with_islands.crs
+    np.testing.assert_allclose(
+        back.point_data["depth"], mesh_with_islands.point_data["depth"], atol=1e-9
+    )
+
+
+def test_crs_is_for_files_without_one(run_cli, mesh_with_islands, tmp_path):
+    write_mesh(tmp_path / "m.msh", mesh_with_islands)
+    ok = run_cli("convert", tmp_path / "m.msh", tmp_path / "m.nc", "--crs", "32630")
+    assert ok.exit_code == 0, ok.output
+    assert read_mesh(tmp_path / "m.nc").crs.to_epsg() == 32630
+    plain = run_cli("convert", tmp_path / "m.msh", tmp_path / "plain.nc")
+    assert plain.exit_code == 0, plain.output
+    assert read_mesh(tmp_path / "plain.nc").crs.to_epsg() == 4326  # the default
+    clash = run_cli("convert", tmp_path / "m.nc", tmp_path / "x.vtu", "--crs", "4326")
+    assert clash.exit_code == 1 and "m.nc: the file's CRS is EPSG:32630" in clash.output
+    assert not (tmp_path / "x.vtu").exists()
+
+
+def test_write_only_and_missing_inputs(run_cli, mesh_with_islands, tmp_path):
+    write_mesh(tmp_path / "m.slf", mesh_with_islands)
+    slf = run_cli("convert", tmp_path / "m.slf", tmp_path / "m.vtu")
+    assert slf.exit_code == 1 and "selafin format is write only" in slf.output
+    missing = run_cli("convert", tmp_path / "none.14", tmp_path / "n.vtu")
+    assert missing.exit_code == 1 and "none.14: file not found" in missing.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["m.cli", "m.slf"]

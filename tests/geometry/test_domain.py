@@ -41,6 +41,12 @@ def test_bay_against_shapely():
             assert line.distance(shapely.boundary(shapely.union_all(land))) < 1e-12
     total = sum(shapely.LineString(s.coords).length for s in domain.segments)
     assert total == pytest.approx(domain.polygon.length)
+    # the report as data: its fields, JSON as they are
+    data = report.to_dict()
+    assert json.loads(json.dumps(data)) == data
+    assert data["holes"] == 1 and data["land_in"] == 2
+    assert data["segments"] == report.segments and sum(data["segments"].values()) == 8
+    assert "1 islands" in report.summary()
 
 
 def test_seed_chooses_the_face_and_errors():

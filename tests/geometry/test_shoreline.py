@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
@@ -42,6 +43,7 @@ def test_counts_and_validity_on_real_shoreline(norway):
     kept = int(distinct[distinct >= 100].sum())
     assert kept <= report.points_out <= kept + 20 * report.repaired
     assert "contours in" in report.summary()
+    assert report.to_dict() == dataclasses.asdict(report)
 
 
 def test_each_ring_is_the_kernel_result(norway):

@@ -20,25 +20,34 @@ def _coast(offset: float) -> shapely.Polygon:
     return shapely.Polygon(np.vstack([np.column_stack([x, y]), [[20, -5], [0, -5]]]))
 
 
-def test_land_is_each_set_in_its_region():
+REGION = shapely.box(5, -10, 12, 10)
+
+
+@pytest.fixture(scope="module")
+def fine_in_coarse():
+    """A fine coast in REGION and a coarse one elsewhere, and their stitch."""
     fine, coarse = _coast(0.05), _coast(0.0)
-    region = shapely.box(5, -10, 12, 10)
-    land, regions, report = stitch_shorelines(
-        [
-            ShorelineSet("fine", [fine], 10, region),
-            ShorelineSet("coarse", [coarse], 11),
-        ],
-        crs="EPSG:3857",
-    )
+    sets = [
+        ShorelineSet("fine", [fine], 10, REGION),
+        ShorelineSet("coarse", [coarse], 11),
+    ]
+    return fine, coarse, stitch_shorelines(sets, crs="EPSG:3857")
+
+
+def test_land_is_each_set_in_its_region(fine_in_coarse):
+    fine, coarse, (land, regions, report) = fine_in_coarse
     union = shapely.union_all(land)
     expected = shapely.union(
-        shapely.intersection(fine, region), shapely.difference(coarse, region)
+        shapely.intersection(fine, REGION), shapely.difference(coarse, REGION)
     )
     assert union.is_valid
     assert shapely.symmetric_difference(union, expected).area < 1e-6  # snap grid
     assert len(land) == 1  # one piece: no gap at the seams
     assert [r[0] for r in regions] == ["fine", "coarse"]
     assert report.polygons == {"fine": 1, "coarse": 2}  # either side
+    assert report.to_dict()["polygons"] == report.polygons
+    assert report.to_dict()["seam_length"] == pytest.approx(54.0)  # REGION.length
+    assert "fine: 1, coarse: 2" in report.summary()
 
 
 def test_earlier_sets_win_where_regions_overlap():
@@ -51,16 +60,8 @@ def test_earlier_sets_win_where_regions_overlap():
     assert regions[1][2].equals(expected_b)
 
 
-def test_boundary_is_tagged_by_region():
-    fine, coarse = _coast(0.05), _coast(0.0)
-    region = shapely.box(5, -10, 12, 10)
-    land, regions, _ = stitch_shorelines(
-        [
-            ShorelineSet("fine", [fine], 10, region),
-            ShorelineSet("coarse", [coarse], 11),
-        ],
-        crs="EPSG:3857",
-    )
+def test_boundary_is_tagged_by_region(fine_in_coarse):
+    _, _, (land, regions, _) = fine_in_coarse
     walls = [OpenBoundary([(0.5, -1), (0.5, 4), (19.5, 4), (19.5, -1)], "open", 2)]
     domain, _ = build_domain(land, walls, crs="EPSG:3857", shorelines=regions)
     names = {s.name for s in domain.segments}
@@ -68,10 +69,10 @@ def test_boundary_is_tagged_by_region():
     for s in domain.segments:
         mid = shapely.LineString(s.coords).interpolate(0.5, normalized=True)
         if s.name == "fine":
-            assert region.buffer(1e-6).contains(mid)
+            assert REGION.buffer(1e-6).contains(mid)
             assert s.physical_id == 10
         elif s.name == "coarse":
-            assert not region.buffer(-1e-6).contains(mid)
+            assert not REGION.buffer(-1e-6).contains(mid)
 
 
 def test_seam_slivers_are_cleaned():

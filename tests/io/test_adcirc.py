@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import itertools
+import re
 import warnings
 
 import numpy as np
 import pytest
+from io_meshes import cell_mesh as grid_mesh
+from io_meshes import edge_ids, signed_areas
 
 from coastmesh.errors import (
     CoastmeshWarning,
@@ -15,48 +18,16 @@ from coastmesh.errors import (
     InputDataError,
     OutputExistsError,
 )
-from coastmesh.io import adcirc
-from coastmesh.io.adcirc import read_fort14, write_fort14, write_gr3
+from coastmesh.io.adcirc import (
+    _write,
+    read_fort14,
+    read_fort14_mesh,
+    write_fort14,
+    write_gr3,
+)
 from coastmesh.types import Mesh
 
 WRITERS = [("fort.14", write_fort14), ("hgrid.gr3", write_gr3)]
-
-
-def grid_mesh(n, holes, edge_id, kinds, *, depth=True, crs="EPSG:32630"):
-    """An n x n square of unit cells, two ccw triangles each, minus ``holes``.
-
-    Node (i, j) has index j * (n + 1) + i and coordinates (i, j); each boundary
-    edge gets ``edge_id((x0, y0), (x1, y1))``.
-    """
-    xs, ys = np.meshgrid(np.arange(n + 1.0), np.arange(n + 1.0))
-    points = np.column_stack([xs.ravel(), ys.ravel()])
-    triangles = []
-    for j in range(n):
-        for i in range(n):
-            if (i, j) in holes:
-                continue
-            a = j * (n + 1) + i
-            triangles += [[a, a + 1, a + n + 2], [a, a + n + 2, a + n + 1]]
-    triangles = np.array(triangles)
-    count = {}
-    for tri in triangles:
-        for a, b in zip(tri, np.roll(tri, -1), strict=True):
-            key = (min(a, b), max(a, b))
-            count[key] = count.get(key, 0) + 1
-    edges = np.array(sorted(k for k, c in count.items() if c == 1))
-    ids = [edge_id(tuple(points[a]), tuple(points[b])) for a, b in edges]
-    point_data = {"depth": 10.0 + points[:, 0] + 2.5 * points[:, 1]} if depth else {}
-    return Mesh(
-        points,
-        triangles,
-        edges,
-        ids,
-        1,
-        crs,
-        point_data,
-        {1: "coast", 2: "south", 3: "rock", 4: "reef"},
-        kinds,
-    )
 
 
 def south_open(p, q):
@@ -258,13 +229,6 @@ def generated(mesh_with_islands):
     return mesh_with_islands
 
 
-def edge_ids(mesh):
-    return {
-        (min(a, b), max(a, b)): int(pid)
-        for (a, b), pid in zip(mesh.boundary_edges, mesh.boundary_ids, strict=True)
-    }
-
-
 @pytest.mark.parametrize(("name", "writer"), WRITERS)
 def test_generated_mesh_covers_every_boundary_edge_once(
     tmp_path, generated, name, writer
@@ -272,7 +236,7 @@ def test_generated_mesh_covers_every_boundary_edge_once(
     writer(tmp_path / name, generated)
     grid = read_fort14(tmp_path / name)
     np.testing.assert_array_equal(grid["elements"], generated.triangles + 1)
-    want = edge_ids(generated)
+    want = edge_ids(generated.boundary_edges, generated.boundary_ids)
     seen = {}
     parts = (("open", grid["open_boundaries"]), ("land", grid["land_boundaries"]))
     for kind, segments in parts:
@@ -323,7 +287,7 @@ def test_existing_file_is_kept_unless_overwrite(tmp_path, square, name, writer):
 
 
 def test_failure_while_writing_leaves_no_file(tmp_path, square, monkeypatch):
-    real = adcirc.write_table
+    real = _write.write_table
     calls = []
 
     def failing(handle, columns):
@@ -332,7 +296,7 @@ def test_failure_while_writing_leaves_no_file(tmp_path, square, monkeypatch):
         if len(calls) == 2:  # after the nodes and elements
             raise RuntimeError("disk full")
 
-    monkeypatch.setattr(adcirc, "write_table", failing)
+    monkeypatch.setattr(_write, "write_table", failing)
     with pytest.raises(RuntimeError, match="disk full"):
         write_fort14(tmp_path / "fort.14", square)
     assert list(tmp_path.iterdir()) == []  # no file, no staging folder
@@ -351,7 +315,7 @@ def test_bad_depth_and_options_are_refused(tmp_path, square):
     depth = square.point_data["depth"].copy()
     depth[3] = np.nan
     bad = square.with_point_data(depth=depth)
-    with pytest.raises(FormatError, match="not finite at 1 nodes \\(first: node 3\\)"):
+    with pytest.raises(FormatError, match="nan at node 3 \\(1 nodes are not finite\\)"):
         write_fort14(tmp_path / "fort.14", bad)
     with pytest.raises(ConfigError, match="positive='sideways'"):
         write_fort14(tmp_path / "fort.14", square, positive="sideways")
@@ -394,31 +358,97 @@ def test_reader_rejects_a_short_segment(tmp_path):
         read_fort14(path)
 
 
-def test_write_table_formats_columns():
-    import io
+# --- reading into a Mesh ------------------------------------------------------
 
-    out = io.BytesIO()
-    adcirc.write_table(
-        out,
-        [
-            (np.array([1, 12, -3]), None),
-            (np.array([-0.4e-15, 123.456, -7.0]), 6),
-        ],
+
+@pytest.mark.parametrize(("name", "writer"), WRITERS)
+def test_mesh_read_back_has_ids_names_kinds_depth_and_crs(
+    tmp_path, square, name, writer
+):
+    writer(tmp_path / name, square)
+    back = read_fort14_mesh(tmp_path / name)
+    np.testing.assert_array_equal(back.points, square.points)
+    np.testing.assert_array_equal(back.triangles, square.triangles)
+    assert edge_ids(back.boundary_edges, back.boundary_ids) == edge_ids(
+        square.boundary_edges, square.boundary_ids
     )
-    # right-aligned, a column for the sign, no "-0.000"
-    assert out.getvalue().decode().splitlines() == [
-        "  1    0.000",
-        " 12  123.456",
-        " -3   -7.000",
-    ]
-    rng = np.random.default_rng(5)
-    values = rng.normal(0, 1e4, 2000)
-    out = io.BytesIO()
-    adcirc.write_table(out, [(values, 15)])
-    text = out.getvalue().decode().splitlines()
-    decimals = 15 - len(str(int(np.abs(values).max())))
-    assert {len(line) for line in text} == {len(text[0])}  # one column width
-    assert all(len(line.split(".")[1]) == decimals for line in text)
-    back = np.array(text, dtype=float)
-    # rounded to the decimals, within one unit in the last place
-    assert np.abs(back - values).max() <= 10.0**-decimals
+    assert back.boundary_names == {1: "coast", 2: "south", 3: "rock"}
+    assert back.boundary_kinds == KINDS
+    np.testing.assert_allclose(back.point_data["depth"], square.point_data["depth"])
+    assert back.crs.to_epsg() == 32630
+
+
+@pytest.mark.parametrize(("name", "writer"), WRITERS)
+def test_files_without_id_comments_number_the_segments(tmp_path, square, name, writer):
+    """Other tools write no comments: one id per segment, open ones first."""
+    writer(tmp_path / name, square, title="from another tool")
+    text = (tmp_path / name).read_text()
+    (tmp_path / name).write_text(re.sub(r" *=[^\n]*", "", text))
+    grid = read_fort14(tmp_path / name)
+    back = read_fort14_mesh(tmp_path / name)
+    assert back.crs is None and back.boundary_names == {}
+    segments = grid["open_boundaries"] + grid["land_boundaries"]
+    assert sorted(set(back.boundary_ids.tolist())) == list(range(1, len(segments) + 1))
+    assert back.boundary_kinds == {
+        k: "open" if k <= grid["nope"] else "shoreline"
+        for k in range(1, len(segments) + 1)
+    }
+    # the same edges, the island (SCHISM: not closed by repetition) closed too
+    assert set(edge_ids(back.boundary_edges, back.boundary_ids)) == set(
+        edge_ids(square.boundary_edges, square.boundary_ids)
+    )
+    crs = read_fort14_mesh(tmp_path / name, crs="EPSG:32630").crs
+    assert crs.to_epsg() == 32630
+
+
+def test_reading_fort14_written_by_hand(tmp_path):
+    """Clockwise elements, an island of IBTYPE 21 closed by repetition, DP up."""
+    path = tmp_path / "fort.14"
+    path.write_text(
+        "made by hand\n2 4\n1 0 0 -1\n2 1 0 -2\n3 1 1 -3\n4 0 1 -4\n"
+        "1 3 1 3 2\n2 3 1 4 3\n"  # both clockwise
+        "1\n2\n2 0\n1\n2\n"  # one open segment: 1 -> 2
+        "1\n4\n4 21\n2\n3\n4\n2\n"  # land: 2 -> 3 -> 4 -> 2, type 21
+    )
+    back = read_fort14_mesh(path, positive="up", crs="EPSG:32630")
+    assert back.triangles.tolist() == [[0, 1, 2], [0, 2, 3]]
+    assert (signed_areas(back) > 0).all()
+    assert back.boundary_edges.tolist() == [[0, 1], [1, 2], [2, 3], [3, 1]]
+    assert back.boundary_ids.tolist() == [1, 2, 2, 2]
+    assert back.boundary_kinds == {1: "open", 2: "shoreline"}
+    assert back.point_data["depth"].tolist() == [1.0, 2.0, 3.0, 4.0]
+
+
+@pytest.mark.parametrize(
+    ("land", "match"),
+    [
+        ("1\n2\n2 24\n1\n2\n", "land segment 1 has IBTYPE 24, an internal barrier"),
+        (
+            "1\n2\n2 0 = Number of nodes for land boundary 1: id 1 coast\n3\n4\n",
+            "boundary id 1 is on both an open and a land segment",
+        ),
+    ],
+)
+def test_mesh_reader_refuses_what_a_mesh_cannot_hold(tmp_path, land, match):
+    path = tmp_path / "fort.14"
+    path.write_text(
+        "t\n2 4\n1 0 0 1\n2 1 0 1\n3 1 1 1\n4 0 1 1\n1 3 1 2 3\n2 3 1 3 4\n"
+        "1\n2\n2 0 = Number of nodes for open boundary 1: id 1 sea\n1\n2\n" + land
+    )
+    with pytest.raises(InputDataError, match=match):
+        read_fort14_mesh(path)
+    read_fort14(path)  # the raw parse reads it
+
+
+def test_mesh_reader_needs_nodes_in_order_and_a_sign(tmp_path, square):
+    write_fort14(tmp_path / "fort.14", square)
+    with pytest.raises(ConfigError, match="positive='sideways'"):
+        read_fort14_mesh(tmp_path / "fort.14", positive="sideways")
+    lines = (tmp_path / "fort.14").read_text().splitlines()
+    lines[3] = "7" + lines[3].lstrip()[1:]  # node 2 numbered 7
+    (tmp_path / "fort.14").write_text("\n".join(lines) + "\n")
+    with pytest.raises(InputDataError, match="node line 2 has node number JN = 7"):
+        read_fort14_mesh(tmp_path / "fort.14")
+    write_gr3(tmp_path / "h.gr3", square)
+    with pytest.raises(InputDataError, match="CRS is EPSG:32630, but crs=EPSG:4326"):
+        read_fort14_mesh(tmp_path / "h.gr3", crs="EPSG:4326")

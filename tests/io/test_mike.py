@@ -4,11 +4,16 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from io_meshes import cell_mesh, edge_ids
 
-from coastmesh.errors import CoastmeshWarning, FormatError, OutputExistsError
+from coastmesh.errors import (
+    CoastmeshWarning,
+    FormatError,
+    InputDataError,
+    OutputExistsError,
+)
 from coastmesh.io import mike
-from coastmesh.io.mike import write_mike_mesh
-from coastmesh.types import Mesh
+from coastmesh.io.mike import read_mike_mesh, write_mike_mesh
 
 N = 4  # cells per side
 
@@ -18,29 +23,8 @@ def node(x, y):
 
 
 def grid_mesh(edge_id, kinds, *, holes=((1, 1),), depth=True, crs="EPSG:32630"):
-    """N x N unit cells, two ccw triangles each, minus ``holes``.
-
-    Node (i, j) has index j * (N + 1) + i and coordinates (i, j); each boundary
-    edge gets ``edge_id((x0, y0), (x1, y1))``.
-    """
-    xs, ys = np.meshgrid(np.arange(N + 1.0), np.arange(N + 1.0))
-    points = np.column_stack([xs.ravel(), ys.ravel()])
-    triangles = []
-    for j in range(N):
-        for i in range(N):
-            if (i, j) not in holes:
-                a = node(i, j)
-                triangles += [[a, a + 1, a + N + 2], [a, a + N + 2, a + N + 1]]
-    triangles = np.array(triangles)
-    count = {}
-    for tri in triangles:
-        for a, b in zip(tri, np.roll(tri, -1), strict=True):
-            key = (min(a, b), max(a, b))
-            count[key] = count.get(key, 0) + 1
-    edges = np.array(sorted(k for k, c in count.items() if c == 1))
-    ids = [edge_id(tuple(points[a]), tuple(points[b])) for a, b in edges]
-    point_data = {"depth": 10.0 + points[:, 0] + 2.5 * points[:, 1]} if depth else {}
-    return Mesh(points, triangles, edges, ids, 1, crs, point_data, {}, kinds)
+    """N x N unit cells minus ``holes`` (:func:`io_meshes.cell_mesh`), no names."""
+    return cell_mesh(N, set(holes), edge_id, kinds, depth=depth, crs=crs, names={})
 
 
 def south_open(p, q):
@@ -238,3 +222,58 @@ def test_bad_crs_wkt_is_refused(tmp_path, square):
     with pytest.raises(FormatError, match="crs_wkt="):
         write_mike_mesh(tmp_path / "w.mesh", square, crs_wkt="two\nlines")
     assert list(tmp_path.iterdir()) == []
+
+
+# --- reading ------------------------------------------------------------------
+
+
+def test_read_back_matches_mikeio_and_the_face_rule(tmp_path):
+    mikeio = pytest.importorskip("mikeio")
+    mesh = grid_mesh(south_and_east_open, KINDS)
+    path = tmp_path / "two.mesh"
+    codes_of = write_mike_mesh(path, mesh)
+    back = read_mike_mesh(path)
+    other = mikeio.Mesh(path)
+    np.testing.assert_allclose(back.points, other.node_coordinates[:, :2], atol=0)
+    np.testing.assert_array_equal(back.triangles, np.array(other.element_table))
+    np.testing.assert_allclose(back.point_data["depth"], -np.asarray(other.zn))
+    _, _, _, codes = read_nodes(path)
+    assert edge_ids(back.boundary_edges, back.boundary_ids) == face_codes(mesh, codes)
+    assert set(back.boundary_ids.tolist()) == {1, *codes_of.values()}
+    assert back.boundary_kinds == {1: "shoreline", 2: "open", 3: "open"}
+    assert back.crs == mesh.crs and back.boundary_names == {}
+
+
+@pytest.mark.parametrize(
+    ("projection", "crs", "expected"),
+    [("LONG/LAT", None, 4326), ("NON-UTM", None, None), ("UTM-30", 32630, 32630)],
+)
+def test_header_projection_gives_the_crs(tmp_path, square, projection, crs, expected):
+    path = tmp_path / "p.mesh"
+    write_mike_mesh(path, square, crs_wkt=projection)
+    back = read_mike_mesh(path, crs=crs)
+    assert (back.crs and back.crs.to_epsg()) == expected
+
+
+def test_positive_down_reads_z_as_depth(tmp_path, square):
+    write_mike_mesh(tmp_path / "d.mesh", square, positive="down")
+    back = read_mike_mesh(tmp_path / "d.mesh", positive="down")
+    np.testing.assert_allclose(back.point_data["depth"], square.point_data["depth"])
+
+
+def test_reader_errors_name_the_line(tmp_path, square):
+    path = tmp_path / "q.mesh"
+    write_mike_mesh(path, square)
+    lines = path.read_text().splitlines()
+    header = 1 + len(square.points)
+    quads = lines[:header] + [lines[header].replace(" 3 21", " 4 25")]
+    path.write_text("\n".join(quads + lines[header + 1 :]) + "\n")
+    with pytest.raises(InputDataError, match=rf"line {header + 1} \(NELEM NPE TYPE\)"):
+        read_mike_mesh(path)
+    water = [line.rsplit(" ", 1)[0] + " 0" for line in lines[1:header]]
+    path.write_text("\n".join([lines[0], *water, *lines[header:]]) + "\n")
+    with pytest.raises(InputDataError, match="code 0 \\(water\\) at both ends"):
+        read_mike_mesh(path)
+    path.write_text("100079 1000 x LONG/LAT\n")
+    with pytest.raises(InputDataError, match=r"line 1 .*expected 3 integers"):
+        read_mike_mesh(path)

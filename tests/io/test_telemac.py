@@ -8,48 +8,21 @@ import numpy as np
 import pytest
 import shapely
 import xarray as xr
+from io_meshes import strip_mesh
 
 from coastmesh.errors import CoastmeshWarning, FormatError, OutputExistsError
-from coastmesh.io import telemac
+from coastmesh.io import MeshFormat, telemac
 from coastmesh.io.telemac import write_selafin
-from coastmesh.io.writers import MeshFormat
 from coastmesh.meshing.topology import boundary_rings
 from coastmesh.types import Mesh
 
 
 def grid_mesh(nx=6, ny=5, dx=100.0, x0=0.0, y0=0.0, ids=None, crs="EPSG:32630"):
-    """A structured grid split into triangles; south edges open (2), rest coast (1).
+    """A structured grid (:func:`io_meshes.strip_mesh`); south open (2), coast (1).
 
     ``ids`` overrides the id of each boundary edge, counter-clockwise from (x0, y0).
     """
-    ii, jj = np.meshgrid(np.arange(nx), np.arange(ny))
-    points = np.column_stack([x0 + dx * ii.ravel(), y0 + dx * jj.ravel()])
-    idx = (jj * nx + ii)[:-1, :-1].ravel()
-    a, b, c, d = idx, idx + 1, idx + nx + 1, idx + nx
-    tri = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
-    ring = np.concatenate(
-        [
-            np.arange(nx - 1),
-            (nx - 1) + nx * np.arange(ny - 1),
-            (ny - 1) * nx + np.arange(nx - 1, 0, -1),
-            nx * np.arange(ny - 1, 0, -1),
-        ]
-    )
-    edges = np.column_stack([ring, np.roll(ring, -1)])
-    if ids is None:
-        ids = np.where(np.arange(len(ring)) < nx - 1, 2, 1)
-    depth = 10.0 + np.arange(len(points), dtype=float)
-    return Mesh(
-        points,
-        tri,
-        edges,
-        ids,
-        1,
-        crs,
-        {"depth": depth},
-        {1: "coast", 2: "sea", 3: "rock"},
-        {1: "shoreline", 2: "open", 3: "shoreline"},
-    )
+    return strip_mesh(nx, ny, dx=dx, x0=x0, y0=y0, ids=ids, crs=crs)
 
 
 @pytest.fixture(scope="module")
@@ -267,7 +240,7 @@ def test_missing_kinds_are_named(tmp_path):
         mesh.point_data,
         boundary_kinds={2: "open"},
     )
-    with pytest.raises(FormatError, match=r"boundary ids \[1\] have no kind"):
+    with pytest.raises(FormatError, match=r"id\(s\) 1 have no kind.*cli=False"):
         write_selafin(tmp_path / "m.slf", no_kinds)
     assert list(tmp_path.iterdir()) == []
     write_selafin(tmp_path / "m.slf", no_kinds, cli=False)

@@ -1,69 +1,37 @@
-"""UGRID netCDF read back by xugrid; VTU read back by meshio."""
+"""UGRID netCDF: written and read by xugrid, and read back into a Mesh."""
 
 from __future__ import annotations
 
-import meshio.vtu
 import numpy as np
 import pytest
 import xarray as xr
 import xugrid
+from io_meshes import edge_ids, same_mesh, strip_mesh
 from pyproj import CRS
 
-from coastmesh.errors import FormatError, OutputExistsError
-from coastmesh.io.ugrid import write_ugrid, write_vtu
-from coastmesh.io.writers import MeshFormat
-from coastmesh.types import Mesh
+from coastmesh.errors import FormatError, InputDataError, OutputExistsError
+from coastmesh.io import MeshFormat
+from coastmesh.io.ugrid import read_ugrid, write_ugrid
 
 
 def grid_mesh(nx=5, ny=4, dx=100.0, x0=0.0, y0=0.0, crs="EPSG:32630"):
-    """A structured grid split into triangles; south edges open (2), rest coast (1)."""
-    ii, jj = np.meshgrid(np.arange(nx), np.arange(ny))
-    points = np.column_stack([x0 + dx * ii.ravel(), y0 + dx * jj.ravel()])
-    idx = (jj * nx + ii)[:-1, :-1].ravel()
-    a, b, c, d = idx, idx + 1, idx + nx + 1, idx + nx
-    tri = np.concatenate([np.column_stack([a, b, c]), np.column_stack([a, c, d])])
-    ring = np.concatenate(
-        [
-            np.arange(nx - 1),
-            (nx - 1) + nx * np.arange(ny - 1),
-            (ny - 1) * nx + np.arange(nx - 1, 0, -1),
-            nx * np.arange(ny - 1, 0, -1),
-        ]
-    )
-    edges = np.column_stack([ring, np.roll(ring, -1)])
-    ids = np.where(np.arange(len(ring)) < nx - 1, 2, 1)
-    n = len(points)
-    return Mesh(
-        points,
-        tri,
-        edges,
-        ids,
-        1,
-        crs,
-        {
+    """A structured grid (:func:`io_meshes.strip_mesh`) with three node variables."""
+    n = nx * ny
+    return strip_mesh(
+        nx,
+        ny,
+        dx=dx,
+        x0=x0,
+        y0=y0,
+        crs=crs,
+        point_data={
             "depth": 10.0 + np.arange(n, dtype=float),
             "size": np.full(n, 100.0),
             "flow": np.arange(2 * n, dtype=float).reshape(n, 2),
         },
-        {1: "main coast", 2: "sea"},
-        {1: "shoreline", 2: "open"},
+        names={1: "main coast", 2: "sea"},
+        kinds={1: "shoreline", 2: "open"},
     )
-
-
-def edge_ids(edges, ids):
-    """Map each undirected edge to its id."""
-    return {
-        (min(a, b), max(a, b)): int(i)
-        for (a, b), i in zip(np.asarray(edges).tolist(), ids, strict=True)
-    }
-
-
-def same_mesh(a, b):
-    np.testing.assert_array_equal(a.points, b.points)
-    np.testing.assert_array_equal(a.triangles, b.triangles)
-    np.testing.assert_array_equal(a.boundary_edges, b.boundary_edges)
-    for key in b.point_data:
-        np.testing.assert_array_equal(a.point_data[key], b.point_data[key])
 
 
 def test_xugrid_reads_the_mesh(tmp_path, write_read):
@@ -182,37 +150,70 @@ def test_failed_write_leaves_nothing(tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_vtu_round_trip(tmp_path, write_read):
+def test_registry_entry_is_accepted():
+    fmt = MeshFormat("ugrid", (".nc",), write_ugrid, "UGRID", read=read_ugrid)
+    assert fmt.options == () and fmt.read_options == ()
+
+
+def test_reads_a_file_xugrid_wrote(tmp_path):
+    """An independent writer: no boundary ids, fill values, xugrid's own names."""
     mesh = grid_mesh()
-    back = write_read(tmp_path / "m.vtu", write_vtu, meshio.vtu.read, mesh, same_mesh)
-    np.testing.assert_array_equal(back.points[:, :2], mesh.points)
-    assert (back.points[:, 2] == 0).all()
-    assert [c.type for c in back.cells] == ["triangle", "line"]
-    np.testing.assert_array_equal(back.cells[0].data, mesh.triangles)
-    np.testing.assert_array_equal(back.cells[1].data, mesh.boundary_edges)
-    assert (back.cell_data["physical"][0] == mesh.surface_id).all()
-    np.testing.assert_array_equal(back.cell_data["physical"][1], mesh.boundary_ids)
-    assert (back.cell_data["boundary_id"][0] == 0).all()
-    np.testing.assert_array_equal(back.cell_data["boundary_id"][1], mesh.boundary_ids)
+    grid = xugrid.Ugrid2d(
+        mesh.points[:, 0],
+        mesh.points[:, 1],
+        -1,
+        mesh.triangles,
+        name="net2d",
+        crs="EPSG:32630",
+    )
+    uds = xugrid.UgridDataset(grids=[grid])
+    uds["depth"] = xugrid.UgridDataArray(
+        xr.DataArray(
+            -mesh.point_data["depth"],
+            dims=[grid.node_dimension],
+            attrs={"positive": "up"},
+        ),
+        grid,
+    )
+    uds.ugrid.to_netcdf(tmp_path / "x.nc")
+    back = read_ugrid(tmp_path / "x.nc")
+    np.testing.assert_array_equal(back.points, mesh.points)
+    np.testing.assert_array_equal(back.triangles, mesh.triangles)
+    np.testing.assert_array_equal(back.point_data["depth"], mesh.point_data["depth"])
+    # no boundary_id: the edges of one triangle, all id 1
+    outline = edge_ids(mesh.boundary_edges, mesh.boundary_ids)
+    assert edge_ids(back.boundary_edges, back.boundary_ids) == dict.fromkeys(outline, 1)
+    assert back.boundary_kinds == {} and back.crs == CRS("EPSG:32630")
+
+
+def test_read_back_keeps_ids_names_kinds_and_node_data(tmp_path):
+    mesh = grid_mesh()
+    write_ugrid(tmp_path / "m.nc", mesh)
+    back = read_ugrid(tmp_path / "m.nc")
+    assert edge_ids(back.boundary_edges, back.boundary_ids) == edge_ids(
+        mesh.boundary_edges, mesh.boundary_ids
+    )
+    assert back.boundary_names == {1: "main_coast", 2: "sea"}
+    assert back.boundary_kinds == mesh.boundary_kinds
     for key in ("depth", "size", "flow"):
         np.testing.assert_array_equal(back.point_data[key], mesh.point_data[key])
+    write_ugrid(tmp_path / "plain.nc", grid_mesh(crs=None))
+    assert read_ugrid(tmp_path / "plain.nc").crs is None
+    assert read_ugrid(tmp_path / "plain.nc", crs=4326).crs == CRS("EPSG:4326")
 
 
-def test_vtu_without_boundary_edges_has_triangles_only(tmp_path):
-    mesh = Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [], [], 3, None)
-    write_vtu(tmp_path / "t.vtu", mesh)
-    back = meshio.vtu.read(tmp_path / "t.vtu")
-    assert [c.type for c in back.cells] == ["triangle"]
-    assert back.cell_data["physical"][0].tolist() == [3]
-
-
-def test_vtu_existing_file_is_kept(tmp_path):
-    (tmp_path / "m.vtu").write_text("keep")
-    with pytest.raises(OutputExistsError):
-        write_vtu(tmp_path / "m.vtu", grid_mesh())
-    assert (tmp_path / "m.vtu").read_text() == "keep"
-
-
-def test_registry_entries_are_accepted():
-    assert MeshFormat("ugrid", (".nc",), write_ugrid, "UGRID").options == ()
-    assert MeshFormat("vtu", (".vtu",), write_vtu, "VTU").options == ()
+def test_reader_errors_name_the_variable(tmp_path):
+    write_ugrid(tmp_path / "m.nc", grid_mesh())
+    with xr.open_dataset(tmp_path / "m.nc") as ds:
+        quads = ds.drop_vars("mesh2d_face_nodes").assign(
+            mesh2d_face_nodes=(("mesh2d_nFaces", "four"), np.zeros((24, 4), int))
+        )
+        quads.to_netcdf(tmp_path / "quads.nc")
+        ds.drop_vars("mesh2d").to_netcdf(tmp_path / "none.nc")
+    with pytest.raises(InputDataError, match="'mesh2d_face_nodes' has shape"):
+        read_ugrid(tmp_path / "quads.nc")
+    with pytest.raises(InputDataError, match="has 0 2D mesh topologies"):
+        read_ugrid(tmp_path / "none.nc")
+    (tmp_path / "junk.nc").write_text("not netCDF")
+    with pytest.raises(FormatError, match=r"junk\.nc: not a readable netCDF file"):
+        read_ugrid(tmp_path / "junk.nc")

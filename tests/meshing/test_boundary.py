@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 from coastmesh.errors import MeshingError
 from coastmesh.meshing.boundary import (
     SmallIslandWarning,
+    check_boundary,
     resample_rings,
     resample_segment,
 )
@@ -158,3 +159,12 @@ def test_islands_need_three_edges_around_them(radius, kept):
         rings, dropped = resample_rings([box, island], lambda xy: np.ones(len(xy)))
     # perimeter / size: 1.9 (dropped), 4.4 (kept)
     assert (len(rings) == 2) == kept and (dropped == []) == kept
+
+
+def test_self_intersecting_resampled_boundary_is_a_meshing_error():
+    # an island resampled so coarsely that it crosses the exterior
+    square = np.array([[0, 0], [10000, 0], [10000, 10000], [0, 10000], [0, 0]], float)
+    island = np.array([[50, 50], [50, 9000], [-10, 5000], [50, 50]], float)
+    with pytest.raises(MeshingError, match="not a valid polygon"):
+        check_boundary([[[square]], [[island]]])
+    assert check_boundary([[[square]]]) is None

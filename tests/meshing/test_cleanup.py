@@ -54,6 +54,9 @@ def test_corner_triangle_is_flipped():
     assert report.boundary_triangles_before == 1
     assert report.boundary_flips + report.boundary_splits == 1
     _check_valid(m, clean)
+    data = report.to_dict()
+    assert data == {f: getattr(report, f) for f in data} and len(data) == 12
+    assert "all-boundary triangles 1 -> 0" in report.summary()
 
 
 def test_high_valence_node_loses_edges():
@@ -79,8 +82,7 @@ def test_high_valence_node_loses_edges():
 def test_real_mesh_stays_valid(tmp_path):
     from pathlib import Path
 
-    from coastmesh.case import run_case
-    from coastmesh.case.config import parse_case
+    from coastmesh.case import parse_case, run_case
 
     example = Path(__file__).parents[2] / "examples" / "orkney" / "pentland_firth.toml"
     text = example.read_text().replace('h_min = "150 m"', 'h_min = "300 m"')

@@ -11,9 +11,9 @@ from scipy.interpolate import RegularGridInterpolator
 from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError
 from coastmesh.io import read_raster
-from coastmesh.meshing import SizeGrid, generate_mesh
+from coastmesh.meshing import generate_mesh
 from coastmesh.meshing.depth import depth_at_nodes, limit_slope
-from coastmesh.types import BoundarySegment, Domain, Mesh
+from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
 
 GEOD = Geod(ellps="WGS84")
 
@@ -52,6 +52,10 @@ def test_bilinear_matches_scipy(orkney_mesh, etopo):
     assert inside.sum() > 100 and (~inside).sum() > 10  # some nodes lie west of -8.05
     np.testing.assert_allclose(depth[inside], expected[inside], atol=1e-9)
     assert report.nearest == int((~inside).sum())
+    data = report.to_dict()
+    assert data["nodes"] == len(depth) and data["method"] == "bilinear"
+    assert data["min"] == depth.min() and data["max"] == depth.max()
+    assert f"{report.nearest:,} nodes outside the raster" in report.summary()
 
 
 def test_outside_nodes_take_the_nearest_valid_cell(orkney_mesh, etopo):

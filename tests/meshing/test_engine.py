@@ -12,14 +12,9 @@ import shapely
 from pyproj import CRS, Transformer
 
 from coastmesh.errors import MeshingError
-from coastmesh.meshing import engine
+from coastmesh.meshing import default_mesh_crs, generate_mesh, sample_size
 from coastmesh.meshing.boundary import SmallIslandWarning
-from coastmesh.meshing.engine import (
-    _gmsh_session,
-    default_mesh_crs,
-    generate_mesh,
-    sample_size,
-)
+from coastmesh.meshing.engine import _gmsh_session
 from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
 
 OUTER = np.array([[0, 0], [10000, 0], [10000, 10000], [0, 10000], [0, 0]], float)
@@ -197,14 +192,6 @@ def test_session_finalises_after_an_exception():
         assert gmsh.isInitialized()
         raise KeyError("boom")
     assert not gmsh.isInitialized()
-
-
-def test_self_intersecting_resampled_boundary_is_a_meshing_error():
-    # an island resampled so coarsely that it crosses the exterior
-    outer = [[[OUTER]]]
-    island = [[[np.array([[50, 50], [50, 9000], [-10, 5000], [50, 50]], float)]]]
-    with pytest.raises(MeshingError, match="not a valid polygon"):
-        engine._check_boundary(outer + island)
 
 
 def test_bad_arguments_are_refused(square):

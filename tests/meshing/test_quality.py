@@ -18,13 +18,12 @@ from reference_quality import (
     triangle_reference,
 )
 
-from coastmesh.errors import OutputExistsError
 from coastmesh.io.msh import write_msh
-from coastmesh.meshing import SizeGrid, generate_mesh
+from coastmesh.meshing import generate_mesh
 from coastmesh.meshing import quality as quality_module
 from coastmesh.meshing.quality import edge_quality, mesh_quality, triangle_quality
 from coastmesh.plot.quality import depth_figure, quality_figure
-from coastmesh.types import BoundarySegment, Domain, Mesh
+from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
 
 GEOD = Geod(ellps="WGS84")
 RTOL = 1e-6
@@ -360,29 +359,36 @@ def test_inputs_are_not_changed(lonlat_mesh):
 # --- outputs ---------------------------------------------------------------------
 
 
-def test_report_json_round_trip(lonlat_mesh, tmp_path):
+def test_report_as_data_and_text(lonlat_mesh):
+    """to_dict() is JSON as it is; summary() is its text (files: tests/io)."""
     report = mesh_quality(lonlat_mesh)
-    path_json, path_txt = tmp_path / "q.json", tmp_path / "q.txt"
-    report.write(path_json, path_txt)
-    data = json.loads(path_json.read_text())
-    assert data == report.to_dict()
-    assert path_txt.read_text() == report.summary() + "\n"
+    data = report.to_dict()
+    assert json.loads(json.dumps(data)) == data
     assert data["boundary_edges"]["3"] == {
         "name": "rock",
         "kind": "shoreline",
         "edges": int((lonlat_mesh.boundary_ids == 3).sum()),
     }
     assert data["lengths"].startswith("on the WGS84 ellipsoid")
-    assert "south (open)" in report.summary()
-    with pytest.raises(OutputExistsError):
-        report.write(path_json)
-    # one existing target refuses both: the new text file is not written either
-    with pytest.raises(OutputExistsError):
-        report.write(tmp_path / "new.json", path_txt)
-    assert not (tmp_path / "new.json").exists()
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["q.json", "q.txt"]
-    report.write(path_json, overwrite=True)
-    assert json.loads(path_json.read_text()) == data
+    assert data["nodes"] == len(lonlat_mesh.points)
+    assert data["triangles"] == len(lonlat_mesh.triangles)
+    assert data["all_boundary_triangles"] == len(report.all_boundary_triangles)
+    assert data["min_angle_deg"]["min"] == pytest.approx(report.min_angle.min, 1e-6)
+    assert data["edge_length_over_size"]["edges"] == report.edge_ratio.edges
+    histogram = data["valence"]["interior"]["histogram"]
+    assert list(histogram) == sorted(histogram, key=int)
+    assert sum(histogram.values()) == report.interior_valence.nodes
+    text = report.summary()
+    assert "south (open)" in text and "rock (shoreline)" in text
+    assert f"{report.triangles:,} triangles" in text
+    assert "edges in [0.5, 2]" in text
+    assert not text.endswith("\n") and len(text.splitlines()) == 8
+    for stats in (report.min_angle, report.radius_ratio, report.edge_ratio):
+        assert stats.summary() in text
+    assert report.interior_valence.to_dict()["nodes"] == report.interior_valence.nodes
+    without_size = mesh_quality(grid_mesh("EPSG:4326", 0.01, (5, 60)))
+    assert without_size.to_dict()["edge_length_over_size"] is None
+    assert len(without_size.summary().splitlines()) == 7
 
 
 @pytest.mark.parametrize("which", ["generated", "grid"])

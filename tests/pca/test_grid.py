@@ -40,11 +40,13 @@ def _well_posed(grid, window, modes) -> bool:
     return lam[modes - 1] - lam[modes] >= 1e-6 * max(lam[0], 1e-300)
 
 
-@settings(
-    max_examples=60,
-    deadline=None,
-    suppress_health_check=[HealthCheck.function_scoped_fixture],
+# the parametrised fixture runs once per test, not once per example: that is meant
+WITH_FIXTURES = settings(
+    deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )
+
+
+@settings(WITH_FIXTURES, max_examples=60)
 @given(
     seed=st.integers(0, 2**32 - 1),
     ny=st.integers(2, 24),
@@ -67,11 +69,7 @@ def test_matches_reference(strips, seed, ny, nx, wy, wx, modes_frac, holes):
     np.testing.assert_allclose(got, expected, rtol=0, atol=1e-9)
 
 
-@settings(
-    max_examples=25,
-    deadline=None,
-    suppress_health_check=[HealthCheck.function_scoped_fixture],
-)
+@settings(WITH_FIXTURES, max_examples=25)
 @given(
     seed=st.integers(0, 2**32 - 1),
     ny=st.integers(4, 20),

@@ -40,11 +40,13 @@ def path(request, monkeypatch):
     return request.param
 
 
-@settings(
-    max_examples=60,
-    deadline=None,
-    suppress_health_check=[HealthCheck.function_scoped_fixture],
+# the parametrised fixture runs once per test, not once per example: that is meant
+WITH_FIXTURES = settings(
+    deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )
+
+
+@settings(WITH_FIXTURES, max_examples=60)
 @given(
     seed=st.integers(0, 2**32 - 1),
     n=st.integers(2, 140),
@@ -68,11 +70,7 @@ def test_matches_reference(path, seed, n, window, modes_frac, closed):
     np.testing.assert_allclose(got, expected, rtol=0, atol=1e-9)
 
 
-@settings(
-    max_examples=30,
-    deadline=None,
-    suppress_health_check=[HealthCheck.function_scoped_fixture],
-)
+@settings(WITH_FIXTURES, max_examples=30)
 @given(
     seed=st.integers(0, 2**32 - 1),
     n=st.integers(8, 120),

@@ -19,16 +19,16 @@ import rasterio
 import rasterio.windows
 from reference import simplify_raster_dense
 
-from coastmesh.case.config import StudyCase, _Table, load_case
+from coastmesh.case import StudyCase, read_case
+from coastmesh.case.schema import Table
 from coastmesh.case.studies.bathymetry import (
     BathymetryStudyConfig,
-    _maps_figure,
-    _surfaces_figure,
     parse_study,
     run_study,
 )
 from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.plot.studies import relief_maps_figure, relief_surfaces_figure
 
 EXAMPLE = Path(__file__).parents[2] / "examples" / "orkney_bathymetry" / "orkney.toml"
 BBOX = (-4.0, 58.0, -2.0, 60.0)  # 21 x 21 cells around Orkney and Caithness
@@ -83,7 +83,7 @@ def _read(path):
 
 
 def _parse(data):
-    table = _Table(data, "study", "case.toml")
+    table = Table(data, "study", "case.toml")
     return parse_study(table, lambda value, key: Path("/cases") / value)
 
 
@@ -146,7 +146,7 @@ def test_config_checks_itself():
 
 
 def test_example_case_parses():
-    case = load_case(EXAMPLE)
+    case = read_case(EXAMPLE)
     assert isinstance(case, StudyCase)
     assert (case.name, case.kind) == ("orkney_bathymetry", "bathymetry")
     # the repository's data file (the installed package may sit elsewhere)
@@ -262,7 +262,7 @@ def test_maps_share_one_colour_scale(study):
 
     raster = read_raster(folder / "orkney_r64.tif")
     panels = [("1 mode", raster.values - 100.0), ("input", raster.values)]
-    figure = _maps_figure(raster, panels)
+    figure = relief_maps_figure(raster, panels)
     images = [ax.images[0] for ax in figure.axes if ax.images]
     assert len(images) == 2
     assert len({(im.norm.vmin, im.norm.vmax) for im in images}) == 1
@@ -276,7 +276,9 @@ def test_surfaces_are_3d_with_the_exaggeration_noted(study):
     from coastmesh.io import read_raster
 
     raster = read_raster(folder / "orkney_r64.tif")
-    figure = _surfaces_figure(raster, [("a", raster.values), ("b", raster.values)])
+    figure = relief_surfaces_figure(
+        raster, [("a", raster.values), ("b", raster.values)]
+    )
     assert [ax.name for ax in figure.axes] == ["3d", "3d"]
     assert all(len(ax.collections) == 1 for ax in figure.axes)
     assert "vertical exaggeration x" in figure.get_suptitle()

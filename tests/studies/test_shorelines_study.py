@@ -14,7 +14,8 @@ import shapely
 from pyproj import CRS, Transformer
 from scipy.spatial import cKDTree
 
-from coastmesh.case.config import _Table, load_case
+from coastmesh.case import read_case
+from coastmesh.case.schema import Table
 from coastmesh.case.studies.shorelines import (
     ShorelineStudyConfig,
     _distances,
@@ -38,7 +39,7 @@ def quiet(label):
 
 
 def parse(data: dict) -> ShorelineStudyConfig:
-    return parse_study(_Table(data, "study", "test.toml"), lambda v, k: Path(v))
+    return parse_study(Table(data, "study", "test.toml"), lambda v, k: Path(v))
 
 
 def study(path, **extra) -> ShorelineStudyConfig:
@@ -128,7 +129,7 @@ def test_parse_needs_a_path():
 
 
 def test_example_case_parses():
-    case = load_case(EXAMPLE)
+    case = read_case(EXAMPLE)
     assert case.kind == "shorelines" and case.name == "sognefjorden"
     assert case.output == ROOT / "out" / "examples" / "sognefjorden"
     config = case.study

@@ -1,15 +1,72 @@
-"""Whole cases: a case file or a :class:`CaseConfig` in, a mesh and its outputs out."""
+"""Whole cases: a case file or a :class:`CaseConfig` in, a mesh and its outputs out.
+
+=========================  ==================================================
+:func:`read_case`          a case file -> :class:`CaseConfig` (or a study)
+:func:`parse_case`         case-file text -> :class:`CaseConfig`
+:func:`dump_case`          :class:`CaseConfig` -> case-file text
+:func:`build_case`         a case -> :class:`CaseResult`, in memory
+:func:`run_case`           build, then :meth:`CaseResult.write`
+:class:`CaseConfig`        a whole case, checked when built; its parts below
+:class:`CaseResult`        mesh, domain, size field, :class:`CaseReport`
+=========================  ==================================================
+
+The parts of a :class:`CaseConfig`, one per table of the case file, are
+:class:`ShorelinesConfig`, :class:`ShorelineSetConfig`, :class:`RegionConfig`,
+:class:`BoundaryConfig` (with :class:`LoxodromeConfig`), :class:`DomainConfig`,
+:class:`SizeConfig` (with :class:`GradationConfig` and
+:class:`BathymetryConfig`), :class:`MeshConfig`, :class:`NodeDepthConfig`,
+:class:`CleanupConfig` and :class:`OutputConfig`.
+"""
 
 from __future__ import annotations
 
-from coastmesh.case.config import CaseConfig, StudyCase, load_case, parse_case
-from coastmesh.case.run import CaseResult, run_case
+from coastmesh.case.build import build_case
+from coastmesh.case.config import (
+    BathymetryConfig,
+    BoundaryConfig,
+    CaseConfig,
+    CleanupConfig,
+    DomainConfig,
+    GradationConfig,
+    LoxodromeConfig,
+    MeshConfig,
+    NodeDepthConfig,
+    OutputConfig,
+    RegionConfig,
+    ShorelinesConfig,
+    ShorelineSetConfig,
+    SizeConfig,
+    StudyCase,
+)
+from coastmesh.case.dump import dump_case
+from coastmesh.case.inputs import ShorelineSetReport
+from coastmesh.case.parse import parse_case, read_case
+from coastmesh.case.result import CaseReport, CaseResult, MeshReport
+from coastmesh.case.run import run_case
 
 __all__ = [
+    "BathymetryConfig",
+    "BoundaryConfig",
     "CaseConfig",
+    "CaseReport",
     "CaseResult",
+    "CleanupConfig",
+    "DomainConfig",
+    "GradationConfig",
+    "LoxodromeConfig",
+    "MeshConfig",
+    "MeshReport",
+    "NodeDepthConfig",
+    "OutputConfig",
+    "RegionConfig",
+    "ShorelineSetConfig",
+    "ShorelineSetReport",
+    "ShorelinesConfig",
+    "SizeConfig",
     "StudyCase",
-    "load_case",
+    "build_case",
+    "dump_case",
     "parse_case",
+    "read_case",
     "run_case",
 ]

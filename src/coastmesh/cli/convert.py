@@ -1,4 +1,4 @@
-"""``coastmesh convert``: a mesh to a model format, with bathymetry on the nodes."""
+"""``coastmesh convert``: a mesh from any readable format to any other, with depth."""
 
 from __future__ import annotations
 
@@ -69,8 +69,9 @@ def _ids(ctx: click.Context, param: click.Parameter, value: str | None):
     "--open-ids",
     callback=_ids,
     metavar="IDS",
-    help="Boundary ids that are open boundaries, e.g. 2,3,4 (default: from the "
-    "mesh's physical names open:NAME).",
+    help="Boundary ids that are open boundaries, e.g. 2,3,4 (default: the kinds "
+    "MESH stores: msh physical names open:NAME, fort.14/gr3 open and land lists, "
+    "UGRID, GeoPackage, MIKE codes).",
 )
 @crs_option
 @overwrite_option
@@ -92,10 +93,16 @@ def convert(
     crs: object,
     overwrite: bool,
 ) -> None:
-    """Write the mesh MESH (.msh) in the format of OUT's extension.
+    """Read the mesh MESH and write it in the format of OUT's extension.
 
     \b
-    Extensions: .msh (msh 2.2), .14 / .grd (ADCIRC fort.14), .gr3 (SCHISM),
+    MESH can be read from: .msh (msh 2.2 or 4.1), .14 / .grd (ADCIRC fort.14),
+    .gr3 / .ll (SCHISM), .nc (UGRID), .vtu, .gpkg (coastmesh's mesh layers),
+    .mesh (MIKE); the boundary ids, kinds and depth come along where the file
+    has them. --crs is for files that store no CRS (msh, vtu; default
+    EPSG:4326).
+    \b
+    OUT extensions: .msh (msh 2.2), .14 / .grd (ADCIRC fort.14), .gr3 (SCHISM),
     .slf (Telemac SELAFIN + .cli), .mesh (MIKE), .vtu, .nc (UGRID), .gpkg.
 
     \b
@@ -108,7 +115,7 @@ def convert(
         src,
         dst,
         format=fmt,
-        crs=crs if crs is not None else "EPSG:4326",
+        crs=crs,
         open_ids=open_ids,
         bathymetry=bathymetry,
         raster_positive=raster_positive,

@@ -51,9 +51,9 @@ def run(
     end, so a failed run leaves nothing. OUTPUT must not exist or be empty, unless
     --overwrite is given.
     """
-    from coastmesh.case.config import StudyCase, load_case
+    from coastmesh.case import StudyCase, read_case
 
-    config = load_case(case)
+    config = read_case(case)
     quiet = ctx.find_root().obj.get("quiet", False)
     if check:
         if not quiet and isinstance(config, StudyCase):

@@ -1,11 +1,13 @@
-"""Convert a mesh file to a model format, optionally with bathymetry on the nodes.
+"""Convert a mesh file to another format, optionally with bathymetry on the nodes.
 
-This is ``coastmesh convert``: a Gmsh ``.msh`` (as ``coastmesh run`` writes it, or
-any 2D triangle mesh with physical line ids) in, any registered format out.
+This is ``coastmesh convert``: a mesh in any format the registry reads
+(:func:`coastmesh.io.read_mesh`: msh, fort.14, gr3, UGRID, VTU, GeoPackage, MIKE)
+in, any registered format out (:func:`coastmesh.io.write_mesh`).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import os
 from collections.abc import Sequence
@@ -15,16 +17,36 @@ from typing import Any
 from pyproj import CRS
 
 from coastmesh.errors import ConfigError, FormatError
-from coastmesh.types import Mesh
+from coastmesh.types import Mesh, Report
 
-__all__ = ["ConvertResult", "convert_mesh"]
+__all__ = ["DEFAULT_CRS", "ConvertResult", "convert_mesh"]
 
 logger = logging.getLogger(__name__)
 
+#: The CRS of a mesh read from a file that stores none (msh, VTU), unless given.
+DEFAULT_CRS = "EPSG:4326"
+
 
 @dataclass(frozen=True, slots=True)
-class ConvertResult:
-    """What :func:`convert_mesh` wrote."""
+class ConvertResult(Report):
+    """What :func:`convert_mesh` wrote.
+
+    Parameters
+    ----------
+    path : str
+        The output file.
+    format : str
+        The format it was written in.
+    nodes, triangles, boundary_edges : int
+        The counts of the mesh.
+    depth : Report, optional
+        The depth interpolation report, if bathymetry was given.
+
+    Examples
+    --------
+    >>> ConvertResult("fort.14", "fort14", 4, 2, 4).summary()
+    'fort.14 (fort14): 4 nodes, 2 triangles, 4 boundary edges'
+    """
 
     path: str
     format: str
@@ -49,7 +71,7 @@ def convert_mesh(
     dst: str | os.PathLike[str],
     *,
     format: str | None = None,
-    crs: CRS | str = "EPSG:4326",
+    crs: CRS | str | None = None,
     open_ids: Sequence[int] | None = None,
     bathymetry: str | os.PathLike[str] | None = None,
     raster_positive: str = "up",
@@ -59,21 +81,25 @@ def convert_mesh(
     positive: str | None = None,
     overwrite: bool = False,
 ) -> ConvertResult:
-    """Read a ``.msh`` mesh and write it in another format.
+    """Read a mesh in any readable format and write it in another.
 
     Parameters
     ----------
     src : path
-        The mesh (msh 2.2 or 4.1).
+        The mesh; its extension picks the reader (``coastmesh.io.mesh_formats()``
+        lists which formats can be read).
     dst : path
         The output; its extension picks the format unless ``format`` is given.
     format : str, optional
-        A registered format name (``coastmesh.io.mesh_formats()``).
-    crs : CRS-like
-        The CRS of the mesh coordinates (msh does not store it).
+        A registered format name for ``dst``.
+    crs : CRS-like, optional
+        The CRS of the mesh coordinates, for files that store none (msh, VTU, a
+        fort.14 from another tool); default :data:`DEFAULT_CRS`. A file that
+        stores a CRS keeps it (and ``crs``, if given, must agree).
     open_ids : sequence of int, optional
         The boundary ids that are open (sea) boundaries; the others are land.
-        Default: the kinds stored in the file's physical names (``open:NAME``).
+        Default: the kinds the file stores (msh physical names ``open:NAME``,
+        fort.14/gr3 open and land lists, UGRID, GeoPackage, MIKE codes).
     bathymetry : path, optional
         A raster (any GDAL raster) to interpolate onto the nodes.
     raster_positive : {"up", "down"}
@@ -92,16 +118,41 @@ def convert_mesh(
     Raises
     ------
     FormatError
-        If the extension or format is unknown, or the format cannot hold the mesh.
+        If an extension or format is unknown, ``src``'s format cannot be read, or
+        ``dst``'s format cannot hold the mesh.
+    InputDataError
+        If ``src`` is missing or not a valid mesh.
     ConfigError
         If ``open_ids`` names ids the mesh does not have.
+    OutputExistsError
+        If ``dst`` exists and ``overwrite`` is false.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from coastmesh.io import write_mesh
+    >>> m = Mesh([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1, 2], [0, 2, 3]],
+    ...          [[0, 1], [1, 2], [2, 3], [3, 0]], [2, 1, 1, 1], 1, None)
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> write_mesh(folder / "square.msh", m)
+    >>> convert_mesh(folder / "square.msh", folder / "square.nc").summary()
+    '.../square.nc (ugrid): 4 nodes, 2 triangles, 4 boundary edges'
+    >>> convert_mesh(folder / "square.nc", folder / "square.vtu").format
+    'vtu'
     """
-    from coastmesh.io import check_output, read_msh
-    from coastmesh.io.writers import format_for_path, mesh_format, write_mesh
+    from coastmesh.io import (
+        check_output,
+        format_for_path,
+        mesh_format,
+        read_mesh,
+        write_mesh,
+    )
 
     fmt = mesh_format(format) if format else format_for_path(dst)
     check_output(dst, overwrite=overwrite)
-    mesh = read_msh(src, crs=crs)
+    mesh = read_mesh(src, crs=crs)
+    if mesh.crs is None:
+        mesh = dataclasses.replace(mesh, crs=CRS.from_user_input(DEFAULT_CRS))
     if open_ids is not None:
         mesh = _with_kinds(mesh, open_ids, os.fspath(src))
     depth_report = None
@@ -147,14 +198,4 @@ def _with_kinds(mesh: Mesh, open_ids: Sequence[int], source: str) -> Mesh:
             f"{sorted(present)}"
         )
     kinds = {pid: ("open" if pid in set(open_ids) else "shoreline") for pid in present}
-    return Mesh(
-        mesh.points,
-        mesh.triangles,
-        mesh.boundary_edges,
-        mesh.boundary_ids,
-        mesh.surface_id,
-        mesh.crs,
-        mesh.point_data,
-        mesh.boundary_names,
-        kinds,
-    )
+    return dataclasses.replace(mesh, boundary_kinds=kinds)

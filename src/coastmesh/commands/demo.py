@@ -12,7 +12,7 @@ from coastmesh.commands.simplify_raster import RasterReport, simplify_raster_fil
 from coastmesh.commands.simplify_shoreline import simplify_shoreline_file
 from coastmesh.data import path as data_path
 from coastmesh.errors import CoastmeshWarning
-from coastmesh.geometry.shoreline import ShorelineReport
+from coastmesh.geometry import ShorelineReport
 from coastmesh.io import atomic_directory
 from coastmesh.types import Progress
 

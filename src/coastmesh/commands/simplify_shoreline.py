@@ -23,7 +23,7 @@ from coastmesh.commands._common import (
     with_crs,
 )
 from coastmesh.errors import CoastmeshWarning, InputDataError
-from coastmesh.geometry.shoreline import (
+from coastmesh.geometry import (
     ShorelineReport,
     check_coordinates,
     simplify_shorelines,

@@ -1,4 +1,14 @@
-"""Geometry: shoreline approximation, loxodromes on WGS84, model domains."""
+"""Geometry: shorelines, loxodromes on WGS84, model domains, and the Earth.
+
+========================  =====================================================
+:mod:`.shoreline`         PCA approximation of whole shoreline layers
+:mod:`.layers`            checks, repairs and densifying of shoreline layers
+:mod:`.stitch`            one land geometry from shoreline sets by region
+:mod:`.rhumb`             loxodromes and great circles for open boundaries
+:mod:`.domain`            the sea polygon and its tagged boundary
+:mod:`.earth`             reprojection, earth-centred coordinates, lengths
+========================  =====================================================
+"""
 
 from __future__ import annotations
 
@@ -8,32 +18,55 @@ from coastmesh.geometry.domain import (
     build_domain,
     polygon_areas,
 )
+from coastmesh.geometry.earth import (
+    EARTH_RADIUS,
+    METRES_PER_DEGREE,
+    arc_lengths,
+    earth_centred,
+    metres_per_unit,
+    reproject,
+    reproject_points,
+    transformer,
+)
+from coastmesh.geometry.layers import (
+    check_coordinates,
+    densify_long_edges,
+    land_polygons,
+    valid_polygons,
+)
 from coastmesh.geometry.rhumb import (
     Loxodrome,
     blend_loxodromes,
     great_circle,
     paper_bearing,
 )
-from coastmesh.geometry.shoreline import (
-    ShorelineReport,
-    check_coordinates,
-    densify_long_edges,
-    land_polygons,
-    simplify_shorelines,
-)
+from coastmesh.geometry.shoreline import ShorelineReport, simplify_shorelines
+from coastmesh.geometry.stitch import ShorelineSet, StitchReport, stitch_shorelines
 
 __all__ = [
+    "EARTH_RADIUS",
+    "METRES_PER_DEGREE",
     "DomainReport",
     "Loxodrome",
     "OpenBoundary",
     "ShorelineReport",
+    "ShorelineSet",
+    "StitchReport",
+    "arc_lengths",
     "blend_loxodromes",
     "build_domain",
     "check_coordinates",
     "densify_long_edges",
+    "earth_centred",
     "great_circle",
     "land_polygons",
+    "metres_per_unit",
     "paper_bearing",
     "polygon_areas",
+    "reproject",
+    "reproject_points",
     "simplify_shorelines",
+    "stitch_shorelines",
+    "transformer",
+    "valid_polygons",
 ]

@@ -16,10 +16,12 @@ from dataclasses import dataclass, field
 import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
-from pyproj import CRS, Geod, Transformer
+from pyproj import CRS, Geod
 
 from coastmesh.errors import ConfigError, InputDataError
-from coastmesh.types import BoundarySegment, Domain
+from coastmesh.geometry.earth import metres_per_unit, reproject
+from coastmesh.geometry.layers import valid_polygons
+from coastmesh.types import BoundarySegment, Domain, Report
 
 __all__ = ["DomainReport", "OpenBoundary", "build_domain", "polygon_areas"]
 
@@ -62,8 +64,27 @@ class OpenBoundary:
 
 
 @dataclass(frozen=True, slots=True)
-class DomainReport:
-    """What :func:`build_domain` found and changed."""
+class DomainReport(Report):
+    """What :func:`build_domain` found and changed.
+
+    Attributes
+    ----------
+    land_in : int
+        Non-empty land geometries given.
+    land_repaired : int
+        Of those, the invalid ones made valid (GEOS ``make_valid``).
+    land_overlaps_merged : int
+        Land polygons that merged into others where they overlapped or touched:
+        the polygons given less the polygons of their union.
+    sea_faces : int
+        Faces of the noded shorelines and open boundaries that are not land.
+    holes : int
+        Islands (holes) of the domain.
+    holes_dropped : int
+        Islands smaller than the minimum area, dropped.
+    segments : dict of str to int
+        Boundary edges (vertex to vertex) by boundary name.
+    """
 
     land_in: int
     land_repaired: int
@@ -151,10 +172,7 @@ def build_domain(
     _check_ids(shorelines, open_boundaries)
     geoms = np.asarray(land, dtype=object).ravel()
     geoms = geoms[~(shapely.is_missing(geoms) | shapely.is_empty(geoms))]
-    invalid = ~shapely.is_valid(geoms)
-    geoms = np.where(invalid, shapely.make_valid(geoms), geoms)
-    polygons = shapely.get_parts(geoms)
-    polygons = polygons[shapely.get_type_id(polygons) == shapely.GeometryType.POLYGON]
+    polygons = valid_polygons(geoms)
     merged = shapely.union_all(polygons)
     overlaps = len(polygons) - len(shapely.get_parts(merged))
 
@@ -187,7 +205,7 @@ def build_domain(
         counts[s.name] = counts.get(s.name, 0) + len(s.coords) - 1
     report = DomainReport(
         land_in=len(geoms),
-        land_repaired=int(invalid.sum()),
+        land_repaired=int((~shapely.is_valid(geoms)).sum()),
         land_overlaps_merged=int(overlaps),
         sea_faces=len(sea),
         holes=len(domain.interiors),
@@ -213,13 +231,9 @@ def polygon_areas(polygons: ArrayLike, crs: CRS) -> NDArray[np.float64]:
         return np.zeros(0)
     if crs.is_geographic:
         if crs.to_epsg() != 4326:
-            to_ll = Transformer.from_crs(crs, "EPSG:4326", always_xy=True)
-            polygons = shapely.transform(
-                polygons, lambda xy: np.column_stack(to_ll.transform(*xy.T))
-            )
+            polygons = reproject(polygons, crs, "EPSG:4326")
         return np.array([abs(_GEOD.geometry_area_perimeter(p)[0]) for p in polygons])
-    unit = crs.axis_info[0].unit_conversion_factor if crs.axis_info else 1.0
-    return shapely.area(polygons) * unit**2
+    return shapely.area(polygons) * metres_per_unit(crs) ** 2
 
 
 def _drop_small_holes(domain: shapely.Polygon, min_area: float, crs: CRS):

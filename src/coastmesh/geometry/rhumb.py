@@ -89,6 +89,41 @@ def _latitude_of_arc(arc: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.asarray(lat)
 
 
+# What a loxodrome ending at a latitude or a longitude runs along, the ways it
+# can head there, the way it never gets there, and what to give instead.
+_ENDS = {
+    "end_lat": ("latitude", "north", "south", "east or west", "end_lon", ""),
+    "end_lon": (
+        "longitude",
+        "east",
+        "west",
+        "north or south",
+        "end_lat",
+        " (longitudes are not wrapped)",
+    ),
+}
+
+
+def _check_end(name: str, end: float, start: float, heading: float, az: float) -> None:
+    """Raise unless a loxodrome from ``start`` at azimuth ``az`` reaches ``end``.
+
+    ``heading`` is the azimuth's cosine for ``end_lat``, its sine for ``end_lon``.
+    """
+    coordinate, ahead, back, across, other, note = _ENDS[name]
+    if np.isclose(heading, 0.0, atol=1e-12):
+        raise ConfigError(
+            f"loxodrome azimuth = {az}: a line due {across} never reaches "
+            f"{name} = {end}; give {other}"
+        )
+    if name == "end_lat" and not -90 < end < 90:
+        raise ConfigError(f"loxodrome end_lat = {end}: not in (-90, 90)")
+    if (end > start) != (heading > 0) or end == start:
+        raise ConfigError(
+            f"loxodrome from {coordinate} {start} at azimuth {az} heads "
+            f"{ahead if heading > 0 else back} and never reaches {name} = {end}{note}"
+        )
+
+
 @dataclass(frozen=True, slots=True)
 class Loxodrome:
     """A rhumb line from ``start`` at ``azimuth`` to a given latitude or longitude.
@@ -132,38 +167,10 @@ class Loxodrome:
             )
         az = float(self.azimuth) % 360.0
         object.__setattr__(self, "azimuth", az)
-        east_west = np.isclose(np.cos(np.radians(az)), 0.0, atol=1e-12)
-        north_south = np.isclose(np.sin(np.radians(az)), 0.0, atol=1e-12)
         if self.end_lat is not None:
-            if east_west:
-                raise ConfigError(
-                    f"loxodrome azimuth = {az}: a line due east or west never "
-                    f"reaches end_lat = {self.end_lat}; give end_lon"
-                )
-            if not -90 < self.end_lat < 90:
-                raise ConfigError(
-                    f"loxodrome end_lat = {self.end_lat}: not in (-90, 90)"
-                )
-            heading_north = np.cos(np.radians(az)) > 0
-            if (self.end_lat > lat0) != heading_north or self.end_lat == lat0:
-                raise ConfigError(
-                    f"loxodrome from latitude {lat0} at azimuth {az} heads "
-                    f"{'north' if heading_north else 'south'} and never reaches "
-                    f"end_lat = {self.end_lat}"
-                )
+            _check_end("end_lat", self.end_lat, lat0, np.cos(np.radians(az)), az)
         else:
-            if north_south:
-                raise ConfigError(
-                    f"loxodrome azimuth = {az}: a line due north or south never "
-                    f"reaches end_lon = {self.end_lon}; give end_lat"
-                )
-            heading_east = np.sin(np.radians(az)) > 0
-            if (self.end_lon > lon0) != heading_east or self.end_lon == lon0:
-                raise ConfigError(
-                    f"loxodrome from longitude {lon0} at azimuth {az} heads "
-                    f"{'east' if heading_east else 'west'} and never reaches "
-                    f"end_lon = {self.end_lon} (longitudes are not wrapped)"
-                )
+            _check_end("end_lon", self.end_lon, lon0, np.sin(np.radians(az)), az)
 
     @classmethod
     def between(cls, start: tuple[float, float], end: tuple[float, float]) -> Loxodrome:

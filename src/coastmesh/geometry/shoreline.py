@@ -10,8 +10,6 @@ repaired with GEOS ``make_valid``.
 
 from __future__ import annotations
 
-import logging
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,19 +17,16 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import InputDataError
-from coastmesh.pca.checks import check_modes, check_window
-from coastmesh.pca.line import simplify_contour
-from coastmesh.pca.threads import single_threaded_blas
-from coastmesh.types import Features
+from coastmesh.geometry.layers import check_coordinates
+from coastmesh.pca import (
+    check_modes,
+    check_window,
+    simplify_contour,
+    single_threaded_blas,
+)
+from coastmesh.types import Progress, Report
 
-logger = logging.getLogger(__name__)
-
-__all__ = [
-    "ShorelineReport",
-    "check_coordinates",
-    "densify_long_edges",
-    "simplify_shorelines",
-]
+__all__ = ["ShorelineReport", "simplify_shorelines"]
 
 _POLYGONAL = (shapely.GeometryType.POLYGON, shapely.GeometryType.MULTIPOLYGON)
 _SINGLE = (
@@ -47,7 +42,7 @@ _LINEAR = (
 
 
 @dataclass(frozen=True, slots=True)
-class ShorelineReport:
+class ShorelineReport(Report):
     """What :func:`simplify_shorelines` did.
 
     Attributes
@@ -86,7 +81,7 @@ def simplify_shorelines(
     window: int,
     modes: int,
     *,
-    progress: Callable[[int, int], None] | None = None,
+    progress: Progress | None = None,
 ) -> tuple[NDArray[np.object_], ShorelineReport]:
     """Approximate every ring and line of a shoreline layer by PCA.
 
@@ -219,44 +214,6 @@ def _count_points(geoms) -> int:
     )
 
 
-def check_coordinates(geometries: ArrayLike) -> None:
-    """Check that every vertex of every geometry has finite coordinates.
-
-    Parameters
-    ----------
-    geometries : array_like of shapely geometries, shape (F,)
-        The geometries to check; None is allowed.
-
-    Raises
-    ------
-    InputDataError
-        For the first geometry with a NaN or infinite coordinate; ``feature`` is
-        its index, and the message names the vertex (counted over the whole
-        geometry) and the value.
-
-    Examples
-    --------
-    >>> import shapely
-    >>> check_coordinates([shapely.box(0, 0, 1, 1), None]) is None
-    True
-    """
-    geoms = np.asarray(geometries, dtype=object).ravel()
-    coords, index = shapely.get_coordinates(geoms, return_index=True)
-    bad = np.flatnonzero(~np.isfinite(coords).all(axis=1))
-    if bad.size == 0:
-        return
-    row = bad[0]
-    feature = int(index[row])
-    vertex = int(row - np.searchsorted(index, feature))
-    x, y = coords[row]
-    kind = "NaN" if np.isnan(coords[row]).any() else "infinite"
-    others = np.unique(index[bad]).size - 1
-    more = f" (and {others} more features)" if others else ""
-    raise InputDataError(
-        f"vertex {vertex} has a {kind} coordinate ({x}, {y}){more}", feature=feature
-    )
-
-
 def _rebuild(
     geoms, part_feature, part_is_polygon, contour_part, n_rings, keep, new_coords
 ):
@@ -343,125 +300,3 @@ def _repair(result, polygonal, types):
     result = result.copy()
     result[invalid] = out
     return result, int(invalid.sum())
-
-
-#: Edges longer than this many times the median edge are split before PCA.
-LONG_EDGE_FACTOR = 50.0
-
-
-def densify_long_edges(geoms: NDArray[np.object_]) -> NDArray[np.object_]:
-    """Split edges far longer than the data's typical spacing before PCA.
-
-    PCA partitions count vertices, not distance. A shoreline clipped to a data box
-    (GSHHG's Eurasia, say) has cut edges hundreds of kilometres long between two
-    vertices; a window spanning one averages points far apart and pulls the
-    reconstruction across land. Such edges (longer than ``LONG_EDGE_FACTOR``
-    times the layer's median edge; in GSHHG full resolution the longest real
-    edges are about 20 times the median) get vertices at the median spacing;
-    every other edge and vertex stays as it is.
-
-    Parameters
-    ----------
-    geoms : ndarray of shapely polygons (None allowed)
-        The shoreline layer.
-
-    Returns
-    -------
-    ndarray
-        ``geoms`` itself when no edge is that long, else a copy with the long edges
-        split.
-    """
-    rings = shapely.get_rings(shapely.get_parts(geoms[~shapely.is_missing(geoms)]))
-    if len(rings) == 0:
-        return geoms
-    steps = np.concatenate(
-        [np.hypot(*np.diff(shapely.get_coordinates(r), axis=0).T) for r in rings]
-    )
-    steps = steps[steps > 0]
-    if len(steps) == 0:
-        return geoms
-    spacing = float(np.median(steps))
-    limit = LONG_EDGE_FACTOR * spacing
-    if steps.max() <= limit:
-        return geoms
-
-    def densify(xy: NDArray[np.float64]) -> NDArray[np.float64]:
-        length = np.hypot(*np.diff(xy, axis=0).T)
-        pieces = [xy[:1]]
-        for k in range(len(length)):
-            if length[k] > limit:
-                count = int(np.ceil(length[k] / spacing))
-                t = np.linspace(0.0, 1.0, count + 1)[1:, None]
-                pieces.append(xy[k] + t * (xy[k + 1] - xy[k]))
-            else:
-                pieces.append(xy[k + 1 : k + 2])
-        return np.concatenate(pieces)
-
-    out = geoms.copy()
-    split = 0
-    for index, geom in enumerate(geoms):
-        if geom is None or shapely.is_empty(geom):
-            continue
-        parts = shapely.get_parts(geom)
-        longest = max(
-            np.hypot(*np.diff(shapely.get_coordinates(r), axis=0).T).max(initial=0.0)
-            for r in shapely.get_rings(parts)
-        )
-        if longest <= limit:
-            continue
-        rebuilt = []
-        for part in parts:
-            shell = densify(shapely.get_coordinates(part.exterior))
-            holes = [densify(shapely.get_coordinates(r)) for r in part.interiors]
-            rebuilt.append(shapely.Polygon(shell, holes))
-        out[index] = rebuilt[0] if len(rebuilt) == 1 else shapely.MultiPolygon(rebuilt)
-        split += 1
-    logger.info(
-        "%d shoreline features have edges over %g x the median spacing (clipped "
-        "data boxes); those edges get vertices at the median spacing before PCA",
-        split,
-        LONG_EDGE_FACTOR,
-    )
-    return out
-
-
-def land_polygons(features: Features, *, purpose: str = "land") -> Features:
-    """Return the non-empty features of a layer that must hold land polygons.
-
-    Parameters
-    ----------
-    features : coastmesh.types.Features
-        The layer as read.
-    purpose : str
-        What the polygons are for, for the error message.
-
-    Returns
-    -------
-    Features
-        The features with a polygon or multipolygon (empty ones left out).
-
-    Raises
-    ------
-    InputDataError
-        If a feature holds another geometry type, or none holds a polygon; the
-        message names the file and the feature id.
-    """
-    geometry = features.geometry
-    present = ~(shapely.is_missing(geometry) | shapely.is_empty(geometry))
-    polygonal = np.isin(
-        shapely.get_type_id(geometry),
-        (shapely.GeometryType.POLYGON, shapely.GeometryType.MULTIPOLYGON),
-    )
-    bad = np.flatnonzero(present & ~polygonal)
-    if len(bad):
-        k = int(bad[0])
-        raise InputDataError(
-            f"{features.path}: feature {features.fids[k]} is a "
-            f"{geometry[k].geom_type}; {purpose} needs land polygons (e.g. GSHHG "
-            "level 1)",
-            path=features.path,
-            feature=int(features.fids[k]),
-        )
-    if not present.any():
-        raise InputDataError(f"{features.path}: no land polygons", path=features.path)
-    return features.take(present)

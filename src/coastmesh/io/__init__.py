@@ -1,17 +1,20 @@
 """Readers and writers: file names in, coastmesh types out, and back.
 
-=====================  ==========================================================
-:func:`read_features`  vector layer -> :class:`~coastmesh.types.Features`
-:func:`write_features` :class:`~coastmesh.types.Features` -> vector file
-:func:`read_raster`    raster band -> :class:`xarray.DataArray` (``y``, ``x``)
-:func:`write_raster`   :class:`xarray.DataArray` -> GeoTIFF or NetCDF
-:func:`write_mesh`     :class:`~coastmesh.types.Mesh` -> msh, GeoPackage, ...
-:func:`mesh_formats`   the mesh output formats, by name
-:func:`write_domain`   :class:`~coastmesh.types.Domain` -> GeoPackage
-=====================  ==========================================================
+=======================  ========================================================
+:func:`read_features`    vector layer -> :class:`~coastmesh.types.Features`
+:func:`write_features`   :class:`~coastmesh.types.Features` -> vector file
+:func:`read_raster`      raster band -> :class:`xarray.DataArray` (``y``, ``x``)
+:func:`write_raster`     :class:`xarray.DataArray` -> GeoTIFF or NetCDF
+:func:`read_mesh`        msh, fort.14, gr3, UGRID, ... -> :class:`~coastmesh.types.Mesh`
+:func:`write_mesh`       :class:`~coastmesh.types.Mesh` -> msh, fort.14, UGRID, ...
+:func:`mesh_formats`     the mesh formats, by name, with their readers and writers
+:func:`write_domain`     :class:`~coastmesh.types.Domain` -> GeoPackage
+:func:`write_report`     a report -> JSON (``to_dict()``) and text (``summary()``)
+=======================  ========================================================
 
 The submodules are imported on first use, so reading vectors does not import
-rasterio and reading rasters does not import pyogrio.
+rasterio and reading rasters does not import pyogrio. Code outside this package
+imports from ``coastmesh.io`` only, never from its private modules.
 """
 
 from __future__ import annotations
@@ -27,20 +30,22 @@ if TYPE_CHECKING:
         check_directory,
         check_output,
     )
+    from coastmesh.io._drivers import plot_format, raster_driver, vector_driver
     from coastmesh.io._inputs import check_bbox, check_input
-    from coastmesh.io._registry import plot_format, raster_driver, vector_driver
-    from coastmesh.io.domain_gpkg import write_domain
-    from coastmesh.io.msh import read_msh, write_msh
-    from coastmesh.io.raster import raster_transform, read_raster, write_raster
-    from coastmesh.io.vector import read_features, write_features
-    from coastmesh.io.writers import (
-        MeshFormat,
+    from coastmesh.io._mesh_format import MeshFormat
+    from coastmesh.io._registry import (
         format_for_path,
         mesh_format,
         mesh_formats,
+        read_mesh,
         register_mesh_format,
         write_mesh,
     )
+    from coastmesh.io.domain_gpkg import write_domain
+    from coastmesh.io.msh import read_msh, write_msh
+    from coastmesh.io.raster import raster_transform, read_raster, write_raster
+    from coastmesh.io.report import write_report
+    from coastmesh.io.vector import read_features, write_features
 
 __all__ = [
     "AtomicOutputs",
@@ -58,6 +63,7 @@ __all__ = [
     "raster_driver",
     "raster_transform",
     "read_features",
+    "read_mesh",
     "read_msh",
     "read_raster",
     "register_mesh_format",
@@ -67,6 +73,7 @@ __all__ = [
     "write_mesh",
     "write_msh",
     "write_raster",
+    "write_report",
 ]
 
 _HOME = {
@@ -77,9 +84,9 @@ _HOME = {
     "check_output": "coastmesh.io._atomic",
     "check_bbox": "coastmesh.io._inputs",
     "check_input": "coastmesh.io._inputs",
-    "plot_format": "coastmesh.io._registry",
-    "raster_driver": "coastmesh.io._registry",
-    "vector_driver": "coastmesh.io._registry",
+    "plot_format": "coastmesh.io._drivers",
+    "raster_driver": "coastmesh.io._drivers",
+    "vector_driver": "coastmesh.io._drivers",
     "read_features": "coastmesh.io.vector",
     "write_features": "coastmesh.io.vector",
     "raster_transform": "coastmesh.io.raster",
@@ -87,13 +94,15 @@ _HOME = {
     "write_raster": "coastmesh.io.raster",
     "read_msh": "coastmesh.io.msh",
     "write_msh": "coastmesh.io.msh",
-    "MeshFormat": "coastmesh.io.writers",
-    "format_for_path": "coastmesh.io.writers",
-    "mesh_format": "coastmesh.io.writers",
-    "mesh_formats": "coastmesh.io.writers",
-    "register_mesh_format": "coastmesh.io.writers",
-    "write_mesh": "coastmesh.io.writers",
+    "MeshFormat": "coastmesh.io._mesh_format",
+    "format_for_path": "coastmesh.io._registry",
+    "mesh_format": "coastmesh.io._registry",
+    "mesh_formats": "coastmesh.io._registry",
+    "read_mesh": "coastmesh.io._registry",
+    "register_mesh_format": "coastmesh.io._registry",
+    "write_mesh": "coastmesh.io._registry",
     "write_domain": "coastmesh.io.domain_gpkg",
+    "write_report": "coastmesh.io.report",
 }
 
 

@@ -55,6 +55,18 @@ def check_output(path: str | os.PathLike[str], *, overwrite: bool = False) -> Pa
     ------
     OutputExistsError
         If ``path`` exists and ``overwrite`` is false, or ``path`` is a folder.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> target = pathlib.Path(tempfile.mkdtemp()) / "mesh.msh"
+    >>> check_output(target).name
+    'mesh.msh'
+    >>> _ = target.write_text("old")
+    >>> check_output(target)
+    Traceback (most recent call last):
+    ...
+    coastmesh.errors.OutputExistsError: .../mesh.msh already exists; use ...
     """
     target = Path(path)
     if target.is_dir():
@@ -237,6 +249,17 @@ def atomic_directory(
     ------
     OutputExistsError
         If ``path`` is a file, or a non-empty folder and ``overwrite`` is false.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = pathlib.Path(tempfile.mkdtemp()) / "run"
+    >>> with atomic_directory(folder) as partial:
+    ...     _ = (partial / "a.txt").write_text("a")
+    ...     folder.exists()
+    False
+    >>> sorted(p.name for p in folder.iterdir())
+    ['a.txt']
     """
     target = Path(path)
     check_directory(target, overwrite=overwrite)
@@ -271,6 +294,16 @@ def check_directory(path: str | os.PathLike[str], *, overwrite: bool = False) ->
     ------
     OutputExistsError
         If ``path`` is a file, or a non-empty folder and ``overwrite`` is false.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> check_directory(folder) == folder  # empty: may be filled
+    True
+    >>> _ = (folder / "a.txt").write_text("a")
+    >>> check_directory(folder, overwrite=True) == folder
+    True
     """
     target = Path(path)
     if target.exists() and not target.is_dir():

@@ -1,15 +1,26 @@
-"""Checks on input paths shared by the readers."""
+"""Checks shared by the readers: the input path, a bounding box, the CRS."""
 
 from __future__ import annotations
 
 import os
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
+from pyproj import CRS
+from pyproj.exceptions import CRSError
 
 from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.types import Mesh
 
-__all__ = ["check_bbox", "check_input"]
+__all__ = [
+    "check_bbox",
+    "check_input",
+    "counter_clockwise",
+    "mesh_from_file",
+    "resolve_crs",
+]
 
 
 def check_input(path: str | os.PathLike[str]) -> str:
@@ -32,6 +43,16 @@ def check_input(path: str | os.PathLike[str]) -> str:
     ------
     InputDataError
         If the file does not exist or cannot be read.
+
+    Examples
+    --------
+    >>> from coastmesh.data import path as data_path
+    >>> check_input(data_path("orkney_gshhg_f.geojson")).endswith(".geojson")
+    True
+    >>> check_input("/no/such/file.gpkg")
+    Traceback (most recent call last):
+    ...
+    coastmesh.errors.InputDataError: /no/such/file.gpkg: file not found
     """
     source = os.fspath(path)
     if source.startswith("/vsi") or "://" in source or ':"' in source:
@@ -82,3 +103,124 @@ def check_bbox(bbox: Sequence[float]) -> tuple[float, float, float, float]:
             "(order minx, miny, maxx, maxy)"
         )
     return minx, miny, maxx, maxy  # type: ignore[return-value]
+
+
+def resolve_crs(
+    stored: CRS | None, crs: Any, path: str | os.PathLike[str]
+) -> CRS | None:
+    """Return the CRS of what a reader read: the file's own, else the one given.
+
+    Parameters
+    ----------
+    stored : pyproj.CRS or None
+        The CRS the file declares; None if it declares none.
+    crs : pyproj.CRS or CRS-like, optional
+        The CRS the caller gave (``crs=``), for files that declare none.
+    path : str or path-like
+        The file, for messages.
+
+    Returns
+    -------
+    pyproj.CRS or None
+        ``stored`` if the file declares one, else ``crs`` (None if neither).
+
+    Raises
+    ------
+    ConfigError
+        If ``crs`` is not a CRS pyproj knows.
+    InputDataError
+        If the file declares a CRS and ``crs`` is another one.
+
+    Examples
+    --------
+    >>> resolve_crs(None, "EPSG:4326", "mesh.msh").to_epsg()
+    4326
+    >>> resolve_crs(CRS.from_epsg(32630), "EPSG:4326", "mesh.nc")
+    Traceback (most recent call last):
+    ...
+    coastmesh.errors.InputDataError: mesh.nc: the file's CRS is EPSG:32630, ...
+    """
+    try:
+        given = None if crs is None else CRS.from_user_input(crs)
+    except CRSError as exc:
+        raise ConfigError(f"crs={crs!r}: not a CRS pyproj knows ({exc})") from None
+    if stored is None or given is None:
+        return stored if given is None else given
+    if stored != given:
+        raise InputDataError(
+            f"the file's CRS is {_shown(stored)}, but crs={_shown(given)} was given; "
+            "leave crs out (it is for files that declare no CRS)",
+            path=os.fspath(path),
+        )
+    return stored
+
+
+def _shown(crs: CRS) -> str:
+    epsg = crs.to_epsg()
+    return f"EPSG:{epsg}" if epsg is not None else repr(crs.name)
+
+
+def mesh_from_file(path: str | os.PathLike[str], *args: Any, **kwargs: Any) -> Mesh:
+    """Build a :class:`~coastmesh.types.Mesh` from what a reader read.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file read, for messages.
+    *args, **kwargs
+        The arguments of :class:`~coastmesh.types.Mesh`.
+
+    Returns
+    -------
+    Mesh
+
+    Raises
+    ------
+    InputDataError
+        If the values do not make a Mesh (such as a node index out of range, or
+        a coordinate that is not finite); the message names the file.
+
+    Examples
+    --------
+    >>> mesh_from_file("bad.14", [[0, 0], [1, 0]], [[0, 1, 2]], [], [], 1, None)
+    Traceback (most recent call last):
+    ...
+    coastmesh.errors.InputDataError: bad.14: not a valid mesh: triangles has ...
+    """
+    try:
+        return Mesh(*args, **kwargs)
+    except ValueError as exc:
+        raise InputDataError(f"not a valid mesh: {exc}", path=os.fspath(path)) from None
+
+
+def counter_clockwise(
+    points: NDArray[np.float64], triangles: NDArray[np.int64]
+) -> NDArray[np.int64]:
+    """Return the triangles, those that run clockwise turned counter-clockwise.
+
+    Parameters
+    ----------
+    points : ndarray of shape (N, 2)
+        Node coordinates.
+    triangles : ndarray of shape (M, 3)
+        Node indices.
+
+    Returns
+    -------
+    ndarray of shape (M, 3)
+        A new array; a clockwise triangle ``(a, b, c)`` becomes ``(a, c, b)``.
+
+    Examples
+    --------
+    >>> points = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
+    >>> counter_clockwise(points, np.array([[0, 2, 1], [0, 1, 2]])).tolist()
+    [[0, 1, 2], [0, 1, 2]]
+    """
+    a, b, c = (points[triangles[:, k]] for k in range(3))
+    cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (c[:, 0] - a[:, 0]) * (
+        b[:, 1] - a[:, 1]
+    )
+    out = np.array(triangles, dtype=np.int64)
+    flip = cross < 0
+    out[flip] = out[flip][:, [0, 2, 1]]
+    return out

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import logging
 import os
-import warnings
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -211,15 +210,7 @@ def write_layers(
     >>> pyogrio.list_layers(path)[:, 0].tolist()
     ['a', 'b']
     """
-    import pyogrio.raw
-    from pyogrio.errors import (
-        DataLayerError,
-        DataSourceError,
-        FeatureError,
-        GeometryError,
-    )
-
-    from coastmesh.io.vector import _crs_string, _geometry_type, _writable
+    from coastmesh.io.vector import write_layer
 
     target = Path(path)
     if target.suffix.lower() != ".gpkg":
@@ -233,31 +224,14 @@ def write_layers(
     notes = {str(k): str(v) for k, v in dict(metadata or {}).items()}
     with atomic_write(target, overwrite=overwrite) as staged:
         for i, (name, features) in enumerate(layers.items()):
-            crs = None if features.crs is None else _crs_string(features.crs)
-            try:
-                with warnings.catch_warnings(), np.errstate(invalid="ignore"):
-                    warnings.filterwarnings("ignore", message="'crs' was not provided")
-                    pyogrio.raw.write(
-                        staged,
-                        shapely.to_wkb(features.geometry),
-                        [_writable(values) for values in features.fields.values()],
-                        list(features.fields),
-                        layer=name,
-                        driver="GPKG",
-                        geometry_type=_geometry_type(features.geometry),
-                        crs=crs,
-                        dataset_metadata=(notes or None) if i == 0 else None,
-                    )
-            except (
-                DataSourceError,
-                DataLayerError,
-                FeatureError,
-                GeometryError,
-            ) as exc:
-                raise FormatError(
-                    f"{target}, layer {name!r}: the GPKG driver cannot write these "
-                    f"features: {exc}"
-                ) from None
+            write_layer(
+                staged,
+                features,
+                layer=name,
+                driver="GPKG",
+                target=target,
+                metadata=notes if i == 0 else None,
+            )
             logger.debug("%s: layer %r, %d features", target, name, len(features))
 
 

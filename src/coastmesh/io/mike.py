@@ -21,24 +21,43 @@ from __future__ import annotations
 
 import logging
 import os
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 from pyproj import CRS
+from pyproj.exceptions import CRSError
 
-from coastmesh.errors import FormatError
+from coastmesh.errors import ConfigError, FormatError, InputDataError
 from coastmesh.io._atomic import atomic_write
-from coastmesh.io.adcirc import node_depth, require_kinds, write_table
-from coastmesh.meshing.topology import boundary_rings
+from coastmesh.io._inputs import (
+    check_input,
+    counter_clockwise,
+    mesh_from_file,
+    resolve_crs,
+)
+from coastmesh.io._model import (
+    POSITIVE,
+    check_mesh,
+    mesh_boundary_rings,
+    node_depth,
+    require_kinds,
+)
+from coastmesh.io._table import TextLines, put_lines, write_table
+from coastmesh.meshing.topology import unique_edges
 from coastmesh.types import Mesh
 
-__all__ = ["write_mike_mesh"]
+__all__ = ["read_mike_mesh", "write_mike_mesh"]
 
 logger = logging.getLogger(__name__)
 
 BATHYMETRY_ITEM = 100079  # eumIBathymetry
 METRE_UNIT = 1000  # eumUmeter
 LAND_CODE = 1
+GEOGRAPHIC = "LONG/LAT"  # WGS 84 longitude, latitude in degrees
+LOCAL = "NON-UTM"  # local coordinates, no projection
+NODES_PER_ELEMENT = 3
+TRIANGLES_ONLY = 21  # element type code of a mesh of triangles
 _SIGNIFICANT = 15
 
 
@@ -129,10 +148,9 @@ def write_mike_mesh(
     >>> [(float(z), int(code)) for _, _, _, z, code in nodes]
     [(-5.0, 2), (-5.0, 2), (-4.0, 1), (-4.0, 1), (-6.0, 2)]
     """
-    if not isinstance(mesh, Mesh):
-        raise TypeError(f"mesh is a {type(mesh).__name__}, expected a Mesh")
+    check_mesh(mesh)
     name = os.fspath(path)
-    z = node_depth(mesh, name, positive=positive, stacklevel=3)
+    z = node_depth(mesh, name, positive=positive, label="z", stacklevel=3)
     projection = _projection(mesh, name, crs_wkt)
     kinds = require_kinds(mesh, name)
     open_ids = sorted(pid for pid, kind in kinds.items() if kind == "open")
@@ -140,7 +158,7 @@ def write_mike_mesh(
     codes = _node_codes(mesh, name, codes_of)
     n, m = len(mesh.points), len(mesh.triangles)
     with atomic_write(path, overwrite=overwrite) as tmp, open(tmp, "wb") as handle:
-        handle.write(f"{BATHYMETRY_ITEM} {METRE_UNIT} {n} {projection}\n".encode())
+        put_lines(handle, f"{BATHYMETRY_ITEM} {METRE_UNIT} {n} {projection}")
         write_table(
             handle,
             [
@@ -151,7 +169,7 @@ def write_mike_mesh(
                 (codes, None),
             ],
         )
-        handle.write(f"{m} 3 21\n".encode())
+        put_lines(handle, f"{m} {NODES_PER_ELEMENT} {TRIANGLES_ONLY}")
         write_table(
             handle,
             [(np.arange(1, m + 1), None)]
@@ -167,6 +185,147 @@ def write_mike_mesh(
     return codes_of
 
 
+def read_mike_mesh(
+    path: str | os.PathLike[str], *, crs: Any = None, positive: str = "up"
+) -> Mesh:
+    """Read a DHI MIKE ``.mesh`` file of triangles as a Mesh.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The ``.mesh`` file (ASCII).
+    crs : pyproj.CRS or CRS-like, optional
+        The CRS of the coordinates, for a header whose projection string pyproj
+        does not know (a MIKE name such as ``UTM-32``) or that says ``NON-UTM``;
+        if the header gives a CRS (``LONG/LAT``, a WKT), it must agree.
+    positive : {"up", "down"}, default "up"
+        The sign of the file's z: ``"up"`` for a bed elevation (MIKE's
+        bathymetry; the depth is ``-z``), ``"down"`` for a depth.
+
+    Returns
+    -------
+    Mesh
+        Nodes and triangles in file order (a clockwise triangle is turned
+        counter-clockwise); ``point_data["depth"]`` in metres, positive down;
+        the boundary edges with the code MIKE gives each boundary face as their
+        id: 1 for land (kind ``"shoreline"``), 2, 3, ... for the open boundaries
+        (kind ``"open"``); no names; ``surface_id`` 1.
+
+    Raises
+    ------
+    InputDataError
+        If the file is missing, a line lacks a value or holds a non-number, the
+        node ids are not ``1..NPOIN`` in order, an element is not a triangle, or a
+        boundary face has code 0 at both ends; the message names the line.
+    ConfigError
+        If ``positive`` or ``crs`` is invalid.
+
+    Notes
+    -----
+    MIKE stores codes on the nodes, not the edges. A boundary face (edge), with
+    the domain on its left, is land if either node has code 1, and otherwise
+    takes the code of its end node (or of its start node if the end node has code
+    0), the rule :func:`write_mike_mesh` encodes. All land boundaries share code
+    1, so land ids written apart come back as one id 1; open ids come back as
+    their codes.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> m = Mesh([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1, 2], [0, 2, 3]],
+    ...          [[0, 1], [1, 2], [2, 3], [3, 0]], [5, 1, 1, 1], 1, "EPSG:4326",
+    ...          point_data={"depth": [5.0, 5.0, 4.0, 4.0]},
+    ...          boundary_kinds={1: "shoreline", 5: "open"})
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "square.mesh"
+    >>> write_mike_mesh(path, m)
+    {5: 2}
+    >>> back = read_mike_mesh(path)
+    >>> edges = map(tuple, back.boundary_edges.tolist())
+    >>> sorted(zip(edges, back.boundary_ids.tolist()))
+    [((0, 1), 2), ((1, 2), 1), ((2, 3), 1), ((3, 0), 1)]
+    >>> back.boundary_kinds, back.crs.to_epsg(), back.point_data["depth"].tolist()
+    ({1: 'shoreline', 2: 'open'}, 4326, [5.0, 5.0, 4.0, 4.0])
+    """
+    if positive not in POSITIVE:
+        raise ConfigError(
+            f"positive={positive!r}; expected one of {', '.join(POSITIVE)}"
+        )
+    lines = TextLines.read(check_input(path))
+    what = "ITEM UNIT NPOIN PROJECTION"
+    words = lines.next_line().split(maxsplit=3)
+    try:
+        count = int(words[2])
+    except (IndexError, ValueError):
+        raise lines.error(what, "expected 3 integers and a projection") from None
+    projection = words[3].strip() if len(words) > 3 else LOCAL
+    table = lines.table(count, 5, float, "ID X Y Z CODE")
+    if not np.array_equal(table[:, 0], np.arange(1, count + 1)):
+        raise lines.error("ID X Y Z CODE", f"node ids must run 1..{count} in order")
+    elements, per_element, kind = lines.ints(3, "NELEM NPE TYPE")
+    if (per_element, kind) != (NODES_PER_ELEMENT, TRIANGLES_ONLY):
+        raise lines.error(
+            "NELEM NPE TYPE",
+            f"expected {NODES_PER_ELEMENT} nodes per element and type "
+            f"{TRIANGLES_ONLY} (triangles only)",
+        )
+    corners = lines.table(elements, 4, int, "ID N1 N2 N3")[:, 1:] - 1
+    if corners.size and (corners.min() < 0 or corners.max() >= count):
+        raise lines.error("ID N1 N2 N3", f"node numbers must be in 1..{count}")
+    points = table[:, 1:3]
+    triangles = counter_clockwise(points, corners)
+    edges, ids = _boundary_codes(triangles, table[:, 4].astype(np.int64), lines.path)
+    z = table[:, 3]
+    return mesh_from_file(
+        lines.path,
+        points,
+        triangles,
+        edges,
+        ids,
+        1,
+        resolve_crs(_header_crs(projection), crs, lines.path),
+        {"depth": -z if positive == "up" else z},
+        {},
+        {int(i): "shoreline" if i == LAND_CODE else "open" for i in np.unique(ids)},
+    )
+
+
+def _header_crs(projection: str) -> CRS | None:
+    """Return the CRS of a header's projection; None if pyproj does not know it."""
+    if projection.upper() == GEOGRAPHIC:
+        return CRS.from_epsg(4326)
+    if projection.upper() == LOCAL:
+        return None
+    try:
+        return CRS.from_user_input(projection)
+    except CRSError:
+        logger.debug("MIKE projection %r: not a CRS pyproj knows", projection)
+        return None
+
+
+def _boundary_codes(
+    triangles: NDArray[np.int64], codes: NDArray[np.int64], name: str
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Return the boundary edges (domain on the left) and their face codes."""
+    n = len(codes)
+    edges, count = unique_edges(triangles, n)
+    outer = edges[count == 1]
+    half = triangles[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2)  # as each triangle runs
+    keys = half.min(axis=1) * n + half.max(axis=1)
+    on_boundary = np.isin(keys, outer[:, 0] * n + outer[:, 1])
+    directed = half[on_boundary][np.argsort(keys[on_boundary], kind="stable")]
+    start, end = codes[directed[:, 0]], codes[directed[:, 1]]
+    face = np.where((start == LAND_CODE) | (end == LAND_CODE), LAND_CODE, end)
+    face = np.where(face == 0, start, face)
+    if (face == 0).any():
+        a, b = directed[np.flatnonzero(face == 0)[0]] + 1
+        raise InputDataError(
+            f"boundary face of nodes {a}-{b} has code 0 (water) at both ends; "
+            "boundary nodes need code 1 (land) or 2, 3, ... (open)",
+            path=name,
+        )
+    return directed, face
+
+
 def _projection(mesh: Mesh, name: str, crs_wkt: str | None) -> str:
     """Return the header's projection string."""
     if crs_wkt is not None:
@@ -177,9 +336,9 @@ def _projection(mesh: Mesh, name: str, crs_wkt: str | None) -> str:
             )
         return crs_wkt.strip()
     if mesh.crs is None:
-        return "NON-UTM"
+        return LOCAL
     if mesh.crs.equals(CRS.from_epsg(4326), ignore_axis_order=True):
-        return "LONG/LAT"
+        return GEOGRAPHIC
     wkt = mesh.crs.to_wkt(version="WKT1_ESRI")
     if not wkt:
         raise FormatError(
@@ -191,10 +350,7 @@ def _projection(mesh: Mesh, name: str, crs_wkt: str | None) -> str:
 
 def _node_codes(mesh: Mesh, name: str, codes_of: dict[int, int]) -> NDArray[np.int64]:
     """Return the MIKE code of each node (see :func:`write_mike_mesh`, Notes)."""
-    try:
-        rings = boundary_rings(mesh)
-    except FormatError as exc:
-        raise FormatError(f"{name}: {exc}") from exc
+    rings = mesh_boundary_rings(mesh, name)
     codes = np.zeros(len(mesh.points), dtype=np.int64)
     for ring in rings:
         # edge i runs from nodes[i] to nodes[i + 1], domain on the left

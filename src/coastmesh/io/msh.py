@@ -16,10 +16,11 @@ import os
 from typing import Any
 
 import numpy as np
-from pyproj import CRS
 
 from coastmesh.errors import FormatError
 from coastmesh.io._atomic import atomic_write
+from coastmesh.io._inputs import check_input, mesh_from_file, resolve_crs
+from coastmesh.io._meshio import flat_points, read_with_meshio, split_cells
 from coastmesh.types import Mesh
 
 __all__ = ["MSH_VERSIONS", "read_msh", "write_msh"]
@@ -122,11 +123,13 @@ def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
 
     Raises
     ------
-    FileNotFoundError
+    InputDataError
         If ``path`` does not exist.
     FormatError
         If the file cannot be read, is not a flat triangle mesh, lacks physical
         ids, or its triangles carry more than one physical id.
+    ConfigError
+        If ``crs`` is not a CRS.
 
     Examples
     --------
@@ -134,50 +137,29 @@ def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
     """
     import meshio.gmsh
 
-    if not os.path.isfile(path):
-        raise FileNotFoundError(f"{os.fspath(path)}: no such file")
-    try:
-        data = meshio.gmsh.read(os.fspath(path))
-    except (meshio.ReadError, ValueError, KeyError, IndexError, EOFError) as exc:
-        raise FormatError(
-            f"{os.fspath(path)}: not a readable msh file ({exc})"
-        ) from exc
-    name = os.fspath(path)
-    points = np.asarray(data.points, dtype=np.float64)
-    if points.shape[1] == 3 and np.any(points[:, 2] != 0):
-        raise FormatError(f"{name}: nodes have z != 0; expected a flat 2D mesh")
+    name = check_input(path)
+    data = read_with_meshio(meshio.gmsh.read, name, "msh")
+    points = flat_points(data, name)
     physical = data.cell_data.get("gmsh:physical")
     if physical is None:
         raise FormatError(f"{name}: no physical ids; expected tagged elements")
-    triangles, edges, ids, surface = [], [], [], []
-    for block, tags in zip(data.cells, physical, strict=True):
-        if block.type == "triangle":
-            triangles.append(block.data)
-            surface.append(np.asarray(tags))
-        elif block.type == "line":
-            edges.append(block.data)
-            ids.append(np.asarray(tags))
-    if not triangles:
-        raise FormatError(f"{name}: no triangles")
-    if any((np.asarray(t) <= 0).any() for t in surface + ids):
+    triangles, edges, ids, surface_id = split_cells(
+        data, name, lambda k: (physical[k], physical[k])
+    )
+    if surface_id <= 0 or (ids <= 0).any():
         raise FormatError(
             f"{name}: some elements have no physical id (tag 0); tag every line and "
             "triangle with a physical group"
         )
-    surface_ids = np.unique(np.concatenate(surface))
-    if len(surface_ids) != 1:
-        raise FormatError(
-            f"{name}: triangles carry physical ids {surface_ids.tolist()}; "
-            "expected one surface id"
-        )
     names, kinds = _read_physical_names(data.field_data or {})
-    return Mesh(
-        points[:, :2],
-        np.concatenate(triangles),
-        np.concatenate(edges) if edges else np.empty((0, 2), dtype=np.int64),
-        np.concatenate(ids) if ids else np.empty(0, dtype=np.int64),
-        int(surface_ids[0]),
-        None if crs is None else CRS.from_user_input(crs),
+    return mesh_from_file(
+        name,
+        points,
+        triangles,
+        edges,
+        ids,
+        surface_id,
+        resolve_crs(None, crs, name),
         boundary_names=names,
         boundary_kinds=kinds,
     )

@@ -15,7 +15,7 @@ import os
 import warnings
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import rasterio
@@ -29,8 +29,9 @@ from rasterio.errors import NotGeoreferencedWarning, RasterioError, RasterioIOEr
 
 from coastmesh.errors import FormatError, InputDataError
 from coastmesh.io._atomic import atomic_write
+from coastmesh.io._cf import axis_attrs, grid_mapping_attrs
+from coastmesh.io._drivers import raster_driver
 from coastmesh.io._inputs import check_bbox, check_input
-from coastmesh.io._registry import raster_driver
 
 __all__ = ["raster_transform", "read_raster", "write_raster"]
 
@@ -114,6 +115,17 @@ def write_raster(
         If ``path`` exists and ``overwrite`` is false.
     ValueError
         If ``raster`` is not 2-D or its grid cannot be worked out.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> grid = xr.DataArray([[1.0, 2.0], [3.0, 4.0]], dims=("y", "x"),
+    ...                     coords={"y": [1.5, 0.5], "x": [0.5, 1.5]},
+    ...                     attrs={"crs": "EPSG:32630"})
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "grid.tif"
+    >>> write_raster(path, grid)
+    >>> read_raster(path).values.tolist()
+    [[1.0, 2.0], [3.0, 4.0]]
     """
     target = Path(path)
     driver = raster_driver(target)
@@ -128,27 +140,10 @@ def write_raster(
         for k, v in raster.attrs.items()
         if k not in _RESERVED_ATTRS and isinstance(v, str | int | float)
     }
+    grid = _Grid(values, transform, crs, nodata, notes, raster.name)
+    write = _write_geotiff if driver == "GTiff" else _write_netcdf
     with atomic_write(target, overwrite=overwrite) as staged:
-        if driver == "GTiff":
-            _write_geotiff(
-                staged,
-                values,
-                transform=transform,
-                crs=crs,
-                nodata=nodata,
-                notes=notes,
-                name=raster.name,
-            )
-        else:
-            _write_netcdf(
-                staged,
-                values,
-                transform=transform,
-                crs=crs,
-                nodata=nodata,
-                notes=notes,
-                name=raster.name,
-            )
+        write(staged, grid)
     logger.debug("wrote %s: %d x %d cells", target, *raster.shape)
 
 
@@ -170,6 +165,13 @@ def raster_transform(raster: xr.DataArray) -> Affine:
     ValueError
         If there is no ``transform`` attr and the coordinates are missing,
         shorter than 2 or not evenly spaced.
+
+    Examples
+    --------
+    >>> grid = xr.DataArray([[1.0, 2.0], [3.0, 4.0]], dims=("y", "x"),
+    ...                     coords={"y": [1.5, 0.5], "x": [0.5, 1.5]})
+    >>> tuple(raster_transform(grid))[:6]
+    (1.0, 0.0, 0.0, 0.0, -1.0, 2.0)
     """
     if raster.attrs.get("transform") is not None:
         return Affine(*raster.attrs["transform"][:6])
@@ -360,16 +362,26 @@ def _encode(
     return filled.astype(dtype), nodata
 
 
-def _write_geotiff(
-    path: Path,
-    values: NDArray,
-    *,
-    transform: Affine,
-    crs: CRS | None,
-    nodata: float | None,
-    notes: dict[str, Any],
-    name: object,
-) -> None:
+class _Grid(NamedTuple):
+    """A raster ready to write: stored values, grid, CRS, nodata, notes, name."""
+
+    values: NDArray
+    transform: Affine
+    crs: CRS | None
+    nodata: float | None
+    notes: dict[str, Any]
+    name: object
+
+
+def _axis_attrs(crs: CRS | None, axis: str) -> dict[str, str]:
+    """Return the CF attributes of a coordinate; projected if the CRS is unknown."""
+    return axis_attrs(crs, axis) or {
+        "standard_name": f"projection_{axis.lower()}_coordinate"
+    }
+
+
+def _write_geotiff(path: Path, grid: _Grid) -> None:
+    values, transform, crs, nodata, notes, name = grid
     ny, nx = values.shape
     profile: dict[str, Any] = {
         "driver": "GTiff",
@@ -399,16 +411,8 @@ def _write_geotiff(
         ) from None
 
 
-def _write_netcdf(
-    path: Path,
-    values: NDArray,
-    *,
-    transform: Affine,
-    crs: CRS | None,
-    nodata: float | None,
-    notes: dict[str, Any],
-    name: object,
-) -> None:
+def _write_netcdf(path: Path, grid: _Grid) -> None:
+    values, transform, crs, nodata, notes, name = grid
     ny, nx = values.shape
     x = transform.c + transform.a * (np.arange(nx) + 0.5)
     y = transform.f + transform.e * (np.arange(ny) + 0.5)
@@ -421,14 +425,13 @@ def _write_netcdf(
     if "units" in notes:
         data_attrs["units"] = str(notes["units"])
     coords = {
-        yname: (yname, y, _axis_attrs("Y", geographic, crs)),
-        xname: (xname, x, _axis_attrs("X", geographic, crs)),
+        yname: (yname, y, {**_axis_attrs(crs, "Y"), "axis": "Y"}),
+        xname: (xname, x, {**_axis_attrs(crs, "X"), "axis": "X"}),
     }
     data_vars: dict[str, Any] = {variable: ((yname, xname), values, data_attrs)}
     if crs is not None:
         data_attrs["grid_mapping"] = "crs"
-        crs_attrs = {**crs.to_cf(), "spatial_ref": crs.to_wkt()}
-        data_vars["crs"] = ((), np.int32(0), crs_attrs)
+        data_vars["crs"] = ((), np.int32(0), grid_mapping_attrs(crs))
     global_attrs = {"Conventions": "CF-1.8"}
     global_attrs.update({k: v for k, v in notes.items() if k != "units"})
     dataset = xr.Dataset(data_vars, coords=coords, attrs=global_attrs)
@@ -443,18 +446,3 @@ def _write_netcdf(
         yname: {"_FillValue": None},
     }
     dataset.to_netcdf(path, engine="netcdf4", format="NETCDF4", encoding=encoding)
-
-
-def _axis_attrs(axis: str, geographic: bool, crs: CRS | None) -> dict[str, str]:
-    if geographic:
-        if axis == "Y":
-            return {"standard_name": "latitude", "units": "degrees_north", "axis": "Y"}
-        return {"standard_name": "longitude", "units": "degrees_east", "axis": "X"}
-    attrs = {
-        "standard_name": f"projection_{axis.lower()}_coordinate",
-        "axis": axis,
-    }
-    if crs is not None and crs.axis_info:
-        unit = crs.axis_info[0].unit_name
-        attrs["units"] = "m" if unit in {"metre", "meter"} else unit
-    return attrs

@@ -44,7 +44,13 @@ from numpy.typing import NDArray
 
 from coastmesh.errors import CoastmeshWarning, FormatError
 from coastmesh.io._atomic import AtomicOutputs, check_output
-from coastmesh.meshing.topology import BoundaryRing, boundary_rings
+from coastmesh.io._model import (
+    check_mesh,
+    mesh_boundary_rings,
+    node_depth,
+    require_kinds,
+)
+from coastmesh.meshing.topology import BoundaryRing
 from coastmesh.types import Mesh
 
 __all__ = ["write_selafin"]
@@ -149,6 +155,7 @@ def write_selafin(
     >>> print((folder / "square.cli").read_text().splitlines()[0])
     5 4 4 0.000 0.000 0.000 0.000 4 0.000 0.000 0.000 1 1
     """
+    check_mesh(mesh)
     name = os.fspath(path)
     slf_path = Path(path)
     cli_path = slf_path.with_suffix(".cli")
@@ -168,17 +175,14 @@ def write_selafin(
     check_output(slf_path, overwrite=overwrite)
     if cli:
         check_output(cli_path, overwrite=overwrite)
-    try:
-        rings = boundary_rings(mesh)
-    except FormatError as exc:
-        raise FormatError(f"{name}: {exc}") from exc
+    rings = mesh_boundary_rings(mesh, name)
     order = (
         np.concatenate([ring.nodes for ring in rings])
         if rings
         else np.empty(0, dtype=np.int64)
     )
     table = _cli_table(mesh, rings, codes, name) if cli else None
-    bottom = _bottom(mesh, positive, name)
+    bottom = node_depth(mesh, name, positive=positive, label="BOTTOM", stacklevel=3)
     x = mesh.points[:, 0].astype(np.float32)
     y = mesh.points[:, 1].astype(np.float32)
     _check_single_precision(mesh, x, y, name)
@@ -258,14 +262,7 @@ def _cli_table(
     mesh: Mesh, rings: list[BoundaryRing], codes: tuple[int, int, int], name: str
 ) -> NDArray[np.int64]:
     """Return LIHBOR, LIUBOR, LIVBOR, LITBOR of each boundary node, (nptfr, 4)."""
-    ids = np.unique(mesh.boundary_ids)
-    missing = [int(i) for i in ids if int(i) not in mesh.boundary_kinds]
-    if missing:
-        raise FormatError(
-            f"{name}: boundary ids {missing} have no kind ('open' or 'shoreline') in "
-            "mesh.boundary_kinds; the .cli file needs one for each id. Give "
-            "boundary_kinds, or write with cli=False"
-        )
+    require_kinds(mesh, name, hint=", or write with cli=False (no .cli file)")
     if not rings:
         return np.empty((0, 4), dtype=np.int64)
     edge_ids = np.concatenate([ring.ids for ring in rings])
@@ -327,35 +324,6 @@ def _check_land_runs(
     )
 
 
-def _bottom(mesh: Mesh, positive: str, name: str) -> NDArray[np.float32]:
-    """Return the BOTTOM values: -depth for 'up', depth for 'down'."""
-    depth = mesh.point_data.get("depth")
-    n = len(mesh.points)
-    if depth is None:
-        warnings.warn(
-            f"{name}: the mesh has no point_data['depth']; BOTTOM is written as 0.0 "
-            "at every node",
-            CoastmeshWarning,
-            stacklevel=3,
-        )
-        return np.zeros(n, dtype=">f4")
-    values = np.asarray(depth)
-    if values.shape != (n,) or values.dtype.kind not in "biuf":
-        raise FormatError(
-            f"{name}: point_data['depth'] has shape {values.shape} and dtype "
-            f"{values.dtype}; expected ({n},) numbers, metres positive down"
-        )
-    finite = np.isfinite(values)
-    if not finite.all():
-        node = int(np.flatnonzero(~finite)[0])
-        raise FormatError(
-            f"{name}: point_data['depth'] is {values[node]} at node {node} "
-            f"({int((~finite).sum())} nodes are not finite); fill the depth first"
-        )
-    signed = -values.astype(np.float64) if positive == "up" else values
-    return np.asarray(signed, dtype=">f4")
-
-
 def _check_single_precision(
     mesh: Mesh, x: NDArray[np.float32], y: NDArray[np.float32], name: str
 ) -> None:
@@ -398,7 +366,7 @@ def _write_slf(
     ipobo: NDArray[np.int32],
     x: NDArray[np.float32],
     y: NDArray[np.float32],
-    bottom: NDArray[np.float32],
+    bottom: NDArray[np.float64],
 ) -> None:
     ikle = np.empty(triangles.shape, dtype=">i4")
     np.add(triangles, 1, out=ikle, casting="unsafe")  # node numbers from 1
@@ -416,7 +384,7 @@ def _write_slf(
         _record(out, x.astype(">f4"))
         _record(out, y.astype(">f4"))
         _record(out, np.array([0.0], dtype=">f4"))
-        _record(out, bottom)
+        _record(out, bottom.astype(">f4"))
 
 
 def _write_cli(path: Path, table: NDArray[np.int64], order: NDArray[np.int64]) -> None:

@@ -1,4 +1,4 @@
-"""UGRID netCDF and VTK unstructured grid (VTU) mesh files.
+"""UGRID netCDF mesh files, written with xarray and read back.
 
 UGRID-1.0 (https://ugrid-conventions.github.io/ugrid-conventions/) on CF: one
 2D mesh topology variable ``mesh2d``, written with xarray. Its edges
@@ -10,9 +10,6 @@ The CRS is a CF grid mapping variable (:meth:`pyproj.CRS.to_cf`, with
 ``crs_wkt``) named ``mesh2d_crs`` and referenced by every variable on the mesh,
 coordinates included, as xugrid writes it (``UgridBase.write_grid_mapping``:
 QGIS-MDAL reads the grid mapping from the coordinates).
-
-VTU files are written with meshio's VTU writer, called directly because
-``meshio.write`` prints.
 """
 
 from __future__ import annotations
@@ -24,12 +21,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from coastmesh.errors import FormatError
+from coastmesh.errors import FormatError, InputDataError
 from coastmesh.io._atomic import atomic_write
+from coastmesh.io._cf import axis_attrs, crs_from_grid_mapping, grid_mapping_attrs
+from coastmesh.io._inputs import check_input, mesh_from_file, resolve_crs
+from coastmesh.io._model import check_mesh, index_dtype, point_values
 from coastmesh.meshing.topology import unique_edges
 from coastmesh.types import Mesh
 
-__all__ = ["write_ugrid", "write_vtu"]
+__all__ = ["read_ugrid", "write_ugrid"]
 
 logger = logging.getLogger(__name__)
 
@@ -103,6 +103,7 @@ def write_ugrid(
     ...     ds["boundary_id"].values.tolist(), ds["depth"].attrs["positive"]
     ([2, 0, 1, 1, 1], 'down')
     """
+    check_mesh(mesh)
     name = os.fspath(path)
     dataset = _ugrid_dataset(mesh, name)
     encoding = {
@@ -121,81 +122,177 @@ def write_ugrid(
     )
 
 
-def write_vtu(
-    path: str | os.PathLike[str], mesh: Mesh, *, overwrite: bool = False
-) -> None:
-    """Write a mesh as a VTK unstructured grid (``.vtu``) through meshio.
+def read_ugrid(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
+    """Read a 2D triangle mesh from a UGRID-1.0 netCDF file.
 
     Parameters
     ----------
     path : str or path-like
-        The ``.vtu`` file.
-    mesh : Mesh
-        The mesh; it is not changed.
-    overwrite : bool, default False
-        Whether an existing file may be replaced.
+        The ``.nc`` file, with one 2D mesh topology (``cf_role =
+        "mesh_topology"``, ``topology_dimension = 2``) of triangles, as
+        :func:`write_ugrid` or xugrid write it.
+    crs : pyproj.CRS or CRS-like, optional
+        The CRS of the coordinates, if the file has no grid mapping; if it has
+        one, it must agree.
+
+    Returns
+    -------
+    Mesh
+        Nodes and triangles in file order (``start_index`` taken off); the edges
+        with ``boundary_id > 0`` as boundary edges, with those ids; names from
+        the ``flag_values``/``flag_meanings`` of ``boundary_id`` (spaces were
+        written as ``_``; ``boundary_<id>`` means no name); kinds from its
+        ``open_boundary_ids``/``shoreline_boundary_ids``; the CRS from the grid
+        mapping; every numeric variable on the nodes as point data (a ``depth``
+        with ``positive = "up"`` is negated, so depths are positive down);
+        ``surface_id`` 1. A file without ``boundary_id`` gives the edges of one
+        triangle (the boundary) id 1, with no name or kind.
 
     Raises
     ------
+    InputDataError
+        If the file is missing, has no or several 2D topologies, its faces are
+        not all triangles, a variable the topology names is missing, or its grid
+        mapping is not a CRS; the message names the variable.
     FormatError
-        If a ``point_data`` entry is not numbers of shape (N,) or (N, k).
-    OutputExistsError
-        If ``path`` exists and ``overwrite`` is false.
-
-    Notes
-    -----
-    Points get z = 0. Two cell blocks: the triangles, then the boundary edges as
-    lines (left out if there are none). Cell data ``physical`` is
-    ``mesh.surface_id`` on the triangles and the boundary id on the lines;
-    ``boundary_id`` is 0 on the triangles and the boundary id on the lines. Every
-    ``mesh.point_data`` entry is point data (``depth`` positive down, as stored).
-    The file is binary, zlib-compressed; VTU has no place for the CRS.
+        If the file is not netCDF.
+    ConfigError
+        If ``crs`` is not a CRS.
 
     Examples
     --------
-    >>> import tempfile, pathlib, meshio.vtu
-    >>> m = Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]],
-    ...          [1, 1, 2], 7, None, {"depth": [1.0, 2.0, 3.0]})
-    >>> path = pathlib.Path(tempfile.mkdtemp()) / "tri.vtu"
-    >>> write_vtu(path, m)
-    >>> back = meshio.vtu.read(path)
-    >>> [c.type for c in back.cells], back.cell_data["physical"][1].tolist()
-    (['triangle', 'line'], [1, 1, 2])
+    >>> import tempfile, pathlib
+    >>> m = Mesh([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1, 2], [0, 2, 3]],
+    ...          [[0, 1], [1, 2], [2, 3], [3, 0]], [2, 1, 1, 1], 1, "EPSG:32630",
+    ...          {"depth": [5.0, 6.0, 7.0, 8.0]}, {2: "north sea"},
+    ...          {1: "shoreline", 2: "open"})
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "square.nc"
+    >>> write_ugrid(path, m)
+    >>> back = read_ugrid(path)
+    >>> back.boundary_edges.tolist(), back.boundary_ids.tolist()
+    ([[0, 1], [0, 3], [1, 2], [2, 3]], [2, 1, 1, 1])
+    >>> back.boundary_names, back.boundary_kinds, back.crs.to_epsg()
+    ({2: 'north_sea'}, {2: 'open', 1: 'shoreline'}, 32630)
     """
-    import meshio
-    import meshio.vtu
+    import xarray as xr
 
-    name = os.fspath(path)
-    n = len(mesh.points)
-    point_data = {
-        key: _point_values(key, values, n, name)
-        for key, values in mesh.point_data.items()
-    }
-    m = len(mesh.triangles)
-    cells = [("triangle", mesh.triangles.astype(_index_dtype(n)))]
-    physical = [np.full(m, mesh.surface_id, dtype=np.int32)]
-    boundary = [np.zeros(m, dtype=np.int32)]
-    if len(mesh.boundary_edges):
-        cells.append(("line", mesh.boundary_edges.astype(_index_dtype(n))))
-        physical.append(mesh.boundary_ids.astype(np.int32))
-        boundary.append(mesh.boundary_ids.astype(np.int32))
-    points = np.zeros((n, 3), dtype=np.float64)
-    points[:, :2] = mesh.points
-    out = meshio.Mesh(
-        points,
-        cells,
-        point_data=point_data,
-        cell_data={"physical": physical, "boundary_id": boundary},
-    )
-    with atomic_write(path, overwrite=overwrite) as tmp:
-        meshio.vtu.write(tmp, out, binary=True, compression="zlib")
-    logger.debug(
-        "wrote %s: VTU, %d nodes, %d triangles, %d boundary edges",
+    name = check_input(path)
+    try:
+        dataset = xr.open_dataset(name, engine="netcdf4", decode_times=False)
+    except (OSError, ValueError) as exc:
+        raise FormatError(f"{name}: not a readable netCDF file ({exc})") from None
+    with dataset:
+        topology = _topology(dataset, name)
+        attrs = dataset[topology].attrs
+        x_name, y_name = _names(dataset, attrs, "node_coordinates", name, 2)
+        points = np.column_stack(
+            [np.asarray(dataset[v].values, np.float64) for v in (x_name, y_name)]
+        )
+        node_dim = dataset[x_name].dims[0]
+        (faces,) = _names(dataset, attrs, "face_node_connectivity", name, 1)
+        triangles = _connectivity(dataset[faces], 3, name)
+        edges, ids, names, kinds = _boundary(dataset, attrs, triangles, name)
+        stored = _grid_mapping(dataset, (x_name, topology), name)
+        point_data = {}
+        for key, var in dataset.data_vars.items():
+            on_nodes = var.dims[:1] == (node_dim,) and key not in (x_name, y_name)
+            if on_nodes and var.dtype.kind in "iuf":
+                up = key == "depth" and var.attrs.get("positive") == "up"
+                point_data[str(key)] = -var.values if up else var.values
+    return mesh_from_file(
         name,
-        n,
-        m,
-        len(mesh.boundary_edges),
+        points,
+        triangles,
+        edges,
+        ids,
+        1,
+        resolve_crs(stored, crs, name),
+        point_data,
+        names,
+        kinds,
     )
+
+
+def _topology(dataset: Any, name: str) -> str:
+    """Return the name of the file's one 2D mesh topology variable."""
+    found = [
+        str(key)
+        for key, var in dataset.variables.items()
+        if var.attrs.get("cf_role") == "mesh_topology"
+        and int(var.attrs.get("topology_dimension", 0)) == 2
+    ]
+    if len(found) != 1:
+        raise InputDataError(
+            f"has {len(found)} 2D mesh topologies ({', '.join(found) or 'none'}); "
+            "expected one variable with cf_role = 'mesh_topology' and "
+            "topology_dimension = 2",
+            path=name,
+        )
+    return found[0]
+
+
+def _names(
+    dataset: Any, attrs: dict[str, Any], key: str, name: str, count: int
+) -> list[str]:
+    """Return the variables an attribute of the topology names; each must exist."""
+    names = str(attrs.get(key, "")).split()
+    missing = [v for v in names if v not in dataset.variables]
+    if len(names) != count or missing:
+        raise InputDataError(
+            f"the mesh topology's {key} is {attrs.get(key)!r}; expected {count} "
+            "variable name(s) of the file",
+            path=name,
+        )
+    return names
+
+
+def _connectivity(var: Any, width: int, name: str) -> NDArray[np.int64]:
+    """Return the 0-based node indices of a connectivity variable, ``width`` a row."""
+    values = np.asarray(var.values, dtype=np.float64)
+    if values.ndim != 2 or values.shape[1] != width or np.isnan(values).any():
+        raise InputDataError(
+            f"variable {var.name!r} has shape {values.shape} (or fill values); "
+            f"expected {width} nodes per row: only triangle meshes are read",
+            path=name,
+        )
+    return values.astype(np.int64) - int(var.attrs.get("start_index", 0))
+
+
+def _boundary(
+    dataset: Any, attrs: dict[str, Any], triangles: NDArray[np.int64], name: str
+) -> tuple[NDArray[np.int64], NDArray[np.int64], dict[int, str], dict[int, str]]:
+    """Return the boundary edges, their ids, and the names and kinds of the ids."""
+    if "boundary_id" not in dataset.variables or "edge_node_connectivity" not in attrs:
+        edges, count = unique_edges(triangles, int(triangles.max(initial=-1)) + 1)
+        outer = edges[count == 1]
+        return outer, np.ones(len(outer), np.int64), {}, {}
+    (edge_var,) = _names(dataset, attrs, "edge_node_connectivity", name, 1)
+    edges = _connectivity(dataset[edge_var], 2, name)
+    var = dataset["boundary_id"]
+    values = np.asarray(var.values).astype(np.int64)
+    tagged = values > 0
+    flags = np.atleast_1d(var.attrs.get("flag_values", [])).astype(np.int64)
+    meanings = str(var.attrs.get("flag_meanings", "")).split()
+    names = {
+        int(i): text
+        for i, text in zip(flags, meanings, strict=False)
+        if i > 0 and text != f"boundary_{int(i)}"
+    }
+    kinds = {
+        int(i): kind
+        for kind in ("open", "shoreline")
+        for i in np.atleast_1d(var.attrs.get(f"{kind}_boundary_ids", []))
+    }
+    return edges[tagged], values[tagged], names, kinds
+
+
+def _grid_mapping(dataset: Any, holders: tuple[str, ...], name: str) -> Any:
+    """Return the CRS of the grid mapping the coordinates (or topology) name."""
+    for holder in holders:
+        mapping = dataset[holder].attrs.get("grid_mapping")
+        if mapping and mapping in dataset.variables:
+            return crs_from_grid_mapping(dataset[mapping].attrs, name, mapping)
+    return None
 
 
 def _ugrid_dataset(mesh: Mesh, name: str) -> Any:
@@ -205,13 +302,21 @@ def _ugrid_dataset(mesh: Mesh, name: str) -> Any:
     from coastmesh import __version__
 
     n = len(mesh.points)
-    index = _index_dtype(n)
+    index = index_dtype(n)
     edges, boundary_id = _edges(mesh, name)
     grid_mapping = {} if mesh.crs is None else {"grid_mapping": _CRS}
-    x_attrs, y_attrs = _coordinate_attrs(mesh)
     coords = {
-        _X: (_NODE, mesh.points[:, 0].copy(), {**x_attrs, **grid_mapping}),
-        _Y: (_NODE, mesh.points[:, 1].copy(), {**y_attrs, **grid_mapping}),
+        var: (
+            _NODE,
+            mesh.points[:, k].copy(),
+            {
+                "long_name": f"{axis.lower()}-coordinate of mesh nodes",
+                "mesh": TOPOLOGY,
+                **axis_attrs(mesh.crs, axis),
+                **grid_mapping,
+            },
+        )
+        for k, (var, axis) in enumerate(((_X, "X"), (_Y, "Y")))
     }
     data_vars: dict[str, Any] = {
         TOPOLOGY: (
@@ -267,7 +372,7 @@ def _ugrid_dataset(mesh: Mesh, name: str) -> Any:
                 f"{name}: point_data[{key!r}] has the name of a mesh variable; "
                 f"rename it (taken: {', '.join(sorted(_RESERVED))})"
             )
-        array = _point_values(key, values, n, name)
+        array = point_values(key, values, n, name)
         dims = (_NODE,) if array.ndim == 1 else (_NODE, f"{key}_component")
         attrs = {"mesh": TOPOLOGY, "location": "node", **grid_mapping}
         if key == "depth":
@@ -278,7 +383,7 @@ def _ugrid_dataset(mesh: Mesh, name: str) -> Any:
             }
         data_vars[key] = (dims, array, attrs)
     if mesh.crs is not None:
-        data_vars[_CRS] = ((), np.int32(0), _crs_attrs(mesh.crs))
+        data_vars[_CRS] = ((), np.int32(0), grid_mapping_attrs(mesh.crs))
     return xr.Dataset(
         data_vars,
         coords=coords,
@@ -336,52 +441,3 @@ def _boundary_flags(mesh: Mesh) -> dict[str, Any]:
             dtype=np.int32,
         )
     return attrs
-
-
-def _coordinate_attrs(mesh: Mesh) -> tuple[dict[str, str], dict[str, str]]:
-    """CF attributes of the node x and y coordinates."""
-    x = {"long_name": "x-coordinate of mesh nodes", "mesh": TOPOLOGY}
-    y = {"long_name": "y-coordinate of mesh nodes", "mesh": TOPOLOGY}
-    crs = mesh.crs
-    if crs is None:
-        return x, y
-    if crs.is_geographic:
-        x |= {"standard_name": "longitude", "units": "degrees_east"}
-        y |= {"standard_name": "latitude", "units": "degrees_north"}
-        return x, y
-    unit = crs.axis_info[0].unit_name if crs.axis_info else ""
-    units = "m" if unit in ("metre", "meter") else unit
-    x |= {"standard_name": "projection_x_coordinate"}
-    y |= {"standard_name": "projection_y_coordinate"}
-    if units:
-        x["units"] = units
-        y["units"] = units
-    return x, y
-
-
-def _crs_attrs(crs: Any) -> dict[str, Any]:
-    """CF grid mapping attributes of a CRS, with the WKT for GDAL too."""
-    attrs = dict(crs.to_cf())
-    attrs["spatial_ref"] = attrs["crs_wkt"]
-    epsg = crs.to_epsg()
-    if epsg is not None:
-        attrs["epsg"] = np.int32(epsg)
-    return attrs
-
-
-def _point_values(key: str, values: Any, n: int, name: str) -> NDArray:
-    """Check one ``point_data`` entry: numbers of shape (N,) or (N, k)."""
-    array = np.asarray(values)
-    if array.dtype.kind == "b":
-        array = array.astype(np.uint8)
-    if array.dtype.kind not in "iuf" or array.ndim not in (1, 2) or len(array) != n:
-        raise FormatError(
-            f"{name}: point_data[{key!r}] has shape {array.shape} and dtype "
-            f"{array.dtype}; expected numbers of shape ({n},) or ({n}, k)"
-        )
-    return array
-
-
-def _index_dtype(n: int) -> type[np.integer]:
-    """int32 node indices while they fit, int64 beyond."""
-    return np.int32 if n <= np.iinfo(np.int32).max else np.int64

@@ -1,7 +1,7 @@
 """Read and write vector files (GeoPackage, shapefile, GeoJSON, FlatGeobuf, ...).
 
 Reading accepts anything GDAL reads; writing picks the driver from the extension
-(:mod:`coastmesh.io._registry`). Both are vectorised: pyogrio's raw interface moves
+(:mod:`coastmesh.io._drivers`). Both are vectorised: pyogrio's raw interface moves
 all features as WKB arrays and shapely 2 converts them in one call.
 """
 
@@ -24,8 +24,8 @@ from pyproj.exceptions import CRSError
 
 from coastmesh.errors import FormatError, InputDataError
 from coastmesh.io._atomic import atomic_write
+from coastmesh.io._drivers import vector_driver
 from coastmesh.io._inputs import check_bbox, check_input
-from coastmesh.io._registry import vector_driver
 from coastmesh.types import Features
 
 __all__ = ["read_features", "write_features"]
@@ -94,7 +94,7 @@ def read_features(
     """
     source = check_input(path)
     box = None if bbox is None else check_bbox(bbox)
-    layer_name = _pick_layer(source, layer)
+    layer_name = pick_layer(source, layer)
     try:
         with np.errstate(invalid="ignore"):
             meta, fids, wkb, columns = pyogrio.raw.read(
@@ -172,57 +172,145 @@ def write_features(
         Key/value notes stored with the data (GeoPackage metadata, or the
         GeoJSON/FlatGeobuf description); shapefiles cannot hold them.
 
-    Notes
-    -----
-    Features keep their order. Shapefiles cut field names to 10 characters
-    (GDAL warns).
-
     Raises
     ------
     FormatError
         If the extension is unknown or the driver cannot hold these features.
     OutputExistsError
         If ``path`` exists and ``overwrite`` is false.
+
+    Notes
+    -----
+    Features keep their order. Shapefiles cut field names to 10 characters
+    (GDAL warns).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> points = Features([shapely.Point(0, 0)], "EPSG:4326", {}, [0], "<memory>")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "points.geojson"
+    >>> write_features(path, points)
+    >>> len(read_features(path))
+    1
     """
     target = Path(path)
     driver = vector_driver(target)
-    layer_name = layer if layer is not None else target.stem
-    geometry = features.geometry
-    geometry_type = _geometry_type(geometry)
-    names = list(features.fields)
-    columns = [_writable(values) for values in features.fields.values()]
     layer_options = {}
     notes = dict(metadata or {})
     if notes and driver in {"GeoJSON", "FlatGeobuf"}:
         layer_options["DESCRIPTION"] = "; ".join(f"{k}={v}" for k, v in notes.items())
     if driver == "FlatGeobuf":  # its spatial index would reorder the features
         layer_options["SPATIAL_INDEX"] = "NO"
-    crs = None if features.crs is None else _crs_string(features.crs)
     with atomic_write(target, overwrite=overwrite) as staged:
-        try:
-            with warnings.catch_warnings():
-                warnings.filterwarnings("ignore", message="'crs' was not provided")
-                pyogrio.raw.write(
-                    staged,
-                    shapely.to_wkb(geometry),
-                    columns,
-                    names,
-                    layer=layer_name,
-                    driver=driver,
-                    geometry_type=geometry_type,
-                    crs=crs,
-                    encoding="UTF-8" if driver == "ESRI Shapefile" else None,
-                    dataset_metadata=notes or None,
-                    layer_options=layer_options or None,
-                )
-        except (DataSourceError, DataLayerError, FeatureError, GeometryError) as exc:
-            raise FormatError(
-                f"{target}: the {driver} driver cannot write these features: {exc}"
-            ) from None
+        write_layer(
+            staged,
+            features,
+            layer=layer if layer is not None else target.stem,
+            driver=driver,
+            metadata=notes,
+            layer_options=layer_options,
+            target=target,
+        )
     logger.debug("wrote %s: %d features", target, len(features))
 
 
-def _pick_layer(source: str, layer: str | None) -> str:
+def write_layer(
+    staged: str | os.PathLike[str],
+    features: Features,
+    *,
+    layer: str,
+    driver: str,
+    target: str | os.PathLike[str],
+    metadata: Mapping[str, str] | None = None,
+    layer_options: Mapping[str, str] | None = None,
+) -> None:
+    """Write features as one layer of a (staged) vector file, with GDAL.
+
+    Parameters
+    ----------
+    staged : str or path-like
+        The file to write to: a staging path from :mod:`coastmesh.io._atomic`.
+        A GeoPackage that exists gets one more layer.
+    features : Features
+        What to write, in order.
+    layer : str
+        The layer name.
+    driver : str
+        The GDAL driver (:data:`coastmesh.io._drivers.VECTOR_DRIVERS`).
+    target : str or path-like
+        The output the staged file becomes, for messages.
+    metadata : mapping of str to str, optional
+        Dataset metadata (GeoPackage); left out if empty.
+    layer_options : mapping of str to str, optional
+        GDAL layer creation options.
+
+    Raises
+    ------
+    FormatError
+        If the driver cannot hold these features; the message names ``target``,
+        the layer and the driver.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> points = Features([shapely.Point(0, 0)], "EPSG:4326", {}, [0], "<memory>")
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "p.gpkg"
+    >>> write_layer(path, points, layer="p", driver="GPKG", target=path)
+    >>> pyogrio.list_layers(path)[:, 0].tolist()
+    ['p']
+    """
+    crs = None if features.crs is None else _crs_string(features.crs)
+    try:
+        with warnings.catch_warnings(), np.errstate(invalid="ignore"):
+            warnings.filterwarnings("ignore", message="'crs' was not provided")
+            pyogrio.raw.write(
+                staged,
+                shapely.to_wkb(features.geometry),
+                [_writable(values) for values in features.fields.values()],
+                list(features.fields),
+                layer=layer,
+                driver=driver,
+                geometry_type=_geometry_type(features.geometry),
+                crs=crs,
+                encoding="UTF-8" if driver == "ESRI Shapefile" else None,
+                dataset_metadata=dict(metadata or {}) or None,
+                layer_options=dict(layer_options or {}) or None,
+            )
+    except (DataSourceError, DataLayerError, FeatureError, GeometryError) as exc:
+        raise FormatError(
+            f"{os.fspath(target)}, layer {layer!r}: the {driver} driver cannot write "
+            f"these features: {exc}"
+        ) from None
+
+
+def pick_layer(source: str, layer: str | None) -> str:
+    """Return the layer of ``source`` to read: ``layer``, or the only one.
+
+    Parameters
+    ----------
+    source : str
+        A vector file.
+    layer : str, optional
+        The layer asked for; None for the only layer of the file.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    FormatError
+        If GDAL cannot read ``source`` as vector data.
+    InputDataError
+        If the file has no layers, several and none is named, or not ``layer``;
+        the message lists the layers.
+
+    Examples
+    --------
+    >>> from coastmesh.data import path as data_path
+    >>> pick_layer(str(data_path("orkney_gshhg_f.geojson")), None)
+    'orkney_gshhg_f'
+    """
     try:
         layers = pyogrio.list_layers(source)
     except DataSourceError as exc:

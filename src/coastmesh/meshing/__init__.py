@@ -1,12 +1,22 @@
 """Meshing: domains, size grids and Gmsh meshes.
 
 ========================  =====================================================
-:class:`Domain`           polygon + tagged boundary segments + CRS
-:class:`SizeGrid`         target edge length (metres) on a regular grid
-:class:`Mesh`             triangles, tagged boundary edges, CRS
 :func:`generate_mesh`     Domain + SizeGrid -> Mesh, with Gmsh
+:func:`default_mesh_crs`  the conformal CRS meshes are made in by default
+:func:`sample_size`       a size grid interpolated as Gmsh does
 :func:`resample_segment`  a polyline resampled to a target size
+:func:`clean_mesh`        all-boundary triangles, valence, slivers fixed
+:func:`depth_at_nodes`    a bathymetry raster on the nodes
+:func:`mesh_quality`      angles, radius ratios, edge sizes, valence
 ========================  =====================================================
+
+The types they take and return (:class:`~coastmesh.types.Domain`,
+:class:`~coastmesh.types.SizeGrid`, :class:`~coastmesh.types.Mesh`) live in
+:mod:`coastmesh.types`.
+
+Modules: ``engine`` (Gmsh), ``projection`` (the meshing CRS and sizes in it),
+``boundary`` (resampling), ``topology`` (boundary rings and strings),
+``cleanup``, ``depth``, ``quality`` and ``quality_report`` (measure, never write).
 
 Gmsh is imported only when :func:`generate_mesh` runs.
 """
@@ -18,18 +28,27 @@ from coastmesh.meshing.boundary import (
     resample_rings,
     resample_segment,
 )
-from coastmesh.meshing.engine import default_mesh_crs, generate_mesh, sample_size
-from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
+from coastmesh.meshing.cleanup import CleanupReport, clean_mesh
+from coastmesh.meshing.depth import DEPTH_METHODS, DepthReport, depth_at_nodes
+from coastmesh.meshing.engine import generate_mesh
+from coastmesh.meshing.projection import default_mesh_crs, sample_size
+from coastmesh.meshing.quality import edge_quality, mesh_quality, triangle_quality
+from coastmesh.meshing.quality_report import QualityReport
 
 __all__ = [
-    "BoundarySegment",
-    "Domain",
-    "Mesh",
-    "SizeGrid",
+    "DEPTH_METHODS",
+    "CleanupReport",
+    "DepthReport",
+    "QualityReport",
     "SmallIslandWarning",
+    "clean_mesh",
     "default_mesh_crs",
+    "depth_at_nodes",
+    "edge_quality",
     "generate_mesh",
+    "mesh_quality",
     "resample_rings",
     "resample_segment",
     "sample_size",
+    "triangle_quality",
 ]

@@ -11,11 +11,17 @@ import warnings
 from collections.abc import Callable, Sequence
 
 import numpy as np
+import shapely
 from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import CoastmeshWarning, MeshingError
 
-__all__ = ["SmallIslandWarning", "resample_rings", "resample_segment"]
+__all__ = [
+    "SmallIslandWarning",
+    "check_boundary",
+    "resample_rings",
+    "resample_segment",
+]
 
 SizeAt = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 
@@ -163,6 +169,40 @@ def resample_rings(
             stacklevel=2,
         )
     return kept, dropped
+
+
+def check_boundary(rings: Sequence[Sequence[Sequence[ArrayLike]]]) -> None:
+    """Check that resampled rings still bound a valid polygon.
+
+    Parameters
+    ----------
+    rings : sequence of sequence of sequence of array_like of shape (m, 2)
+        As :func:`resample_rings` returns them: for each ring, for each segment,
+        its pieces; the exterior first.
+
+    Raises
+    ------
+    MeshingError
+        If the rings do not form a valid polygon (a ring crosses itself or
+        another after resampling), with GEOS's reason.
+
+    Examples
+    --------
+    >>> square = [[np.array([[0.0, 0], [1, 0], [1, 1], [0, 1], [0, 0]])]]
+    >>> check_boundary([square]) is None
+    True
+    """
+    coords = [
+        np.concatenate([p[:-1] for seg in ring for p in seg] + [ring[0][0][:1]])
+        for ring in rings
+    ]
+    polygon = shapely.Polygon(coords[0], coords[1:])
+    if not polygon.is_valid:
+        raise MeshingError(
+            "the boundary resampled to the target size is not a valid polygon ("
+            f"{shapely.is_valid_reason(polygon)}); reduce the size there or "
+            "simplify the shoreline"
+        )
 
 
 def _resample(

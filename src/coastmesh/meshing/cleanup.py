@@ -22,21 +22,41 @@ meshes in place.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
 from pyproj import CRS, Transformer
 
 from coastmesh.errors import ConfigError
-from coastmesh.types import Mesh
+from coastmesh.geometry.earth import transformer
+from coastmesh.types import Mesh, Report
 
 __all__ = ["CleanupReport", "clean_mesh"]
 
 
 @dataclass(frozen=True, slots=True)
-class CleanupReport:
-    """What :func:`clean_mesh` changed."""
+class CleanupReport(Report):
+    """What :func:`clean_mesh` changed.
+
+    Attributes
+    ----------
+    boundary_triangles_before, boundary_triangles_after : int
+        Triangles with all three nodes on the boundary, before and after.
+    boundary_flips, boundary_splits : int
+        Such triangles fixed by flipping an interior edge, and by splitting the
+        triangle at its centroid.
+    max_valence_before, max_valence_after : int
+        Most triangles at an interior node, before and after.
+    valence_flips : int
+        Edge flips that lowered the valence of crowded nodes.
+    slivers_before, slivers_after : int
+        Triangles with a minimum angle below ``min_angle``, before and after.
+    sliver_flips : int
+        Edge flips that raised the minimum angle of a sliver pair.
+    min_angle_before, min_angle_after : float
+        Smallest angle of the mesh, degrees, before and after.
+    """
 
     boundary_triangles_before: int
     boundary_triangles_after: int
@@ -62,10 +82,6 @@ class CleanupReport:
             f"flips); min angle {self.min_angle_before:.1f} -> "
             f"{self.min_angle_after:.1f} deg"
         )
-
-    def to_dict(self) -> dict[str, object]:
-        """Return the report as a JSON-ready dict."""
-        return asdict(self)
 
 
 def clean_mesh(
@@ -145,7 +161,7 @@ def _local_plane(mesh: Mesh) -> Transformer | None:
     plane = CRS.from_proj4(
         f"+proj=sterea +lat_0={lat} +lon_0={lon} +k=1 +datum=WGS84 +units=m"
     )
-    return Transformer.from_crs(mesh.crs, plane, always_xy=True)
+    return transformer(mesh.crs, plane)
 
 
 def _angles(xy: NDArray[np.float64]) -> NDArray[np.float64]:

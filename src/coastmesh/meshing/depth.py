@@ -7,18 +7,23 @@ coordinates), and the report counts them. Depths are metres, positive down.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import xarray as xr
 from numpy.typing import NDArray
-from pyproj import CRS, Transformer
+from pyproj import CRS
 from scipy.spatial import cKDTree
 
 from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.geometry.earth import earth_centred, metres_per_unit, reproject_points
+from coastmesh.meshing.quality import mesh_earth_centred
 from coastmesh.meshing.topology import unique_edges
-from coastmesh.sizing.units import EARTH_RADIUS
-from coastmesh.types import Mesh
+from coastmesh.sizing.raster import interpolate_bilinear, raster_grid
+from coastmesh.types import Mesh, Report
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["DEPTH_METHODS", "DepthReport", "depth_at_nodes", "limit_slope"]
 
@@ -26,13 +31,30 @@ __all__ = ["DEPTH_METHODS", "DepthReport", "depth_at_nodes", "limit_slope"]
 #: each node's surrounding area where the mesh is coarser than the raster
 #: (bilinear elsewhere).
 DEPTH_METHODS = ("bilinear", "mean")
-_ECEF = CRS.from_epsg(4978)
-_METRES_PER_DEGREE = EARTH_RADIUS * np.pi / 180.0
 
 
 @dataclass(frozen=True, slots=True)
-class DepthReport:
-    """What :func:`depth_at_nodes` did."""
+class DepthReport(Report):
+    """What :func:`depth_at_nodes` did.
+
+    Attributes
+    ----------
+    nodes : int
+        Mesh nodes given a depth.
+    method : str
+        ``"bilinear"`` or ``"mean"`` (:data:`DEPTH_METHODS`).
+    averaged : int
+        Nodes whose depth is the mean of the cells around them (``"mean"``).
+    nearest : int
+        Nodes outside the raster or next to nodata that took the nearest valid
+        cell on the Earth.
+    below_min_depth : int
+        Nodes raised to the minimum depth.
+    slope_limited : int
+        Nodes made shallower by the slope limit.
+    min, max : float
+        Smallest and largest depth, metres, positive down.
+    """
 
     nodes: int
     method: str
@@ -52,10 +74,6 @@ class DepthReport:
             f"{self.below_min_depth:,} raised to the minimum depth; "
             f"{self.slope_limited:,} changed by the slope limit"
         )
-
-    def to_dict(self) -> dict[str, object]:
-        """Return the report as a JSON-ready dict."""
-        return asdict(self)
 
 
 def depth_at_nodes(
@@ -99,13 +117,15 @@ def depth_at_nodes(
     Raises
     ------
     ConfigError
-        For a bad ``positive``, ``method``, ``min_depth`` or ``max_slope``, or a
-        mesh without a CRS.
+        For a bad ``positive``, ``method``, ``min_depth`` or ``max_slope``, a
+        mesh without a CRS, or a raster
+        :func:`~coastmesh.sizing.raster.raster_grid` refuses.
     InputDataError
         If the raster has no valid cell.
 
     Examples
     --------
+    >>> import xarray as xr
     >>> r = xr.DataArray([[-10.0, -20.0], [-30.0, -40.0]], dims=("y", "x"),
     ...                  coords={"y": [0.0, 1.0], "x": [0.0, 1.0]},
     ...                  attrs={"crs": "EPSG:4326"})
@@ -123,19 +143,11 @@ def depth_at_nodes(
         raise ConfigError(f"min_depth = {min_depth}: not a finite number of metres")
     if mesh.crs is None:
         raise ConfigError("the mesh has no CRS: give the CRS of its coordinates")
-    if tuple(raster.dims) != ("y", "x") or "crs" not in raster.attrs:
-        raise ConfigError("raster: expected dims ('y', 'x') and a 'crs' attribute")
-    ry = np.asarray(raster["y"].values, dtype=float)
-    rx = np.asarray(raster["x"].values, dtype=float)
-    values = np.asarray(raster.values, dtype=float)
-    if ry[0] > ry[-1]:
-        ry, values = ry[::-1], values[::-1]
+    rx, ry, values, raster_crs = raster_grid(raster)
     if not np.isfinite(values).any():
         raise InputDataError("the bathymetry raster has no valid cell")
-    raster_crs = CRS.from_user_input(raster.attrs["crs"])
-    to_raster = Transformer.from_crs(mesh.crs, raster_crs, always_xy=True)
-    px, py = to_raster.transform(mesh.points[:, 0], mesh.points[:, 1])
-    z = _bilinear(rx, ry, values, px, py)
+    px, py = reproject_points(mesh.points, mesh.crs, raster_crs).T
+    z = interpolate_bilinear(rx, ry, values, px, py)
     averaged = 0
     if method == "mean":
         radius = _node_radius(mesh)
@@ -214,31 +226,11 @@ def limit_slope(
     return np.minimum(limited, depth)
 
 
-def _bilinear(rx, ry, values, px, py) -> NDArray[np.float64]:
-    """Bilinear interpolation on cell centres; NaN outside or next to nodata."""
-    from scipy.interpolate import RegularGridInterpolator
-
-    if len(rx) < 2 or len(ry) < 2:
-        return np.full(len(px), np.nan)
-    interpolate = RegularGridInterpolator(
-        (ry, rx), values, method="linear", bounds_error=False, fill_value=np.nan
-    )
-    return interpolate(np.column_stack([py, px]))
-
-
 def _edges_on_earth(mesh: Mesh) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
     """Return the unique edges and their lengths, metres (earth-centred chords)."""
     edges, _ = unique_edges(mesh.triangles, len(mesh.points))
-    xyz = _earth_xyz(mesh)
+    xyz, _ = mesh_earth_centred(mesh)
     return edges, np.linalg.norm(xyz[edges[:, 0]] - xyz[edges[:, 1]], axis=1)
-
-
-def _earth_xyz(mesh: Mesh) -> NDArray[np.float64]:
-    if mesh.crs is None:
-        return np.column_stack([mesh.points, np.zeros(len(mesh.points))])
-    to_ecef = Transformer.from_crs(mesh.crs, _ECEF, always_xy=True)
-    x, y = mesh.points[:, 0], mesh.points[:, 1]
-    return np.column_stack(to_ecef.transform(x, y, np.zeros_like(x)))
 
 
 def _node_radius(mesh: Mesh) -> NDArray[np.float64]:
@@ -253,12 +245,9 @@ def _node_radius(mesh: Mesh) -> NDArray[np.float64]:
 def _box_means(rx, ry, values, px, py, radius, raster_crs: CRS):
     """Mean of the valid cells within ``radius`` of each node (summed-area tables)."""
     dx, dy = abs(rx[1] - rx[0]), abs(ry[1] - ry[0])
-    if raster_crs.is_geographic:
-        half_y = radius / _METRES_PER_DEGREE
+    half_x = half_y = radius / metres_per_unit(raster_crs)
+    if raster_crs.is_geographic:  # a degree of longitude is shorter
         half_x = half_y / np.maximum(np.cos(np.radians(py)), 1e-6)
-    else:
-        unit = raster_crs.axis_info[0].unit_conversion_factor
-        half_x = half_y = radius / unit
     kx = np.floor(half_x / dx).astype(np.int64)
     ky = np.floor(half_y / dy).astype(np.int64)
     used = (kx >= 1) | (ky >= 1)
@@ -288,8 +277,7 @@ def _nearest_valid(rx, ry, values, px, py, raster_crs: CRS) -> NDArray[np.float6
     """Values of the nearest valid cells on the Earth (earth-centred k-d tree)."""
     gx, gy = np.meshgrid(rx, ry)
     valid = np.isfinite(values)
-    to_ecef = Transformer.from_crs(raster_crs, _ECEF, always_xy=True)
-    cx, cy = gx[valid], gy[valid]
-    tree = cKDTree(np.column_stack(to_ecef.transform(cx, cy, np.zeros_like(cx))))
-    _, k = tree.query(np.column_stack(to_ecef.transform(px, py, np.zeros_like(px))))
+    cells = np.column_stack([gx[valid], gy[valid]])
+    tree = cKDTree(earth_centred(cells, raster_crs, name="raster cells"))
+    _, k = tree.query(earth_centred(np.column_stack([px, py]), raster_crs))
     return values[valid][k]

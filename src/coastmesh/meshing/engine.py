@@ -2,7 +2,8 @@
 
 This is the only module that imports gmsh, and only inside :func:`_gmsh_session`,
 so ``import coastmesh.meshing`` stays light. Gmsh keeps process-global state: one
-session at a time holds a lock, and the session is always finalised.
+session at a time holds a lock, and the session is always finalised. The meshing
+CRS and the sizes in its map units come from :mod:`coastmesh.meshing.projection`.
 """
 
 from __future__ import annotations
@@ -17,14 +18,20 @@ from typing import Any
 import numpy as np
 import shapely
 from numpy.typing import NDArray
-from pyproj import CRS, Proj, Transformer
-from pyproj.crs import ProjectedCRS
+from pyproj import CRS
 
 from coastmesh.errors import MeshingError
-from coastmesh.meshing.boundary import resample_rings
-from coastmesh.types import Domain, Mesh, SizeGrid
+from coastmesh.meshing.boundary import check_boundary, resample_rings
+from coastmesh.meshing.projection import (
+    default_mesh_crs,
+    project_points,
+    project_rings,
+    sample_size,
+    to_map_units,
+)
+from coastmesh.types import Domain, Mesh, Progress, SizeGrid
 
-__all__ = ["ALGORITHMS", "default_mesh_crs", "generate_mesh", "sample_size"]
+__all__ = ["ALGORITHMS", "generate_mesh"]
 
 logger = logging.getLogger(__name__)
 
@@ -32,230 +39,8 @@ logger = logging.getLogger(__name__)
 ALGORITHMS = {"meshadapt": 1, "automatic": 2, "delaunay": 5, "frontal-delaunay": 6}
 
 _LOCK = threading.Lock()
-# Geographic segments are densified to this fraction of the domain's extent before
-# projection, so straight lines in the domain CRS stay (almost) straight.
-_DENSIFY_FRACTION = 1e-3
 # Relative precision of Gmsh's integral of 1/h along each curve (boundary nodes).
 _INTEGRATION_PRECISION = 1e-4
-# default_mesh_crs: UTM for domains at most this many degrees of longitude wide ...
-_UTM_MAX_WIDTH = 6.0
-# ... and within this many degrees of latitude of the equator.
-_UTM_MAX_LAT = 80.0
-# A mesh CRS whose angular distortion (degrees) exceeds this anywhere on the size
-# grid is not conformal; conformal ones give ~1e-6 from PROJ's numerical derivatives.
-_MAX_ANGULAR_DISTORTION = 1e-3
-# Size grid nodes per block when computing scale factors (bounds the memory used).
-_SCALE_BLOCK = 1 << 18
-
-
-def default_mesh_crs(domain: Domain) -> CRS:
-    """Return the CRS :func:`generate_mesh` meshes in when none is given.
-
-    A conformal projection keeps the triangles' shapes on the Earth; its point
-    scale factor k (map length per metre on the Earth) then only changes their
-    size, and :func:`generate_mesh` corrects for it. The choice keeps k close
-    to 1 over the domain:
-
-    - a projected ``domain.crs`` is used as it is;
-    - a geographic domain at most 6 degrees of longitude wide and within
-      80 degrees of latitude of the equator gets the WGS 84 UTM zone (north or
-      south) of its centroid, where k stays within about 1 % of 1;
-    - a wider or polar geographic domain gets an oblique stereographic
-      projection on WGS 84 centred on its centroid (``+proj=sterea +lat_0=..
-      +lon_0=.. +k=1 +x_0=0 +y_0=0 +datum=WGS84 +units=m``). Its k is 1 at the
-      centroid and grows alike in every direction with the angular distance c
-      from it, k = 2 / (1 + cos c) (1.017 at 15 degrees), half as fast as a
-      transverse Mercator's grows away from its central meridian; and unlike
-      UTM it is defined at the poles.
-
-    Parameters
-    ----------
-    domain : Domain
-        The domain.
-
-    Returns
-    -------
-    pyproj.CRS
-        A projected, conformal CRS in metres: ``domain.crs``, a UTM zone, or an
-        oblique stereographic projection as above.
-
-    See Also
-    --------
-    generate_mesh : converts the target sizes by the scale factor of this CRS.
-
-    Examples
-    --------
-    >>> import shapely
-    >>> from coastmesh.types import BoundarySegment
-    >>> ring = [[-3, 58], [-2, 58], [-2, 59], [-3, 59], [-3, 58]]
-    >>> d = Domain(shapely.Polygon(ring), (BoundarySegment(ring, "open", "b", 1),),
-    ...            crs="EPSG:4326")
-    >>> default_mesh_crs(d).to_epsg()
-    32630
-
-    The north-west European shelf is too wide for one UTM zone:
-
-    >>> ring = [[-15, 45], [10, 45], [10, 70], [-15, 70], [-15, 45]]
-    >>> d = Domain(shapely.Polygon(ring), (BoundarySegment(ring, "open", "b", 1),),
-    ...            crs="EPSG:4326")
-    >>> default_mesh_crs(d).name
-    'WGS 84 / oblique stereographic 57.5N 2.5W'
-    """
-    if domain.crs.is_projected:
-        return domain.crs
-    to_lonlat = Transformer.from_crs(domain.crs, "EPSG:4326", always_xy=True)
-    ring = shapely.get_coordinates(domain.polygon.exterior)
-    lon, lat = to_lonlat.transform(ring[:, 0], ring[:, 1])
-    centroid = domain.polygon.centroid
-    c_lon, c_lat = to_lonlat.transform(centroid.x, centroid.y)
-    c_lon = (c_lon + 180.0) % 360.0 - 180.0
-    if _lon_extent(lon) <= _UTM_MAX_WIDTH and np.abs(lat).max() <= _UTM_MAX_LAT:
-        zone = int(np.clip(np.floor((c_lon + 180.0) / 6.0) + 1, 1, 60))
-        return CRS.from_epsg((32600 if c_lat >= 0 else 32700) + zone)
-    return _oblique_stereographic(float(c_lat), float(c_lon))
-
-
-def _lon_extent(lon: NDArray[np.float64]) -> float:
-    """Return the degrees of longitude spanned: 360 minus the widest empty arc."""
-    lon = np.sort(np.mod(np.asarray(lon, dtype=np.float64), 360.0))
-    gaps = np.diff(np.concatenate([lon, lon[:1] + 360.0]))
-    return float(360.0 - gaps.max())
-
-
-def _oblique_stereographic(lat: float, lon: float) -> CRS:
-    """Return a named oblique stereographic CRS on WGS 84 centred on (lat, lon)."""
-    lat, lon = round(lat, 6), round(lon, 6)
-    proj = (
-        f"+proj=sterea +lat_0={lat} +lon_0={lon} +k=1 +x_0=0 +y_0=0 "
-        "+datum=WGS84 +units=m +no_defs"
-    )
-    name = (
-        f"WGS 84 / oblique stereographic {abs(lat):g}{'N' if lat >= 0 else 'S'} "
-        f"{abs(lon):g}{'E' if lon >= 0 else 'W'}"
-    )
-    return ProjectedCRS(
-        CRS.from_proj4(proj).coordinate_operation,
-        name=name,
-        geodetic_crs=CRS.from_epsg(4326),
-    )
-
-
-def sample_size(grid: SizeGrid, xy: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Interpolate a size grid bilinearly, clamped to its edge values outside.
-
-    Parameters
-    ----------
-    grid : SizeGrid
-        Target edge lengths in metres on cell centres.
-    xy : ndarray of shape (n, 2)
-        Positions in the grid's CRS.
-
-    Returns
-    -------
-    ndarray of shape (n,)
-        Target edge lengths in metres; the same interpolation Gmsh applies.
-
-    Examples
-    --------
-    >>> g = SizeGrid([0.0, 10.0], [0.0, 10.0], [[1.0, 3.0], [1.0, 3.0]])
-    >>> sample_size(g, np.array([[5.0, 5.0], [50.0, -5.0]])).tolist()
-    [2.0, 3.0]
-    """
-    xy = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
-    x = np.clip(xy[:, 0], grid.x[0], grid.x[-1])
-    y = np.clip(xy[:, 1], grid.y[0], grid.y[-1])
-    i = np.clip(np.searchsorted(grid.x, x, side="right") - 1, 0, grid.x.size - 2)
-    j = np.clip(np.searchsorted(grid.y, y, side="right") - 1, 0, grid.y.size - 2)
-    tx = (x - grid.x[i]) / (grid.x[i + 1] - grid.x[i])
-    ty = (y - grid.y[j]) / (grid.y[j + 1] - grid.y[j])
-    v = grid.values
-    return (
-        (1 - tx) * (1 - ty) * v[j, i]
-        + tx * (1 - ty) * v[j, i + 1]
-        + (1 - tx) * ty * v[j + 1, i]
-        + tx * ty * v[j + 1, i + 1]
-    )
-
-
-def _scale_factor(
-    x: NDArray[np.float64], y: NDArray[np.float64], mesh_crs: CRS
-) -> NDArray[np.float64]:
-    """Return the point scale factor k of a conformal ``mesh_crs`` at points.
-
-    Parameters
-    ----------
-    x, y : ndarray
-        Projected coordinates in ``mesh_crs``, of the same shape.
-    mesh_crs : pyproj.CRS
-        A projected CRS.
-
-    Returns
-    -------
-    ndarray
-        k at each point, the same shape as ``x``: map units per metre on the
-        Earth (PROJ's meridional scale, equal to the parallel scale).
-
-    Raises
-    ------
-    ValueError
-        If a point has no longitude and latitude or no scale factor, or if
-        ``mesh_crs`` is not conformal there (angular distortion above 1e-3
-        degrees).
-    """
-    x, y = np.broadcast_arrays(np.asarray(x, np.float64), np.asarray(y, np.float64))
-    to_lonlat = Transformer.from_crs(mesh_crs, mesh_crs.geodetic_crs, always_xy=True)
-    projection = Proj(mesh_crs)
-    flat_x, flat_y = x.ravel(), y.ravel()
-    k = np.empty(flat_x.size)
-    distortion = 0.0
-    for start in range(0, flat_x.size, _SCALE_BLOCK):
-        block = slice(start, start + _SCALE_BLOCK)
-        lon, lat = to_lonlat.transform(flat_x[block], flat_y[block])
-        factors = projection.get_factors(lon, lat)
-        k[block] = factors.meridional_scale
-        bad = ~(np.isfinite(lon) & np.isfinite(lat) & np.isfinite(k[block]))
-        bad |= ~(k[block] > 0)
-        if bad.any():
-            i = start + int(np.argmax(bad))
-            raise ValueError(
-                f"the size grid node at ({flat_x[i]:.1f}, {flat_y[i]:.1f}) has no "
-                f"longitude, latitude or scale factor in mesh_crs {mesh_crs.name!r}; "
-                "keep the grid inside the projection's valid area"
-            )
-        distortion = max(distortion, float(np.max(factors.angular_distortion)))
-    if not distortion <= _MAX_ANGULAR_DISTORTION:
-        raise ValueError(
-            f"mesh_crs {mesh_crs.name!r} is not conformal: its angular distortion "
-            f"reaches {distortion:.3g} degrees over the size grid, so triangles "
-            "would be distorted on the Earth; mesh_crs must be conformal (UTM, "
-            "stereographic, Lambert conformal conic, Mercator; default: "
-            "default_mesh_crs)"
-        )
-    return k.reshape(x.shape)
-
-
-def _to_map_units(size: SizeGrid, mesh_crs: CRS) -> SizeGrid:
-    """Convert a size grid from metres on the Earth to ``mesh_crs`` map units.
-
-    Parameters
-    ----------
-    size : SizeGrid
-        Target edge lengths in metres on the Earth, at nodes in ``mesh_crs``.
-    mesh_crs : pyproj.CRS
-        A projected, conformal CRS.
-
-    Returns
-    -------
-    SizeGrid
-        The same nodes with values ``size.values * k``, k the point scale factor
-        (:func:`_scale_factor`).
-    """
-    gx, gy = np.meshgrid(size.x, size.y)
-    k = _scale_factor(gx, gy, mesh_crs)
-    logger.info(
-        "size: scale factor %.4f to %.4f in %s", k.min(), k.max(), mesh_crs.name
-    )
-    return SizeGrid(size.x, size.y, size.values * k)
 
 
 def generate_mesh(
@@ -267,7 +52,7 @@ def generate_mesh(
     seed: int = 0,
     algorithm: str = "frontal-delaunay",
     optimize: bool = True,
-    progress: Callable[[int, int], None] | None = None,
+    progress: Progress | None = None,
 ) -> Mesh:
     """Mesh a domain with triangles whose edge lengths follow a size grid.
 
@@ -278,10 +63,11 @@ def generate_mesh(
     size : SizeGrid
         Target edge length in metres on the Earth, on a regular grid in
         ``mesh_crs`` coordinates; clamped to the nearest grid value outside the
-        grid. Build it in :func:`default_mesh_crs` when ``mesh_crs`` is not given.
+        grid. Build it in :func:`~coastmesh.meshing.default_mesh_crs` when
+        ``mesh_crs`` is not given.
     mesh_crs : pyproj.CRS or CRS-like, optional
         The CRS to mesh in: projected and conformal, so elements keep their shape
-        on the Earth. Default :func:`default_mesh_crs`.
+        on the Earth. Default :func:`~coastmesh.meshing.default_mesh_crs`.
     output_crs : pyproj.CRS or CRS-like, optional
         The CRS of the returned points. Default ``domain.crs``.
     seed : int, default 0
@@ -377,11 +163,11 @@ def generate_mesh(
             progress(done, total)
 
     started = time.perf_counter()
-    map_size = _to_map_units(size, mesh_crs)
-    rings, ids = _project_rings(domain, mesh_crs)
+    map_size = to_map_units(size, mesh_crs)
+    rings, ids = project_rings(domain, mesh_crs)
     resampled, dropped = resample_rings(rings, lambda xy: sample_size(map_size, xy))
     ids = [ring_ids for r, ring_ids in enumerate(ids) if r not in set(dropped)]
-    _check_boundary(resampled)
+    check_boundary(resampled)
     n_boundary = sum(len(p) - 1 for ring in resampled for seg in ring for p in seg)
     logger.info(
         "boundary: %d rings, %d -> %d vertices, %d islands dropped",
@@ -404,7 +190,7 @@ def generate_mesh(
             step,
         )
     target = sample_size(size, points)
-    points = _transform(points, mesh_crs, output_crs)
+    points = project_points(points, mesh_crs, output_crs, what="mesh nodes")
     triangles = _orient(points, triangles)
     edges, edge_ids = _check_edges(triangles, edges, edge_ids)
     step(total)
@@ -463,52 +249,6 @@ def _forward_log(gmsh: Any) -> None:
             logger.warning("gmsh: %s", line)
         else:
             logger.debug("gmsh: %s", line)
-
-
-def _project_rings(
-    domain: Domain, mesh_crs: CRS
-) -> tuple[list[list[NDArray[np.float64]]], list[list[int]]]:
-    """Segment coordinates by ring, in the meshing CRS; and their physical ids."""
-    same = domain.crs == mesh_crs
-    transformer = (
-        None if same else Transformer.from_crs(domain.crs, mesh_crs, always_xy=True)
-    )
-    minx, miny, maxx, maxy = domain.polygon.bounds
-    step = _DENSIFY_FRACTION * max(maxx - minx, maxy - miny)
-    rings, ids = [], []
-    for ring in domain.rings():
-        coords = []
-        for segment in ring:
-            xy = segment.coords
-            if transformer is not None:
-                xy = shapely.get_coordinates(
-                    shapely.segmentize(shapely.LineString(xy), step)
-                )
-                xy = np.column_stack(transformer.transform(xy[:, 0], xy[:, 1]))
-                if not np.isfinite(xy).all():
-                    raise MeshingError(
-                        f"segment {segment.name!r} cannot be projected to "
-                        f"{mesh_crs.name!r}: infinite coordinates"
-                    )
-            coords.append(xy)
-        rings.append(coords)
-        ids.append([segment.physical_id for segment in ring])
-    return rings, ids
-
-
-def _check_boundary(rings: list[list[list[NDArray[np.float64]]]]) -> None:
-    """Raise MeshingError if the resampled rings do not form a valid polygon."""
-    coords = [
-        np.concatenate([p[:-1] for seg in ring for p in seg] + [ring[0][0][:1]])
-        for ring in rings
-    ]
-    polygon = shapely.Polygon(coords[0], coords[1:])
-    if not polygon.is_valid:
-        raise MeshingError(
-            "the boundary resampled to the target size is not a valid polygon ("
-            f"{shapely.is_valid_reason(polygon)}); reduce the size there or "
-            "simplify the shoreline"
-        )
 
 
 def _grid_view_data(size: SizeGrid, bounds: tuple[float, ...]) -> NDArray[np.float64]:
@@ -653,16 +393,6 @@ def _extract(
     if (edges < 0).any():
         raise MeshingError("Gmsh made boundary edges whose nodes no triangle uses")
     return points, renumber.reshape(-1, 3), edges, edge_ids
-
-
-def _transform(points: NDArray[np.float64], src: CRS, dst: CRS) -> NDArray[np.float64]:
-    if src == dst:
-        return points
-    transformer = Transformer.from_crs(src, dst, always_xy=True)
-    out = np.column_stack(transformer.transform(points[:, 0], points[:, 1]))
-    if not np.isfinite(out).all():
-        raise MeshingError(f"mesh nodes cannot be transformed to {dst.name!r}")
-    return out
 
 
 def _signed_areas(points: NDArray[np.float64], triangles: NDArray[np.int64]) -> NDArray:

@@ -1,4 +1,4 @@
-"""Leading eigenvectors of a symmetric positive semi-definite covariance matrix."""
+"""Partition covariances from lag products, and their leading eigenvectors."""
 
 from __future__ import annotations
 
@@ -9,12 +9,36 @@ from scipy.sparse.linalg import ArpackError, ArpackNoConvergence, eigsh
 
 from coastmesh.pca.checks import deterministic_start
 
-__all__ = ["leading_eigenvectors"]
+__all__ = ["centred_covariance", "leading_eigenvectors"]
 
 # Below this size, or when many modes are asked for, LAPACK's dense solver is as fast
 # as a Krylov method; above it ARPACK's implicitly restarted Lanczos (scipy) finds the
 # few leading modes of an L x L matrix in O(L^2) per iteration instead of O(L^3).
 _DENSE_MAX_SIZE = 160
+
+
+def centred_covariance(gram: NDArray[np.float64], count: int) -> NDArray[np.float64]:
+    """Return ``C = Q G Q / M``, ``Q = I - 11^T/L``: the centred partition covariance.
+
+    Parameters
+    ----------
+    gram : ndarray of shape (L, L)
+        Sum of ``s_k s_k^T`` over the ``M`` partitions ``s_k`` (symmetric).
+    count : int
+        The number of partitions ``M``.
+
+    Returns
+    -------
+    ndarray of shape (L, L)
+        The covariance of the partitions, each less its own mean; exactly
+        symmetric, as ``gram`` is.
+    """
+    row = gram.mean(axis=0)
+    cov = np.add.outer(row, row)
+    np.subtract(gram, cov, out=cov)
+    cov += row.mean()
+    cov /= count
+    return cov
 
 
 def leading_eigenvectors(

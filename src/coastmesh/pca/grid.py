@@ -35,21 +35,19 @@ passes (covariance, then reconstruction), so working memory stays bounded. Cost:
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Callable
 
 import numpy as np
 import scipy.fft
-from numpy.lib.stride_tricks import sliding_window_view
 from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import ConfigError
-from coastmesh.pca._eigen import leading_eigenvectors
+from coastmesh.pca._block import Block, cover_counts
+from coastmesh.pca._eigen import centred_covariance, leading_eigenvectors
 from coastmesh.pca.checks import check_modes, check_window_2d
 
 __all__ = ["raster_modes", "simplify_raster"]
 
-_CHUNK = 1 << 16  # partial windows handled per batch (memory: _CHUNK * L floats)
 _STRIP_CELLS = 1 << 22  # cells per strip of rows (working memory ~100 B a cell)
 
 
@@ -136,14 +134,14 @@ def simplify_raster(
             out[r0:r1] = np.asarray(values[r0:r1], dtype=np.float64)
         report(steps, steps)
         return out
-    _, u = leading_eigenvectors(_centred_covariance(gram, n_windows), modes)
+    _, u = leading_eigenvectors(centred_covariance(gram, n_windows), modes)
     ny = shape[0]
     for step, (r0, r1) in enumerate(strips, start=len(strips) + 1):
         lo, hi = max(0, r0 - wy + 1), min(ny, r1 + wy - 1)
         if only is not None:  # a single strip: pass 1's block is this one
             b = only
         else:
-            b = _Block(np.asarray(values[lo:hi], dtype=np.float64), shift, wy, wx)
+            b = Block(np.asarray(values[lo:hi], dtype=np.float64), shift, wy, wx)
         total, cover = _block_sums(b, u)
         block = b.block
         rows = slice(r0 - lo, r1 - lo)
@@ -190,7 +188,7 @@ def raster_modes(
     _, gram, n_windows, _ = _covariance_sums(values, strips, wy, wx, None, 0)
     if n_windows == 0:
         raise ValueError("the raster has no complete window without missing cells")
-    return np.linalg.eigvalsh(_centred_covariance(gram, n_windows))[::-1]
+    return np.linalg.eigvalsh(centred_covariance(gram, n_windows))[::-1]
 
 
 def _check_grid(values, wy: int, wx: int) -> tuple[int, int]:
@@ -236,7 +234,7 @@ def _covariance_sums(values, strips, wy, wx, report, steps):
             valid = np.isfinite(block)
             shift = float(block[valid].mean()) if valid.any() else None
         if shift is not None:
-            b = _Block(block, shift, wy, wx)
+            b = Block(block, shift, wy, wx)
             g, m = _block_gram(b)
             gram += g
             n_windows += m
@@ -245,89 +243,7 @@ def _covariance_sums(values, strips, wy, wx, report, steps):
     return shift or 0.0, gram, n_windows, b if len(strips) == 1 else None
 
 
-def _centred_covariance(gram, n_windows: int):
-    """``C = Q G Q / M`` with ``Q = I - 11^T/L``; exactly symmetric."""
-    row = gram.mean(axis=0)
-    cov = gram - (row[:, None] + row[None, :])
-    cov += row.mean()
-    return cov / n_windows
-
-
-class _Block:
-    """One strip of rows, prepared for the FFT sums over its windows.
-
-    The spectrum (for the reconstruction) and the difference fields (for the
-    covariance) are computed on first use: each pass needs only one of them.
-    """
-
-    def __init__(self, block, shift: float, wy: int, wx: int) -> None:
-        ny, nx = block.shape
-        self.block = block
-        self.valid = np.isfinite(block)
-        self.complete = bool(self.valid.all())
-        self.z = (
-            block - shift if self.complete else np.where(self.valid, block - shift, 0.0)
-        )
-        self.shape, self.wy, self.wx = (ny, nx), wy, wx
-        counts = _window_counts(self.valid, self.complete, wy, wx)
-        self.full = counts == wy * wx  # window corners (padded grid) of partitions
-        self.partial = np.argwhere((counts > 0) & (counts < wy * wx))
-        self.fft_shape = (
-            scipy.fft.next_fast_len(ny + wy - 1, real=True),
-            scipy.fft.next_fast_len(nx + wx - 1, real=True),
-        )
-
-    @functools.cached_property
-    def spectrum(self):
-        """2-D real FFT of the block, zero-padded to ``fft_shape``."""
-        return scipy.fft.rfft2(self.z, self.fft_shape)
-
-    @functools.cached_property
-    def dx(self):
-        """Differences along x between valid neighbours (0 where either is missing)."""
-        v, z = self.valid, self.z
-        return np.where(v[:, 1:] & v[:, :-1], z[:, 1:] - z[:, :-1], 0.0)
-
-    @functools.cached_property
-    def dy(self):
-        """Differences along y between valid neighbours (0 where either is missing)."""
-        v, z = self.valid, self.z
-        return np.where(v[1:] & v[:-1], z[1:] - z[:-1], 0.0)
-
-    def partial_differences(self):
-        """Yield (corners, internal differences) of the non-partition windows.
-
-        The differences are (n, n_e) rows, in the order of :func:`_difference_layout`.
-        """
-        wy, wx = self.wy, self.wx
-        dx = np.pad(self.dx, ((wy - 1, wy - 1), (wx - 1, wx)))
-        dy = np.pad(self.dy, ((wy - 1, wy), (wx - 1, wx - 1)))
-        view_x = sliding_window_view(dx, (wy, wx - 1))
-        view_y = sliding_window_view(dy, (wy - 1, wx))
-        for start in range(0, len(self.partial), _CHUNK):
-            c = self.partial[start : start + _CHUNK]
-            yield (
-                c,
-                np.concatenate(
-                    [
-                        view_x[c[:, 0], c[:, 1]].reshape(len(c), -1),
-                        view_y[c[:, 0], c[:, 1]].reshape(len(c), -1),
-                    ],
-                    axis=1,
-                ),
-            )
-
-    def partial_windows(self):
-        """Yield (corners, windows as (n, L) rows) of the non-partition windows."""
-        wy, wx = self.wy, self.wx
-        padded = np.pad(self.z, ((wy - 1, wy - 1), (wx - 1, wx - 1)))
-        view = sliding_window_view(padded, (wy, wx))
-        for start in range(0, len(self.partial), _CHUNK):
-            c = self.partial[start : start + _CHUNK]
-            yield c, view[c[:, 0], c[:, 1]].reshape(len(c), self.wy * self.wx)
-
-
-def _block_gram(b: _Block):
+def _block_gram(b: Block):
     """``T = sum t_k t_k^T`` over the partitions of a block, and their number.
 
     ``t_k = s_k - s_k[0]``, the window relative to its first cell, has the same
@@ -399,7 +315,7 @@ def _difference_path(wy: int, wx: int) -> NDArray[np.float64]:
     return path
 
 
-def _block_sums(b: _Block, u):
+def _block_sums(b: Block, u):
     """Sum of the rebuilt partitions over each cell of a block, and their number."""
     wy, wx = b.wy, b.wx
     ny, nx = b.shape
@@ -428,42 +344,7 @@ def _block_sums(b: _Block, u):
             index.ravel(), weights=rebuilt.ravel(), minlength=correction.size
         )
     total -= correction.reshape(ny_p, nx_p)[wy - 1 : wy - 1 + ny, wx - 1 : wx - 1 + nx]
-    return total, _cover_counts(b.full, b.complete, wy, wx, ny, nx)
-
-
-def _box_sum(mask: NDArray, wy: int, wx: int) -> NDArray[np.int64]:
-    """Sum ``mask`` over every ``wy x wx`` window of the grid zero-padded by w-1.
-
-    The index of the result is the window's corner in the padded grid.
-    """
-    padded = np.pad(mask.astype(np.int64), ((wy, wy - 1), (wx, wx - 1)))
-    cs = padded.cumsum(axis=0).cumsum(axis=1)
-    return cs[wy:, wx:] - cs[:-wy, wx:] - cs[wy:, :-wx] + cs[:-wy, :-wx]
-
-
-def _ones_box_1d(n: int, w: int) -> NDArray[np.int64]:
-    """Cells of a row of ``n`` ones inside each of the ``n+w-1`` padded windows."""
-    p = np.arange(n + w - 1)
-    return np.minimum(p, n - 1) - np.maximum(p - (w - 1), 0) + 1
-
-
-def _window_counts(valid, complete: bool, wy: int, wx: int) -> NDArray[np.int64]:
-    """Count the valid cells in each window of the padded grid (index = corner)."""
-    if complete:  # separable: rows inside times columns inside
-        ny, nx = valid.shape
-        return np.outer(_ones_box_1d(ny, wy), _ones_box_1d(nx, wx))
-    return _box_sum(valid, wy, wx)
-
-
-def _cover_counts(full, complete: bool, wy: int, wx: int, ny: int, nx: int):
-    """Partitions holding each cell of the ``ny x nx`` grid.
-
-    ``full[p]`` marks the partition whose corner is cell ``p - (w-1)`` of the grid.
-    """
-    if complete:  # partitions start at 0 .. n-w along each axis
-        return np.outer(_ones_box_1d(ny - wy + 1, wy), _ones_box_1d(nx - wx + 1, wx))
-    starts = full[wy - 1 : wy - 1 + ny - wy + 1, wx - 1 : wx - 1 + nx - wx + 1]
-    return _box_sum(starts, wy, wx)
+    return total, cover_counts(b.full, b.complete, wy, wx, ny, nx)
 
 
 def _averaging_kernel(u: NDArray[np.float64], wy: int, wx: int):

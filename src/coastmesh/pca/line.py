@@ -46,7 +46,7 @@ from numpy.lib.stride_tricks import as_strided, sliding_window_view
 from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import InputDataError
-from coastmesh.pca._eigen import leading_eigenvectors
+from coastmesh.pca._eigen import centred_covariance, leading_eigenvectors
 from coastmesh.pca.checks import check_modes, check_window
 from coastmesh.pca.threads import single_threaded_blas
 
@@ -236,8 +236,7 @@ def _covariances(z: NDArray[np.float64], window: int, closed: bool):
             gram -= _overhang_gram(z[dim, ::-1], window)[::-1, ::-1]
             grams.append(gram)
         n_windows = n - window + 1
-    covs = np.stack([_centre(g) for g in grams])
-    covs /= n_windows
+    covs = np.stack([centred_covariance(g, n_windows) for g in grams])
     return spectrum, size, covs
 
 
@@ -245,15 +244,6 @@ def _toeplitz(row: NDArray[np.float64]) -> NDArray[np.float64]:
     """Symmetric Toeplitz matrix ``T[a, b] = row[|b - a|]``."""
     both = np.concatenate([row[:0:-1], row])  # both[L-1+d] = row[|d|]
     return np.ascontiguousarray(sliding_window_view(both, len(row))[::-1])
-
-
-def _centre(gram: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Return ``Q G Q`` with ``Q = I - 11^T/L`` (per-partition mean removal)."""
-    row = gram.mean(axis=0)
-    out = np.add.outer(row, row)  # exactly symmetric, as gram is
-    np.subtract(gram, out, out=out)
-    out += row.mean()
-    return out
 
 
 def _overhang(z: NDArray[np.float64], window: int):

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from coastmesh.geometry import reproject_points
 from coastmesh.plot.base import geographic_axes
 
 if TYPE_CHECKING:
@@ -237,13 +238,10 @@ def mercator_figure(
     """
     from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
-    from pyproj import Transformer
 
     if mesh.crs is None:
         raise ValueError("the mesh has no CRS; Mercator needs one")
-    to_merc = Transformer.from_crs(mesh.crs, "EPSG:3395", always_xy=True)
-    xy = np.column_stack(to_merc.transform(mesh.points[:, 0], mesh.points[:, 1]))
-    xy = xy / 1000.0  # km
+    xy = reproject_points(mesh.points, mesh.crs, "EPSG:3395") / 1000.0  # km
     panels = 2 if detail is not None else 1
     figure = Figure(figsize=(8 * panels, 8), layout="constrained")
     axes = np.atleast_1d(figure.subplots(1, panels))
@@ -262,9 +260,8 @@ def mercator_figure(
     axes[0].set_ylim(lo[1], hi[1])
     axes[0].set_title(f"{len(mesh.points):,} nodes, {len(mesh.triangles):,} triangles")
     if detail is not None:
-        x0, y0 = to_merc.transform(detail[0], detail[1])
-        x1, y1 = to_merc.transform(detail[2], detail[3])
-        x0, y0, x1, y1 = x0 / 1000, y0 / 1000, x1 / 1000, y1 / 1000
+        corners = [detail[:2], detail[2:]]
+        (x0, y0), (x1, y1) = reproject_points(corners, mesh.crs, "EPSG:3395") / 1000
         centre = xy[mesh.triangles].mean(axis=1)
         inside = (
             (centre[:, 0] >= x0)

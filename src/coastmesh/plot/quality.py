@@ -10,13 +10,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from coastmesh.meshing.quality import (
-    EDGE_RATIO_RANGE,
+from coastmesh.meshing import (
     QualityReport,
     edge_quality,
     mesh_quality,
     triangle_quality,
 )
+from coastmesh.meshing.quality_report import EDGE_RATIO_RANGE
 from coastmesh.plot.base import geographic_axes
 
 if TYPE_CHECKING:

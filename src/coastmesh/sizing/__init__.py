@@ -1,4 +1,23 @@
-"""Mesh-size fields: gradation from shoreline sets, combination, gradation limit."""
+"""Mesh-size fields: gradation from shoreline sets, bathymetry terms, limits.
+
+=================================  ===========================================
+:func:`domain_size_field`          the size over a whole domain: gradations
+                                   from named boundaries, bathymetry terms,
+                                   floor, ceiling and gradation limit
+:class:`BoundaryGradation`         a gradation from named boundary segments
+:class:`BathymetrySize`            wavelength and slope terms from a raster
+:func:`size_field`                 gradations from lines, combined by minimum
+:class:`Gradation`                 the paper's gradation from a set of lines
+:func:`distance_to_lines`          true distances on the Earth, on a grid
+:func:`gradation_size`             ``h_min``, ``d_hold``, ``d_grade``, ``h_max``
+:func:`limit_gradation`            a bound on the size's slope
+:func:`wavelength_size`            elements per tidal wavelength
+:func:`slope_size`                 elements per bathymetric slope
+:func:`depth_on_grid`              a raster's depth on a size grid
+:func:`raster_grid`                a raster's axes (ascending) and values
+:func:`to_metres`                  ``"10 km"``, ``"0.02 deg"`` to metres
+=================================  ===========================================
+"""
 
 from __future__ import annotations
 
@@ -9,18 +28,31 @@ from coastmesh.sizing.bathymetry import (
     wavelength_size,
 )
 from coastmesh.sizing.distance import distance_to_lines
+from coastmesh.sizing.domain import (
+    BathymetrySize,
+    BoundaryGradation,
+    SizeFieldReport,
+    domain_size_field,
+)
 from coastmesh.sizing.field import Gradation, size_field
 from coastmesh.sizing.gradation import gradation_size, limit_gradation
+from coastmesh.sizing.raster import interpolate_bilinear, raster_grid
 from coastmesh.sizing.units import EARTH_RADIUS, to_metres
 
 __all__ = [
     "EARTH_RADIUS",
     "M2_PERIOD",
+    "BathymetrySize",
+    "BoundaryGradation",
     "Gradation",
+    "SizeFieldReport",
     "depth_on_grid",
     "distance_to_lines",
+    "domain_size_field",
     "gradation_size",
+    "interpolate_bilinear",
     "limit_gradation",
+    "raster_grid",
     "size_field",
     "slope_size",
     "to_metres",

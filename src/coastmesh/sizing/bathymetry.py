@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
-import xarray as xr
 from numpy.typing import ArrayLike, NDArray
-from pyproj import CRS, Transformer
-from scipy.interpolate import RegularGridInterpolator
+from pyproj import CRS
 
 from coastmesh.errors import ConfigError
+from coastmesh.geometry.earth import reproject_points
+from coastmesh.sizing.raster import interpolate_bilinear, raster_grid
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["M2_PERIOD", "depth_on_grid", "slope_size", "wavelength_size"]
 
@@ -45,6 +50,13 @@ def depth_on_grid(
     ndarray of shape (ny, nx)
         Depth, metres, positive down; NaN outside the raster or at missing cells.
 
+    Raises
+    ------
+    ConfigError
+        For a bad ``positive``, or a raster without dims ``("y", "x")``, a
+        ``crs`` attribute or monotonic axes
+        (:func:`~coastmesh.sizing.raster.raster_grid`).
+
     Examples
     --------
     >>> import xarray as xr
@@ -56,26 +68,11 @@ def depth_on_grid(
     """
     if positive not in ("up", "down"):
         raise ConfigError(f"positive = {positive!r}: use 'up' or 'down'")
-    if tuple(raster.dims) != ("y", "x"):
-        raise ConfigError(f"raster dims {tuple(raster.dims)}: expected ('y', 'x')")
-    if "crs" not in raster.attrs:
-        raise ConfigError("raster has no 'crs' attribute")
-    ry = np.asarray(raster["y"].values, dtype=float)
-    rx = np.asarray(raster["x"].values, dtype=float)
-    values = np.asarray(raster.values, dtype=float)
-    if ry[0] > ry[-1]:
-        ry, values = ry[::-1], values[::-1]
-    interpolate = RegularGridInterpolator(
-        (ry, rx), values, method="linear", bounds_error=False, fill_value=np.nan
-    )
+    rx, ry, values, raster_crs = raster_grid(raster)
     gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
-    to_raster = Transformer.from_crs(
-        CRS.from_user_input(crs),
-        CRS.from_user_input(raster.attrs["crs"]),
-        always_xy=True,
-    )
-    px, py = to_raster.transform(gx.ravel(), gy.ravel())
-    z = interpolate(np.column_stack([py, px])).reshape(gx.shape)
+    nodes = np.column_stack([gx.ravel(), gy.ravel()])
+    px, py = reproject_points(nodes, crs, raster_crs).T
+    z = interpolate_bilinear(rx, ry, values, px, py).reshape(gx.shape)
     return -z if positive == "up" else z
 
 

@@ -5,15 +5,17 @@ from __future__ import annotations
 import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
-from pyproj import CRS, Transformer
+from pyproj import CRS
 from scipy.spatial import cKDTree
 
 from coastmesh.errors import ConfigError
-from coastmesh.sizing.units import EARTH_RADIUS
+from coastmesh.geometry.earth import EARTH_RADIUS, earth_centred, metres_per_unit
 
 __all__ = ["distance_to_lines"]
 
-_ECEF = CRS.from_epsg(4978)  # WGS84 earth-centred, earth-fixed, metres
+# A projected CRS's scale error is a few per mille in conformal projections: the
+# densifying step allows 2 % more ground per CRS unit than the unit says.
+_PROJECTED_MARGIN = 1.02
 
 
 def distance_to_lines(
@@ -47,12 +49,20 @@ def distance_to_lines(
     -------
     ndarray of shape (ny, nx)
         Distances, metres, as great-circle arcs on a sphere of radius
-        :data:`~coastmesh.sizing.units.EARTH_RADIUS` through the WGS84
+        :data:`~coastmesh.geometry.earth.EARTH_RADIUS` through the WGS84
         earth-centred coordinates (within 0.5 % of the ellipsoidal geodesic).
+
+    Raises
+    ------
+    ConfigError
+        If ``resolution`` is not > 0 or no line is given.
+    ValueError
+        If a line vertex or a grid node has no position on the Earth in ``crs``.
 
     Notes
     -----
-    Lines and nodes go to WGS84 earth-centred coordinates (pyproj), where a k-d
+    Lines and nodes go to WGS84 earth-centred coordinates
+    (:func:`~coastmesh.geometry.earth.earth_centred`), where a k-d
     tree (scipy) finds each node's nearest line vertex by chord length; chords
     become arcs with ``2 R asin(c / 2R)``. Never raw degrees of longitude.
 
@@ -78,18 +88,19 @@ def distance_to_lines(
         (shapely.GeometryType.POLYGON, shapely.GeometryType.MULTIPOLYGON),
     )
     geoms = np.where(polygonal, boundaries, geoms)
-    to_ecef = Transformer.from_crs(crs, _ECEF, always_xy=True)
     # Densify in the lines' own CRS with a step that is safely below the
-    # resolution, measured by the widest stretch of one CRS unit on the ground.
-    step = resolution / _metres_per_unit(crs, geoms)
+    # resolution, measured by the widest stretch of one CRS unit on the ground
+    # (a degree of latitude for a geographic CRS).
+    widest = metres_per_unit(crs)
+    if not crs.is_geographic:
+        widest *= _PROJECTED_MARGIN
+    step = resolution / widest
     vertices = shapely.get_coordinates(shapely.segmentize(geoms, step))
-    tree = cKDTree(
-        np.column_stack(
-            to_ecef.transform(vertices[:, 0], vertices[:, 1], 0 * vertices[:, 0])
-        )
-    )
+    tree = cKDTree(earth_centred(vertices, crs, name="line vertices"))
     gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
-    nodes = np.column_stack(to_ecef.transform(gx.ravel(), gy.ravel(), 0 * gx.ravel()))
+    nodes = earth_centred(
+        np.column_stack([gx.ravel(), gy.ravel()]), crs, name="grid nodes"
+    )
     bound = np.inf
     if max_distance is not None:
         # the chord of an arc of length s is 2 R sin(s / 2R) <= s
@@ -99,13 +110,3 @@ def distance_to_lines(
     arc = 2 * EARTH_RADIUS * np.arcsin(np.minimum(chord / (2 * EARTH_RADIUS), 1.0))
     arc[np.isinf(chord)] = np.inf
     return arc.reshape(gx.shape)
-
-
-def _metres_per_unit(crs: CRS, geoms) -> float:
-    """Largest ground length of one CRS unit over the lines' extent (metres)."""
-    if crs.is_geographic:
-        return EARTH_RADIUS * np.pi / 180.0  # a degree of latitude, the widest
-    unit = crs.axis_info[0].unit_conversion_factor if crs.axis_info else 1.0
-    # projected: scale errors of conformal projections are a few per mille;
-    # allow 2 % margin
-    return 1.02 * unit

@@ -3,16 +3,19 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
-import xarray as xr
 from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.errors import ConfigError
 from coastmesh.sizing.distance import distance_to_lines
 from coastmesh.sizing.gradation import gradation_size, limit_gradation
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["Gradation", "size_field"]
 
@@ -125,6 +128,8 @@ def size_field(
     history = f"coastmesh size_field: {len(gradations)} gradations, h_max={h_max} m"
     if rate is not None:
         history += f", rate={rate}"
+    import xarray as xr
+
     return xr.DataArray(
         size,
         dims=("y", "x"),

@@ -7,14 +7,11 @@ import numbers
 import re
 
 from coastmesh.errors import ConfigError
+from coastmesh.geometry.earth import EARTH_RADIUS, METRES_PER_DEGREE
 
 __all__ = ["EARTH_RADIUS", "to_metres", "to_seconds", "to_square_metres"]
 
-#: Mean radius of the Earth (IUGG, R1 of WGS84), metres: the length of one radian
-#: of great-circle arc, used for lengths the paper gives in degrees.
-EARTH_RADIUS = 6_371_008.8
-
-_UNITS = {"m": 1.0, "km": 1000.0, "deg": EARTH_RADIUS * math.pi / 180.0}
+_UNITS = {"m": 1.0, "km": 1000.0, "deg": METRES_PER_DEGREE}
 _PATTERN = re.compile(r"^\s*(\S+?)\s*([a-zA-Z]+[0-9]?)\s*$")
 
 
@@ -57,13 +54,7 @@ def to_metres(
         raise ConfigError(f"{name} = {value!r}: not a length")
     if unit is None:
         raise ConfigError(f"{name} = {value!r}: give a unit (m, km or deg)")
-    if unit not in _UNITS:
-        raise ConfigError(
-            f"{name} = {value!r}: unknown unit {unit!r}; use m, km or deg"
-        )
-    if not math.isfinite(value):
-        raise ConfigError(f"{name} = {value!r}: not a finite number")
-    return float(value) * _UNITS[unit]
+    return _scaled(float(value), unit, _UNITS, name, value)
 
 
 _AREA_UNITS = {"m2": 1.0, "km2": 1e6, "ha": 1e4}
@@ -126,10 +117,17 @@ def _with_unit(
         raise ConfigError(
             f"{name} = {value!r}: {number_text!r} is not a number"
         ) from None
+    return _scaled(number, unit, units, name, value)
+
+
+def _scaled(
+    number: float, unit: str, units: dict[str, float], name: str, value: object
+) -> float:
+    """Return ``number`` in the base unit; ``value`` is what was given, for errors."""
     if unit not in units:
-        raise ConfigError(
-            f"{name} = {value!r}: unknown unit {unit!r}; use {', '.join(units)}"
-        )
+        *first, last = units
+        choices = f"{', '.join(first)} or {last}"
+        raise ConfigError(f"{name} = {value!r}: unknown unit {unit!r}; use {choices}")
     if not math.isfinite(number):
         raise ConfigError(f"{name} = {value!r}: not a finite number")
     return number * units[unit]

@@ -8,6 +8,7 @@
 :class:`Mesh`              triangles, tagged boundary edges, node data
 :data:`Progress`           ``progress(done, total)`` callbacks of long work
 :data:`StageFactory`       ``stage(label)``: a context manager per run stage
+:func:`quiet_stage`        the :data:`StageFactory` that shows nothing
 :class:`Report`            base of every report: ``to_dict()`` and ``summary()``
 =========================  ===================================================
 
@@ -18,7 +19,7 @@ files: the readers in :mod:`coastmesh.io` return these types.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 
 from coastmesh.types.domain import SEGMENT_KINDS, BoundarySegment, Domain
 from coastmesh.types.features import Features
@@ -35,6 +36,7 @@ __all__ = [
     "Report",
     "SizeGrid",
     "StageFactory",
+    "quiet_stage",
 ]
 
 #: A callback of long work: ``progress(done, total)``, in any units.
@@ -42,3 +44,15 @@ Progress = Callable[[int, int], None]
 #: ``stage(label)`` returns a context manager that yields a :data:`Progress`;
 #: whole runs enter one per stage (the command line draws a bar for each).
 StageFactory = Callable[[str], contextlib.AbstractContextManager[Progress]]
+
+
+@contextlib.contextmanager
+def quiet_stage(label: str) -> Iterator[Progress]:
+    """Enter a stage that shows nothing: the default :data:`StageFactory`.
+
+    Examples
+    --------
+    >>> with quiet_stage("meshing") as progress:
+    ...     progress(1, 2)
+    """
+    yield lambda done, total: None

@@ -59,7 +59,7 @@ class Report:
         raise NotImplementedError(f"{type(self).__name__} has no summary()")
 
 
-def json_ready(value: Any) -> Any:
+def json_ready(value: Any) -> Any:  # noqa: PLR0911 (one return per kind)
     """Return ``value`` as data :func:`json.dumps` takes as it is.
 
     Reports and objects with a ``to_dict()`` method become their dict; mappings

@@ -18,7 +18,6 @@ from __future__ import annotations
 import csv
 import json
 import logging
-import math
 import re
 import time
 from collections.abc import Callable
@@ -30,12 +29,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from coastmesh.case.config import _box, _integer, _Table
+from coastmesh.case import schema
+from coastmesh.case.schema import Table
 from coastmesh.errors import ConfigError, InputDataError
 
 if TYPE_CHECKING:
     import xarray as xr
-    from matplotlib.figure import Figure
 
 __all__ = [
     "BathymetryStudyConfig",
@@ -50,7 +49,6 @@ Progress = Callable[[int, int], None]
 StageFactory = Callable[[str], AbstractContextManager[Progress]]
 
 _PREFIX = re.compile(r"[A-Za-z0-9_.-]+")
-_KM_PER_DEGREE = 111.32  # one degree of latitude (and of longitude at the equator)
 _COLUMNS = ("modes", "rms_m", "max_abs_diff_m", "energy_fraction", "seconds")
 
 
@@ -80,7 +78,7 @@ class BathymetryStudyConfig:
     prefix: str = "bathymetry"
 
     def __post_init__(self) -> None:
-        _integer(2)(self.window, "window")
+        schema.integer(2)(self.window, "window")
         _mode_counts(self.window)(list(self.modes), "modes")
         _prefix(self.prefix, "prefix")
 
@@ -116,13 +114,13 @@ class BathymetryStudyResult:
 
 
 def parse_study(
-    table: _Table, path_of: Callable[[Any, str], Path]
+    table: Table, path_of: Callable[[Any, str], Path]
 ) -> BathymetryStudyConfig:
     """Read the ``[study]`` table of a ``kind = "bathymetry"`` case.
 
     Parameters
     ----------
-    table : coastmesh.case.config._Table
+    table : coastmesh.case.schema.Table
         The table; keys ``path`` (required), ``bbox``, ``window`` (default 8),
         ``modes`` (default: 1 and a quarter, half and three quarters of
         ``window**2``, i.e. 1, 16, 32, 48 for 8) and ``prefix`` (default: the
@@ -142,15 +140,15 @@ def parse_study(
     Examples
     --------
     >>> from pathlib import Path
-    >>> from coastmesh.case.config import _Table
-    >>> table = _Table({"path": "orkney.tif", "window": 4}, "study", "case.toml")
+    >>> from coastmesh.case.schema import Table
+    >>> table = Table({"path": "orkney.tif", "window": 4}, "study", "case.toml")
     >>> study = parse_study(table, lambda value, key: Path("/data") / value)
     >>> study.path.as_posix(), study.window, study.modes, study.prefix
     ('/data/orkney.tif', 4, (1, 4, 8, 12), 'orkney')
     """
     path = table.get("path", path_of)
-    bbox = table.get("bbox", _box, None)
-    window = table.get("window", _integer(2), 8)
+    bbox = table.get("bbox", schema.box, None)
+    window = table.get("window", schema.integer(2), 8)
     modes = table.get("modes", _mode_counts(window), _default_modes(window))
     prefix = table.get("prefix", _prefix, path.stem)
     table.done()
@@ -269,7 +267,7 @@ def _mode_counts(window: int) -> Callable[[Any, str], tuple[int, ...]]:
     def convert(value: Any, key: str) -> tuple[int, ...]:
         if not isinstance(value, list | tuple) or not value:
             raise ConfigError(f"{key} = {value!r}: expected a list of mode counts")
-        counts = tuple(_integer(1)(m, f"{key}[{k}]") for k, m in enumerate(value))
+        counts = tuple(schema.integer(1)(m, f"{key}[{k}]") for k, m in enumerate(value))
         for k, m in enumerate(counts):
             if m > size:
                 raise ConfigError(
@@ -353,16 +351,17 @@ def _write_tables(folder, config, raster, rows, curve, spectrum) -> list[str]:
 
 
 def _write_figures(folder, config, raster, kept, curve, spectrum, progress):
+    from coastmesh.plot import studies as plot_studies
     from coastmesh.plot.base import save_figure
 
     (folder / "figures").mkdir()
     panels = [(_title(r), kept[r]) for r in config.modes]
     panels.append((f"input: {config.path.name}", raster.values))
     builders = {
-        "maps": lambda: _maps_figure(raster, panels),
-        "surfaces": lambda: _surfaces_figure(raster, panels),
-        "spectrum": lambda: _spectrum_figure(spectrum, config.modes),
-        "rms": lambda: _rms_figure(curve, config.modes),
+        "maps": lambda: plot_studies.relief_maps_figure(raster, panels),
+        "surfaces": lambda: plot_studies.relief_surfaces_figure(raster, panels),
+        "spectrum": lambda: plot_studies.spectrum_figure(spectrum, config.modes),
+        "rms": lambda: plot_studies.rms_figure(curve, config.modes),
     }
     files = []
     for k, (name, build) in enumerate(builders.items(), start=1):
@@ -374,159 +373,3 @@ def _write_figures(folder, config, raster, kept, curve, spectrum, progress):
 
 def _title(modes: int) -> str:
     return f"{modes} mode{'s' * (modes != 1)}"
-
-
-def _grid(count: int) -> tuple[int, int]:
-    columns = min(count, 3)
-    return math.ceil(count / columns), columns
-
-
-def _relief(panels) -> tuple[Any, Any]:
-    """Colour map and norm shared by every panel: the range of all of them."""
-    from coastmesh.plot.base import relief_style
-
-    low = min(float(np.nanmin(v)) for _, v in panels)
-    high = max(float(np.nanmax(v)) for _, v in panels)
-    return relief_style(None, low, high)
-
-
-def _maps_figure(raster: xr.DataArray, panels) -> Figure:
-    """Each approximation and the input as a map, on one colour scale."""
-    from matplotlib.figure import Figure
-
-    from coastmesh.plot.base import as_crs, geographic_axes, raster_extent
-
-    rows, columns = _grid(len(panels))
-    figure = Figure(figsize=(5.2 * columns, 3.6 * rows), layout="constrained")
-    axes = np.asarray(figure.subplots(rows, columns, squeeze=False)).ravel()
-    cmap, norm = _relief(panels)
-    extent = raster_extent(raster)
-    crs = as_crs(raster.attrs.get("crs"))
-    for k, (ax, (title, values)) in enumerate(zip(axes, panels, strict=False)):
-        image = ax.imshow(values, extent=extent, origin="upper", cmap=cmap, norm=norm)
-        ax.set_title(f"({chr(ord('a') + k)}) {title}")
-        geographic_axes(ax, crs, (extent[0], extent[2], extent[1], extent[3]))
-    for ax in axes[len(panels) :]:
-        ax.set_axis_off()
-    bar = figure.colorbar(image, ax=axes[: len(panels)].tolist(), shrink=0.8)
-    bar.set_label(f"elevation ({raster.attrs.get('units') or 'm'})")
-    figure.suptitle("PCA approximations of the bathymetry and topography")
-    return figure
-
-
-def _surfaces_figure(raster: xr.DataArray, panels) -> Figure:
-    """Each approximation and the input as a semi-transparent 3-D surface."""
-    import mpl_toolkits.mplot3d  # noqa: F401  (registers the 3d projection)
-    from matplotlib.figure import Figure
-
-    from coastmesh.plot.base import as_crs
-
-    x, y = np.meshgrid(raster["x"].values, raster["y"].values)
-    crs = as_crs(raster.attrs.get("crs"))
-    low = min(float(np.nanmin(v)) for _, v in panels)
-    high = max(float(np.nanmax(v)) for _, v in panels)
-    width, depth = float(np.ptp(x)), float(np.ptp(y))
-    if crs is not None and crs.is_geographic:  # to km on the ground
-        middle = math.radians(float(np.mean(y)))
-        width *= _KM_PER_DEGREE * math.cos(middle)
-        depth *= _KM_PER_DEGREE
-    else:
-        width, depth = width / 1000, depth / 1000
-    relief_km = max(high - low, 1e-9) / 1000
-    exaggeration = _nice(0.3 * max(width, depth) / relief_km)
-    cmap, norm = _relief(panels)
-    rows, columns = _grid(len(panels))
-    figure = Figure(figsize=(6.0 * columns, 4.6 * rows), layout="constrained")
-    for k, (title, values) in enumerate(panels):
-        ax = figure.add_subplot(rows, columns, k + 1, projection="3d")
-        ax.plot_surface(
-            x, y, values, cmap=cmap, norm=norm, rstride=1, cstride=1,
-            linewidth=0, antialiased=False, alpha=0.85,
-        )  # fmt: skip
-        ax.set_zlim(low, high)
-        ax.set_box_aspect((width, depth, relief_km * exaggeration), zoom=1.1)
-        ax.view_init(elev=30, azim=110)
-        ax.set_title(f"({chr(ord('a') + k)}) {title}")
-        ax.set_xlabel("longitude" if crs is not None and crs.is_geographic else "x")
-        ax.set_ylabel("latitude" if crs is not None and crs.is_geographic else "y")
-        ax.set_zlabel(f"elevation ({raster.attrs.get('units') or 'm'})")
-    figure.suptitle(
-        f"PCA approximations as surfaces, vertical exaggeration x{exaggeration:g}, "
-        "seen from the north-north-west"
-    )
-    return figure
-
-
-def _nice(value: float) -> float:
-    """Round down to 1, 2 or 5 times a power of ten (at least 1)."""
-    if value <= 1:
-        return 1.0
-    power = 10 ** math.floor(math.log10(value))
-    return max(step * power for step in (1, 2, 5) if step * power <= value)
-
-
-def _spectrum_figure(spectrum: NDArray[np.float64], modes: tuple[int, ...]) -> Figure:
-    """Eigenvalue per mode (log scale) and the cumulative energy fraction."""
-    from matplotlib.figure import Figure
-
-    index = np.arange(1, len(spectrum) + 1)
-    energy = np.cumsum(np.clip(spectrum, 0.0, None))
-    energy /= energy[-1]
-    positive = spectrum > spectrum[0] * 1e-12
-    figure = Figure(figsize=(11, 4.2), layout="constrained")
-    left, right = figure.subplots(1, 2)
-    left.semilogy(index[positive], spectrum[positive], "o-", markersize=3)
-    left.set_xlabel("mode")
-    left.set_ylabel("eigenvalue (m$^2$): energy of the mode")
-    left.set_title("eigenvalue spectrum")
-    if not positive.all():
-        first = int(index[~positive].min())
-        which = f"mode {first}" if first == index[-1] else f"modes {first}..{index[-1]}"
-        left.annotate(
-            f"{which}: ~0, not drawn (each window loses its mean)",
-            xy=(0.97, 0.95), xycoords="axes fraction", ha="right", va="top",
-        )  # fmt: skip
-    right.plot(index, 100 * energy, "-", color="tab:gray")
-    picks = np.asarray(modes) - 1
-    right.plot(index[picks], 100 * energy[picks], "o", color="tab:red")
-    for k in picks:
-        right.annotate(
-            f"{index[k]}: {100 * energy[k]:.1f} %", (index[k], 100 * energy[k]),
-            textcoords="offset points", xytext=(6, -4), va="top",
-        )  # fmt: skip
-    right.set_ylim(100 * energy[0] - 8, 101)
-    right.set_xlabel("modes kept")
-    right.set_ylabel("energy kept (%)")
-    right.set_title("cumulative energy")
-    right.grid(True, alpha=0.3)
-    return figure
-
-
-def _rms_figure(curve: list[dict[str, Any]], modes: tuple[int, ...]) -> Figure:
-    """RMS and largest difference from the input against the number of modes."""
-    from matplotlib.figure import Figure
-
-    index = np.array([c["modes"] for c in curve])
-    rms = np.array([c["rms_m"] for c in curve])
-    worst = np.array([c["max_abs_diff_m"] for c in curve])
-    figure = Figure(figsize=(11, 4.2), layout="constrained")
-    picks = np.asarray(modes) - 1
-    for ax, values, title in zip(
-        figure.subplots(1, 2),
-        (rms, worst),
-        ("RMS difference from the input", "largest |difference| from the input"),
-        strict=True,
-    ):
-        ax.plot(index, values, "o-", markersize=3)
-        ax.plot(index[picks], values[picks], "o", color="tab:red")
-        for k in picks:
-            ax.annotate(
-                f"{index[k]}: {values[k]:.1f} m", (index[k], values[k]),
-                textcoords="offset points", xytext=(5, 5),
-            )  # fmt: skip
-        ax.set_xlabel("modes kept")
-        ax.set_ylabel("metres")
-        ax.set_title(title)
-        ax.set_ylim(bottom=0)
-        ax.grid(True, alpha=0.3)
-    return figure

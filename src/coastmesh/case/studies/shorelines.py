@@ -42,10 +42,17 @@ from typing import Any
 import numpy as np
 import shapely
 from numpy.typing import NDArray
-from pyproj import CRS, Transformer
+from pyproj import CRS
 
-from coastmesh.case.config import _boolean, _box, _integer, _length, _string, _Table
+from coastmesh import __version__
+from coastmesh.case import schema
+from coastmesh.case.schema import Table
 from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.geometry import densify_long_edges, land_polygons, simplify_shorelines
+from coastmesh.geometry.earth import metres_per_unit, reproject, reproject_points
+from coastmesh.io import read_features, write_features
+from coastmesh.plot.base import detail_bounds, save_figure
+from coastmesh.plot.studies import overlay_figure
 
 __all__ = [
     "ReconstructionConfig",
@@ -62,7 +69,6 @@ StageFactory = Callable[[str], contextlib.AbstractContextManager[Progress]]
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 #: line colours of the reconstructions, in order (figure 2 and the NW shelf cases)
-_COLOURS = ("tab:purple", "tab:red", "tab:blue", "tab:green", "tab:orange", "tab:cyan")
 _COLUMNS = (
     ("label", "reconstruction"),
     ("rings_in", "rings in"),
@@ -139,13 +145,13 @@ class ShorelineStudyResult:
 
 
 def parse_study(
-    table: _Table, path_of: Callable[[Any, str], Path]
+    table: Table, path_of: Callable[[Any, str], Path]
 ) -> ShorelineStudyConfig:
     """Read the ``[study]`` table of a shoreline study case.
 
     Parameters
     ----------
-    table : coastmesh.case.config._Table
+    table : coastmesh.case.schema.Table
         The ``[study]`` table.
     path_of : callable
         ``path_of(value, key)`` resolves a path relative to the case file.
@@ -162,25 +168,25 @@ def parse_study(
     Examples
     --------
     >>> from pathlib import Path
-    >>> t = _Table({"path": "c.gpkg", "reconstructions": [{"window": 100, "modes": 5}]},
+    >>> t = Table({"path": "c.gpkg", "reconstructions": [{"window": 100, "modes": 5}]},
     ...            "study", "case.toml")
     >>> study = parse_study(t, lambda value, key: Path("/cases") / value)
     >>> study.path.as_posix(), study.reconstructions[0].name
     ('/cases/c.gpkg', 'pca_5_100')
     """
     path = table.get("path", path_of)
-    layer = table.get("layer", _string, None)
-    bbox = table.get("bbox", _box, None)
-    detail = table.get("detail", _box, None)
-    densify = table.get("densify_long_edges", _boolean, True)
-    spacing = table.get("hausdorff_spacing", _length(), 25.0)
+    layer = table.get("layer", schema.string, None)
+    bbox = table.get("bbox", schema.box, None)
+    detail = table.get("detail", schema.box, None)
+    densify = table.get("densify_long_edges", schema.boolean, True)
+    spacing = table.get("hausdorff_spacing", _positive_length, 25.0)
     reconstructions = []
     for r in table.tables("reconstructions"):
-        window = r.get("window", _integer(2))
-        modes = r.get("modes", _integer(1))
+        window = r.get("window", schema.integer(2))
+        modes = r.get("modes", schema.integer(1))
         if modes > window:
             raise r.error("modes", f"= {modes} is more than window = {window}")
-        name = r.get("name", _string, f"pca_{modes}_{window}")
+        name = r.get("name", schema.string, f"pca_{modes}_{window}")
         if not _NAME.match(name):
             raise r.error(
                 "name", f"= {name!r}: use letters, digits, '_', '.' and '-' only"
@@ -226,9 +232,6 @@ def run_study(
     ConfigError
         If the ``detail`` box holds no shoreline.
     """
-    from coastmesh.geometry import densify_long_edges, simplify_shorelines
-    from coastmesh.plot.base import detail_bounds
-
     started = time.perf_counter()
     with stage("reading shorelines"):
         features = _read(config)
@@ -291,14 +294,12 @@ def run_study(
 
 
 def _read(config: ShorelineStudyConfig) -> Any:
-    from coastmesh.io import read_features
 
     features = read_features(config.path, layer=config.layer, bbox=config.bbox)
     if features.crs is None:
         raise InputDataError(
             "the file declares no CRS; distances need one", path=str(config.path)
         )
-    from coastmesh.geometry import land_polygons
 
     return land_polygons(features, purpose="a shoreline study")
 
@@ -327,6 +328,11 @@ def _row(
         **distances,
         "seconds": round(seconds, 3),
     }
+
+
+def _positive_length(value: Any, key: str) -> float:
+    """Convert a length with its unit to metres, > 0."""
+    return schema.length()(schema.length_with_unit(value, key), key)
 
 
 def _distinct_points(geometry: NDArray[np.object_]) -> int:
@@ -361,13 +367,10 @@ def _metric(
         lon, lat = (bounds[0] + bounds[2]) / 2, (bounds[1] + bounds[3]) / 2
         zone = min(max(math.floor((lon + 180) / 6) + 1, 1), 60)
         metric = CRS.from_epsg((32600 if lat >= 0 else 32700) + zone)
-        forward = Transformer.from_crs(crs, metric, always_xy=True)
-        return metric, lambda g: shapely.transform(
-            g, lambda xy: np.column_stack(forward.transform(xy[:, 0], xy[:, 1]))
-        )
+        return metric, lambda g: reproject(g, crs, metric)
     if not crs.is_projected:
         raise InputDataError(f"CRS {crs.name!r} is neither geographic nor projected")
-    factor = crs.axis_info[0].unit_conversion_factor or 1.0
+    factor = metres_per_unit(crs)
     return crs, lambda g: shapely.transform(g, lambda xy: xy * factor)
 
 
@@ -392,8 +395,7 @@ def _distances(
     da = _nearest(to_rebuilt, a)
     db = _nearest(to_original, b)
     far = a[np.argmax(da)] if da.max() >= db.max() else b[np.argmax(db)]
-    back = Transformer.from_crs(metric, crs, always_xy=True)
-    lon, lat = back.transform(*far)
+    ((lon, lat),) = reproject_points([far], metric, crs)
     coords, ring = shapely.get_coordinates(rebuilt, return_index=True)
     vertices = coords[np.r_[ring[1:] == ring[:-1], False]]  # closing ones left out
     return {
@@ -423,8 +425,6 @@ def _nearest(tree: shapely.STRtree, xy: NDArray[np.float64]) -> NDArray[np.float
 def _write_gpkg(
     folder: Path, rec: ReconstructionConfig, features: Any, out: NDArray[np.object_]
 ) -> str:
-    from coastmesh import __version__
-    from coastmesh.io import write_features
 
     name = f"{rec.name}.gpkg"
     alive = ~shapely.is_missing(out)
@@ -449,65 +449,18 @@ def _figures(
     detail: tuple[float, float, float, float],
     crs: CRS,
 ) -> list[str]:
-    from matplotlib.collections import LineCollection
-    from matplotlib.figure import Figure
-    from matplotlib.patches import Rectangle
-
-    from coastmesh.plot.base import (
-        contours,
-        geographic_axes,
-        save_figure,
-        total_bounds,
-        x_stretch,
-    )
 
     (folder / "figures").mkdir(exist_ok=True)
-    extent = total_bounds(original)
+    layers = [
+        (f"{rec.label} ({rec.name})", out)
+        for rec, out in zip(config.reconstructions, results, strict=True)
+    ]
+    label = f"original ({_distinct_points(original):,} points)"
     names = []
-    for view, box, width in (("whole", extent, 0.5), ("detail", detail, 1.2)):
-        ratio = (box[2] - box[0]) / x_stretch(crs, box) / (box[3] - box[1])
-        figure = Figure(
-            figsize=(min(max(9 * ratio, 5), 16) + 2, 9), layout="constrained"
+    for view in ("whole", "detail"):
+        figure = overlay_figure(
+            original, layers, crs=crs, detail=detail, view=view, label=label
         )
-        ax = figure.add_subplot()
-        ax.add_collection(
-            LineCollection(
-                contours(original),
-                colors="0.15",
-                linewidths=width * 1.4,
-                label=f"original ({_distinct_points(original):,} points)",
-            )
-        )
-        for k, (rec, out) in enumerate(
-            zip(config.reconstructions, results, strict=True)
-        ):
-            ax.add_collection(
-                LineCollection(
-                    contours(out),
-                    colors=_COLOURS[k % len(_COLOURS)],
-                    linewidths=width,
-                    label=f"{rec.label} ({rec.name})",
-                )
-            )
-        ax.set_xlim(box[0], box[2])
-        ax.set_ylim(box[1], box[3])
-        geographic_axes(ax, crs, box)
-        if view == "whole":
-            ax.add_patch(
-                Rectangle(
-                    detail[:2],
-                    detail[2] - detail[0],
-                    detail[3] - detail[1],
-                    fill=False,
-                    edgecolor="black",
-                    linestyle="--",
-                    linewidth=1.0,
-                )
-            )
-            ax.set_title("whole layer (dashed: the detail box)")
-        else:
-            ax.set_title(f"detail {list(detail)}")
-        ax.legend(loc="lower right", fontsize="small")
         name = f"figures/overlay_{view}.png"
         save_figure(figure, folder / name)
         names.append(name)
@@ -517,7 +470,6 @@ def _figures(
 def _tables(
     folder: Path, rows: list[dict[str, Any]], setup: dict[str, Any]
 ) -> list[str]:
-    from coastmesh import __version__
 
     def cell(key: str, value: Any) -> str:
         if isinstance(value, float):

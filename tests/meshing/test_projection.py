@@ -1,4 +1,4 @@
-"""Sizes are metres on the Earth: the engine converts them by the scale factor."""
+"""The meshing CRS: sizes are metres on the Earth, converted by the scale factor."""
 
 from __future__ import annotations
 
@@ -7,12 +7,8 @@ import pytest
 import shapely
 from pyproj import CRS, Geod, Transformer
 
-from coastmesh.meshing.engine import (
-    _scale_factor,
-    _to_map_units,
-    default_mesh_crs,
-    generate_mesh,
-)
+from coastmesh.meshing import generate_mesh
+from coastmesh.meshing.projection import default_mesh_crs, scale_factor, to_map_units
 from coastmesh.types import BoundarySegment, Domain, SizeGrid
 
 GEOD = Geod(ellps="WGS84")
@@ -109,7 +105,7 @@ def test_grid_conversion_matches_ellipsoidal_mercator_closed_form():
     x = A * np.radians(np.array([-170.0, -30.0, 0.0, 5.0, 100.0]))
     rng = np.random.default_rng(0)
     size = SizeGrid(x, y, rng.uniform(100.0, 20000.0, (y.size, x.size)))
-    converted = _to_map_units(size, CRS.from_epsg(3395))
+    converted = to_map_units(size, CRS.from_epsg(3395))
     k = np.sqrt(1 - E2 * np.sin(lat) ** 2) / np.cos(lat)
     np.testing.assert_allclose(converted.values / size.values, k[:, None] + 0 * x)
     np.testing.assert_allclose(converted.values, size.values * k[:, None], rtol=1e-7)
@@ -137,7 +133,7 @@ def test_default_mesh_crs_is_utm_when_narrow_and_stereographic_when_wide():
     # conformal, with a scale factor close to 1 over the domain
     ring = shapely.get_coordinates(shapely.segmentize(wide.polygon.exterior, 0.5))
     x, y = Transformer.from_crs(4326, crs, always_xy=True).transform(*ring.T)
-    k = _scale_factor(x, y, crs)
+    k = scale_factor(x, y, crs)
     assert 1.0 <= k.min() and k.max() < 1.01
 
     # polar, even if narrow

@@ -1,0 +1,298 @@
+"""Build a whole case in memory: :func:`build_case`.
+
+The stages, each reported to the ``stage`` factory and the log:
+
+1. read the shoreline file; 2. build each shoreline set; 3. stitch the sets by
+region, draw the open boundaries and build the domain
+(:mod:`coastmesh.case.inputs`);
+4. the size field (:func:`coastmesh.sizing.domain_size_field`): gradations from
+   named shoreline sets and open boundaries, bathymetry terms, a gradation
+   limit, on a grid in the meshing CRS;
+5. mesh with Gmsh (:func:`~coastmesh.meshing.generate_mesh`), then clean up
+   (:func:`~coastmesh.meshing.clean_mesh`), put depths on the nodes
+   (:func:`~coastmesh.meshing.depth_at_nodes`) and measure the quality
+   (:func:`~coastmesh.meshing.mesh_quality`).
+
+Nothing is written: :meth:`CaseResult.write` writes the files, and
+:func:`coastmesh.run_case` does both.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import logging
+import os
+import sys
+import time
+from collections.abc import Iterator
+from typing import Any
+
+from pyproj import CRS
+
+from coastmesh.case.config import CaseConfig, StudyCase
+from coastmesh.case.inputs import (
+    build_case_domain,
+    build_shoreline_set,
+    read_shorelines,
+)
+from coastmesh.case.result import CaseReport, CaseResult, MeshReport
+from coastmesh.errors import ConfigError
+from coastmesh.io import read_raster
+from coastmesh.meshing import (
+    clean_mesh,
+    default_mesh_crs,
+    depth_at_nodes,
+    generate_mesh,
+    mesh_quality,
+)
+from coastmesh.sizing.domain import (
+    BathymetrySize,
+    BoundaryGradation,
+    SizeFieldReport,
+    domain_size_field,
+)
+from coastmesh.types import Mesh, Progress, SizeGrid, StageFactory, quiet_stage
+
+__all__ = ["as_case", "build_case", "peak_memory_mb"]
+
+logger = logging.getLogger(__name__)
+
+
+def build_case(
+    case: CaseConfig | str | os.PathLike[str], *, stage: StageFactory | None = None
+) -> CaseResult:
+    """Build a whole mesh case in memory; write nothing.
+
+    Parameters
+    ----------
+    case : CaseConfig, path or str
+        The case: a :class:`CaseConfig`, the path of a case file, or the TOML
+        text of one (relative paths then are relative to the working folder).
+    stage : callable, optional
+        ``stage(label)`` returns a context manager yielding a
+        ``progress(done, total)`` callback, entered once per stage (the command
+        line draws a progress bar per stage with it).
+
+    Returns
+    -------
+    CaseResult
+        The mesh, domain, size field and every report;
+        :meth:`CaseResult.write` writes them as ``coastmesh run`` does.
+
+    Raises
+    ------
+    ConfigError
+        For a bad case, a study case (use :func:`coastmesh.run_case`), or a
+        value that does not fit the data (e.g. a seed on land).
+    InputDataError
+        If a data file is missing or holds the wrong kind of geometry.
+    MeshingError
+        If Gmsh fails.
+
+    Notes
+    -----
+    ``docs/python-api.md`` builds the Orkney case from Python, region by
+    region, then plots the mesh and writes two formats.
+    """
+    config = as_case(case)
+    if isinstance(config, StudyCase):
+        raise ConfigError(
+            f"{config.source}: a {config.kind} study writes its tables and figures; "
+            "run it with coastmesh.run_case (or coastmesh run), not build_case"
+        )
+    started = time.perf_counter()
+    timings: dict[str, float] = {}
+    stage = stage or quiet_stage
+
+    @contextlib.contextmanager
+    def timed(label: str) -> Iterator[Progress]:
+        t0 = time.perf_counter()
+        logger.info("stage: %s", label)
+        with stage(label) as progress:
+            yield progress
+        timings[label] = round(time.perf_counter() - t0, 3)
+
+    with timed("reading shorelines"):
+        features, crs = read_shorelines(config)
+    sets, set_reports = {}, {}
+    for s in config.sets:
+        label = f"shoreline set {s.name!r} ({s.label})"
+        with timed(label) as progress:
+            sets[s.name], set_reports[s.name] = build_shoreline_set(
+                s, features, crs, config.shorelines.min_area, progress
+            )
+        logger.info("%s: %s", label, set_reports[s.name].summary())
+    with timed("building the domain"):
+        inputs = build_case_domain(config, sets, crs)
+    domain = inputs.domain
+    mesh_crs = (
+        CRS.from_user_input(config.mesh.crs)
+        if config.mesh.crs
+        else default_mesh_crs(domain)
+    )
+    with timed("size field") as progress:
+        size = _size_field(config, domain, mesh_crs, progress)
+    output_crs = CRS.from_user_input(config.mesh.output_crs or crs)
+    with timed("meshing") as progress:
+        mesh = generate_mesh(
+            domain,
+            SizeGrid.from_dataarray(size),
+            mesh_crs=mesh_crs,
+            output_crs=output_crs,
+            seed=config.mesh.seed,
+            algorithm=config.mesh.algorithm,
+            optimize=config.mesh.optimize,
+            progress=progress,
+        )
+    mesh, after = _after_meshing(config, mesh, timed)
+    from coastmesh import __version__
+
+    report = CaseReport(
+        case=config.name,
+        source=None if config.source is None else str(config.source),
+        coastmesh_version=__version__,
+        crs=crs.to_string(),
+        mesh_crs=mesh_crs.to_wkt()
+        if mesh_crs.to_epsg() is None
+        else mesh_crs.to_string(),
+        output_crs=output_crs.to_string(),
+        shoreline_sets=set_reports,
+        stitch=inputs.stitch_report,
+        domain=inputs.domain_report,
+        size_field=SizeFieldReport.of(size),
+        mesh=MeshReport.of(mesh),
+        seconds=timings,
+        peak_memory_mb=peak_memory_mb(),
+        **after,
+    )
+    result = CaseResult(
+        config=config,
+        mesh=mesh,
+        domain=domain,
+        size=size,
+        report=report,
+        regions=tuple(inputs.regions),
+        open_boundaries=tuple(inputs.open_boundaries),
+        crs=crs,
+        seconds=time.perf_counter() - started,
+    )
+    logger.info("%s", result.summary())
+    return result
+
+
+def as_case(case: Any) -> CaseConfig | StudyCase:
+    """Return ``case`` as a case: a config as it is, a path or TOML text read.
+
+    A string holding a newline is TOML text; any other string or path names a
+    case file.
+    """
+    from coastmesh.case.parse import parse_case, read_case
+
+    if isinstance(case, CaseConfig | StudyCase):
+        return case
+    if isinstance(case, str) and "\n" in case:
+        # relative paths are taken from the working folder; the text is not a
+        # file, so the case keeps no source (case.toml is written from it)
+        parsed = parse_case(case, "<case text>")
+        if isinstance(parsed, StudyCase):
+            return parsed
+        return dataclasses.replace(parsed, source=None, text="")
+    if isinstance(case, str | os.PathLike):
+        return read_case(case)
+    raise TypeError(
+        f"case is a {type(case).__name__}; expected a CaseConfig, the path of a "
+        "case file, or its TOML text"
+    )
+
+
+def peak_memory_mb() -> float | None:
+    """Return the peak resident memory of this process, MB; None if unknown.
+
+    The ``resource`` module is Unix-only: on Windows the peak is not measured.
+    """
+    try:
+        import resource
+    except ImportError:
+        return None
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    # Linux reports KiB, macOS bytes
+    return round(peak / (1024 * 1024 if sys.platform == "darwin" else 1024), 1)
+
+
+def _size_field(config: CaseConfig, domain: Any, mesh_crs: CRS, progress: Progress):
+    """``[mesh_size]`` as :func:`coastmesh.sizing.domain_size_field` takes it."""
+    size = config.size
+    bathymetry = None
+    if size.bathymetry is not None:
+        b = size.bathymetry
+        bathymetry = BathymetrySize(
+            read_raster(b.path),
+            positive=b.positive,
+            per_wavelength=b.per_wavelength,
+            period=b.period,
+            per_slope=b.per_slope,
+            min_depth=b.min_depth,
+        )
+    return domain_size_field(
+        domain,
+        mesh_crs=mesh_crs,
+        h_max=size.h_max,
+        gradations=[
+            BoundaryGradation(g.lines, g.h_min, g.d_grade, g.d_hold)
+            for g in size.gradations
+        ],
+        h_min=size.h_min,
+        cell=size.cell,
+        rate=size.rate,
+        bathymetry=bathymetry,
+        progress=progress,
+    )
+
+
+def _after_meshing(
+    config: CaseConfig, mesh: Mesh, timed: StageFactory
+) -> tuple[Mesh, dict[str, Any]]:
+    """Cleanup, depth at the nodes and quality, as the case asks."""
+    after: dict[str, Any] = {"cleanup": None, "depth": None, "quality": None}
+    c = config.cleanup
+    if c.enabled:
+        with timed("cleanup"):
+            mesh, after["cleanup"] = clean_mesh(
+                mesh,
+                boundary_triangles=c.boundary_triangles,
+                max_valence=c.max_valence,
+                min_angle=c.min_angle,
+            )
+        logger.info("cleanup: %s", after["cleanup"].summary())
+    if config.bathymetry is not None:
+        with timed("depth at the nodes") as progress:
+            mesh, after["depth"] = _node_depths(config, mesh, progress)
+    if config.outputs.quality:
+        with timed("mesh quality"):
+            after["quality"] = mesh_quality(mesh)
+    return mesh, after
+
+
+def _node_depths(
+    config: CaseConfig, mesh: Mesh, progress: Progress
+) -> tuple[Mesh, Any]:
+    b = config.bathymetry
+    raster = read_raster(b.path)
+    progress(0, 2)
+    if b.window is not None:
+        from coastmesh.pca import simplify_raster
+
+        raster = raster.copy(data=simplify_raster(raster.values, b.window, b.modes))
+    progress(1, 2)
+    depth, report = depth_at_nodes(
+        mesh,
+        raster,
+        positive=b.positive,
+        method=b.method,
+        min_depth=b.min_depth,
+        max_slope=b.max_slope,
+    )
+    progress(2, 2)
+    logger.info("%s", report.summary())
+    return mesh.with_point_data(depth=depth), report

@@ -1,0 +1,196 @@
+"""``[mesh]``, ``[cleanup]``, ``[bathymetry]`` and ``[output]``."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from coastmesh.case import schema
+from coastmesh.case.config._check import Check
+from coastmesh.errors import ConfigError
+
+__all__ = ["CleanupConfig", "MeshConfig", "NodeDepthConfig", "OutputConfig"]
+
+_UP_DOWN = ("up", "down")
+
+
+@dataclass(frozen=True, slots=True)
+class NodeDepthConfig:
+    """``[bathymetry]``: the depth written at the mesh nodes.
+
+    Attributes
+    ----------
+    path : path
+        Any raster GDAL reads.
+    positive : {"up", "down"}
+        The raster's sign.
+    method : {"bilinear", "mean"}
+        See :func:`coastmesh.meshing.depth.depth_at_nodes`.
+    min_depth : float or str, optional
+        Depths below this are raised to it (metres, may be negative).
+    max_slope : float, optional
+        Largest depth difference per edge length.
+    window, modes : int, optional
+        PCA of the raster first (both or neither).
+    """
+
+    path: Path
+    positive: str = "up"
+    method: str = "bilinear"
+    min_depth: float | None = None
+    max_slope: float | None = None
+    window: int | None = None
+    modes: int | None = None
+
+    def _checked(self, c: Check) -> NodeDepthConfig:
+        from coastmesh.meshing.depth import DEPTH_METHODS
+
+        window = c.optional(schema.integer(2), self.window, "window")
+        modes = c.optional(schema.integer(1), self.modes, "modes")
+        if (window is None) != (modes is None):
+            raise c.error(
+                "window", "give window and modes together (PCA of the raster)"
+            )
+        if window is not None and modes > window**2:
+            raise c.error("modes", f"= {modes} is more than window**2")
+        return NodeDepthConfig(
+            path=c(schema.path, self.path, "path"),
+            positive=c(schema.choice(_UP_DOWN), self.positive, "positive"),
+            method=c(schema.choice(DEPTH_METHODS), self.method, "method"),
+            min_depth=c.optional(
+                schema.length(signed=True), self.min_depth, "min_depth"
+            ),
+            max_slope=c.optional(schema.positive, self.max_slope, "max_slope"),
+            window=window,
+            modes=modes,
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class CleanupConfig:
+    """``[cleanup]``: fixes after meshing (see :mod:`coastmesh.meshing.cleanup`)."""
+
+    enabled: bool = True
+    boundary_triangles: bool = True
+    max_valence: int | None = None
+    min_angle: float = 20.0
+
+    def _checked(self, c: Check) -> CleanupConfig:
+        min_angle = c(schema.number, self.min_angle, "min_angle")
+        if not 0 < min_angle < 60:
+            raise c.error(
+                "min_angle", f"= {self.min_angle!r}: degrees between 0 and 60"
+            )
+        return CleanupConfig(
+            enabled=c(schema.boolean, self.enabled, "enabled"),
+            boundary_triangles=c(
+                schema.boolean, self.boundary_triangles, "boundary_triangles"
+            ),
+            max_valence=c.optional(schema.integer(4), self.max_valence, "max_valence"),
+            min_angle=min_angle,
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class MeshConfig:
+    """``[mesh]``: Gmsh options and CRSs.
+
+    Attributes
+    ----------
+    crs : str, optional
+        The conformal CRS to mesh in; default UTM or an oblique stereographic.
+    output_crs : str, optional
+        The CRS of the written nodes; default the case CRS.
+    seed : int
+        Gmsh's random seed.
+    algorithm : {"frontal-delaunay", "delaunay", "meshadapt", "automatic"}
+    optimize : bool
+    """
+
+    crs: str | None = None
+    output_crs: str | None = None
+    seed: int = 0
+    algorithm: str = "frontal-delaunay"
+    optimize: bool = True
+
+    def _checked(self, c: Check) -> MeshConfig:
+        from coastmesh.meshing.engine import ALGORITHMS
+
+        return MeshConfig(
+            crs=c.optional(schema.crs, self.crs, "crs"),
+            output_crs=c.optional(schema.crs, self.output_crs, "output_crs"),
+            seed=c(schema.integer(0), self.seed, "seed"),
+            algorithm=c(schema.choice(tuple(ALGORITHMS)), self.algorithm, "algorithm"),
+            optimize=c(schema.boolean, self.optimize, "optimize"),
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class OutputConfig:
+    """``[output]``: what :meth:`coastmesh.CaseResult.write` writes.
+
+    Attributes
+    ----------
+    formats : sequence of str
+        Mesh formats by name (:func:`coastmesh.io.mesh_formats`).
+    positive : mapping of str to {"up", "down"}, optional
+        The depth sign per format, where a format takes one.
+    domain, size_field, figures, quality : bool
+        Also write ``domain.gpkg``, ``size.tif``, ``figures/`` and the quality
+        report.
+    detail : (minx, miny, maxx, maxy), optional
+        A detail box for a Mercator mesh figure.
+    """
+
+    formats: tuple[str, ...] = ("msh2",)
+    positive: Mapping[str, str] | None = None
+    domain: bool = True
+    size_field: bool = True
+    figures: bool = True
+    quality: bool = True
+    detail: tuple[float, float, float, float] | None = None
+
+    def _checked(self, c: Check) -> OutputConfig:
+        return OutputConfig(
+            formats=c(_formats, self.formats, "formats"),
+            positive=c.optional(_signs, self.positive, "positive"),
+            domain=c(schema.boolean, self.domain, "domain"),
+            size_field=c(schema.boolean, self.size_field, "size_field"),
+            figures=c(schema.boolean, self.figures, "figures"),
+            quality=c(schema.boolean, self.quality, "quality"),
+            detail=c.optional(schema.box, self.detail, "detail"),
+        )
+
+
+def _formats(value: Any, key: str) -> tuple[str, ...]:
+    from coastmesh.io import mesh_formats
+
+    names = schema.names(value, key)
+    known = mesh_formats()
+    for k, n in enumerate(names):
+        if n not in known:
+            raise ConfigError(
+                f"{key}[{k}] = {n!r}: unknown format; known: {', '.join(known)}"
+            )
+    if len(set(names)) != len(names):
+        raise ConfigError(f"{key} = {list(names)}: a format is listed twice")
+    return names
+
+
+def _signs(value: Any, key: str) -> dict[str, str]:
+    from coastmesh.io import mesh_formats
+
+    if not isinstance(value, Mapping):
+        raise ConfigError(
+            f"{key} = {value!r}: expected a table, e.g. {{ mike = 'up' }}"
+        )
+    known = mesh_formats()
+    for name, sign in value.items():
+        if name not in known:
+            raise ConfigError(
+                f"{key}.{name}: unknown format; known: {', '.join(known)}"
+            )
+        schema.choice(_UP_DOWN)(sign, f"{key}.{name}")
+    return dict(value)

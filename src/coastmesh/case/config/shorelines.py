@@ -1,0 +1,154 @@
+"""``[shorelines]``, ``[shoreline_sets]``, ``[[regions]]`` and ``[domain]``."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from coastmesh.case import schema
+from coastmesh.case.config._check import Check
+
+__all__ = ["DomainConfig", "RegionConfig", "ShorelineSetConfig", "ShorelinesConfig"]
+
+
+@dataclass(frozen=True, slots=True)
+class ShorelinesConfig:
+    """``[shorelines]``: the shoreline file (land polygons, e.g. GSHHG).
+
+    Attributes
+    ----------
+    path : path
+        Any vector file GDAL reads.
+    layer : str, optional
+        The layer, if the file has several.
+    bbox : (minx, miny, maxx, maxy), optional
+        Clip to this box first, in the file's CRS.
+    crs : str, optional
+        The file's CRS, if it declares none.
+    min_area : float or str
+        Islands and lakes smaller than this (m², or e.g. ``"0.5 km2"``) are dropped.
+    """
+
+    path: Path
+    layer: str | None = None
+    bbox: tuple[float, float, float, float] | None = None
+    crs: str | None = None
+    min_area: float = 0.0
+
+    def _checked(self, c: Check) -> ShorelinesConfig:
+        return ShorelinesConfig(
+            path=c(schema.path, self.path, "path"),
+            layer=c.optional(schema.string, self.layer, "layer"),
+            bbox=c.optional(schema.box, self.bbox, "bbox"),
+            crs=c.optional(schema.crs, self.crs, "crs"),
+            min_area=c(schema.area, self.min_area, "min_area"),
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class ShorelineSetConfig:
+    """``[shoreline_sets.NAME]``: full resolution, or a PCA reconstruction.
+
+    Attributes
+    ----------
+    name : str
+        The set's name (the ``NAME`` of its table).
+    physical_id : int
+        The boundary id of its shoreline edges (``id`` in the file), >= 1.
+    window, modes : int, optional
+        PCA partition length (points) and leading modes kept; both or neither
+        (full resolution).
+    """
+
+    name: str
+    physical_id: int
+    window: int | None = None
+    modes: int | None = None
+
+    @property
+    def label(self) -> str:
+        """Describe the set, e.g. ``"PCA 1 mode / 500 points"``."""
+        if self.window is None:
+            return "full resolution"
+        modes = "1 mode" if self.modes == 1 else f"{self.modes} modes"
+        return f"PCA {modes} / {self.window} points"
+
+    def _checked(self, c: Check) -> ShorelineSetConfig:
+        window = c.optional(schema.integer(2), self.window, "window")
+        modes = c.optional(schema.integer(1), self.modes, "modes")
+        if (window is None) != (modes is None):
+            raise c.error("window", "give window and modes together (or neither)")
+        if window is not None and modes > window:
+            raise c.error("modes", f"= {modes} is more than window = {window}")
+        return ShorelineSetConfig(
+            name=c(schema.string, self.name, "name"),
+            physical_id=c(schema.integer(1), self.physical_id, "id"),
+            window=window,
+            modes=modes,
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class RegionConfig:
+    """``[[regions]]``: where a shoreline set is used.
+
+    Attributes
+    ----------
+    set : str
+        The shoreline set used inside the region.
+    box : (minx, miny, maxx, maxy), optional
+    polygon : sequence of (x, y), optional
+    path : path, optional
+        Exactly one of ``box``, ``polygon`` and ``path`` (a vector file of
+        polygons, with ``layer``), in the case CRS (a file may have its own).
+    layer : str, optional
+    """
+
+    set: str
+    box: tuple[float, float, float, float] | None = None
+    polygon: tuple[tuple[float, float], ...] | None = None
+    path: Path | None = None
+    layer: str | None = None
+
+    def _checked(self, c: Check) -> RegionConfig:
+        given = [k for k in ("box", "polygon", "path") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise c.error("box", "give exactly one of box, polygon and path")
+        polygon = c.optional(schema.points, self.polygon, "polygon")
+        if polygon is not None and len(polygon) < 3:
+            raise c.error("polygon", "needs at least three points")
+        return RegionConfig(
+            set=c(schema.string, self.set, "set"),
+            box=c.optional(schema.box, self.box, "box"),
+            polygon=polygon,
+            path=c.optional(schema.path, self.path, "path"),
+            layer=c.optional(schema.string, self.layer, "layer"),
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class DomainConfig:
+    """``[domain]``: which sea region, seams, the surface id.
+
+    Attributes
+    ----------
+    seed : (x, y), optional
+        A point in the sea to mesh; default the largest sea region.
+    seam_tolerance : float or str
+        Slivers narrower than twice this at region seams are closed (metres).
+    surface_id : int
+        The physical id of the triangles.
+    """
+
+    seed: tuple[float, float] | None = None
+    seam_tolerance: float = 50.0
+    surface_id: int = 1
+
+    def _checked(self, c: Check) -> DomainConfig:
+        return DomainConfig(
+            seed=c.optional(schema.point, self.seed, "seed"),
+            seam_tolerance=c(
+                schema.length(positive=False), self.seam_tolerance, "seam_tolerance"
+            ),
+            surface_id=c(schema.integer(1), self.surface_id, "surface_id"),
+        )

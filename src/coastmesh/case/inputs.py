@@ -1,0 +1,358 @@
+"""The first stages of a case: shorelines, shoreline sets, open boundaries, domain.
+
+1. read the shoreline file (clip to ``bbox``; fill in a missing CRS);
+2. build each shoreline set: full resolution, or a PCA reconstruction
+   (:func:`~coastmesh.geometry.simplify_shorelines`, after
+   :func:`~coastmesh.geometry.densify_long_edges`); drop land polygons and fill
+   lakes below ``min_area``;
+3. stitch the sets by region (:func:`~coastmesh.geometry.stitch_shorelines`),
+   draw the open boundaries (loxodromes, blends, great circles, polylines) and
+   build the domain (:func:`~coastmesh.geometry.build_domain`).
+"""
+
+from __future__ import annotations
+
+import logging
+import warnings
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from pyproj import CRS
+
+from coastmesh.case.config import (
+    BoundaryConfig,
+    CaseConfig,
+    LoxodromeConfig,
+    RegionConfig,
+    ShorelineSetConfig,
+)
+from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
+from coastmesh.geometry import (
+    DomainReport,
+    Loxodrome,
+    OpenBoundary,
+    ShorelineSet,
+    StitchReport,
+    blend_loxodromes,
+    build_domain,
+    check_coordinates,
+    densify_long_edges,
+    great_circle,
+    land_polygons,
+    polygon_areas,
+    reproject,
+    reproject_points,
+    simplify_shorelines,
+    stitch_shorelines,
+)
+from coastmesh.io import read_features
+from coastmesh.types import Domain, Features, Progress, Report
+
+__all__ = [
+    "DomainInputs",
+    "ShorelineSetReport",
+    "build_case_domain",
+    "build_shoreline_set",
+    "fill_lakes",
+    "read_shorelines",
+]
+
+logger = logging.getLogger(__name__)
+
+_LONLAT = CRS.from_epsg(4326)
+
+
+@dataclass(frozen=True, slots=True)
+class ShorelineSetReport(Report):
+    """What building one shoreline set did.
+
+    Attributes
+    ----------
+    kind : str
+        ``"full resolution"`` or ``"PCA m modes / L points"``.
+    points_in : int
+        Vertices of the shoreline layer.
+    contours_in, contours_dropped, features_repaired : int or None
+        For a PCA set: rings in, rings shorter than the window, and polygons
+        repaired after smoothing (:class:`~coastmesh.geometry.ShorelineReport`).
+    polygons : int
+        Land polygons kept.
+    polygons_below_min_area, lakes_below_min_area : int
+        Islands dropped and lakes filled for being below ``min_area``.
+    points_out : int
+        Vertices of the set.
+    """
+
+    kind: str
+    points_in: int
+    polygons: int
+    polygons_below_min_area: int
+    lakes_below_min_area: int
+    points_out: int
+    contours_in: int | None = None
+    contours_dropped: int | None = None
+    features_repaired: int | None = None
+
+    def summary(self) -> str:
+        """Return a one-line summary."""
+        return (
+            f"{self.kind}, {self.polygons} polygons ({self.polygons_below_min_area} "
+            f"islands and {self.lakes_below_min_area} lakes below min_area dropped), "
+            f"{self.points_out:,} points"
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class DomainInputs:
+    """What stage 3 made: the domain and what was drawn on the way."""
+
+    domain: Domain
+    domain_report: DomainReport
+    stitch_report: StitchReport
+    regions: list[tuple[str, int, shapely.Geometry | None]]
+    open_boundaries: list[OpenBoundary]
+
+
+def read_shorelines(config: CaseConfig) -> tuple[Features, CRS]:
+    """Read the land polygons of ``[shorelines]``, in the case CRS.
+
+    Returns
+    -------
+    features : Features
+        Land polygons, reprojected to the case CRS.
+    crs : pyproj.CRS
+        The case CRS: ``[case] crs``, else the file's.
+    """
+    s = config.shorelines
+    features = read_features(s.path, layer=s.layer, bbox=s.bbox)
+    if features.crs is None:
+        if s.crs is None:
+            raise InputDataError(
+                f"{s.path}: the file declares no CRS; set shorelines.crs in "
+                f"{config.label}",
+                path=str(s.path),
+            )
+        features = Features(
+            features.geometry,
+            CRS.from_user_input(s.crs),
+            features.fields,
+            features.fids,
+            features.path,
+            features.layer,
+        )
+    try:
+        check_coordinates(features.geometry)
+    except InputDataError as exc:
+        fid = features.fids[exc.feature] if exc.feature is not None else None
+        raise InputDataError(exc.message, path=str(s.path), feature=fid) from None
+    features = land_polygons(features, purpose="the shoreline file")
+    crs = CRS.from_user_input(config.crs) if config.crs else features.crs
+    features = features.with_geometry(reproject(features.geometry, features.crs, crs))
+    logger.info("shorelines: %d land polygons from %s", len(features), s.path)
+    return features, crs
+
+
+def build_shoreline_set(
+    s: ShorelineSetConfig,
+    features: Features,
+    crs: CRS,
+    min_area: float,
+    progress: Progress | None = None,
+) -> tuple[NDArray[np.object_], ShorelineSetReport]:
+    """Build one shoreline set: full resolution or PCA, small land dropped.
+
+    Returns
+    -------
+    land : ndarray of shapely Polygons
+        The set's land polygons.
+    report : ShorelineSetReport
+    """
+    points_in = int(shapely.get_num_coordinates(features.geometry).sum())
+    pca: dict[str, Any] = {}
+    if s.window is None or s.modes is None:
+        land = features.geometry
+    else:
+        land, done = simplify_shorelines(
+            densify_long_edges(features.geometry), s.window, s.modes, progress=progress
+        )
+        land = land[~shapely.is_missing(land)]
+        points_in = done.points_in
+        pca = {
+            "contours_in": done.contours_in,
+            "contours_dropped": done.contours_dropped,
+            "features_repaired": done.repaired,
+        }
+    land = shapely.get_parts(land)
+    land = land[shapely.get_type_id(land) == shapely.GeometryType.POLYGON]
+    small = polygon_areas(land, crs) < min_area
+    land, lakes = fill_lakes(land[~small], crs, min_area)
+    report = ShorelineSetReport(
+        kind=s.label,
+        points_in=points_in,
+        polygons=int((~small).sum()),
+        polygons_below_min_area=int(small.sum()),
+        lakes_below_min_area=lakes,
+        points_out=int(shapely.get_num_coordinates(land).sum()),
+        **pca,
+    )
+    return land, report
+
+
+def fill_lakes(
+    land: NDArray[np.object_], crs: CRS, min_area: float
+) -> tuple[NDArray[np.object_], int]:
+    """Fill the holes (lakes) of land polygons that are smaller than ``min_area``.
+
+    Parameters
+    ----------
+    land : ndarray of shapely Polygons
+        In ``crs``.
+    crs : pyproj.CRS
+        Their CRS (areas are geodesic).
+    min_area : float
+        Square metres.
+
+    Returns
+    -------
+    land : ndarray of shapely Polygons
+        A new array; the input is unchanged.
+    filled : int
+        Lakes filled.
+    """
+    if min_area <= 0 or len(land) == 0:
+        return land, 0
+    holed = np.flatnonzero(shapely.get_num_interior_rings(land) > 0)
+    filled = 0
+    land = land.copy()
+    for k in holed:
+        polygon = land[k]
+        lakes = np.array([shapely.Polygon(r) for r in polygon.interiors], dtype=object)
+        keep = polygon_areas(lakes, crs) >= min_area
+        if not keep.all():
+            filled += int((~keep).sum())
+            kept = [r for r, k_ in zip(polygon.interiors, keep, strict=True) if k_]
+            land[k] = shapely.Polygon(polygon.exterior, kept)
+    return land, filled
+
+
+def build_case_domain(
+    config: CaseConfig, sets: dict[str, NDArray[np.object_]], crs: CRS
+) -> DomainInputs:
+    """Stitch the sets by region, draw the open boundaries, build the domain."""
+    regions: dict[str, list[shapely.Geometry]] = {}
+    for k, r in enumerate(config.regions):
+        regions.setdefault(r.set, []).append(_region_geometry(r, k, crs, config))
+    ordered = list(dict.fromkeys(r.set for r in config.regions))
+    ordered.append(config.background_set.name)
+    ids = {s.name: s.physical_id for s in config.sets}
+    shoreline_sets = [
+        ShorelineSet(
+            name,
+            sets[name],
+            ids[name],
+            shapely.union_all(regions[name]) if name in regions else None,
+        )
+        for name in ordered
+    ]
+    land, tagged, stitch_report = stitch_shorelines(
+        shoreline_sets, crs=crs, tolerance=config.domain.seam_tolerance
+    )
+    spacing = min(1000.0, config.size.h_max / 4)  # a quarter of h_max, <= 1 km
+    walls = [
+        OpenBoundary(
+            _boundary_coords(b, k, crs, spacing, config), b.name, b.physical_id
+        )
+        for k, b in enumerate(config.boundaries)
+    ]
+    try:
+        domain, report = build_domain(
+            land,
+            walls,
+            crs=crs,
+            seed=config.domain.seed,
+            min_area=config.shorelines.min_area,
+            surface_id=config.domain.surface_id,
+            shorelines=tagged,
+        )
+    except ConfigError as exc:
+        raise ConfigError(f"{config.label}: domain: {exc}") from None
+    missing = [b.name for b in walls if b.name not in report.segments]
+    if missing:
+        warnings.warn(
+            f"{config.label}: open boundaries {missing} do not reach the domain "
+            "(they do not close the sea region that holds the seed)",
+            CoastmeshWarning,
+            stacklevel=3,
+        )
+    logger.info("domain: %s; %s", report.summary(), stitch_report.summary())
+    return DomainInputs(domain, report, stitch_report, tagged, walls)
+
+
+def _region_geometry(
+    r: RegionConfig, k: int, crs: CRS, config: CaseConfig
+) -> shapely.Geometry:
+    if r.box is not None:
+        return shapely.box(*r.box)
+    if r.polygon is not None:
+        polygon = shapely.Polygon(r.polygon)
+        if not polygon.is_valid:
+            raise ConfigError(
+                f"{config.label}: regions[{k}].polygon is not a valid polygon "
+                f"({shapely.is_valid_reason(polygon)})"
+            )
+        return polygon
+    features = read_features(r.path, layer=r.layer)
+    geometry = features.geometry[~shapely.is_missing(features.geometry)]
+    polygonal = shapely.get_dimensions(geometry) == 2
+    if not polygonal.any():
+        raise InputDataError(
+            f"{r.path}: regions[{k}] needs polygons; the file has none",
+            path=str(r.path),
+        )
+    region = shapely.union_all(shapely.make_valid(geometry[polygonal]))
+    return region if features.crs is None else reproject(region, features.crs, crs)
+
+
+def _boundary_coords(
+    b: BoundaryConfig, k: int, crs: CRS, spacing: float, config: CaseConfig
+) -> NDArray[np.float64]:
+    step = b.spacing or spacing
+    where = f"{config.label}: open_boundaries[{k}] ({b.name!r})"
+    try:
+        if b.kind == "loxodrome":
+            lonlat = _loxodrome(b.loxodrome).sample(step)
+        elif b.kind == "blend":
+            lonlat = blend_loxodromes(
+                _loxodrome(b.first), _loxodrome(b.second), spacing=step
+            )
+        elif b.kind == "great_circle":
+            lonlat = great_circle(b.start, b.end, spacing=step)
+        else:
+            return _polyline(b, where, crs)
+    except ConfigError as exc:
+        raise ConfigError(f"{where}: {exc}") from None
+    return reproject_points(lonlat, _LONLAT, crs)
+
+
+def _loxodrome(c: LoxodromeConfig) -> Loxodrome:
+    return Loxodrome(c.start, c.azimuth, end_lat=c.end_lat, end_lon=c.end_lon)
+
+
+def _polyline(b: BoundaryConfig, where: str, crs: CRS) -> NDArray[np.float64]:
+    if b.points is not None:
+        return np.array(b.points, dtype=float)
+    features = read_features(b.path, layer=b.layer)
+    lines = features.geometry[shapely.get_dimensions(features.geometry) == 1]
+    parts = shapely.get_parts(lines)
+    if len(parts) != 1:
+        raise InputDataError(
+            f"{where}: {b.path} must hold exactly one line; it has {len(parts)}",
+            path=str(b.path),
+        )
+    line = parts[0]
+    if features.crs is not None:
+        line = reproject(line, features.crs, crs)
+    return shapely.get_coordinates(line)

@@ -1,0 +1,342 @@
+"""The vocabulary of case files: tables read key by key, and value converters.
+
+A converter is ``convert(value, key) -> parsed`` and raises
+:class:`~coastmesh.errors.ConfigError` whose message starts with the key and the
+bad value (``mesh_size.rate = -1: must be > 0``). :class:`Table` reads one TOML
+table: each key is taken once, and a key left over is an error listing the keys
+allowed there. The case-file reader (:mod:`coastmesh.case.parse`), the checks of
+:class:`~coastmesh.case.config.CaseConfig` and the PCA studies all use these, so
+a value gets the same message wherever it is checked.
+
+Converters are lenient about Python types (a tuple or an array where TOML has a
+list) and strict about meaning. Lengths, areas and durations are numbers in
+metres, square metres and seconds, or strings with a unit (``"10 km"``); the
+case-file reader asks for the unit (:func:`length_with_unit`).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+import os
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any, TypeVar
+
+import numpy as np
+
+from coastmesh.errors import ConfigError
+from coastmesh.sizing.units import to_metres, to_seconds, to_square_metres
+
+__all__ = [
+    "MISSING",
+    "Table",
+    "area",
+    "boolean",
+    "box",
+    "choice",
+    "crs",
+    "duration",
+    "integer",
+    "length",
+    "length_with_unit",
+    "names",
+    "number",
+    "path",
+    "point",
+    "points",
+    "positive",
+    "string",
+]
+
+T = TypeVar("T")
+Converter = Callable[[Any, str], T]
+#: The default of :meth:`Table.get` that makes a key required.
+MISSING: Any = object()
+
+
+class Table:
+    """One TOML table being read: each key is taken once; leftovers are errors.
+
+    Parameters
+    ----------
+    data : mapping
+        The table's keys and values.
+    where : str
+        Its key path in the file (``"mesh_size"``, ``"open_boundaries[2]"``);
+        ``""`` for the file itself.
+    source : str
+        The file, named at the start of every message.
+
+    Raises
+    ------
+    ConfigError
+        If ``data`` is not a mapping.
+
+    Examples
+    --------
+    >>> t = Table({"h_max": "5 km", "rate": 0.2}, "mesh_size", "case.toml")
+    >>> t.get("h_max", length_with_unit), t.get("rate", positive)
+    (5000.0, 0.2)
+    >>> t.get("cell", length_with_unit, None) is None
+    True
+    >>> t.done()
+    >>> Table({"rte": 1}, "mesh_size", "case.toml").done()
+    Traceback (most recent call last):
+    ...
+    coastmesh.errors.ConfigError: case.toml: unknown key 'mesh_size.rte'; ...
+    """
+
+    def __init__(self, data: object, where: str, source: str) -> None:
+        if not isinstance(data, Mapping):
+            raise ConfigError(
+                f"{source}: {where or 'the file'} must be a table, got "
+                f"{type(data).__name__} {data!r}"
+            )
+        self.data = dict(data)
+        self.where = where
+        self.source = source
+        self.taken: set[str] = set()
+
+    def key(self, name: str) -> str:
+        """Return the full key path of ``name`` in this table."""
+        return f"{self.where}.{name}" if self.where else name
+
+    def error(self, name: str, message: str) -> ConfigError:
+        """Return a ConfigError about key ``name``, naming the file and the key."""
+        sep = " " if message.startswith("=") else ": "
+        return ConfigError(f"{self.source}: {self.key(name)}{sep}{message}")
+
+    def has(self, name: str) -> bool:
+        """Whether the table has key ``name``."""
+        return name in self.data
+
+    def get(self, name: str, convert: Converter[T], default: Any = MISSING) -> T:
+        """Take key ``name`` and convert it; ``default`` if absent (else an error)."""
+        self.taken.add(name)
+        if name not in self.data:
+            if default is MISSING:
+                raise self.error(name, "is missing")
+            return default
+        return located(convert, self.data[name], self.key(name), self.source)
+
+    def pick(self, *names: str, **renamed: str) -> dict[str, Any]:
+        """Take the keys that are present, as they are: ``{field: value}``.
+
+        ``renamed`` maps a field name to its key in the file (``physical_id="id"``).
+        """
+        fields = {name: name for name in names} | renamed
+        picked = {}
+        for field_name, key in fields.items():
+            self.taken.add(key)
+            if key in self.data:
+                picked[field_name] = self.data[key]
+        return picked
+
+    def table(self, name: str, *, required: bool = False) -> Table:
+        """Take key ``name`` as a sub-table (empty if absent and not required)."""
+        self.taken.add(name)
+        if name not in self.data:
+            if required:
+                raise self.error(name, "is missing (a [table])")
+            return Table({}, self.key(name), self.source)
+        return Table(self.data[name], self.key(name), self.source)
+
+    def tables(self, name: str) -> list[Table]:
+        """Take key ``name`` as an array of tables (``[[name]]``)."""
+        self.taken.add(name)
+        items = self.data.get(name, [])
+        if not isinstance(items, list):
+            raise self.error(name, "must be an array of tables ([[...]])")
+        return [
+            Table(item, f"{self.key(name)}[{k}]", self.source)
+            for k, item in enumerate(items)
+        ]
+
+    def done(self) -> None:
+        """Raise if a key of the table was not taken."""
+        unknown = sorted(set(self.data) - self.taken)
+        if unknown:
+            known = ", ".join(sorted(self.taken)) or "none"
+            raise ConfigError(
+                f"{self.source}: unknown key {self.key(unknown[0])!r}; the keys "
+                f"allowed here are: {known}"
+            )
+
+
+def located(convert: Converter[T], value: Any, key: str, source: str) -> T:
+    """Run a converter; put ``source`` at the start of its error message."""
+    try:
+        return convert(value, key)
+    except ConfigError as exc:
+        message = str(exc)
+        if not message.startswith(source):
+            message = f"{source}: {message}"
+        raise ConfigError(message) from None
+
+
+def string(value: Any, key: str) -> str:
+    """Check for a non-empty string."""
+    if not isinstance(value, str) or not value.strip():
+        raise ConfigError(f"{key} = {value!r}: expected a non-empty string")
+    return value
+
+
+def boolean(value: Any, key: str) -> bool:
+    """Check for ``true`` or ``false``."""
+    if not isinstance(value, bool | np.bool_):
+        raise ConfigError(f"{key} = {value!r}: expected true or false")
+    return bool(value)
+
+
+def number(value: Any, key: str) -> float:
+    """Check for a finite number; return it as a float."""
+    if (
+        isinstance(value, bool | np.bool_)
+        or not isinstance(value, numbers.Real)
+        or not math.isfinite(value)
+    ):
+        raise ConfigError(f"{key} = {value!r}: expected a finite number")
+    return float(value)
+
+
+def positive(value: Any, key: str) -> float:
+    """Check for a finite number > 0."""
+    result = number(value, key)
+    if result <= 0:
+        raise ConfigError(f"{key} = {value!r}: must be > 0")
+    return result
+
+
+def integer(minimum: int) -> Converter[int]:
+    """Return a converter to integers >= ``minimum``."""
+
+    def convert(value: Any, key: str) -> int:
+        if (
+            isinstance(value, bool | np.bool_)
+            or not isinstance(value, numbers.Integral)
+            or value < minimum
+        ):
+            raise ConfigError(f"{key} = {value!r}: expected an integer >= {minimum}")
+        return int(value)
+
+    return convert
+
+
+def length_with_unit(value: Any, key: str) -> float:
+    """Convert a length with its unit (``"10 km"``) to metres; 0 may be bare."""
+    if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == 0:
+        return 0.0
+    return to_metres(value, name=key)
+
+
+def length(*, positive: bool = True, signed: bool = False) -> Converter[float]:
+    """Return a converter of lengths (numbers of metres, or strings with a unit).
+
+    ``positive``: must be > 0, else >= 0; ``signed``: any finite length.
+    """
+
+    def convert(value: Any, key: str) -> float:
+        if isinstance(value, str):
+            metres = to_metres(value, name=key)
+        else:
+            metres = number(value, key)
+        if signed or metres > 0 or (metres == 0 and not positive):
+            return metres
+        shown = repr(value) if isinstance(value, str) else f"{metres:g} m"
+        raise ConfigError(f"{key} = {shown}: must be {'>' if positive else '>='} 0")
+
+    return convert
+
+
+def area(value: Any, key: str) -> float:
+    """Convert an area >= 0 (square metres, or a string with a unit)."""
+    if isinstance(value, str):
+        result = to_square_metres(value, name=key)
+    else:
+        result = number(value, key)
+    if result < 0:
+        raise ConfigError(f"{key} = {value!r}: must be >= 0")
+    return result
+
+
+def duration(value: Any, key: str) -> float:
+    """Convert a duration > 0 (seconds, or a string with a unit)."""
+    seconds = to_seconds(value, name=key) if isinstance(value, str) else None
+    if seconds is None:
+        seconds = number(value, key)
+    if seconds <= 0:
+        raise ConfigError(f"{key} = {value!r}: must be > 0")
+    return seconds
+
+
+def point(value: Any, key: str) -> tuple[float, float]:
+    """Convert ``[x, y]`` (longitude, latitude) to a tuple of two floats."""
+    if isinstance(value, str) or not _sized(value) or len(value) != 2:
+        raise ConfigError(f"{key} = {value!r}: expected [x, y] (longitude, latitude)")
+    return (number(value[0], f"{key}[0]"), number(value[1], f"{key}[1]"))
+
+
+def points(value: Any, key: str) -> tuple[tuple[float, float], ...]:
+    """Convert a list of at least two ``[x, y]`` points to tuples."""
+    if isinstance(value, str) or not _sized(value) or len(value) < 2:
+        raise ConfigError(f"{key}: expected a list of at least two [x, y] points")
+    return tuple(point(p, f"{key}[{k}]") for k, p in enumerate(value))
+
+
+def box(value: Any, key: str) -> tuple[float, float, float, float]:
+    """Convert ``[minx, miny, maxx, maxy]`` (``minx < maxx``, ``miny < maxy``)."""
+    if isinstance(value, str) or not _sized(value) or len(value) != 4:
+        raise ConfigError(f"{key} = {value!r}: expected [minx, miny, maxx, maxy]")
+    result = tuple(number(v, f"{key}[{k}]") for k, v in enumerate(value))
+    if not (result[0] < result[2] and result[1] < result[3]):
+        raise ConfigError(f"{key} = {value!r}: need minx < maxx and miny < maxy")
+    return result  # type: ignore[return-value]
+
+
+def names(value: Any, key: str) -> tuple[str, ...]:
+    """Convert a name or a non-empty list of names to a tuple."""
+    if isinstance(value, str):
+        value = [value]
+    if not _sized(value) or len(value) == 0:
+        raise ConfigError(f"{key} = {value!r}: expected a name or a list of names")
+    return tuple(string(v, f"{key}[{k}]") for k, v in enumerate(value))
+
+
+def choice(options: tuple[str, ...]) -> Converter[str]:
+    """Return a converter accepting one of ``options``."""
+
+    def convert(value: Any, key: str) -> str:
+        if not isinstance(value, str) or value not in options:
+            raise ConfigError(
+                f"{key} = {value!r}: expected one of {', '.join(map(repr, options))}"
+            )
+        return value
+
+    return convert
+
+
+def crs(value: Any, key: str) -> str:
+    """Check a CRS (anything :meth:`pyproj.CRS.from_user_input` takes); keep text."""
+    from pyproj import CRS
+    from pyproj.exceptions import CRSError
+
+    if isinstance(value, CRS):
+        return value.to_string() if value.to_epsg() is not None else value.to_wkt()
+    text = string(value, key)
+    try:
+        CRS.from_user_input(text)
+    except CRSError:
+        raise ConfigError(f"{key} = {value!r}: not a CRS pyproj knows") from None
+    return text
+
+
+def path(value: Any, key: str) -> Path:
+    """Convert a non-empty string or a path-like object to a Path."""
+    if isinstance(value, os.PathLike):
+        value = os.fspath(value)
+    return Path(string(value, key)).expanduser()
+
+
+def _sized(value: Any) -> bool:
+    return hasattr(value, "__len__") and hasattr(value, "__getitem__")

@@ -1,0 +1,156 @@
+"""One entry of the mesh format registry: a name, extensions, a writer, a reader.
+
+The entry checks the signatures of its writer and reader when it is made, so a
+format that could not be called the way :func:`coastmesh.io.write_mesh` and
+:func:`coastmesh.io.read_mesh` call it is refused at registration, with a message
+that says the expected signature.
+"""
+
+from __future__ import annotations
+
+import inspect
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from coastmesh.types import Mesh
+
+__all__ = ["MeshFormat"]
+
+# the keyword each role must take, and how it is called: the first two parameters
+# of a writer are the path and the mesh, the first of a reader the path
+_ROLES = {
+    "write": ("overwrite", "write(path, mesh, *, overwrite, ...)"),
+    "read": ("crs", "read(path, *, crs, ...)"),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class MeshFormat:
+    """A mesh format: its name, file extensions, writer and reader.
+
+    Parameters
+    ----------
+    name : str
+        The name given as ``format=``; stored in lower case, no spaces.
+    extensions : sequence of str
+        File name endings of this format, at least one, each starting with
+        ``"."`` (such as ``".msh"`` or ``".14"``); stored in lower case. The first
+        is the one to give new files. A file name selects the format that
+        registered its ending first (:func:`coastmesh.io.format_for_path`).
+    write : callable or None
+        ``write(path, mesh, *, overwrite, **options)``: writes ``mesh`` to
+        ``path`` atomically and refuses an existing ``path`` unless
+        ``overwrite``. Its other keyword parameters are the format's options.
+        None for a format that is read only.
+    description : str
+        One line for listings.
+    read : callable, optional
+        ``read(path, *, crs, **options) -> Mesh``; ``crs`` is the CRS for files
+        that store none. None (the default) for a format that is write only.
+
+    Raises
+    ------
+    ValueError
+        If the name or an extension is malformed, there is neither a reader nor a
+        writer, or one is not callable or lacks its ``overwrite``/``crs`` keyword.
+
+    Examples
+    --------
+    >>> from coastmesh.io import mesh_format
+    >>> fmt = mesh_format("msh4")
+    >>> fmt.extensions, fmt.options, fmt.read_options, fmt.mode
+    (('.msh',), ('binary',), (), 'read and write')
+    """
+
+    name: str
+    extensions: tuple[str, ...]
+    write: Callable[..., None] | None
+    description: str
+    read: Callable[..., Mesh] | None = None
+
+    def __post_init__(self) -> None:
+        name = self.name
+        if not isinstance(name, str) or not name or name != "".join(name.split()):
+            raise ValueError(
+                f"mesh format name {name!r}: expected a non-empty string without spaces"
+            )
+        extensions = (
+            (self.extensions,)
+            if isinstance(self.extensions, str)
+            else tuple(self.extensions)
+        )
+        if not extensions:
+            raise ValueError(
+                f"mesh format {name!r}: give at least one extension, such as '.msh'"
+            )
+        for ext in extensions:
+            if not isinstance(ext, str) or len(ext) < 2 or not ext.startswith("."):
+                raise ValueError(
+                    f"mesh format {name!r}: extension {ext!r} must be a string "
+                    "starting with '.', such as '.msh'"
+                )
+        if self.write is None and self.read is None:
+            raise ValueError(f"mesh format {name!r}: give a writer, a reader or both")
+        for role in _ROLES:
+            self._options(role)
+        object.__setattr__(self, "name", name.lower())
+        object.__setattr__(
+            self, "extensions", tuple(dict.fromkeys(e.lower() for e in extensions))
+        )
+        object.__setattr__(self, "description", str(self.description))
+
+    @property
+    def options(self) -> tuple[str, ...] | None:
+        """The writer's keyword options besides ``overwrite``; None for ``**kwargs``."""
+        return self._options("write")
+
+    @property
+    def read_options(self) -> tuple[str, ...] | None:
+        """The reader's keyword options besides ``crs``; None for ``**kwargs``."""
+        return self._options("read")
+
+    @property
+    def mode(self) -> str:
+        """``"read and write"``, ``"write only"`` or ``"read only"``."""
+        if self.read is None:
+            return "write only"
+        return "read only" if self.write is None else "read and write"
+
+    def _options(self, role: str) -> tuple[str, ...] | None:
+        function = getattr(self, role)
+        if function is None:
+            return ()
+        return _keywords(function, self.name, role, *_ROLES[role])
+
+
+def _keywords(
+    function: Callable[..., Any], name: str, role: str, keyword: str, usage: str
+) -> tuple[str, ...] | None:
+    """Return the keyword options of a reader or writer besides ``keyword``.
+
+    None if it takes ``**kwargs``; raises ValueError if it is not callable or
+    takes no ``keyword``.
+    """
+    if not callable(function):
+        raise ValueError(f"mesh format {name!r}: {role} is not callable")
+    try:
+        parameters = list(inspect.signature(function).parameters.values())
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"mesh format {name!r}: the signature of {role} cannot be inspected"
+        ) from None
+    if any(p.kind is p.VAR_KEYWORD for p in parameters):
+        return None
+    skip = 2 if role == "write" else 1
+    found = [
+        p.name
+        for p in parameters[skip:]
+        if p.kind in {p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY}
+    ]
+    if keyword not in found:
+        raise ValueError(
+            f"mesh format {name!r}: {role} takes no {keyword!r} keyword; "
+            f"expected {usage}"
+        )
+    return tuple(k for k in found if k != keyword)

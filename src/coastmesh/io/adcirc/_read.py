@@ -1,0 +1,288 @@
+"""Read ADCIRC ``fort.14`` and SCHISM ``hgrid.gr3`` files (:mod:`coastmesh.io.adcirc`).
+
+:func:`read_fort14` parses a file as it is written (counts, node lists, types);
+:func:`read_fort14_mesh` builds a :class:`~coastmesh.types.Mesh` from it, with
+the boundary ids, names and kinds, the depth and, for files coastmesh wrote, the
+CRS.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from pyproj import CRS
+
+from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.io._inputs import (
+    check_input,
+    counter_clockwise,
+    mesh_from_file,
+    resolve_crs,
+)
+from coastmesh.io._model import POSITIVE
+from coastmesh.io._table import TextLines
+from coastmesh.types import Mesh
+
+__all__ = ["read_fort14", "read_fort14_mesh"]
+
+# the comment coastmesh writes after a segment's counts: "...: id 2 north sea"
+_ID_COMMENT = re.compile(r":\s*id\s+(\d+)\b\s*(.*)$")
+_TITLE_CRS = re.compile(r"^coastmesh EPSG:(\d+)$")
+_ISLAND = 1  # IBTYPE 1, 11, 21: internal (island) boundary
+_BARRIER_PAIRS = (4, 5)  # IBTYPE 4, 24, 5, 25: node pairs across a barrier
+
+
+def read_fort14(path: str | os.PathLike[str]) -> dict[str, Any]:
+    r"""Read an ADCIRC ``fort.14`` or SCHISM ``hgrid.gr3`` file as it is written.
+
+    A line-by-line parse of the published layout: counts are taken from the file
+    and returned next to the lists they count, so callers can check them.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file. Text after the values a line must hold is ignored (comments).
+
+    Returns
+    -------
+    dict
+        ``title`` (str); ``ne``, ``np`` (ints, as declared); ``node_ids`` (NP,)
+        int; ``xy`` (NP, 2) float; ``depth`` (NP,) float, as written (``DP``);
+        ``element_ids`` (NE,) int; ``nhy`` (NE,) int; ``elements`` (NE, 3) int,
+        the node numbers as written (1-based); ``nope``, ``neta`` (ints, as
+        declared); ``open_boundaries``: a list of dicts with ``nodes`` (1-based
+        int array), ``ibtypee`` (int, or None when the header has no type, as
+        in SCHISM files) and ``comment`` (the text after the counts, without a
+        leading ``=``); ``nbou``, ``nvel`` (ints, as declared);
+        ``land_boundaries``: a list of dicts with ``nodes``, ``ibtype`` and
+        ``comment``; ``trailing_lines``: the number of non-blank lines after the
+        last land segment. For barrier types (``IBTYPE`` 3, 4, 5, ...) only the
+        first number of each node line is kept.
+
+    Raises
+    ------
+    InputDataError
+        If the file is missing or ends early, a line lacks a value it must hold,
+        a value is not a number, ``NHY`` is not 3, or a node number is outside
+        ``1..NP``; the message names the line.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "fort.14"
+    >>> _ = path.write_text("tri\n1 3\n1 0 0 5\n2 1 0 5\n3 0 1 5\n1 3 1 2 3\n"
+    ...                     "0\n0\n0\n0\n")
+    >>> grid = read_fort14(path)
+    >>> grid["ne"], grid["np"], grid["elements"].tolist()
+    (1, 3, [[1, 2, 3]])
+    """
+    lines = TextLines.read(check_input(path))
+    out: dict[str, Any] = {"title": lines.next_line().strip()}
+    out["ne"], out["np"] = lines.ints(2, "NE NP")
+    node_table = lines.table(out["np"], 4, float, "JN X Y DP")
+    out["node_ids"] = node_table[:, 0].astype(np.int64)
+    out["xy"] = node_table[:, 1:3]
+    out["depth"] = node_table[:, 3]
+    element_table = lines.table(out["ne"], 5, int, "JE NHY NM1 NM2 NM3")
+    out["element_ids"] = element_table[:, 0]
+    out["nhy"] = element_table[:, 1]
+    out["elements"] = element_table[:, 2:5]
+    if len(out["nhy"]) and (out["nhy"] != 3).any():
+        bad = int(np.flatnonzero(out["nhy"] != 3)[0])
+        raise InputDataError(
+            f"element {out['element_ids'][bad]} has NHY = {out['nhy'][bad]}; "
+            "only triangles (NHY = 3) are read",
+            path=lines.path,
+        )
+    out["nope"], out["neta"], out["open_boundaries"] = _segment_list(
+        lines, out["np"], ("NOPE", "NETA", "NVDLL IBTYPEE", "NBDV"), "ibtypee"
+    )
+    out["nbou"], out["nvel"], out["land_boundaries"] = _segment_list(
+        lines, out["np"], ("NBOU", "NVEL", "NVELL IBTYPE", "NBVV"), "ibtype"
+    )
+    out["trailing_lines"] = lines.remaining()
+    table = out["elements"]
+    if table.size and (table.min() < 1 or table.max() > out["np"]):
+        raise InputDataError(
+            f"elements have node numbers in [{table.min()}, {table.max()}], "
+            f"expected 1..NP = 1..{out['np']}",
+            path=lines.path,
+        )
+    return out
+
+
+def read_fort14_mesh(
+    path: str | os.PathLike[str], *, crs: Any = None, positive: str = "down"
+) -> Mesh:
+    r"""Read an ADCIRC ``fort.14`` or SCHISM ``hgrid.gr3`` file as a Mesh.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file (``fort.14``, ``hgrid.gr3``, ``hgrid.ll``, ...).
+    crs : pyproj.CRS or CRS-like, optional
+        The CRS of the coordinates, for files that do not declare one. Files
+        coastmesh wrote declare it in their title (``coastmesh EPSG:32630``);
+        ``crs`` must then agree with it.
+    positive : {"down", "up"}, default "down"
+        The sign of the file's depth (``DP``): ADCIRC's and SCHISM's depths are
+        positive down; ``"up"`` reads elevations (the depth is their negative).
+
+    Returns
+    -------
+    Mesh
+        Nodes and triangles in file order (a clockwise triangle is turned
+        counter-clockwise); ``point_data["depth"]`` in metres, positive down;
+        boundary edges from the node lists, with ids, names and kinds (see
+        Notes); ``surface_id`` 1.
+
+    Raises
+    ------
+    InputDataError
+        As :func:`read_fort14`; also if the node numbers are not ``1..NP`` in
+        order, a land segment is an internal barrier (``IBTYPE`` 4, 24, 5, 25:
+        node pairs), or one boundary id is on both an open and a land segment.
+    ConfigError
+        If ``positive`` or ``crs`` is invalid.
+
+    Notes
+    -----
+    Each segment's node list gives one boundary edge per two consecutive nodes;
+    an island (``IBTYPE`` 1, 11, 21) whose last node is not its first (as SCHISM
+    writes them) also gets the edge that closes it. Segments of the open list
+    (``NOPE``) are ``"open"``, all segments of the land list (``NBOU``) are
+    ``"shoreline"``, whatever their ``IBTYPE``.
+
+    Boundary ids and names come from the comment coastmesh writes after each
+    segment's counts (``4 0 = Number of nodes for open boundary 1: id 2 north``:
+    id 2, name ``north``). When a segment has no such comment (files written by
+    other tools), the segments are numbered in file order instead: the open
+    segments 1 to ``NOPE``, then the land segments ``NOPE + 1`` on, with no names.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from coastmesh.io.adcirc import write_gr3
+    >>> m = Mesh([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1, 2], [0, 2, 3]],
+    ...          [[0, 1], [1, 2], [2, 3], [3, 0]], [2, 1, 1, 1], 1, "EPSG:32630",
+    ...          point_data={"depth": [5.0, 5.0, 4.0, 4.0]},
+    ...          boundary_names={2: "sea"},
+    ...          boundary_kinds={1: "shoreline", 2: "open"})
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "hgrid.gr3"
+    >>> write_gr3(path, m)
+    >>> back = read_fort14_mesh(path)
+    >>> back.boundary_edges.tolist(), back.boundary_ids.tolist()
+    ([[0, 1], [1, 2], [2, 3], [3, 0]], [2, 1, 1, 1])
+    >>> back.boundary_names, back.boundary_kinds, back.crs.to_epsg()
+    ({2: 'sea'}, {2: 'open', 1: 'shoreline'}, 32630)
+    >>> back.point_data["depth"].tolist()
+    [5.0, 5.0, 4.0, 4.0]
+    """
+    if positive not in POSITIVE:
+        raise ConfigError(
+            f"positive={positive!r}; expected one of {', '.join(POSITIVE)}"
+        )
+    grid = read_fort14(path)
+    name = os.fspath(path)
+    count = grid["np"]
+    jn = grid["node_ids"]
+    if not np.array_equal(jn, np.arange(1, count + 1)):
+        first = int(np.flatnonzero(jn != np.arange(1, count + 1))[0])
+        raise InputDataError(
+            f"node line {first + 1} has node number JN = {jn[first]}; a Mesh is read "
+            "from files whose nodes are numbered 1..NP in order",
+            path=name,
+        )
+    for k, land in enumerate(grid["land_boundaries"], start=1):
+        if land["ibtype"] % 10 in _BARRIER_PAIRS:
+            raise InputDataError(
+                f"land segment {k} has IBTYPE {land['ibtype']}, an internal barrier "
+                "(node pairs), which a Mesh cannot hold",
+                path=name,
+            )
+    segments = [
+        (b["nodes"] - 1, "open", None, b["comment"]) for b in grid["open_boundaries"]
+    ] + [
+        (b["nodes"] - 1, "shoreline", b["ibtype"], b["comment"])
+        for b in grid["land_boundaries"]
+    ]
+    ids, names, kinds = _segment_ids(segments, name)
+    edges = [_edges(nodes, ibtype) for nodes, _, ibtype, _ in segments]
+    edge_ids = [np.full(len(e), pid) for e, pid in zip(edges, ids, strict=True)]
+    match = _TITLE_CRS.match(grid["title"])
+    stored = CRS.from_epsg(int(match.group(1))) if match else None
+    return mesh_from_file(
+        name,
+        grid["xy"],
+        counter_clockwise(grid["xy"], grid["elements"] - 1),
+        np.concatenate(edges) if edges else np.empty((0, 2), np.int64),
+        np.concatenate(edge_ids) if edge_ids else np.empty(0, np.int64),
+        1,
+        resolve_crs(stored, crs, name),
+        {"depth": grid["depth"] if positive == "down" else -grid["depth"]},
+        names,
+        kinds,
+    )
+
+
+def _segment_list(
+    lines: TextLines, count_of_nodes: int, what: tuple[str, str, str, str], key: str
+) -> tuple[int, int, list[dict[str, Any]]]:
+    """Read a segment list: its two counts, then each segment's header and nodes."""
+    count_what, total_what, header_what, node_what = what
+    (count,) = lines.ints(1, count_what)
+    (total,) = lines.ints(1, total_what)
+    segments = []
+    for _ in range(count):
+        size, rest = lines.count_and_rest(header_what)
+        words = rest.split(maxsplit=1)
+        try:
+            kind, comment = int(words[0]), "".join(words[1:])
+        except (IndexError, ValueError):
+            kind, comment = None, rest
+        if kind is None and key == "ibtype":
+            raise lines.error(header_what, "expected two integers")
+        nodes = lines.table(size, 1, int, node_what)[:, 0].astype(np.int64)
+        if nodes.size and (nodes.min() < 1 or nodes.max() > count_of_nodes):
+            raise lines.error(
+                node_what, f"node numbers must be in 1..NP = 1..{count_of_nodes}"
+            )
+        segment = {"nodes": nodes, key: kind, "comment": comment.strip(" =\t")}
+        segments.append(segment)
+    return count, total, segments
+
+
+def _segment_ids(
+    segments: list[tuple[Any, str, int | None, str]], name: str
+) -> tuple[list[int], dict[int, str], dict[int, str]]:
+    """Return the id of each segment, and the names and kinds of the ids."""
+    found = [_ID_COMMENT.search(comment) for *_, comment in segments]
+    if not all(found):
+        ids = list(range(1, len(segments) + 1))
+        return ids, {}, {pid: s[1] for pid, s in zip(ids, segments, strict=True)}
+    ids = [int(m.group(1)) for m in found if m]
+    names: dict[int, str] = {}
+    kinds: dict[int, str] = {}
+    for pid, m, (_, kind, _, _) in zip(ids, found, segments, strict=True):
+        if kinds.setdefault(pid, kind) != kind:
+            raise InputDataError(
+                f"boundary id {pid} is on both an open and a land segment (segment "
+                f"comments such as ': id {pid}'); ids must keep one kind",
+                path=name,
+            )
+        if m and m.group(2).strip():
+            names.setdefault(pid, m.group(2).strip())
+    return ids, names, kinds
+
+
+def _edges(nodes: NDArray[np.int64], ibtype: int | None) -> NDArray[np.int64]:
+    """Return the edges of one segment: consecutive nodes, an island closed."""
+    edges = np.column_stack([nodes[:-1], nodes[1:]])
+    island = ibtype is not None and ibtype % 10 == _ISLAND
+    if island and len(nodes) > 2 and nodes[0] != nodes[-1]:
+        edges = np.vstack([edges, [nodes[-1], nodes[0]]])
+    return edges.astype(np.int64).reshape(-1, 2)

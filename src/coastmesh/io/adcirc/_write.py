@@ -1,0 +1,293 @@
+"""Write ADCIRC ``fort.14`` and SCHISM ``hgrid.gr3`` files (:mod:`coastmesh.io.adcirc`).
+
+Each boundary segment's count line ends with a comment naming its boundary id and
+name (``= Number of nodes for open boundary 1: id 2 north``), which ADCIRC and
+SCHISM skip and :func:`~coastmesh.io.adcirc.read_fort14_mesh` reads back.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+from collections.abc import Iterator
+
+import numpy as np
+from numpy.typing import NDArray
+
+from coastmesh.errors import ConfigError
+from coastmesh.io._atomic import atomic_write
+from coastmesh.io._model import (
+    check_mesh,
+    mesh_boundary_strings,
+    node_depth,
+    require_kinds,
+)
+from coastmesh.io._table import put_lines, write_table
+from coastmesh.meshing.topology import BoundaryString
+from coastmesh.types import Mesh
+
+__all__ = ["write_fort14", "write_gr3"]
+
+logger = logging.getLogger(__name__)
+
+SIGNIFICANT = 15  # significant digits written for floats (float64 holds ~15.9)
+
+_Segment = tuple[NDArray[np.int64], str, str]
+
+
+def write_fort14(
+    path: str | os.PathLike[str],
+    mesh: Mesh,
+    *,
+    overwrite: bool = False,
+    positive: str = "down",
+    title: str | None = None,
+) -> None:
+    """Write a mesh as an ADCIRC ``fort.14`` grid with its boundary segments.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The output file, such as ``fort.14``.
+    mesh : Mesh
+        The mesh; every boundary id needs a kind in ``mesh.boundary_kinds``
+        (``"open"`` or ``"shoreline"``). Depth is ``mesh.point_data["depth"]``
+        (metres, positive down); without it every node gets depth 0, with a
+        warning. Coordinates are written as they are (longitude, latitude in
+        degrees for a geographic CRS, which ADCIRC runs with ``ICS=2``).
+    overwrite : bool, default False
+        Whether an existing file may be replaced.
+    positive : {"down", "up"}, default "down"
+        Sign of the written ``DP``: ``"down"`` writes the depth as it is (ADCIRC's
+        ``DP`` is positive below the geoid), ``"up"`` writes its negative.
+    title : str, optional
+        The first line (``AGRID``); one line. By default ``coastmesh`` and the
+        EPSG code of ``mesh.crs``.
+
+    Raises
+    ------
+    FormatError
+        If a boundary id has no kind, the boundary edges do not form simple rings,
+        or the depth has the wrong shape or non-finite values.
+    ConfigError
+        If ``positive`` or ``title`` is invalid.
+    OutputExistsError
+        If ``path`` exists and ``overwrite`` is false.
+
+    Warns
+    -----
+    CoastmeshWarning
+        If the mesh has no ``depth`` point data (zeros are written).
+
+    Notes
+    -----
+    Open boundaries (kind ``"open"``) are elevation-specified segments,
+    ``IBTYPEE = 0``, one per run of edges with one id, in order along the
+    boundary. Land boundaries (kind ``"shoreline"``) are ``IBTYPE = 0``
+    (mainland) segments, except an island ring whose edges all have one land id,
+    which is one ``IBTYPE = 1`` segment closed by repeating its first node. An
+    island ring with several ids, or with open parts, is written as separate,
+    non-closed ``IBTYPE = 0`` segments. Exterior segments come first, each
+    starting where two boundaries meet; nodes run with the domain on the left
+    (land on the right), counter-clockwise around the exterior and clockwise
+    around islands, as the ADCIRC manual asks (``NBVV``). A header comment after
+    each segment's counts names its boundary id and name.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> m = Mesh([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1, 2], [0, 2, 3]],
+    ...          [[0, 1], [1, 2], [2, 3], [3, 0]], [2, 1, 1, 1], 1, None,
+    ...          point_data={"depth": [5.0, 5.0, 4.0, 4.0]},
+    ...          boundary_kinds={1: "shoreline", 2: "open"})
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "fort.14"
+    >>> write_fort14(path, m)
+    >>> from coastmesh.io.adcirc import read_fort14
+    >>> grid = read_fort14(path)
+    >>> grid["elements"].tolist(), grid["depth"].tolist()
+    ([[1, 2, 3], [1, 3, 4]], [5.0, 5.0, 4.0, 4.0])
+    >>> [(b["nodes"].tolist(), b["ibtypee"]) for b in grid["open_boundaries"]]
+    [([1, 2], 0)]
+    >>> [(b["nodes"].tolist(), b["ibtype"]) for b in grid["land_boundaries"]]
+    [([2, 3, 4, 1], 0)]
+    """
+    _write_grid(
+        path, mesh, "fort14", overwrite=overwrite, positive=positive, title=title
+    )
+
+
+def write_gr3(
+    path: str | os.PathLike[str],
+    mesh: Mesh,
+    *,
+    overwrite: bool = False,
+    positive: str = "down",
+    title: str | None = None,
+) -> None:
+    """Write a mesh as a SCHISM ``hgrid.gr3`` with its boundary segments.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The output file, such as ``hgrid.gr3`` (or ``hgrid.ll`` in degrees).
+    mesh : Mesh
+        The mesh; as for :func:`write_fort14`.
+    overwrite : bool, default False
+        Whether an existing file may be replaced.
+    positive : {"down", "up"}, default "down"
+        Sign of the written depth: SCHISM's depth is positive down.
+    title : str, optional
+        The first line, one line; SCHISM ignores it.
+
+    Raises
+    ------
+    FormatError
+        As :func:`write_fort14`.
+    ConfigError
+        If ``positive`` or ``title`` is invalid.
+    OutputExistsError
+        If ``path`` exists and ``overwrite`` is false.
+
+    Warns
+    -----
+    CoastmeshWarning
+        If the mesh has no ``depth`` point data (zeros are written).
+
+    Notes
+    -----
+    As :func:`write_fort14`, with SCHISM's conventions (``hgrid.md``): an open
+    segment header holds the node count only; land segments have flag ``0``
+    (land) or ``1`` (island); an island lists its nodes without repeating the
+    first one; a whole ring of one id with no other boundary on it (no open
+    boundary at all, or a fully open ring) is split into two segments that share
+    their end nodes. Counts carry SCHISM's comments (``= Number of open
+    boundaries``, ...), which SCHISM and ADCIRC both skip.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> m = Mesh([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1, 2], [0, 2, 3]],
+    ...          [[0, 1], [1, 2], [2, 3], [3, 0]], [1, 1, 1, 1], 1, None,
+    ...          point_data={"depth": [5.0, 5.0, 4.0, 4.0]},
+    ...          boundary_kinds={1: "shoreline"})
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "hgrid.gr3"
+    >>> write_gr3(path, m)
+    >>> from coastmesh.io.adcirc import read_fort14
+    >>> land = read_fort14(path)["land_boundaries"]
+    >>> [(b["nodes"].tolist(), b["ibtype"]) for b in land]
+    [([1, 2, 3], 0), ([3, 4, 1], 0)]
+    """
+    _write_grid(path, mesh, "gr3", overwrite=overwrite, positive=positive, title=title)
+
+
+def _write_grid(
+    path: str | os.PathLike[str],
+    mesh: Mesh,
+    flavour: str,
+    *,
+    overwrite: bool,
+    positive: str,
+    title: str | None,
+) -> None:
+    """Check everything, then write a fort.14 (``flavour="fort14"``) or gr3."""
+    check_mesh(mesh)
+    name = os.fspath(path)
+    depth = node_depth(mesh, name, positive=positive, stacklevel=4)
+    line = _title(mesh, title)
+    kinds = require_kinds(mesh, name)
+    open_segments, land_segments = _segments(mesh, name, kinds, flavour)
+    n, m = len(mesh.points), len(mesh.triangles)
+    with atomic_write(path, overwrite=overwrite) as tmp, open(tmp, "wb") as handle:
+        put_lines(handle, line, f"{m} {n}")
+        write_table(
+            handle,
+            [
+                (np.arange(1, n + 1), None),
+                (mesh.points[:, 0], SIGNIFICANT),
+                (mesh.points[:, 1], SIGNIFICANT),
+                (depth, SIGNIFICANT),
+            ],
+        )
+        write_table(
+            handle,
+            [(np.arange(1, m + 1), None), (np.full(m, 3), None)]
+            + [(mesh.triangles[:, k] + 1, None) for k in range(3)],
+        )
+        for word, segments in (("open", open_segments), ("land", land_segments)):
+            put_lines(
+                handle,
+                f"{len(segments)} = Number of {word} boundaries",
+                f"{sum(len(s[0]) for s in segments)} = Total number of {word} "
+                "boundary nodes",
+            )
+            for k, (nodes, code, label) in enumerate(segments, start=1):
+                put_lines(
+                    handle,
+                    f"{len(nodes)}{code} = Number of nodes for {word} boundary {k}"
+                    f"{label}",
+                )
+                write_table(handle, [(nodes + 1, None)])
+    logger.debug(
+        "wrote %s (%s): %d nodes, %d triangles, %d open and %d land segments",
+        name,
+        flavour,
+        n,
+        m,
+        len(open_segments),
+        len(land_segments),
+    )
+
+
+def _segments(
+    mesh: Mesh, name: str, kinds: dict[int, str], flavour: str
+) -> tuple[list[_Segment], list[_Segment]]:
+    """Return the open and the land segments: (nodes, type after count, label)."""
+    # IBTYPEE = 0: elevation specified; SCHISM's open header holds the count only
+    open_code = " 0" if flavour == "fort14" else ""
+    opened: list[_Segment] = []
+    land: list[_Segment] = []
+    for string in mesh_boundary_strings(mesh, name):
+        label = _label(mesh, string.physical_id)
+        is_open = kinds[string.physical_id] == "open"
+        island = string.closed and not string.exterior and not is_open
+        for nodes in _pieces(string, flavour, island=island):
+            if is_open:
+                opened.append((nodes, open_code, label))
+            else:
+                land.append((nodes, f" {1 if island else 0}", label))
+    return opened, land
+
+
+def _pieces(
+    string: BoundaryString, flavour: str, *, island: bool
+) -> Iterator[NDArray[np.int64]]:
+    """Yield the node lists (0-based) that a boundary string is written as."""
+    nodes = string.nodes
+    if not string.closed:
+        yield nodes
+    elif flavour == "fort14":
+        # ADCIRC: islands and boundaries surrounding the domain are closed by
+        # repeating the first node as the last node
+        yield np.append(nodes, nodes[0])
+    elif island:
+        # SCHISM hgrid.md: the last island node differs from the first
+        yield nodes
+    else:
+        # SCHISM hgrid.md: a ring with no other boundary is two linked segments
+        half = len(nodes) // 2
+        yield nodes[: half + 1]
+        yield np.append(nodes[half:], nodes[0])
+
+
+def _label(mesh: Mesh, pid: int) -> str:
+    name = mesh.boundary_names.get(pid)
+    return f": id {pid}" + (f" {' '.join(name.split())}" if name else "")
+
+
+def _title(mesh: Mesh, title: str | None) -> str:
+    if title is None:
+        epsg = mesh.crs.to_epsg() if mesh.crs is not None else None
+        return "coastmesh" + (f" EPSG:{epsg}" if epsg else "")
+    if not isinstance(title, str) or "\n" in title or "\r" in title:
+        raise ConfigError(f"title={title!r}: expected a string of one line")
+    return title

@@ -1,0 +1,129 @@
+"""Rasters as plain arrays: checked axes, values and CRS, and bilinear sampling.
+
+A raster here is an :class:`xarray.DataArray` with dims ``("y", "x")``, 1-D
+cell-centre coordinates and a ``crs`` attribute (WKT), as
+:func:`coastmesh.io.read_raster` returns it; NaN marks missing cells. The sizing
+and node-depth steps unpack it once with :func:`raster_grid` and sample it with
+:func:`interpolate_bilinear`.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from pyproj import CRS
+from scipy.interpolate import RegularGridInterpolator
+
+from coastmesh.errors import ConfigError
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+__all__ = ["interpolate_bilinear", "raster_grid"]
+
+
+def raster_grid(
+    raster: xr.DataArray,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], CRS]:
+    """Unpack a raster into its axes, values and CRS, both axes ascending.
+
+    Parameters
+    ----------
+    raster : xarray.DataArray
+        Dims ``("y", "x")``, 1-D cell-centre coordinates, a ``crs`` attribute;
+        rows north-up or south-up.
+
+    Returns
+    -------
+    x : ndarray of shape (nx,)
+        Cell-centre x coordinates, increasing, float64.
+    y : ndarray of shape (ny,)
+        Cell-centre y coordinates, increasing, float64.
+    values : ndarray of shape (ny, nx)
+        The cells, float64, flipped with the axes so that ``values[j, i]`` is
+        at ``(x[i], y[j])``; a new array when a flip or a cast was needed, a
+        view of the raster's data otherwise.
+    crs : pyproj.CRS
+        From the ``crs`` attribute.
+
+    Raises
+    ------
+    ConfigError
+        If the dims are not ``("y", "x")``, there is no ``crs`` attribute, or
+        an axis is not strictly monotonic.
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> r = xr.DataArray([[1.0, 2.0], [3.0, 4.0]], dims=("y", "x"),
+    ...                  coords={"y": [10.0, 0.0], "x": [0.0, 1.0]},
+    ...                  attrs={"crs": "EPSG:4326"})
+    >>> x, y, values, crs = raster_grid(r)
+    >>> y.tolist(), values.tolist(), crs.to_epsg()
+    ([0.0, 10.0], [[3.0, 4.0], [1.0, 2.0]], 4326)
+    """
+    dims = tuple(raster.dims)
+    if dims != ("y", "x"):
+        raise ConfigError(f"raster dims {dims}: expected ('y', 'x')")
+    if "crs" not in raster.attrs:
+        raise ConfigError(
+            "raster has no 'crs' attribute: give the CRS of its coordinates (WKT)"
+        )
+    values = np.asarray(raster.values, dtype=np.float64)
+    axes = []
+    for axis, dim in enumerate(dims):
+        coords = np.asarray(raster[dim].values, dtype=np.float64)
+        if len(coords) > 1 and coords[0] > coords[-1]:
+            coords, values = coords[::-1], np.flip(values, axis)
+        if not (np.diff(coords) > 0).all():
+            raise ConfigError(
+                f"raster {dim} coordinates are not strictly monotonic: cell centres "
+                "must increase or decrease along each axis"
+            )
+        axes.append(coords)
+    y, x = axes
+    return x, y, values, CRS.from_user_input(raster.attrs["crs"])
+
+
+def interpolate_bilinear(
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    values: NDArray[np.float64],
+    px: ArrayLike,
+    py: ArrayLike,
+) -> NDArray[np.float64]:
+    """Interpolate a grid bilinearly between its cell centres.
+
+    Parameters
+    ----------
+    x, y : ndarray of shape (nx,), (ny,)
+        Cell-centre coordinates, increasing (as :func:`raster_grid` returns them).
+    values : ndarray of shape (ny, nx)
+        The cells; NaN where missing.
+    px, py : array_like of the same shape
+        Where to interpolate, in the grid's CRS.
+
+    Returns
+    -------
+    ndarray of the shape of ``px``
+        NaN outside the cell centres, next to a missing cell, and everywhere
+        when the grid has fewer than two cells along an axis.
+
+    Examples
+    --------
+    >>> grid = np.array([[0.0, 10.0], [20.0, 30.0]])
+    >>> interpolate_bilinear(np.array([0.0, 1.0]), np.array([0.0, 1.0]), grid,
+    ...                      [0.5, 2.0], [0.5, 0.5]).tolist()
+    [15.0, nan]
+    """
+    px, py = np.broadcast_arrays(
+        np.asarray(px, dtype=np.float64), np.asarray(py, dtype=np.float64)
+    )
+    if len(x) < 2 or len(y) < 2:
+        return np.full(px.shape, np.nan)
+    interpolate = RegularGridInterpolator(
+        (y, x), values, method="linear", bounds_error=False, fill_value=np.nan
+    )
+    return interpolate(np.column_stack([py.ravel(), px.ravel()])).reshape(px.shape)

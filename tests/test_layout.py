@@ -1,0 +1,96 @@
+"""The package layout: imports point one way, no private names across packages,
+small modules.
+
+The layers are an import-linter contract in ``pyproject.toml``; this runs it, so
+the README's test command (and CI) enforces it.
+"""
+
+from __future__ import annotations
+
+import ast
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).parents[1]
+PACKAGE = ROOT / "src" / "coastmesh"
+MAX_LINES = 500
+
+
+def _modules() -> list[Path]:
+    return sorted(p for p in PACKAGE.rglob("*.py") if "__pycache__" not in p.parts)
+
+
+def test_import_contracts_hold():
+    """pca -> geometry -> sizing -> meshing -> io -> plot -> case -> commands -> cli."""
+    command = shutil.which("lint-imports") or str(
+        Path(sys.executable).parent / "lint-imports"
+    )
+    run = subprocess.run(
+        [command, "--no-cache", str(ROOT / "pyproject.toml")],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "0 broken" in run.stdout
+
+
+def _package_of(module: str) -> str:
+    """``coastmesh.io.msh`` -> ``io``; top-level modules are their own package."""
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else ""
+
+
+@pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_no_private_names_across_packages(path):
+    here = _package_of(
+        "coastmesh." + ".".join(path.relative_to(PACKAGE).with_suffix("").parts)
+    )
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and (node.module or "").startswith(
+            "coastmesh"
+        ):
+            module = node.module
+            if _package_of(module) == here:
+                continue
+            private = [p for p in module.split(".") if p.startswith("_")]
+            names = [a.name for a in node.names if a.name.startswith("_")]
+            names = [n for n in names if n != "__version__"]
+            assert not private and not names, (
+                f"{path.relative_to(ROOT)}:{node.lineno} imports private "
+                f"{module} {names}"
+            )
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if (
+                    alias.name.startswith("coastmesh")
+                    and _package_of(alias.name) != here
+                ):
+                    assert not any(p.startswith("_") for p in alias.name.split(".")), (
+                        f"{path.relative_to(ROOT)}:{node.lineno} imports {alias.name}"
+                    )
+
+
+def test_modules_are_small():
+    sizes = {
+        str(p.relative_to(PACKAGE)): len(p.read_text(encoding="utf-8").splitlines())
+        for p in _modules()
+    }
+    large = {name: n for name, n in sizes.items() if n > MAX_LINES}
+    assert not large, f"modules over {MAX_LINES} lines: {large}"
+
+
+def test_no_loose_modules_beside_the_stage_packages():
+    loose = sorted(
+        p.name
+        for p in PACKAGE.glob("*.py")
+        if p.name not in {"__init__.py", "__main__.py", "errors.py"}
+    )
+    assert loose == [], loose
