@@ -90,6 +90,17 @@ def example_run(tmp_path_factory):
     return result, out
 
 
+def assert_clean_failure(result, *expected: str, code: int = 1) -> None:
+    """A command failed cleanly: exit ``code``, the ``expected`` texts, no traceback.
+
+    ``result`` is what :func:`run_cli` returns (click's ``Result``).
+    """
+    assert result.exit_code == code, result.output
+    assert "Traceback" not in result.output
+    for text in expected:
+        assert text in result.output, (text, result.output)
+
+
 @pytest.fixture
 def run_cli():
     """Call the ``coastmesh`` group in-process; return click's Result."""

@@ -9,19 +9,12 @@ import pytest
 import rasterio
 import xarray as xr
 from affine import Affine
-from conftest import ORKNEY_RASTER_BBOX
+from conftest import ORKNEY_RASTER_BBOX, assert_clean_failure
 
 from coastmesh import __version__
 from coastmesh.io.raster import read_raster
 
 BBOX = [str(v) for v in ORKNEY_RASTER_BBOX]
-
-
-def assert_clean_failure(result, *expected: str, code: int = 1) -> None:
-    assert result.exit_code == code, result.output
-    assert "Traceback" not in result.output
-    for text in expected:
-        assert text in result.output, (text, result.output)
 
 
 def test_simplify_geotiff(run_cli, orkney_tif, tmp_path, folder_listing):

@@ -8,21 +8,13 @@ import numpy as np
 import pyogrio
 import pytest
 import shapely
-from conftest import ORKNEY_BBOX
+from conftest import ORKNEY_BBOX, assert_clean_failure
 
 from coastmesh import __version__
 from coastmesh.errors import InputDataError
 from coastmesh.io.vector import read_features
 
 BBOX = [str(v) for v in ORKNEY_BBOX]
-
-
-def assert_clean_failure(result, *expected: str, code: int = 1) -> None:
-    """Non-zero exit, a message naming what is wrong, no traceback."""
-    assert result.exit_code == code, result.output
-    assert "Traceback" not in result.output
-    for text in expected:
-        assert text in result.output, (text, result.output)
 
 
 def test_simplify_a_clip(run_cli, orkney_geojson, tmp_path, folder_listing):

@@ -15,7 +15,7 @@ from coastmesh.errors import MeshingError
 from coastmesh.meshing import default_mesh_crs, generate_mesh, sample_size
 from coastmesh.meshing.boundary import SmallIslandWarning
 from coastmesh.meshing.engine import _gmsh_session
-from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
+from coastmesh.types import BoundarySegment, Domain, SizeGrid
 
 OUTER = np.array([[0, 0], [10000, 0], [10000, 10000], [0, 10000], [0, 0]], float)
 ISLAND = np.array(
@@ -212,50 +212,6 @@ def test_importing_the_meshing_package_does_not_import_gmsh():
         [sys.executable, "-c", code], capture_output=True, text=True, check=True
     )
     assert out.stdout.strip() == "False"
-
-
-# --- types -----------------------------------------------------------------
-
-
-def test_domain_refuses_segments_that_do_not_cover_the_rings():
-    polygon = shapely.Polygon(OUTER, [ISLAND])
-    sides = tuple(BoundarySegment(OUTER[i : i + 2], "open", "s", 1) for i in range(4))
-    with pytest.raises(ValueError, match=r"[12] closed rings"):
-        Domain(polygon, sides, crs="EPSG:32630")
-    with pytest.raises(ValueError, match="does not close"):
-        Domain(polygon, sides[:2] + sides[3:], crs="EPSG:32630")
-    shifted = BoundarySegment(ISLAND + 100, "shoreline", "i", 5)
-    with pytest.raises(ValueError, match="differ"):
-        Domain(polygon, sides + (shifted,), crs="EPSG:32630")
-
-
-@pytest.mark.parametrize(
-    ("kwargs", "match"),
-    [
-        ({"coords": [[0, 0]]}, "shape"),
-        ({"kind": "river"}, "kind"),
-        ({"physical_id": 0}, "physical_id"),
-    ],
-)
-def test_boundary_segment_checks(kwargs, match):
-    args = {"coords": [[0, 0], [1, 1]], "kind": "open", "name": "s", "physical_id": 1}
-    with pytest.raises(ValueError, match=match):
-        BoundarySegment(**(args | kwargs))
-
-
-def test_mesh_and_size_grid_checks():
-    with pytest.raises(ValueError, match=r"indices in \[0, 3\]"):
-        Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 3]], [[0, 1]], [1], 1, None)
-    with pytest.raises(ValueError, match="boundary_ids has 2 values"):
-        Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [[0, 1]], [1, 1], 1, None)
-    with pytest.raises(ValueError, match="point_data"):
-        Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [], [], 1, None, {"d": [1.0]})
-    with pytest.raises(ValueError, match="values has shape"):
-        SizeGrid([0, 1], [0, 1, 2], np.ones((2, 2)))
-    with pytest.raises(ValueError, match="ascending"):
-        SizeGrid([1, 0], [0, 1], np.ones((2, 2)))
-    with pytest.raises(ValueError, match="> 0"):
-        SizeGrid([0, 1], [0, 1], np.zeros((2, 2)))
 
 
 # --- real data: Mainland Orkney as an island in a box --------------------------

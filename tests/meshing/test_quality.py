@@ -1,4 +1,4 @@
-"""Mesh quality on the Earth: fast code against a geodesic loop, files, figures."""
+"""Mesh quality on the Earth: fast code against a geodesic loop, and as data."""
 
 from __future__ import annotations
 
@@ -22,7 +22,6 @@ from coastmesh.io.msh import write_msh
 from coastmesh.meshing import generate_mesh
 from coastmesh.meshing import quality as quality_module
 from coastmesh.meshing.quality import edge_quality, mesh_quality, triangle_quality
-from coastmesh.plot.quality import depth_figure, quality_figure
 from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
 
 GEOD = Geod(ellps="WGS84")
@@ -428,37 +427,3 @@ def test_report_agrees_with_the_msh_file_read_by_meshio(which, request, tmp_path
     assert len(report.all_boundary_triangles) == all_boundary
     if which == "grid":
         assert all_boundary == 2
-
-
-# --- figures ---------------------------------------------------------------------
-
-
-def test_quality_figure_builds_and_saves(lonlat_mesh, tmp_path):
-    report = mesh_quality(lonlat_mesh)
-    figure = quality_figure(lonlat_mesh, report, title="test")
-    assert len(figure.axes) == 3
-    assert figure.axes[2].get_xscale() == "log"
-    bars = figure.axes[0].patches[0]  # the minimum-angle histogram
-    assert bars.get_data().values.sum() == len(lonlat_mesh.triangles)
-    figure.savefig(tmp_path / "quality.png")
-    assert (tmp_path / "quality.png").stat().st_size > 1000
-    assert len(quality_figure(grid_mesh()).axes) == 2  # no size, no edge panel
-
-
-def test_depth_figure_builds_and_saves(lonlat_mesh, tmp_path):
-    lon, lat = lonlat_mesh.points.T
-    depth = 10 + 1000 * (lon - lon.min())
-    depth[0] = np.nan
-    mesh = lonlat_mesh.with_point_data(depth=depth)
-    figure = depth_figure(mesh, title="depth")
-    assert len(figure.axes) == 2  # the map and its colour bar
-    ax, bar = figure.axes
-    assert ax.get_xlabel().startswith("longitude")
-    assert ax.get_aspect() == pytest.approx(
-        1 / math.cos(math.radians(lat.mean())), 1e-2
-    )
-    assert "positive down" in bar.get_ylabel()
-    figure.savefig(tmp_path / "depth.png")
-    assert (tmp_path / "depth.png").stat().st_size > 1000
-    with pytest.raises(ValueError, match="no 'depth'"):
-        depth_figure(lonlat_mesh)

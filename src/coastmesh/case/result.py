@@ -6,7 +6,7 @@ import dataclasses
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import shapely
@@ -220,6 +220,13 @@ class CaseResult:
     def size_grid(self) -> SizeGrid:
         """The size field as a :class:`~coastmesh.types.SizeGrid` (mesh CRS)."""
         return SizeGrid.from_dataarray(self.size)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Return the report as data, with where it was written and the time."""
+        return self.report.to_dict() | {
+            "output": None if self.output is None else str(self.output),
+            "seconds_total": self.seconds,
+        }
 
     def summary(self) -> str:
         """Return a one-line summary."""

@@ -14,7 +14,7 @@ from coastmesh.data import path as data_path
 from coastmesh.errors import CoastmeshWarning
 from coastmesh.geometry import ShorelineReport
 from coastmesh.io import atomic_directory
-from coastmesh.types import Progress
+from coastmesh.types import Progress, Report
 
 __all__ = ["DemoStep", "run_demo"]
 
@@ -22,7 +22,7 @@ logger = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True, slots=True)
-class DemoStep:
+class DemoStep(Report):
     """One output set of :func:`run_demo`.
 
     Attributes
@@ -32,12 +32,16 @@ class DemoStep:
     outputs : tuple of str
         File names written into the demo folder (data, then plot).
     report : ShorelineReport, RasterReport or CaseResult
-        What the step did (each has ``summary()``).
+        What the step did (each has ``summary()`` and ``to_dict()``).
     """
 
     title: str
     outputs: tuple[str, ...]
     report: Any
+
+    def summary(self) -> str:
+        """Return a one-line summary: the title and the step's own summary."""
+        return f"{self.title}: {self.report.summary()}"
 
 
 def run_demo(

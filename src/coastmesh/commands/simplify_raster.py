@@ -25,7 +25,7 @@ from coastmesh.commands._common import (
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.io import AtomicOutputs, check_bbox, raster_driver
 from coastmesh.pca import check_modes, check_window_2d, simplify_raster
-from coastmesh.types import Progress
+from coastmesh.types import Progress, Report
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -157,7 +157,7 @@ def _raster_crs(raster: xr.DataArray, crs: CRS | None, src: PathLike) -> str:
 
 
 @dataclass(frozen=True, slots=True)
-class RasterReport:
+class RasterReport(Report):
     """What :func:`simplify_raster_file` did.
 
     Attributes

@@ -35,8 +35,6 @@ passes (covariance, then reconstruction), so working memory stays bounded. Cost:
 
 from __future__ import annotations
 
-from collections.abc import Callable
-
 import numpy as np
 import scipy.fft
 from numpy.typing import ArrayLike, NDArray
@@ -45,6 +43,7 @@ from coastmesh.errors import ConfigError
 from coastmesh.pca._block import Block, cover_counts
 from coastmesh.pca._eigen import centred_covariance, leading_eigenvectors
 from coastmesh.pca.checks import check_modes, check_window_2d
+from coastmesh.types import Progress
 
 __all__ = ["raster_modes", "simplify_raster"]
 
@@ -56,7 +55,7 @@ def simplify_raster(
     window: int | tuple[int, int],
     modes: int,
     *,
-    progress: Callable[[int, int], None] | None = None,
+    progress: Progress | None = None,
     out: NDArray[np.float64] | None = None,
 ) -> NDArray[np.float64]:
     """Approximate a raster from the leading PCA modes of its windows.

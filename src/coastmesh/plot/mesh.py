@@ -107,7 +107,8 @@ def mesh_figure(
     mesh : coastmesh.meshing.Mesh
         The mesh.
     names : dict of int to str, optional
-        Names of the boundary ids for the legend.
+        Names of the boundary ids for the legend; default
+        ``mesh.boundary_names``.
     title : str, optional
         Figure title.
 
@@ -130,7 +131,8 @@ def mesh_figure(
     _draw_mesh(ax, points, mesh, mesh.triangles, colours, linewidth=1.2)
     bounds = (*points.min(axis=0), *points.max(axis=0))
     _frame(ax, bounds, mesh.crs)
-    _legend(ax, {int(i): (names or {}).get(int(i), "") for i in ids}, colours)
+    labels = {**mesh.boundary_names, **(names or {})}
+    _legend(ax, {int(i): labels.get(int(i), "") for i in ids}, colours)
     ax.set_title(
         (title or "mesh")
         + f": {len(points):,} nodes, {len(mesh.triangles):,} triangles{note}"
@@ -228,7 +230,8 @@ def mercator_figure(
     detail : (lon_min, lat_min, lon_max, lat_max), optional
         The detail box in longitude/latitude; none: the whole mesh only.
     names : dict of int to str, optional
-        Names of the boundary ids for the legend.
+        Names of the boundary ids for the legend; default
+        ``mesh.boundary_names``.
     title : str, optional
         Figure title.
 
@@ -276,7 +279,8 @@ def mercator_figure(
         axes[0].add_patch(
             Rectangle((x0, y0), x1 - x0, y1 - y0, fill=False, edgecolor="k", lw=1.2)
         )
-    _legend(axes[0], {int(i): (names or {}).get(int(i), "") for i in ids}, colours)
+    labels = {**mesh.boundary_names, **(names or {})}
+    _legend(axes[0], {int(i): labels.get(int(i), "") for i in ids}, colours)
     if title:
         figure.suptitle(title)
     return figure

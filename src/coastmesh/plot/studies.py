@@ -45,7 +45,7 @@ def overlay_figure(
     original: NDArray[np.object_],
     layers: list[tuple[str, NDArray[np.object_]]],
     *,
-    crs: CRS,
+    crs: CRS | str,
     detail: tuple[float, float, float, float],
     view: str = "whole",
     label: str = "original",
@@ -58,7 +58,7 @@ def overlay_figure(
         The shoreline.
     layers : list of (str, ndarray of shapely geometries)
         Each reconstruction and its legend entry.
-    crs : pyproj.CRS
+    crs : pyproj.CRS or str
         The coordinates' CRS (axis labels and aspect).
     detail : (minx, miny, maxx, maxy)
         The detail box: drawn dashed on the whole view, the extent of the
@@ -75,6 +75,7 @@ def overlay_figure(
     from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
 
+    crs = as_crs(crs)
     box, width = (total_bounds(original), 0.5) if view == "whole" else (detail, 1.2)
     ratio = (box[2] - box[0]) / x_stretch(crs, box) / (box[3] - box[1])
     figure = Figure(figsize=(min(max(9 * ratio, 5), 16) + 2, 9), layout="constrained")

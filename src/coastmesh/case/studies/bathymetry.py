@@ -21,7 +21,6 @@ import logging
 import re
 import time
 from collections.abc import Callable
-from contextlib import AbstractContextManager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -32,6 +31,7 @@ from numpy.typing import NDArray
 from coastmesh.case import schema
 from coastmesh.case.schema import Table
 from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.types import Report, StageFactory
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -44,9 +44,6 @@ __all__ = [
 ]
 
 logger = logging.getLogger(__name__)
-
-Progress = Callable[[int, int], None]
-StageFactory = Callable[[str], AbstractContextManager[Progress]]
 
 _PREFIX = re.compile(r"[A-Za-z0-9_.-]+")
 _COLUMNS = ("modes", "rms_m", "max_abs_diff_m", "energy_fraction", "seconds")
@@ -84,7 +81,7 @@ class BathymetryStudyConfig:
 
 
 @dataclass(frozen=True, slots=True)
-class BathymetryStudyResult:
+class BathymetryStudyResult(Report):
     """What :func:`run_study` made.
 
     Attributes

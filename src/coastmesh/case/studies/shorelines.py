@@ -27,7 +27,6 @@ within half the spacing.
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import json
 import logging
@@ -53,6 +52,7 @@ from coastmesh.geometry.earth import metres_per_unit, reproject, reproject_point
 from coastmesh.io import read_features, write_features
 from coastmesh.plot.base import detail_bounds, save_figure
 from coastmesh.plot.studies import overlay_figure
+from coastmesh.types import Report, StageFactory
 
 __all__ = [
     "ReconstructionConfig",
@@ -63,9 +63,6 @@ __all__ = [
 ]
 
 logger = logging.getLogger(__name__)
-
-Progress = Callable[[int, int], None]
-StageFactory = Callable[[str], contextlib.AbstractContextManager[Progress]]
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 #: line colours of the reconstructions, in order (figure 2 and the NW shelf cases)
@@ -123,7 +120,7 @@ class ShorelineStudyConfig:
 
 
 @dataclass(frozen=True, slots=True)
-class ShorelineStudyResult:
+class ShorelineStudyResult(Report):
     """What :func:`run_study` wrote: file names (relative to the folder), the rows."""
 
     files: tuple[str, ...]

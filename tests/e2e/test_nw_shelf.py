@@ -14,7 +14,7 @@ from coastmesh.case import run_case
 from coastmesh.geometry import densify_long_edges
 from coastmesh.io.msh import read_msh
 
-CASES = Path(__file__).parents[1] / "examples" / "nw_european_shelf"
+CASES = Path(__file__).parents[2] / "examples" / "nw_european_shelf"
 
 
 def _run(name: str, tmp_path: Path):

@@ -25,7 +25,7 @@ from coastmesh.case.studies.shorelines import (
 from coastmesh.errors import ConfigError
 from coastmesh.io import read_features, write_features
 
-ROOT = Path(__file__).parents[2]
+ROOT = Path(__file__).parents[3]
 EXAMPLE = ROOT / "examples" / "norway" / "sognefjorden.toml"
 # mouth of Sognefjorden, as tests/conftest.py NORWAY_BBOX (repeated: no package import)
 BBOX = [4.8, 60.9, 5.6, 61.3]

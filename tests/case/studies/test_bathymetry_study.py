@@ -28,9 +28,8 @@ from coastmesh.case.studies.bathymetry import (
 )
 from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError, InputDataError
-from coastmesh.plot.studies import relief_maps_figure, relief_surfaces_figure
 
-EXAMPLE = Path(__file__).parents[2] / "examples" / "orkney_bathymetry" / "orkney.toml"
+EXAMPLE = Path(__file__).parents[3] / "examples" / "orkney_bathymetry" / "orkney.toml"
 BBOX = (-4.0, 58.0, -2.0, 60.0)  # 21 x 21 cells around Orkney and Caithness
 MODES = (1, 16, 32, 48)
 FILES = {
@@ -251,34 +250,3 @@ def test_too_small_a_raster_is_refused(tmp_path):
         match=r"orkney_wide.tif: 5 x 5 cells is smaller than one window \(window = 8\)",
     ):
         run_study(config, tmp_path, _quiet)
-
-
-# figures
-
-
-def test_maps_share_one_colour_scale(study):
-    _, folder, _, _ = study
-    from coastmesh.io import read_raster
-
-    raster = read_raster(folder / "orkney_r64.tif")
-    panels = [("1 mode", raster.values - 100.0), ("input", raster.values)]
-    figure = relief_maps_figure(raster, panels)
-    images = [ax.images[0] for ax in figure.axes if ax.images]
-    assert len(images) == 2
-    assert len({(im.norm.vmin, im.norm.vmax) for im in images}) == 1
-    assert images[0].norm.vmin == pytest.approx(float(raster.min()) - 100.0)
-    assert images[0].get_extent() == pytest.approx([-4.05, -1.95, 57.95, 60.05])
-    assert figure.axes[0].get_xlabel().startswith("longitude")
-
-
-def test_surfaces_are_3d_with_the_exaggeration_noted(study):
-    _, folder, _, _ = study
-    from coastmesh.io import read_raster
-
-    raster = read_raster(folder / "orkney_r64.tif")
-    figure = relief_surfaces_figure(
-        raster, [("a", raster.values), ("b", raster.values)]
-    )
-    assert [ax.name for ax in figure.axes] == ["3d", "3d"]
-    assert all(len(ax.collections) == 1 for ax in figure.axes)
-    assert "vertical exaggeration x" in figure.get_suptitle()

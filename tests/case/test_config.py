@@ -151,7 +151,7 @@ def test_missing_tables_and_bad_toml(tmp_path):
 
 
 def test_example_cases_parse():
-    examples = sorted(Path(__file__).parents[1].glob("examples/*/*.toml"))
+    examples = sorted(Path(__file__).parents[2].glob("examples/*/*.toml"))
     assert examples
     from coastmesh.case import StudyCase
 
@@ -168,7 +168,7 @@ def test_packaged_demo_case_is_the_example():
     from coastmesh.data import path as data_path
 
     example = read_case(
-        Path(__file__).parents[1] / "examples/orkney/pentland_firth.toml"
+        Path(__file__).parents[2] / "examples/orkney/pentland_firth.toml"
     )
     packaged = read_case(data_path("pentland_firth.toml"))
     # the installed package and the repository may be different folders: compare

@@ -1,0 +1,74 @@
+"""Figures of a case: domain, mesh, size field, Mercator view."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import shapely
+import xarray as xr
+
+from coastmesh.geometry import reproject_points
+from coastmesh.plot import domain_figure, mercator_figure, mesh_figure, size_figure
+from coastmesh.types import BoundarySegment, Domain, Mesh
+
+
+def _legend(ax) -> list[str]:
+    return [t.get_text() for t in ax.get_legend().get_texts()]
+
+
+def test_domain_figure_colours_each_id():
+    ring = [[0, 0], [1000, 0], [1000, 1000], [0, 1000], [0, 0]]
+    domain = Domain(
+        shapely.Polygon(ring),
+        (
+            BoundarySegment(ring[:2], "open", "south", 2),
+            BoundarySegment(ring[1:], "shoreline", "coast", 1),
+        ),
+        crs="EPSG:32630",
+    )
+    (ax,) = domain_figure(domain, title="square").axes
+    assert _legend(ax) == ["1: coast", "2: south"]
+    (lines,) = ax.collections
+    assert len({tuple(c) for c in lines.get_colors()}) == 2
+
+
+def test_mesh_figure_names_ids_from_the_mesh(mesh_with_islands):
+    figure = mesh_figure(mesh_with_islands, title="islands")
+    (ax,) = figure.axes
+    assert _legend(ax) == ["1: coast", "2: south", "3: rock"]
+    assert f"{len(mesh_with_islands.triangles):,} triangles" in ax.get_title()
+    (ax,) = mesh_figure(mesh_with_islands, names={3: "skerry"}).axes
+    assert _legend(ax)[2] == "3: skerry"
+
+
+def test_size_figure_is_logarithmic():
+    field = xr.DataArray(
+        np.geomspace(100.0, 10_000.0, 12).reshape(3, 4),
+        dims=("y", "x"),
+        coords={"y": [0.0, 1e3, 2e3], "x": [0.0, 1e3, 2e3, 3e3]},
+        attrs={"crs": "EPSG:32630", "units": "m"},
+    )
+    figure = size_figure(field, title="size")
+    image = figure.axes[0].collections[0]
+    assert type(image.norm).__name__ == "LogNorm"
+    assert image.norm.vmin == pytest.approx(100.0)
+
+
+def test_mercator_figure_with_a_detail(mesh_with_islands):
+    m = mesh_with_islands
+    lonlat = Mesh(
+        reproject_points(m.points, m.crs, "EPSG:4326"),
+        m.triangles,
+        m.boundary_edges,
+        m.boundary_ids,
+        1,
+        "EPSG:4326",
+        boundary_names=m.boundary_names,
+    )
+    lon, lat = lonlat.points.mean(axis=0)
+    figure = mercator_figure(lonlat, detail=(lon - 0.01, lat - 0.01, lon, lat))
+    whole, detail = figure.axes
+    assert whole.get_xlabel().startswith("Mercator x")
+    assert detail.get_xlim()[1] - detail.get_xlim()[0] < 2.0  # km
+    with pytest.raises(ValueError, match="no CRS"):
+        mercator_figure(Mesh(m.points, m.triangles, [], [], 1, None))
