@@ -38,26 +38,19 @@ from pyproj import Geod, Transformer
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from reference import (  # noqa: E402
     distance_to_points_geodesic,
     limit_gradation_brute,
 )
+from timing import best_time  # noqa: E402
 
 from coastmesh.data import path as data_path  # noqa: E402
 from coastmesh.sizing import distance_to_lines, limit_gradation  # noqa: E402
 
 EXAMPLE = ROOT / "examples" / "orkney" / "pentland_firth.toml"
 GEOD = Geod(ellps="WGS84")
-
-
-def best_time(func, repeat: int = 3):
-    best, result = np.inf, None
-    for _ in range(repeat):
-        start = time.perf_counter()
-        result = func()
-        best = min(best, time.perf_counter() - start)
-    return best, result
 
 
 def bench_distance() -> None:

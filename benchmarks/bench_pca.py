@@ -31,19 +31,12 @@ import shapely
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from reference import simplify_contour_dense, simplify_raster_dense  # noqa: E402
+from timing import best_time  # noqa: E402
 
 from coastmesh.pca import simplify_contour, simplify_raster  # noqa: E402
-
-
-def best_time(func, repeat: int):
-    best, result = np.inf, None
-    for _ in range(repeat):
-        start = time.perf_counter()
-        result = func()
-        best = min(best, time.perf_counter() - start)
-    return best, result
 
 
 def rings_of(path: Path, min_points: int):

@@ -48,6 +48,37 @@ MODEL_EXTENSIONS = ("msh", "14", "gr3", "slf", "cli", "mesh", "nc", "vtu", "gpkg
 FIGURES = ("domain", "mesh", "size", "quality", "depth")
 
 
+#: the example's gradations made coarser: the same case, meshed in a few seconds
+COARSER = {
+    'h_min = "150 m"': 'h_min = "600 m"',
+    'h_min = "400 m"': 'h_min = "800 m"',
+    'h_min = "1 km"': 'h_min = "1.5 km"',
+}
+
+
+def coarse_example_text(**replace: str) -> str:
+    """The example case's text with :data:`COARSER` sizes and ``replace`` applied."""
+    text = EXAMPLE.read_text()
+    for old, new in (COARSER | replace).items():
+        assert old in text, old
+        text = text.replace(old, new)
+    return text
+
+
+def one_triangle(crs=None):
+    """A mesh of one right triangle with one boundary id: for argument checks."""
+    from coastmesh.types import Mesh
+
+    return Mesh(
+        [[0, 0], [1, 0], [0, 1]],
+        [[0, 1, 2]],
+        [[0, 1], [1, 2], [2, 0]],
+        [1, 1, 1],
+        1,
+        crs,
+    )
+
+
 @pytest.fixture(scope="session")
 def mesh_with_islands():
     """A Gmsh mesh of a 4 x 3 km square with two islands, with depth on its nodes.

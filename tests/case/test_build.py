@@ -9,23 +9,11 @@ import warnings
 
 import numpy as np
 import pytest
-from conftest import EXAMPLE
+from conftest import EXAMPLE, coarse_example_text
 
 import coastmesh
 from coastmesh.case import CaseResult, build_case, parse_case, read_case
 from coastmesh.errors import ConfigError, OutputExistsError
-
-
-def _coarse_text() -> str:
-    text = EXAMPLE.read_text()
-    for old, new in {
-        'h_min = "150 m"': 'h_min = "600 m"',
-        'h_min = "400 m"': 'h_min = "800 m"',
-        'h_min = "1 km"': 'h_min = "1.5 km"',
-    }.items():
-        assert old in text
-        text = text.replace(old, new)
-    return text
 
 
 @pytest.fixture(scope="module")
@@ -33,7 +21,7 @@ def coarse():
     """The example with coarser sizes, built in memory once."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", coastmesh.CoastmeshWarning)
-        return build_case(parse_case(_coarse_text(), EXAMPLE))
+        return build_case(parse_case(coarse_example_text(), EXAMPLE))
 
 
 def test_build_case_writes_nothing(tmp_path, monkeypatch):
@@ -43,7 +31,7 @@ def test_build_case_writes_nothing(tmp_path, monkeypatch):
     monkeypatch.chdir(work)
     monkeypatch.setattr(tempfile, "tempdir", str(scratch))
     monkeypatch.setenv("TMPDIR", str(scratch))
-    case = parse_case(_coarse_text(), EXAMPLE)
+    case = parse_case(coarse_example_text(), EXAMPLE)
     case = dataclasses.replace(case, output=tmp_path / "never")
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", coastmesh.CoastmeshWarning)
@@ -142,7 +130,7 @@ def test_a_case_built_in_python_writes_a_case_file_that_runs(coarse, tmp_path):
 def test_build_case_takes_text_paths_and_configs(tmp_path, monkeypatch):
     monkeypatch.chdir(EXAMPLE.parent)  # the example's relative paths
     with pytest.raises(ConfigError, match=r"unknown key 'mesh\.sed'"):
-        build_case(_coarse_text().replace("seed = 0", "sed = 0"))
+        build_case(coarse_example_text().replace("seed = 0", "sed = 0"))
     with pytest.raises(TypeError, match="expected a CaseConfig"):
         build_case(42)
     study = EXAMPLE.parents[1] / "norway" / "sognefjorden.toml"

@@ -186,48 +186,41 @@ def test_bad_options(run_cli, orkney_geojson, tmp_path, options, expected):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_missing_input(run_cli, tmp_path):
-    result = run_cli(
-        "simplify-shoreline", tmp_path / "nothing.shp", tmp_path / "c.gpkg"
+@pytest.mark.parametrize(
+    ("source", "out", "options", "expected"),
+    [
+        ("nothing.shp", "c.gpkg", (), ("nothing.shp", "file not found")),
+        ("orkney_tif", "c.gpkg", (), ("{source}", "not a vector file")),
+        ("orkney_geojson", "c.kml", (), ("c.kml", "unknown vector format", ".gpkg")),
+        ("orkney_geojson", "c.png", (), ("c.png", "unknown vector format", ".shp")),
+        ("orkney_geojson", "c", (), ("unknown vector format",)),
+        (
+            "orkney_geojson",
+            "c.gpkg",
+            ("--plot", "{tmp}/c.bmp"),
+            ("c.bmp", "unknown plot format", ".png"),
+        ),
+        (
+            "orkney_geojson",
+            "c.gpkg",
+            ("--bbox", "10", "10", "11", "11"),
+            ("{source}", "no features in bbox"),
+        ),
+    ],
+)
+def test_bad_inputs_fail_cleanly(
+    run_cli, request, tmp_path, source, out, options, expected
+):
+    """A clear message naming the file or option, exit 1, and nothing written."""
+    path = (
+        request.getfixturevalue(source)
+        if source.startswith("orkney")
+        else tmp_path / source
     )
-    assert_clean_failure(result, "nothing.shp", "file not found")
-    assert list(tmp_path.iterdir()) == []
-
-
-def test_input_is_not_vector(run_cli, orkney_tif, tmp_path):
-    result = run_cli("simplify-shoreline", orkney_tif, tmp_path / "c.gpkg")
-    assert_clean_failure(result, str(orkney_tif), "not a vector file")
-    assert list(tmp_path.iterdir()) == []
-
-
-@pytest.mark.parametrize("name", ["c.kml", "c.png", "c"])
-def test_unknown_output_format(run_cli, orkney_geojson, tmp_path, name):
-    result = run_cli("simplify-shoreline", orkney_geojson, tmp_path / name)
-    assert_clean_failure(result, name, "unknown vector format", ".gpkg", ".shp")
-    assert list(tmp_path.iterdir()) == []
-
-
-def test_unknown_plot_format(run_cli, orkney_geojson, tmp_path):
-    result = run_cli(
-        "simplify-shoreline",
-        orkney_geojson,
-        tmp_path / "c.gpkg",
-        "--plot",
-        tmp_path / "c.bmp",
-    )
-    assert_clean_failure(result, "c.bmp", "unknown plot format", ".png")
-    assert list(tmp_path.iterdir()) == []
-
-
-def test_empty_bbox(run_cli, orkney_geojson, tmp_path):
-    result = run_cli(
-        "simplify-shoreline",
-        orkney_geojson,
-        tmp_path / "c.gpkg",
-        "--bbox",
-        *("10", "10", "11", "11"),
-    )
-    assert_clean_failure(result, str(orkney_geojson), "no features in bbox")
+    fill = {"source": str(path), "tmp": str(tmp_path)}
+    options = [o.format(**fill) for o in options]
+    result = run_cli("simplify-shoreline", path, tmp_path / out, *options)
+    assert_clean_failure(result, *(e.format(**fill) for e in expected))
     assert list(tmp_path.iterdir()) == []
 
 

@@ -14,7 +14,7 @@ import numpy as np
 import pyogrio.raw
 import pytest
 import shapely
-from conftest import EXAMPLE, FIGURES, MODEL_EXTENSIONS
+from conftest import EXAMPLE, FIGURES, MODEL_EXTENSIONS, coarse_example_text
 from pyproj import Geod
 
 from coastmesh.case import parse_case, read_case, run_case
@@ -26,16 +26,8 @@ GEOD = Geod(ellps="WGS84")
 
 def _coarse(**replace: str):
     """The example with coarser sizes (a few seconds), read from memory."""
-    text = EXAMPLE.read_text()
-    for old, new in {
-        'h_min = "150 m"': 'h_min = "600 m"',
-        'h_min = "400 m"': 'h_min = "800 m"',
-        'h_min = "1 km"': 'h_min = "1.5 km"',
-        **replace,
-    }.items():
-        assert old in text, old
-        text = text.replace(old, new)
-    return parse_case(text, EXAMPLE)  # relative paths still from examples/orkney
+    # relative paths still from examples/orkney
+    return parse_case(coarse_example_text(**replace), EXAMPLE)
 
 
 def test_example_writes_every_output(example_run):

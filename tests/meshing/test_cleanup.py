@@ -6,6 +6,7 @@ import warnings
 
 import numpy as np
 import pytest
+from conftest import one_triangle
 
 from coastmesh.errors import ConfigError
 from coastmesh.meshing.cleanup import clean_mesh
@@ -106,14 +107,7 @@ def test_real_mesh_stays_valid(tmp_path):
 
 
 def test_bad_options():
-    m = Mesh(
-        [[0, 0], [1, 0], [0, 1]],
-        [[0, 1, 2]],
-        [[0, 1], [1, 2], [2, 0]],
-        [1, 1, 1],
-        1,
-        None,
-    )
+    m = one_triangle()
     with pytest.raises(ConfigError, match="max_valence = 2"):
         clean_mesh(m, max_valence=2)
     with pytest.raises(ConfigError, match="min_angle = 70"):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import xarray as xr
+from conftest import one_triangle
 from pyproj import Geod
 from scipy.interpolate import RegularGridInterpolator
 
@@ -157,14 +158,7 @@ def test_slope_limit_against_all_pairs_shortest_paths():
 
 
 def test_errors():
-    m = Mesh(
-        [[0, 0], [1, 0], [0, 1]],
-        [[0, 1, 2]],
-        [[0, 1], [1, 2], [2, 0]],
-        [1, 1, 1],
-        1,
-        None,
-    )
+    m = one_triangle()
     r = xr.DataArray(
         np.zeros((2, 2)),
         dims=("y", "x"),

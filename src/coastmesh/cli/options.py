@@ -7,16 +7,20 @@ is reported with the option's name before any file is opened.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
 import click
+
+F = TypeVar("F", bound=Callable[..., Any])
 
 __all__ = [
     "CRS_OPTION_TYPE",
     "RASTER_WINDOW",
     "bbox_option",
     "crs_option",
+    "in_out_arguments",
     "overwrite_option",
     "plot_option",
 ]
@@ -106,6 +110,16 @@ crs_option = click.option(
     metavar="CRS",
     help="CRS of IN when the file declares none, e.g. EPSG:4326 or EPSG:32630.",
 )
+
+
+def in_out_arguments(command: F) -> F:
+    """Add the arguments IN (any file) and OUT (a file to write) to a command."""
+    command = click.argument(
+        "dst", metavar="OUT", type=click.Path(dir_okay=False, path_type=Path)
+    )(command)
+    return click.argument("src", metavar="IN", type=click.Path(path_type=Path))(command)
+
+
 plot_option = click.option(
     "--plot",
     type=click.Path(dir_okay=False, path_type=Path),

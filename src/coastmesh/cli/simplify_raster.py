@@ -11,6 +11,7 @@ from coastmesh.cli.options import (
     RASTER_WINDOW,
     bbox_option,
     crs_option,
+    in_out_arguments,
     overwrite_option,
     plot_option,
 )
@@ -19,8 +20,7 @@ __all__ = ["simplify_raster"]
 
 
 @click.command("simplify-raster")
-@click.argument("src", metavar="IN", type=click.Path(path_type=Path))
-@click.argument("dst", metavar="OUT", type=click.Path(dir_okay=False, path_type=Path))
+@in_out_arguments
 @click.option(
     "--window",
     type=RASTER_WINDOW,

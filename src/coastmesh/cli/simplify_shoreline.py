@@ -8,14 +8,19 @@ from pathlib import Path
 import click
 
 from coastmesh.cli._common import ProgressBar, translate_errors
-from coastmesh.cli.options import bbox_option, crs_option, overwrite_option, plot_option
+from coastmesh.cli.options import (
+    bbox_option,
+    crs_option,
+    in_out_arguments,
+    overwrite_option,
+    plot_option,
+)
 
 __all__ = ["simplify_shoreline"]
 
 
 @click.command("simplify-shoreline")
-@click.argument("src", metavar="IN", type=click.Path(path_type=Path))
-@click.argument("dst", metavar="OUT", type=click.Path(dir_okay=False, path_type=Path))
+@in_out_arguments
 @click.option(
     "--window",
     type=click.IntRange(min=2),

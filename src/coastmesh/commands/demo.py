@@ -8,11 +8,10 @@ from pathlib import Path
 from typing import Any
 
 from coastmesh.commands._common import PathLike, modes_label
-from coastmesh.commands.simplify_raster import RasterReport, simplify_raster_file
+from coastmesh.commands.simplify_raster import simplify_raster_file
 from coastmesh.commands.simplify_shoreline import simplify_shoreline_file
 from coastmesh.data import path as data_path
 from coastmesh.errors import CoastmeshWarning
-from coastmesh.geometry import ShorelineReport
 from coastmesh.io import atomic_directory
 from coastmesh.types import Progress, Report
 
@@ -81,42 +80,32 @@ def run_demo(
     OutputExistsError
         If ``outdir`` exists, is not empty, and ``overwrite`` is false.
     """
-    shoreline = data_path("norway_west_gshhg_f.geojson")
-    raster = data_path("etopo1_0.1deg_orkney_wide.tif")
-    jobs = [("shoreline", window, modes) for window, modes in _DEMO_SHORELINES]
-    jobs += [("raster", window, modes) for window, modes in _DEMO_RASTERS]
+    jobs = [
+        (simplify_shoreline_file, "norway_west_gshhg_f.geojson", ".gpkg", w, m)
+        for w, m in _DEMO_SHORELINES
+    ]
+    jobs += [
+        (simplify_raster_file, "etopo1_0.1deg_orkney_wide.tif", ".tif", w, m)
+        for w, m in _DEMO_RASTERS
+    ]
     steps = []
     with atomic_directory(outdir, overwrite=overwrite) as folder:
-        for done, (kind, window, modes) in enumerate(jobs, start=1):
-            if kind == "shoreline":
+        for done, (run, source, suffix, window, modes) in enumerate(jobs, start=1):
+            if suffix == ".gpkg":
                 stem = f"norway_west_L{window}_r{modes}"
-                data = f"{stem}.gpkg"
-                report: ShorelineReport | RasterReport = simplify_shoreline_file(
-                    shoreline,
-                    folder / data,
-                    window=window,
-                    modes=modes,
-                    plot=folder / f"{stem}.png",
-                )
-                title = (
-                    f"West Norway shoreline, window {window} points, "
-                    f"{modes_label(modes)}"
-                )
+                what = f"West Norway shoreline, window {window} points"
             else:
                 stem = f"orkney_etopo1_{window}x{window}_r{modes}"
-                data = f"{stem}.tif"
-                report = simplify_raster_file(
-                    raster,
-                    folder / data,
-                    window=window,
-                    modes=modes,
-                    plot=folder / f"{stem}.png",
-                )
-                title = (
-                    f"Orkney ETOPO1, window {window} x {window} cells, "
-                    f"{modes_label(modes)}"
-                )
-            steps.append(DemoStep(title, (data, f"{stem}.png"), report))
+                what = f"Orkney ETOPO1, window {window} x {window} cells"
+            report = run(
+                data_path(source),
+                folder / f"{stem}{suffix}",
+                window=window,
+                modes=modes,
+                plot=folder / f"{stem}.png",
+            )
+            title = f"{what}, {modes_label(modes)}"
+            steps.append(DemoStep(title, (f"{stem}{suffix}", f"{stem}.png"), report))
             logger.info("demo: %s: %s", title, report.summary())
             if progress is not None:
                 progress(done, len(jobs) + _DEMO_CASES)

@@ -21,7 +21,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.geometry.earth import arc_lengths, earth_centred
 from coastmesh.meshing.quality_report import (
-    EDGE_RATIO_RANGE,
     AngleStats,
     EdgeRatioStats,
     QualityReport,
@@ -31,18 +30,8 @@ from coastmesh.meshing.quality_report import (
 from coastmesh.meshing.topology import unique_edges
 from coastmesh.types import Mesh
 
-__all__ = [
-    "EDGE_RATIO_RANGE",
-    "AngleStats",
-    "EdgeRatioStats",
-    "QualityReport",
-    "RatioStats",
-    "ValenceStats",
-    "edge_quality",
-    "mesh_earth_centred",
-    "mesh_quality",
-    "triangle_quality",
-]
+# the report types are in coastmesh.meshing.quality_report
+__all__ = ["edge_quality", "mesh_earth_centred", "mesh_quality", "triangle_quality"]
 
 logger = logging.getLogger(__name__)
 
