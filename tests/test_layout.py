@@ -94,3 +94,35 @@ def test_no_loose_modules_beside_the_stage_packages():
         if p.name not in {"__init__.py", "__main__.py", "errors.py"}
     )
     assert loose == [], loose
+
+
+WRITERS = {"write_text", "write_bytes", "savefig", "to_netcdf", "mkdir", "replace"}
+
+
+@pytest.mark.parametrize("stage", ["pca", "geometry", "sizing", "meshing", "types"])
+def test_the_core_stages_write_no_files(stage):
+    """Computation never writes: files are written in io (and by its callers)."""
+    for path in sorted((PACKAGE / stage).rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, ast.Call):
+                continue
+            name = getattr(node.func, "attr", getattr(node.func, "id", ""))
+            assert name not in WRITERS and name != "open", (
+                f"{path.relative_to(ROOT)}:{node.lineno} calls {name}()"
+            )
+
+
+UNIX_ONLY = {"resource", "fcntl", "termios", "pwd", "grp", "posix"}
+
+
+@pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_no_unix_only_module_at_import_time(path):
+    """coastmesh imports on Windows: Unix-only modules only inside functions."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    for node in tree.body:
+        names = []
+        if isinstance(node, ast.Import):
+            names = [a.name.split(".")[0] for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module:
+            names = [node.module.split(".")[0]]
+        assert not set(names) & UNIX_ONLY, f"{path.name}:{node.lineno} {names}"

@@ -136,3 +136,24 @@ def test_build_case_takes_text_paths_and_configs(tmp_path, monkeypatch):
     study = EXAMPLE.parents[1] / "norway" / "sognefjorden.toml"
     with pytest.raises(ConfigError, match=r"run it with coastmesh\.run_case"):
         build_case(study)
+
+
+def test_peak_memory_where_the_platform_cannot_tell(coarse, monkeypatch):
+    """On Windows there is no resource module: the report says so."""
+    import builtins
+
+    from coastmesh.case.build import peak_memory_mb
+
+    assert peak_memory_mb() > 0
+    real_import = builtins.__import__
+
+    def no_resource(name, *args, **kwargs):
+        if name == "resource":
+            raise ImportError("No module named 'resource'")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_resource)
+    assert peak_memory_mb() is None
+    report = dataclasses.replace(coarse.report, peak_memory_mb=None)
+    assert "peak memory: not measured on this platform" in report.summary()
+    assert report.to_dict()["peak_memory_mb"] is None

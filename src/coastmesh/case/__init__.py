@@ -41,7 +41,8 @@ from coastmesh.case.config import (
 from coastmesh.case.dump import dump_case
 from coastmesh.case.inputs import ShorelineSetReport
 from coastmesh.case.parse import parse_case, read_case
-from coastmesh.case.result import CaseReport, CaseResult, MeshReport
+from coastmesh.case.report import CaseReport, MeshReport
+from coastmesh.case.result import CaseResult
 from coastmesh.case.run import run_case
 
 __all__ = [

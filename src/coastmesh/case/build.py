@@ -36,7 +36,8 @@ from coastmesh.case.inputs import (
     build_shoreline_set,
     read_shorelines,
 )
-from coastmesh.case.result import CaseReport, CaseResult, MeshReport
+from coastmesh.case.report import CaseReport, MeshReport
+from coastmesh.case.result import CaseResult
 from coastmesh.errors import ConfigError
 from coastmesh.io import read_raster
 from coastmesh.meshing import (

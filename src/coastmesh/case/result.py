@@ -1,9 +1,15 @@
-"""What a case makes: :class:`CaseResult`, in memory, and its :class:`CaseReport`."""
+"""What a case makes: :class:`CaseResult`, in memory, and the files it writes.
+
+:meth:`CaseResult.write` writes the model formats, the domain, the size field,
+the reports and the figures into ``<folder>.partial-XXXX/``, renamed to
+``folder`` when all is written.
+"""
 
 from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -12,142 +18,25 @@ import numpy as np
 import shapely
 from pyproj import CRS
 
-from coastmesh.case.config import CaseConfig
-from coastmesh.case.inputs import ShorelineSetReport
-from coastmesh.geometry import DomainReport, OpenBoundary, StitchReport
-from coastmesh.meshing import CleanupReport, DepthReport, QualityReport
-from coastmesh.sizing import SizeFieldReport
-from coastmesh.types import Domain, Mesh, Report, SizeGrid, StageFactory
+from coastmesh import __version__
+from coastmesh.case.config import CaseConfig, OutputConfig
+from coastmesh.case.dump import dump_case
+from coastmesh.case.report import CaseReport
+from coastmesh.geometry import OpenBoundary
+from coastmesh.io import (
+    atomic_directory,
+    mesh_format,
+    write_domain,
+    write_mesh,
+    write_raster,
+    write_report,
+)
+from coastmesh.types import Domain, Features, Mesh, SizeGrid, StageFactory, quiet_stage
 
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["CaseReport", "CaseResult", "MeshReport"]
-
-
-@dataclass(frozen=True, slots=True)
-class MeshReport(Report):
-    """The mesh a case made.
-
-    Attributes
-    ----------
-    nodes, triangles : int
-    boundary_edges : dict of str to int
-        Boundary edges by ``"name (id)"``.
-    surface_id : int
-        The physical id of the triangles.
-    """
-
-    nodes: int
-    triangles: int
-    boundary_edges: dict[str, int]
-    surface_id: int
-
-    @classmethod
-    def of(cls, mesh: Mesh) -> MeshReport:
-        """Count the nodes, triangles and boundary edges by id of a mesh."""
-        ids, counts = np.unique(mesh.boundary_ids, return_counts=True)
-        edges = {
-            f"{mesh.boundary_names.get(int(i), '?')} ({int(i)})": int(c)
-            for i, c in zip(ids, counts, strict=True)
-        }
-        return cls(len(mesh.points), len(mesh.triangles), edges, mesh.surface_id)
-
-    def summary(self) -> str:
-        """Return a one-line summary."""
-        ids = ", ".join(f"{k} {v}" for k, v in self.boundary_edges.items())
-        return (
-            f"{self.nodes:,} nodes, {self.triangles:,} triangles, boundary edges "
-            f"by id: {ids}"
-        )
-
-
-@dataclass(frozen=True, slots=True)
-class CaseReport(Report):
-    """Every number of a case run: ``report.json`` is its :meth:`to_dict`.
-
-    Attributes
-    ----------
-    case : str
-        The case's name.
-    source : str or None
-        The case file; None for a case built in Python.
-    coastmesh_version : str
-    crs, mesh_crs, output_crs : str
-        The case CRS, the CRS meshed in, and the CRS of the written nodes.
-    shoreline_sets : dict of str to ShorelineSetReport
-        By set name.
-    stitch : StitchReport
-        Joining the sets at the region seams.
-    domain : DomainReport
-        The domain: land repaired, islands, boundary vertices per segment name.
-    size_field : SizeFieldReport
-    mesh : MeshReport
-    cleanup, depth, quality : report or None
-        :class:`~coastmesh.meshing.cleanup.CleanupReport`,
-        :class:`~coastmesh.meshing.depth.DepthReport`,
-        :class:`~coastmesh.meshing.quality.QualityReport`, where the case asks.
-    seconds : dict of str to float
-        Wall time of each stage.
-    peak_memory_mb : float or None
-        Peak resident memory of the process so far; None where the platform
-        does not tell (Windows).
-    files : tuple of str
-        The files written, relative to the output folder; empty before
-        :meth:`CaseResult.write`.
-    """
-
-    case: str
-    source: str | None
-    coastmesh_version: str
-    crs: str
-    mesh_crs: str
-    output_crs: str
-    shoreline_sets: dict[str, ShorelineSetReport]
-    stitch: StitchReport
-    domain: DomainReport
-    size_field: SizeFieldReport
-    mesh: MeshReport
-    cleanup: CleanupReport | None
-    depth: DepthReport | None
-    quality: QualityReport | None
-    seconds: dict[str, float]
-    peak_memory_mb: float | None
-    files: tuple[str, ...] = ()
-
-    def summary(self) -> str:
-        """Return the report as a few lines of text (``summary.txt``)."""
-        lines = [
-            f"coastmesh case {self.case} ({self.source or 'built in Python'})",
-            f"mesh: {self.mesh.nodes:,} nodes, {self.mesh.triangles:,} triangles",
-            "boundary edges by name (id): "
-            + ", ".join(f"{k} {v}" for k, v in self.mesh.boundary_edges.items()),
-            f"surface id: {self.mesh.surface_id}",
-            "shoreline sets:",
-        ]
-        lines += [f"  {n}: {r.summary()}" for n, r in self.shoreline_sets.items()]
-        d = self.domain
-        lines.append(
-            f"domain: {d.holes} islands ({d.holes_dropped} dropped), "
-            f"{d.land_repaired} land polygons repaired, {d.land_overlaps_merged} "
-            "overlaps merged"
-        )
-        lines.append(f"size field: {self.size_field.summary()}")
-        for name in ("cleanup", "depth"):
-            part = getattr(self, name)
-            if part is not None:
-                lines.append(f"{name}: {part.summary()}")
-        lines.append(
-            "time (s): " + ", ".join(f"{k} {v}" for k, v in self.seconds.items())
-        )
-        lines.append(
-            "peak memory: not measured on this platform"
-            if self.peak_memory_mb is None
-            else f"peak memory: {self.peak_memory_mb:,.0f} MB"
-        )
-        if self.files:
-            lines.append("files: " + ", ".join(self.files))
-        return "\n".join(lines)
+__all__ = ["CaseResult", "write_case_copy"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -278,15 +167,13 @@ class CaseResult:
         OutputExistsError
             If ``folder`` exists, is not empty, and ``overwrite`` is false.
         """
-        from coastmesh.case.outputs import write_case
-
         outputs = self.config.outputs
         if formats is not None:
             checked = dataclasses.replace(
                 self.config, outputs=dataclasses.replace(outputs, formats=formats)
             )
             outputs = checked.outputs
-        files = write_case(
+        files = _write_case(
             self, Path(folder), outputs, overwrite=overwrite, stage=stage
         )
         return dataclasses.replace(
@@ -295,3 +182,185 @@ class CaseResult:
             files=tuple(files),
             report=dataclasses.replace(self.report, files=tuple(files)),
         )
+
+
+def _write_case(
+    result: CaseResult,
+    folder: Path,
+    outputs: OutputConfig,
+    *,
+    overwrite: bool = False,
+    stage: StageFactory | None = None,
+) -> list[str]:
+    """Write every output of a case into ``folder``, atomically.
+
+    Parameters
+    ----------
+    result : CaseResult
+        What the case made.
+    folder : pathlib.Path
+        The output folder.
+    outputs : OutputConfig
+        What to write (formats, domain, size field, quality, figures).
+    overwrite : bool, default False
+        Whether a non-empty ``folder`` may be replaced.
+    stage : callable, optional
+        ``stage(label)`` returns a context manager, entered once.
+
+    Returns
+    -------
+    list of str
+        File names relative to ``folder``, in the order written.
+    """
+    with (
+        (stage or quiet_stage)("writing outputs"),
+        atomic_directory(folder, overwrite=overwrite) as partial,
+    ):
+        files = _write_models(result, partial, outputs)
+        if outputs.domain:
+            _write_domain(partial / "domain.gpkg", result)
+            files.append("domain.gpkg")
+        if outputs.size_field:
+            write_raster(partial / "size.tif", result.size)
+            files.append("size.tif")
+        quality = result.report.quality
+        if quality is not None and outputs.quality:
+            write_report(
+                partial / "quality.json", quality, summary=partial / "quality.txt"
+            )
+            files += ["quality.json", "quality.txt"]
+        if outputs.figures:
+            files += _write_figures(result, partial, outputs)
+        write_case_copy(partial, result.config)
+        files += ["case.toml", "report.json", "summary.txt"]
+        report = dataclasses.replace(result.report, files=tuple(files))
+        write_report(partial / "report.json", report, summary=partial / "summary.txt")
+    return files
+
+
+def write_case_copy(folder: Path, config: CaseConfig | Any) -> None:
+    """Keep the case as run, as ``case.toml``, saying where it came from.
+
+    A case read from a file is copied as it is (its relative paths stay
+    relative to that file); a case built in Python is written with
+    :func:`~coastmesh.case.dump_case`, so ``coastmesh run case.toml`` runs it again.
+    """
+    if config.source is not None:
+        header = (
+            f"# A copy of {Path(config.source).resolve()}, as run by coastmesh "
+            f"{__version__}.\n# Its relative paths are relative to that file, not "
+            "to this copy.\n"
+        )
+        text = config.text
+    else:
+        header = (
+            f"# A case built in Python, as run by coastmesh {__version__}.\n"
+            "# Run it again with: coastmesh run case.toml\n"
+        )
+        text = dump_case(config)
+    (folder / "case.toml").write_text(header + text, encoding="utf-8")
+
+
+def _write_models(result: CaseResult, folder: Path, outputs: OutputConfig) -> list[str]:
+    """Write the mesh in each format of ``[output] formats``."""
+    name = result.name
+    files: list[str] = []
+    taken: set[str] = set()
+    for fmt_name in outputs.formats:
+        fmt = mesh_format(fmt_name)
+        suffix = fmt.extensions[0]
+        filename = f"{name}{suffix}"
+        if filename in taken:
+            filename = f"{name}-{fmt_name}{suffix}"
+        taken.add(filename)
+        options = {}
+        if outputs.positive and fmt_name in outputs.positive:
+            options["positive"] = outputs.positive[fmt_name]
+        write_mesh(folder / filename, result.mesh, format=fmt_name, **options)
+        files.append(filename)
+        if fmt_name == "selafin":  # the boundary-conditions file written with it
+            files.append(f"{Path(filename).stem}.cli")
+    return files
+
+
+def _write_domain(path: Path, result: CaseResult) -> None:
+    """Write the domain GeoPackage, with the untrimmed boundaries and the regions."""
+    walls, crs = result.open_boundaries, result.crs
+    extra = {}
+    if walls:
+        extra["open_boundaries_untrimmed"] = _layer(
+            [shapely.LineString(w.coords) for w in walls],
+            crs,
+            name=[w.name for w in walls],
+            physical_id=[w.physical_id for w in walls],
+        )
+    used = [(n, i, r) for n, i, r in result.regions if r is not None]
+    if used:
+        extra["regions"] = _layer(
+            [r for _, _, r in used],
+            crs,
+            shoreline_set=[n for n, _, _ in used],
+            physical_id=[i for _, i, _ in used],
+        )
+    notes = {
+        "coastmesh_version": __version__,
+        "case": result.name,
+        "case_file": result.config.label,
+    }
+    write_domain(path, result.domain, metadata=notes, extra_layers=extra)
+
+
+def _layer(geometry: list[Any], crs: Any, **fields: list[Any]) -> Features:
+    return Features(
+        np.array(geometry, dtype=object),
+        crs,
+        {
+            key: np.array(values, dtype=object if isinstance(values[0], str) else None)
+            for key, values in fields.items()
+        },
+        np.arange(len(geometry)),
+        "<memory>",
+    )
+
+
+def _write_figures(
+    result: CaseResult, folder: Path, outputs: OutputConfig
+) -> list[str]:
+    """Draw the domain, mesh, size, quality and depth figures into figures/."""
+    from coastmesh import plot
+
+    mesh, name, quality = result.mesh, result.name, result.report.quality
+    names = {s.physical_id: s.name for s in result.domain.segments}
+    figures: list[tuple[str, Callable[[], Any]]] = [
+        ("domain", lambda: plot.domain_figure(result.domain, title=f"{name}: domain")),
+        ("mesh", lambda: plot.mesh_figure(mesh, names=names, title=name)),
+        ("size", lambda: plot.size_figure(result.size, title=f"{name}: element size")),
+    ]
+    if quality is not None:
+        figures.append(
+            (
+                "quality",
+                lambda: plot.quality_figure(
+                    mesh, quality, title=f"{name}: element quality"
+                ),
+            )
+        )
+    if "depth" in mesh.point_data:
+        figures.append(
+            ("depth", lambda: plot.depth_figure(mesh, title=f"{name}: depth"))
+        )
+    if outputs.detail is not None:
+        figures.append(
+            (
+                "mesh_mercator",
+                lambda: plot.mercator_figure(
+                    mesh, detail=outputs.detail, names=names, title=name
+                ),
+            )
+        )
+    (folder / "figures").mkdir()
+    files = []
+    for stem, draw in figures:
+        plot.save_figure(draw(), folder / "figures" / f"{stem}.png")
+        files.append(f"figures/{stem}.png")
+    return files

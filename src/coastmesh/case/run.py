@@ -18,8 +18,7 @@ from typing import Any
 
 from coastmesh.case.build import as_case, build_case
 from coastmesh.case.config import CaseConfig, StudyCase
-from coastmesh.case.outputs import write_case_copy
-from coastmesh.case.result import CaseResult
+from coastmesh.case.result import CaseResult, write_case_copy
 from coastmesh.io import atomic_directory, check_directory
 from coastmesh.types import StageFactory, quiet_stage
 

@@ -1,0 +1,140 @@
+"""The report of a whole case: :class:`CaseReport` (``report.json``) and its parts."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from coastmesh.case.inputs import ShorelineSetReport
+from coastmesh.geometry import DomainReport, StitchReport
+from coastmesh.meshing import CleanupReport, DepthReport, QualityReport
+from coastmesh.sizing import SizeFieldReport
+from coastmesh.types import Mesh, Report
+
+__all__ = ["CaseReport", "MeshReport"]
+
+
+@dataclass(frozen=True, slots=True)
+class MeshReport(Report):
+    """The mesh a case made.
+
+    Attributes
+    ----------
+    nodes, triangles : int
+    boundary_edges : dict of str to int
+        Boundary edges by ``"name (id)"``.
+    surface_id : int
+        The physical id of the triangles.
+    """
+
+    nodes: int
+    triangles: int
+    boundary_edges: dict[str, int]
+    surface_id: int
+
+    @classmethod
+    def of(cls, mesh: Mesh) -> MeshReport:
+        """Count the nodes, triangles and boundary edges by id of a mesh."""
+        ids, counts = np.unique(mesh.boundary_ids, return_counts=True)
+        edges = {
+            f"{mesh.boundary_names.get(int(i), '?')} ({int(i)})": int(c)
+            for i, c in zip(ids, counts, strict=True)
+        }
+        return cls(len(mesh.points), len(mesh.triangles), edges, mesh.surface_id)
+
+    def summary(self) -> str:
+        """Return a one-line summary."""
+        ids = ", ".join(f"{k} {v}" for k, v in self.boundary_edges.items())
+        return (
+            f"{self.nodes:,} nodes, {self.triangles:,} triangles, boundary edges "
+            f"by id: {ids}"
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class CaseReport(Report):
+    """Every number of a case run: ``report.json`` is its :meth:`to_dict`.
+
+    Attributes
+    ----------
+    case : str
+        The case's name.
+    source : str or None
+        The case file; None for a case built in Python.
+    coastmesh_version : str
+    crs, mesh_crs, output_crs : str
+        The case CRS, the CRS meshed in, and the CRS of the written nodes.
+    shoreline_sets : dict of str to ShorelineSetReport
+        By set name.
+    stitch : StitchReport
+        Joining the sets at the region seams.
+    domain : DomainReport
+        The domain: land repaired, islands, boundary vertices per segment name.
+    size_field : SizeFieldReport
+    mesh : MeshReport
+    cleanup, depth, quality : report or None
+        :class:`~coastmesh.meshing.cleanup.CleanupReport`,
+        :class:`~coastmesh.meshing.depth.DepthReport`,
+        :class:`~coastmesh.meshing.quality.QualityReport`, where the case asks.
+    seconds : dict of str to float
+        Wall time of each stage.
+    peak_memory_mb : float or None
+        Peak resident memory of the process so far; None where the platform
+        does not tell (Windows).
+    files : tuple of str
+        The files written, relative to the output folder; empty before
+        :meth:`CaseResult.write`.
+    """
+
+    case: str
+    source: str | None
+    coastmesh_version: str
+    crs: str
+    mesh_crs: str
+    output_crs: str
+    shoreline_sets: dict[str, ShorelineSetReport]
+    stitch: StitchReport
+    domain: DomainReport
+    size_field: SizeFieldReport
+    mesh: MeshReport
+    cleanup: CleanupReport | None
+    depth: DepthReport | None
+    quality: QualityReport | None
+    seconds: dict[str, float]
+    peak_memory_mb: float | None
+    files: tuple[str, ...] = ()
+
+    def summary(self) -> str:
+        """Return the report as a few lines of text (``summary.txt``)."""
+        lines = [
+            f"coastmesh case {self.case} ({self.source or 'built in Python'})",
+            f"mesh: {self.mesh.nodes:,} nodes, {self.mesh.triangles:,} triangles",
+            "boundary edges by name (id): "
+            + ", ".join(f"{k} {v}" for k, v in self.mesh.boundary_edges.items()),
+            f"surface id: {self.mesh.surface_id}",
+            "shoreline sets:",
+        ]
+        lines += [f"  {n}: {r.summary()}" for n, r in self.shoreline_sets.items()]
+        d = self.domain
+        lines.append(
+            f"domain: {d.holes} islands ({d.holes_dropped} dropped), "
+            f"{d.land_repaired} land polygons repaired, {d.land_overlaps_merged} "
+            "overlaps merged"
+        )
+        lines.append(f"size field: {self.size_field.summary()}")
+        for name in ("cleanup", "depth"):
+            part = getattr(self, name)
+            if part is not None:
+                lines.append(f"{name}: {part.summary()}")
+        lines.append(
+            "time (s): " + ", ".join(f"{k} {v}" for k, v in self.seconds.items())
+        )
+        lines.append(
+            "peak memory: not measured on this platform"
+            if self.peak_memory_mb is None
+            else f"peak memory: {self.peak_memory_mb:,.0f} MB"
+        )
+        if self.files:
+            lines.append("files: " + ", ".join(self.files))
+        return "\n".join(lines)
