@@ -192,9 +192,9 @@ def parse_case(text: str, source: str | os.PathLike[str]) -> CaseConfig | StudyC
     )
 
 
-def _done(t: Table, *names: str, **renamed: str) -> dict[str, Any]:
+def _done(t: Table, *names: str) -> dict[str, Any]:
     """Take the keys that are there, as they are, then refuse any other key."""
-    picked = t.pick(*names, **renamed)
+    picked = t.pick(*names)
     t.done()
     return picked
 
@@ -202,20 +202,11 @@ def _done(t: Table, *names: str, **renamed: str) -> dict[str, Any]:
 def _shorelines(t: Table, path_of: PathOf) -> ShorelinesConfig:
     config = ShorelinesConfig(
         path=t.get("path", path_of),
-        min_area=t.get("min_area", _area, 0.0),
+        min_area=t.get("min_area", schema.area_with_unit, 0.0),
         **t.pick("layer", "bbox", "crs"),
     )
     t.done()
     return config
-
-
-def _area(value: Any, key: str) -> float:
-    """Convert an area with its unit, as case files give it (0 may be bare)."""
-    if isinstance(value, int | float) and not isinstance(value, bool) and value == 0:
-        return 0.0
-    from coastmesh.sizing.units import to_square_metres
-
-    return to_square_metres(value, name=key)
 
 
 def _sets(t: Table) -> tuple[ShorelineSetConfig, ...]:
@@ -325,7 +316,7 @@ def _size(t: Table, path_of: PathOf) -> SizeConfig:
         b = t.table("bathymetry")
         extra = {k: b.get(k, _LENGTH) for k in ("min_depth",) if b.has(k)}
         if b.has("period"):
-            extra["period"] = b.get("period", _duration)
+            extra["period"] = b.get("period", schema.duration_with_unit)
         bathymetry = BathymetryConfig(
             path=b.get("path", path_of),
             **extra,
@@ -340,12 +331,6 @@ def _size(t: Table, path_of: PathOf) -> SizeConfig:
         bathymetry=bathymetry,
         **_done(t, "rate"),
     )
-
-
-def _duration(value: Any, key: str) -> float:
-    from coastmesh.sizing.units import to_seconds
-
-    return to_seconds(value, name=key)
 
 
 def _node_depth(t: Table, path_of: PathOf) -> NodeDepthConfig:

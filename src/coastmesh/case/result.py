@@ -167,17 +167,20 @@ class CaseResult:
         OutputExistsError
             If ``folder`` exists, is not empty, and ``overwrite`` is false.
         """
-        outputs = self.config.outputs
-        if formats is not None:
-            checked = dataclasses.replace(
-                self.config, outputs=dataclasses.replace(outputs, formats=formats)
-            )
-            outputs = checked.outputs
+        result = self
+        if formats is not None:  # checked as the case's [output] formats
+            outputs = dataclasses.replace(self.config.outputs, formats=formats)
+            config = dataclasses.replace(self.config, outputs=outputs)
+            result = dataclasses.replace(self, config=config)
         files = _write_case(
-            self, Path(folder), outputs, overwrite=overwrite, stage=stage
+            result,
+            Path(folder),
+            result.config.outputs,
+            overwrite=overwrite,
+            stage=stage,
         )
         return dataclasses.replace(
-            self,
+            result,
             output=Path(folder),
             files=tuple(files),
             report=dataclasses.replace(self.report, files=tuple(files)),

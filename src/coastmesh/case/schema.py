@@ -11,7 +11,8 @@ a value gets the same message wherever it is checked.
 Converters are lenient about Python types (a tuple or an array where TOML has a
 list) and strict about meaning. Lengths, areas and durations are numbers in
 metres, square metres and seconds, or strings with a unit (``"10 km"``); the
-case-file reader asks for the unit (:func:`length_with_unit`).
+case-file reader asks for the unit (:func:`length_with_unit`,
+:func:`area_with_unit`, :func:`duration_with_unit`).
 """
 
 from __future__ import annotations
@@ -32,11 +33,13 @@ __all__ = [
     "MISSING",
     "Table",
     "area",
+    "area_with_unit",
     "boolean",
     "box",
     "choice",
     "crs",
     "duration",
+    "duration_with_unit",
     "integer",
     "length",
     "length_with_unit",
@@ -120,18 +123,10 @@ class Table:
             return default
         return located(convert, self.data[name], self.key(name), self.source)
 
-    def pick(self, *names: str, **renamed: str) -> dict[str, Any]:
-        """Take the keys that are present, as they are: ``{field: value}``.
-
-        ``renamed`` maps a field name to its key in the file (``physical_id="id"``).
-        """
-        fields = {name: name for name in names} | renamed
-        picked = {}
-        for field_name, key in fields.items():
-            self.taken.add(key)
-            if key in self.data:
-                picked[field_name] = self.data[key]
-        return picked
+    def pick(self, *names: str) -> dict[str, Any]:
+        """Take the keys that are present, as they are: ``{key: value}``."""
+        self.taken.update(names)
+        return {name: self.data[name] for name in names if name in self.data}
 
     def table(self, name: str, *, required: bool = False) -> Table:
         """Take key ``name`` as a sub-table (empty if absent and not required)."""
@@ -228,6 +223,16 @@ def length_with_unit(value: Any, key: str) -> float:
     if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == 0:
         return 0.0
     return to_metres(value, name=key)
+
+
+def area_with_unit(value: Any, key: str) -> float:
+    """Convert an area with its unit (``"0.5 km2"``) to square metres; 0 may be bare."""
+    return to_square_metres(value, name=key)
+
+
+def duration_with_unit(value: Any, key: str) -> float:
+    """Convert a duration with its unit (``"12.42 h"``) to seconds."""
+    return to_seconds(value, name=key)
 
 
 def length(*, positive: bool = True, signed: bool = False) -> Converter[float]:
