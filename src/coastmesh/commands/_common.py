@@ -15,6 +15,7 @@ from coastmesh.types import Features
 
 __all__ = [
     "PathLike",
+    "check_crs",
     "check_outputs",
     "listed",
     "locate",
@@ -53,21 +54,39 @@ def parse_crs(crs: CRS | str | None) -> CRS | None:
         raise ConfigError(f"crs = {crs!r}: not a CRS pyproj knows ({exc})") from None
 
 
-def with_crs(features: Features, crs: CRS | None) -> Features:
-    if features.crs is None:
-        if crs is None:
-            raise InputDataError(
-                "the layer has no CRS; give one with --crs (e.g. --crs EPSG:4326)",
-                path=features.path,
-                layer=features.layer,
-            )
-        return replace(features, crs=crs)
-    if crs is not None and features.crs != crs:
-        raise ConfigError(
-            f"crs = {crs.to_string()!r}, but {features.path} declares "
-            f"{features.crs.to_string()!r}; --crs is only for files without one"
+def check_crs(
+    declared: CRS | None,
+    given: CRS | None,
+    what: str,
+    path: PathLike,
+    layer: str | None = None,
+) -> None:
+    """Check a file's CRS against ``--crs``: one is needed, and they must agree.
+
+    Raises
+    ------
+    InputDataError
+        If the file declares no CRS and none is given.
+    ConfigError
+        If the file declares one and ``given`` is another.
+    """
+    if declared is None and given is None:
+        raise InputDataError(
+            f"the {what} has no CRS; give one with --crs (e.g. --crs EPSG:4326)",
+            path=os.fspath(path),
+            layer=layer,
         )
-    return features
+    if declared is not None and given is not None and declared != given:
+        raise ConfigError(
+            f"crs = {given.to_string()!r}, but {os.fspath(path)} declares "
+            f"{declared.to_string()!r}; --crs is only for files without one"
+        )
+
+
+def with_crs(features: Features, crs: CRS | None) -> Features:
+    """Return ``features`` with a CRS: their own, else ``crs`` (:func:`check_crs`)."""
+    check_crs(features.crs, crs, "layer", features.path, features.layer)
+    return features if features.crs is not None else replace(features, crs=crs)
 
 
 def locate(exc: InputDataError, features: Features) -> InputDataError:

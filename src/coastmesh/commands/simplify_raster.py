@@ -16,6 +16,7 @@ from pyproj import CRS
 
 from coastmesh.commands._common import (
     PathLike,
+    check_crs,
     check_outputs,
     listed,
     modes_label,
@@ -139,21 +140,12 @@ def simplify_raster_file(
 
 
 def _raster_crs(raster: xr.DataArray, crs: CRS | None, src: PathLike) -> str:
+    """Return the raster's CRS as stored (WKT): its own, else ``crs``."""
     declared = raster.attrs.get("crs")
-    if declared is None:
-        if crs is None:
-            raise InputDataError(
-                "the raster has no CRS; give one with --crs (e.g. --crs EPSG:4326)",
-                path=os.fspath(src),
-            )
-        return crs.to_wkt()
-    if crs is not None and CRS.from_user_input(declared) != crs:
-        raise ConfigError(
-            f"crs = {crs.to_string()!r}, but {os.fspath(src)} declares "
-            f"{CRS.from_user_input(declared).to_string()!r}; "
-            "--crs is only for files without one"
-        )
-    return declared
+    check_crs(
+        None if declared is None else CRS.from_user_input(declared), crs, "raster", src
+    )
+    return declared if declared is not None else crs.to_wkt()
 
 
 @dataclass(frozen=True, slots=True)
