@@ -50,9 +50,10 @@ from coastmesh.meshing import (
 from coastmesh.sizing.domain import (
     BathymetrySize,
     BoundaryGradation,
-    SizeFieldReport,
-    domain_size_field,
+    SizeField,
+    size_field_with_report,
 )
+from coastmesh.sizing.terms import ChannelSize, CourantSize, warn_narrow
 from coastmesh.types import Mesh, Progress, SizeGrid, StageFactory, quiet_stage
 
 __all__ = ["as_case", "build_case", "peak_memory_mb"]
@@ -133,7 +134,28 @@ def build_case(
         else default_mesh_crs(domain)
     )
     with timed("size field") as progress:
-        size = _size_field(config, domain, mesh_crs, progress)
+        sized = _size_field(config, domain, mesh_crs, progress)
+    if len(sized.narrow) and config.size.channels.narrow == "close":
+        with timed("closing narrow channels") as progress:
+            closed = sized.report.channels
+            warn_narrow(closed, closed=True)
+            inputs = build_case_domain(config, sets, crs, closed=sized.narrow)
+            domain = inputs.domain
+            # once: what is still narrow after the cut is kept, and warned of
+            sized = _size_field(config, domain, mesh_crs, progress, narrow="keep")
+            sized = dataclasses.replace(
+                sized,
+                report=dataclasses.replace(
+                    sized.report,
+                    channels=dataclasses.replace(
+                        sized.report.channels,
+                        narrow="close",
+                        closed=closed.narrow_channels,
+                        closed_km2=closed.narrow_km2,
+                    ),
+                ),
+            )
+    size = sized.field
     output_crs = CRS.from_user_input(config.mesh.output_crs or crs)
     with timed("meshing") as progress:
         mesh = generate_mesh(
@@ -161,7 +183,7 @@ def build_case(
         shoreline_sets=set_reports,
         stitch=inputs.stitch_report,
         domain=inputs.domain_report,
-        size_field=SizeFieldReport.of(size),
+        size_field=sized.report,
         mesh=MeshReport.of(mesh),
         seconds=timings,
         peak_memory_mb=peak_memory_mb(),
@@ -221,8 +243,19 @@ def peak_memory_mb() -> float | None:
     return round(peak / (1024 * 1024 if sys.platform == "darwin" else 1024), 1)
 
 
-def _size_field(config: CaseConfig, domain: Any, mesh_crs: CRS, progress: Progress):
-    """``[mesh_size]`` as :func:`coastmesh.sizing.domain_size_field` takes it."""
+def _size_field(
+    config: CaseConfig,
+    domain: Any,
+    mesh_crs: CRS,
+    progress: Progress,
+    *,
+    narrow: str | None = None,
+) -> SizeField:
+    """``[mesh_size]`` as :func:`coastmesh.sizing.size_field_with_report` takes it.
+
+    The Courant term takes its depths from ``[mesh_size.bathymetry]``, else from
+    ``[bathymetry]``.
+    """
     size = config.size
     bathymetry = None
     if size.bathymetry is not None:
@@ -235,7 +268,25 @@ def _size_field(config: CaseConfig, domain: Any, mesh_crs: CRS, progress: Progre
             per_slope=b.per_slope,
             min_depth=b.min_depth,
         )
-    return domain_size_field(
+    channels = None
+    if size.channels.enabled:
+        channels = ChannelSize(
+            size.channels.elements_across, narrow or size.channels.narrow
+        )
+    courant = None
+    if size.courant is not None:
+        source = size.bathymetry or config.bathymetry
+        min_depth = getattr(source, "min_depth", None)
+        courant = CourantSize(
+            bathymetry.raster if bathymetry is not None else read_raster(source.path),
+            dt=size.courant.dt,
+            positive=source.positive,
+            courant_max=size.courant.courant_max,
+            courant_min=size.courant.courant_min,
+            velocity=size.courant.velocity,
+            min_depth=min_depth if min_depth is not None and min_depth > 0 else 1.0,
+        )
+    return size_field_with_report(
         domain,
         mesh_crs=mesh_crs,
         h_max=size.h_max,
@@ -247,6 +298,8 @@ def _size_field(config: CaseConfig, domain: Any, mesh_crs: CRS, progress: Progre
         cell=size.cell,
         rate=size.rate,
         bathymetry=bathymetry,
+        channels=channels,
+        courant=courant,
         progress=progress,
     )
 

@@ -13,6 +13,7 @@ from typing import Any
 from coastmesh.case.config import (
     BoundaryConfig,
     CaseConfig,
+    ChannelConfig,
     LoxodromeConfig,
     SizeConfig,
 )
@@ -168,6 +169,13 @@ def _dump_size(size: SizeConfig) -> dict[str, Any]:
                 "period": f"{b.period!r} s",
                 "min_depth": _metres(b.min_depth),
             }
+        )
+    if size.channels != ChannelConfig():
+        out["channels"] = _clean(_fields(size.channels))
+    if size.courant is not None:
+        co = size.courant
+        out["courant"] = _clean(
+            _fields(co) | {"dt": f"{co.dt!r} s", "velocity": f"{co.velocity!r} m/s"}
         )
     return _clean(out)
 

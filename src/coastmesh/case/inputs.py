@@ -239,9 +239,18 @@ def fill_lakes(
 
 
 def build_case_domain(
-    config: CaseConfig, sets: dict[str, NDArray[np.object_]], crs: CRS
+    config: CaseConfig,
+    sets: dict[str, NDArray[np.object_]],
+    crs: CRS,
+    *,
+    closed: NDArray[np.object_] | None = None,
 ) -> DomainInputs:
-    """Stitch the sets by region, draw the open boundaries, build the domain."""
+    """Stitch the sets by region, draw the open boundaries, build the domain.
+
+    ``closed``: polygons of water to take out of the domain as land (narrow
+    channels closed by the channel term); their edges take the shoreline set
+    of the region they lie in.
+    """
     regions: dict[str, list[shapely.Geometry]] = {}
     for k, r in enumerate(config.regions):
         regions.setdefault(r.set, []).append(_region_geometry(r, k, crs, config))
@@ -267,6 +276,8 @@ def build_case_domain(
         )
         for k, b in enumerate(config.boundaries)
     ]
+    if closed is not None and len(closed):
+        land = np.concatenate([np.asarray(land, dtype=object), closed])
     try:
         domain, report = build_domain(
             land,

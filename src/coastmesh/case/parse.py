@@ -28,7 +28,9 @@ from coastmesh.case.config import (
     BathymetryConfig,
     BoundaryConfig,
     CaseConfig,
+    ChannelConfig,
     CleanupConfig,
+    CourantConfig,
     DomainConfig,
     GradationConfig,
     LoxodromeConfig,
@@ -323,12 +325,29 @@ def _size(t: Table, path_of: PathOf) -> SizeConfig:
             **_done(b, "positive", "per_wavelength", "per_slope"),
         )
     t.taken.add("bathymetry")
+    extra: dict[str, Any] = {}
+    if t.has("channels"):
+        ch = t.table("channels")
+        extra["channels"] = ChannelConfig(
+            **_done(ch, "enabled", "elements_across", "narrow")
+        )
+    t.taken.add("channels")
+    if t.has("courant"):
+        co = t.table("courant")
+        fields = {"dt": co.get("dt", schema.duration_with_unit)}
+        if co.has("velocity"):
+            fields["velocity"] = co.get("velocity", schema.speed_with_unit)
+        extra["courant"] = CourantConfig(
+            **fields, **_done(co, "courant_max", "courant_min")
+        )
+    t.taken.add("courant")
     return SizeConfig(
         h_max=t.get("h_max", _LENGTH),
         h_min=t.get("h_min", _LENGTH, None),
         cell=t.get("cell", _LENGTH, None),
         gradations=tuple(gradations),
         bathymetry=bathymetry,
+        **extra,
         **_done(t, "rate"),
     )
 

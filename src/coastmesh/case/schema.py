@@ -27,7 +27,12 @@ from typing import Any, TypeVar
 import numpy as np
 
 from coastmesh.errors import ConfigError
-from coastmesh.sizing.units import to_metres, to_seconds, to_square_metres
+from coastmesh.sizing.units import (
+    to_metres,
+    to_metres_per_second,
+    to_seconds,
+    to_square_metres,
+)
 
 __all__ = [
     "MISSING",
@@ -49,6 +54,8 @@ __all__ = [
     "point",
     "points",
     "positive",
+    "speed",
+    "speed_with_unit",
     "string",
 ]
 
@@ -235,6 +242,21 @@ def duration_with_unit(value: Any, key: str) -> float:
     return to_seconds(value, name=key)
 
 
+def speed_with_unit(value: Any, key: str) -> float:
+    """Convert a speed with its unit (``"1 m/s"``, ``"2 kn"``) to m/s; 0 may be bare."""
+    return to_metres_per_second(value, name=key)
+
+
+def speed(value: Any, key: str) -> float:
+    """Convert a speed >= 0 (m/s, or a string with a unit)."""
+    result = speed_with_unit(value, key) if isinstance(value, str) else None
+    if result is None:
+        result = number(value, key)
+    if result < 0:
+        raise ConfigError(f"{key} = {value!r}: must be >= 0")
+    return result
+
+
 def length(*, positive: bool = True, signed: bool = False) -> Converter[float]:
     """Return a converter of lengths (numbers of metres, or strings with a unit).
 
@@ -271,7 +293,8 @@ def duration(value: Any, key: str) -> float:
     if seconds is None:
         seconds = number(value, key)
     if seconds <= 0:
-        raise ConfigError(f"{key} = {value!r}: must be > 0")
+        shown = repr(value) if isinstance(value, str) else f"{seconds:g} s"
+        raise ConfigError(f"{key} = {shown}: must be > 0")
     return seconds
 
 

@@ -5,7 +5,13 @@
                                    from named boundaries, bathymetry terms,
                                    floor, ceiling and gradation limit
 :class:`BoundaryGradation`         a gradation from named boundary segments
+:func:`size_field_with_report`     the same, with the report of every term
 :class:`BathymetrySize`            wavelength and slope terms from a raster
+:class:`ChannelSize`               elements across every channel (on by
+                                   default)
+:class:`CourantSize`               a Courant-number window at a time step
+:func:`local_width`                the width of the water on a grid
+:func:`domain_width`               the width of a domain's water
 :func:`size_field`                 gradations from lines, combined by minimum
 :class:`Gradation`                 the paper's gradation from a set of lines
 :func:`distance_to_lines`          true distances on the Earth, on a grid
@@ -27,16 +33,26 @@ from coastmesh.sizing.bathymetry import (
     slope_size,
     wavelength_size,
 )
+from coastmesh.sizing.channel import ChannelReport, NarrowChannel, local_width
 from coastmesh.sizing.distance import distance_to_lines
 from coastmesh.sizing.domain import (
     BathymetrySize,
     BoundaryGradation,
+    SizeField,
     SizeFieldReport,
     domain_size_field,
+    size_field_with_report,
 )
 from coastmesh.sizing.field import Gradation, size_field
 from coastmesh.sizing.gradation import gradation_size, limit_gradation
 from coastmesh.sizing.raster import interpolate_bilinear, raster_grid
+from coastmesh.sizing.terms import (
+    ChannelSize,
+    CourantReport,
+    CourantSize,
+    courant_bounds,
+    domain_width,
+)
 from coastmesh.sizing.units import EARTH_RADIUS, to_metres
 
 __all__ = [
@@ -44,16 +60,26 @@ __all__ = [
     "M2_PERIOD",
     "BathymetrySize",
     "BoundaryGradation",
+    "ChannelReport",
+    "ChannelSize",
+    "CourantReport",
+    "CourantSize",
     "Gradation",
+    "NarrowChannel",
+    "SizeField",
     "SizeFieldReport",
+    "courant_bounds",
     "depth_on_grid",
     "distance_to_lines",
     "domain_size_field",
+    "domain_width",
     "gradation_size",
     "interpolate_bilinear",
     "limit_gradation",
+    "local_width",
     "raster_grid",
     "size_field",
+    "size_field_with_report",
     "slope_size",
     "to_metres",
     "wavelength_size",

@@ -15,7 +15,7 @@ import logging
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import shapely
@@ -30,8 +30,19 @@ from coastmesh.sizing.bathymetry import (
     slope_size,
     wavelength_size,
 )
+from coastmesh.sizing.channel import ChannelReport, channel_polygons
 from coastmesh.sizing.field import Gradation, size_field
 from coastmesh.sizing.gradation import limit_gradation
+from coastmesh.sizing.terms import (
+    ChannelSize,
+    CourantReport,
+    CourantSize,
+    apply_courant,
+    channel_report_of,
+    domain_inside,
+    domain_width,
+    warn_narrow,
+)
 from coastmesh.types import Domain, Progress, Report
 
 if TYPE_CHECKING:
@@ -40,8 +51,10 @@ if TYPE_CHECKING:
 __all__ = [
     "BathymetrySize",
     "BoundaryGradation",
+    "SizeField",
     "SizeFieldReport",
     "domain_size_field",
+    "size_field_with_report",
 ]
 
 logger = logging.getLogger(__name__)
@@ -49,6 +62,8 @@ logger = logging.getLogger(__name__)
 #: The default grid spacing, and the densification of the domain's outline
 #: before it is projected, are the domain's extent over this.
 _CELLS_ACROSS = 1000
+#: The channel term as it is by default: 3 elements across, narrow channels kept.
+DEFAULT_CHANNELS = ChannelSize()
 #: The grid extends this many cells beyond the domain on every side.
 _PAD_CELLS = 2
 
@@ -107,7 +122,7 @@ class BathymetrySize:
 
 @dataclass(frozen=True, slots=True)
 class SizeFieldReport(Report):
-    """The grid and the range of a size field.
+    """The grid and the range of a size field, and what its terms did.
 
     Attributes
     ----------
@@ -117,29 +132,52 @@ class SizeFieldReport(Report):
         Grid spacing, metres.
     min_m, max_m : float
         Smallest and largest size, metres.
+    h_min_m : float or None
+        The floor of the field, metres.
+    channels : ChannelReport or None
+        The channel-width term, when on.
+    courant : CourantReport or None
+        The Courant term, when on.
     """
 
     shape: tuple[int, int]
     cell_m: float
     min_m: float
     max_m: float
+    h_min_m: float | None = None
+    channels: ChannelReport | None = None
+    courant: CourantReport | None = None
 
     @classmethod
-    def of(cls, field: xr.DataArray) -> SizeFieldReport:
+    def of(
+        cls,
+        field: xr.DataArray,
+        *,
+        h_min: float | None = None,
+        channels: ChannelReport | None = None,
+        courant: CourantReport | None = None,
+    ) -> SizeFieldReport:
         """Describe a size field DataArray (dims ``("y", "x")``, metres)."""
         return cls(
             shape=(int(field.shape[0]), int(field.shape[1])),
             cell_m=float(field.x[1] - field.x[0]),
             min_m=float(field.min()),
             max_m=float(field.max()),
+            h_min_m=h_min,
+            channels=channels,
+            courant=courant,
         )
 
     def summary(self) -> str:
         """Return a one-line summary."""
-        return (
+        text = (
             f"{self.shape[1]} x {self.shape[0]} cells of {self.cell_m:.0f} m, "
             f"{self.min_m:.0f} to {self.max_m:.0f} m"
         )
+        for part in (self.channels, self.courant):
+            if part is not None:
+                text += f"; {part.summary()}"
+        return text
 
 
 def domain_size_field(
@@ -152,6 +190,8 @@ def domain_size_field(
     cell: float | None = None,
     rate: float | None = None,
     bathymetry: BathymetrySize | None = None,
+    channels: ChannelSize | None = DEFAULT_CHANNELS,
+    courant: CourantSize | None = None,
     progress: Progress | None = None,
 ) -> xr.DataArray:
     """Compute the target element size over a domain, on a grid in ``mesh_crs``.
@@ -169,7 +209,8 @@ def domain_size_field(
         Combined by minimum. One whose names match no segment of the domain is
         skipped, with a warning.
     h_min : float, optional
-        A floor of the whole field, metres.
+        A floor of the whole field, metres. Default: the smallest gradation
+        ``h_min`` when the channel term is on (it needs a floor), else none.
     cell : float, optional
         Grid spacing, metres; default 1/1000 of the domain's extent, but not
         below the smallest ``h_min``.
@@ -177,6 +218,11 @@ def domain_size_field(
         Gradation limit: sizes grow by at most ``rate`` metres per metre.
     bathymetry : BathymetrySize, optional
         Wavelength and slope terms.
+    channels : ChannelSize or None
+        The channel-width term, on by default (3 elements across); None turns
+        it off.
+    courant : CourantSize, optional
+        The Courant window at a model time step.
     progress : callable, optional
         Called as ``progress(done, 3)``.
 
@@ -185,7 +231,8 @@ def domain_size_field(
     xarray.DataArray
         Sizes in metres, dims ``("y", "x")``, ascending node coordinates in
         ``mesh_crs``, attrs ``crs`` (WKT), ``units`` and ``history``; the grid
-        covers the domain with two cells to spare.
+        covers the domain with two cells to spare. :func:`size_field_with_report`
+        returns it with its report.
 
     Raises
     ------
@@ -196,7 +243,22 @@ def domain_size_field(
     Warns
     -----
     CoastmeshWarning
-        For a gradation whose lines name no segment of the domain.
+        For a gradation whose lines name no segment of the domain, narrow
+        channels kept, and a Courant window no size in ``[h_min, h_max]`` meets.
+
+    Notes
+    -----
+    How the terms combine, in this order (later steps win):
+
+    1. the gradations, the bathymetry terms, the channel term and the Courant
+       cap (``courant_min``) combine by minimum;
+    2. ``h_min`` floors the result (so the channel term never goes below it);
+    3. the Courant floor (``courant_max``) raises it: a model must run at its
+       time step, so this beats ``h_min``, the channel term and the gradations;
+    4. ``h_max`` caps it, over everything (a floor above ``h_max`` is a window
+       no size meets: it is warned of, with its area);
+    5. the gradation limit ``rate`` lowers sizes last (it may go below the
+       floors next to a small size; it never raises one).
 
     Examples
     --------
@@ -212,10 +274,67 @@ def domain_size_field(
     >>> float(field.min()), float(field.max()), field.shape
     (200.0, 2000.0, (45, 45))
     """
+    return size_field_with_report(
+        domain,
+        mesh_crs=mesh_crs,
+        h_max=h_max,
+        gradations=gradations,
+        h_min=h_min,
+        cell=cell,
+        rate=rate,
+        bathymetry=bathymetry,
+        channels=channels,
+        courant=courant,
+        progress=progress,
+    ).field
+
+
+@dataclass(frozen=True, slots=True)
+class SizeField:
+    """A size field with its report (:func:`size_field_with_report`).
+
+    Attributes
+    ----------
+    field : xarray.DataArray
+        As :func:`domain_size_field` returns it.
+    report : SizeFieldReport
+    narrow : ndarray of shapely polygons
+        The channels narrower than two elements of ``h_min``, in the domain's
+        CRS, grown by a cell: what ``narrow = "close"`` takes out of the domain.
+        The size field does not change the domain: :func:`coastmesh.build_case`
+        adds these to the land and builds the domain again; a Python caller
+        does the same with :func:`coastmesh.geometry.build_domain`.
+    """
+
+    field: xr.DataArray
+    report: SizeFieldReport
+    narrow: NDArray[np.object_]
+
+
+def size_field_with_report(
+    domain: Domain,
+    *,
+    mesh_crs: CRS | str,
+    h_max: float,
+    gradations: Sequence[BoundaryGradation] = (),
+    h_min: float | None = None,
+    cell: float | None = None,
+    rate: float | None = None,
+    bathymetry: BathymetrySize | None = None,
+    channels: ChannelSize | None = DEFAULT_CHANNELS,
+    courant: CourantSize | None = None,
+    progress: Progress | None = None,
+) -> SizeField:
+    """:func:`domain_size_field`, with the report of every term.
+
+    Same parameters; returns a :class:`SizeField`.
+    """
     mesh_crs = CRS.from_user_input(mesh_crs)
     for name, value in (("h_max", h_max), ("h_min", h_min), ("cell", cell)):
         if value is not None and not value > 0:
             raise ConfigError(f"{name} = {value!r}: must be > 0 metres")
+    if h_min is None and channels is not None:
+        h_min = min([g.h_min for g in gradations] or [h_max])
     step = _extent(domain.polygon.bounds) / _CELLS_ACROSS
     outline = reproject(
         shapely.segmentize(domain.polygon.exterior, step), domain.crs, mesh_crs
@@ -237,10 +356,23 @@ def domain_size_field(
         cell=cell,
     )
     _report(progress, 1)
+    x, y = field.x.values, field.y.values
     values = field.values
     if bathymetry is not None:
         values = np.minimum(values, _bathymetry_size(bathymetry, field, mesh_crs))
-    if h_min is not None:
+    channel_report, narrow, inside = None, np.empty(0, dtype=object), None
+    if channels is not None:
+        values, channel_report, narrow, inside = _channel_term(
+            domain, channels, values, x, y, mesh_crs, h_min=h_min, h_max=h_max
+        )
+    courant_report = None
+    if courant is not None:
+        if inside is None:
+            inside = domain_inside(domain, x, y, mesh_crs)
+        values, courant_report = apply_courant(
+            courant, values, x, y, mesh_crs, inside, h_min=h_min, h_max=h_max
+        )
+    elif h_min is not None:
         values = np.maximum(values, h_min)
     values = np.minimum(values, h_max)
     if rate is not None:
@@ -250,13 +382,63 @@ def domain_size_field(
     field.attrs["history"] = (
         f"coastmesh domain_size_field: {len(graded)} gradations"
         + (", bathymetry" if bathymetry is not None else "")
+        + (
+            f", channels ({channels.elements_across:g} across)"
+            if channels is not None
+            else ""
+        )
+        + (f", Courant at dt {courant.dt:g} s" if courant is not None else "")
         + (f", h_min {h_min:g} m" if h_min is not None else "")
         + f", h_max {h_max:g} m"
         + (f", rate {rate:g}" if rate is not None else "")
     )
     _report(progress, 3)
-    logger.info("size field: %s", SizeFieldReport.of(field).summary())
-    return field
+    report = SizeFieldReport.of(
+        field, h_min=h_min, channels=channel_report, courant=courant_report
+    )
+    logger.info("size field: %s", report.summary())
+    return SizeField(field, report, narrow)
+
+
+def _channel_term(
+    domain: Domain,
+    channels: ChannelSize,
+    values: NDArray[np.float64],
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    mesh_crs: CRS,
+    *,
+    h_min: float,
+    h_max: float,
+) -> tuple[NDArray[np.float64], ChannelReport, NDArray[np.object_], NDArray[Any]]:
+    """Apply the channel term; return the sizes, report, narrow channels, inside."""
+    width, inside = domain_width(
+        domain, x, y, mesh_crs, max_width=channels.elements_across * h_max
+    )
+    term = np.maximum(width / channels.elements_across, h_min)
+    limited = inside & (term < values)
+    values = np.minimum(values, term)
+    report, labels = channel_report_of(
+        width,
+        inside,
+        limited,
+        x=x,
+        y=y,
+        mesh_crs=mesh_crs,
+        channels=channels,
+        h_min=h_min,
+    )
+    narrow = np.empty(0, dtype=object)
+    if report.narrow_channels:
+        # closed as land: the cells of each channel, one cell wider (into the
+        # land, and past its mouth) and simplified, so that the cut is clean
+        cell = float(x[1] - x[0])
+        cells = channel_polygons(labels, x, y)
+        grown = shapely.simplify(shapely.buffer(cells, cell, quad_segs=2), cell)
+        narrow = reproject(grown, mesh_crs, domain.crs)
+        if channels.narrow == "keep":
+            warn_narrow(report)
+    return values, report, narrow, inside
 
 
 def _extent(bounds: tuple[float, ...]) -> float:

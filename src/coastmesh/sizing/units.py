@@ -9,7 +9,13 @@ import re
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import EARTH_RADIUS, METRES_PER_DEGREE
 
-__all__ = ["EARTH_RADIUS", "to_metres", "to_seconds", "to_square_metres"]
+__all__ = [
+    "EARTH_RADIUS",
+    "to_metres",
+    "to_metres_per_second",
+    "to_seconds",
+    "to_square_metres",
+]
 
 _UNITS = {"m": 1.0, "km": 1000.0, "deg": METRES_PER_DEGREE}
 _PATTERN = re.compile(r"^\s*(\S+?)\s*([a-zA-Z]+[0-9]?)\s*$")
@@ -98,6 +104,36 @@ def to_seconds(value: str | float, *, name: str = "time") -> float:
     5400.0
     """
     return _with_unit(value, _TIME_UNITS, name, "'12.42 h', '30 min' or '60 s'")
+
+
+_SPEED_UNITS = {"m/s": 1.0, "km/h": 1 / 3.6, "kn": 1852 / 3600}
+_SPEED = re.compile(r"^\s*(\S+?)\s*(m/s|km/h|kn)\s*$")
+
+
+def to_metres_per_second(value: str | float, *, name: str = "speed") -> float:
+    """Convert a speed with its unit (``"1.5 m/s"``, ``"3 kn"``, ``"5 km/h"``).
+
+    Examples
+    --------
+    >>> to_metres_per_second("1.5 m/s"), round(to_metres_per_second("2 kn"), 4)
+    (1.5, 1.0289)
+    """
+    if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == 0:
+        return 0.0
+    match = _SPEED.match(value) if isinstance(value, str) else None
+    if match is None:
+        raise ConfigError(
+            f"{name} = {value!r}: write a number and a unit, e.g. '1 m/s', '2 kn' "
+            "or '5 km/h'"
+        )
+    number_text, unit = match.groups()
+    try:
+        number = float(number_text)
+    except ValueError:
+        raise ConfigError(
+            f"{name} = {value!r}: {number_text!r} is not a number"
+        ) from None
+    return _scaled(number, unit, _SPEED_UNITS, name, value)
 
 
 def _with_unit(

@@ -37,7 +37,13 @@ from coastmesh.case.config.shorelines import (
     ShorelinesConfig,
     ShorelineSetConfig,
 )
-from coastmesh.case.config.sizes import BathymetryConfig, GradationConfig, SizeConfig
+from coastmesh.case.config.sizes import (
+    BathymetryConfig,
+    ChannelConfig,
+    CourantConfig,
+    GradationConfig,
+    SizeConfig,
+)
 
 __all__ = [
     "BOUNDARY_KINDS",
@@ -46,7 +52,9 @@ __all__ = [
     "BathymetryConfig",
     "BoundaryConfig",
     "CaseConfig",
+    "ChannelConfig",
     "CleanupConfig",
+    "CourantConfig",
     "DomainConfig",
     "GradationConfig",
     "LoxodromeConfig",

@@ -209,6 +209,16 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
                 f"{owners[physical_id]!r}; every boundary needs its own id"
             )
         owners[physical_id] = name
+    courant = case["size"].courant
+    if (
+        courant is not None
+        and case["size"].bathymetry is None
+        and case.get("bathymetry") is None
+    ):
+        raise ConfigError(
+            f"{label}: mesh_size.courant.dt = {courant.dt:g} s: the Courant term "
+            "needs the depth; add [mesh_size.bathymetry] or [bathymetry]"
+        )
     for k, g in enumerate(case["size"].gradations):
         for n in g.lines:
             if n not in names:

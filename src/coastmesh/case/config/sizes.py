@@ -6,12 +6,20 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from coastmesh.case import schema
-from coastmesh.case.config._check import Check, sequence
+from coastmesh.case.config._check import Check, check_part, sequence
 from coastmesh.sizing.bathymetry import M2_PERIOD
 
-__all__ = ["BathymetryConfig", "GradationConfig", "SizeConfig"]
+__all__ = [
+    "BathymetryConfig",
+    "ChannelConfig",
+    "CourantConfig",
+    "GradationConfig",
+    "SizeConfig",
+]
 
 _UP_DOWN = ("up", "down")
+#: ``courant_max`` when neither bound is given (explicit models).
+DEFAULT_COURANT_MAX = 0.5
 
 
 @dataclass(frozen=True, slots=True)
@@ -87,6 +95,87 @@ class BathymetryConfig:
 
 
 @dataclass(frozen=True, slots=True)
+class ChannelConfig:
+    """``[mesh_size.channels]``: elements across every channel (on by default).
+
+    Attributes
+    ----------
+    enabled : bool
+        False turns the term off.
+    elements_across : float
+        Elements across the water; at least 1 (default 3). The size is at most
+        the local width of the water over this, and at least ``mesh_size.h_min``.
+    narrow : {"keep", "close"}
+        Channels narrower than two elements of ``h_min``: ``"keep"`` them
+        (reported, with a warning) or ``"close"`` them (taken out of the domain
+        as land, and counted in the report).
+    """
+
+    enabled: bool = True
+    elements_across: float = 3.0
+    narrow: str = "keep"
+
+    def _checked(self, c: Check) -> ChannelConfig:
+        from coastmesh.sizing.terms import NARROW_CHOICES
+
+        across = c(schema.number, self.elements_across, "elements_across")
+        if not across >= 1:
+            raise c.error(
+                "elements_across", f"= {self.elements_across!r}: must be at least 1"
+            )
+        return ChannelConfig(
+            enabled=c(schema.boolean, self.enabled, "enabled"),
+            elements_across=across,
+            narrow=c(schema.choice(NARROW_CHOICES), self.narrow, "narrow"),
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class CourantConfig:
+    """``[mesh_size.courant]``: sizes a model runs at its time step.
+
+    The size is bounded so that ``C = dt (sqrt(g d) + u) / h`` stays between
+    ``courant_min`` and ``courant_max``, with ``d`` from the bathymetry
+    (``[mesh_size.bathymetry]``, else ``[bathymetry]``).
+
+    Attributes
+    ----------
+    dt : float or str
+        The model's time step (seconds).
+    courant_max : float, optional
+        Largest Courant number; sizes are raised to meet it. Default 0.5 when
+        neither bound is given.
+    courant_min : float, optional
+        Smallest Courant number; sizes are lowered to meet it.
+    velocity : float or str
+        The flow speed ``u`` added to the wave speed (m/s); default 1 m/s.
+    """
+
+    dt: float
+    courant_max: float | None = None
+    courant_min: float | None = None
+    velocity: float = 1.0
+
+    def _checked(self, c: Check) -> CourantConfig:
+        high = c.optional(schema.positive, self.courant_max, "courant_max")
+        low = c.optional(schema.positive, self.courant_min, "courant_min")
+        if high is None and low is None:
+            high = DEFAULT_COURANT_MAX
+        if high is not None and low is not None and low >= high:
+            raise c.error(
+                "courant_min",
+                f"= {low:g} is not below courant_max = {high:g}: no Courant number "
+                "fits between them",
+            )
+        return CourantConfig(
+            dt=c(schema.duration, self.dt, "dt"),
+            courant_max=high,
+            courant_min=low,
+            velocity=c(schema.speed, self.velocity, "velocity"),
+        )
+
+
+@dataclass(frozen=True, slots=True)
 class SizeConfig:
     """``[mesh_size]``: the element size field.
 
@@ -96,12 +185,17 @@ class SizeConfig:
         The coarsest size (metres).
     gradations : sequence of GradationConfig
     h_min : float or str, optional
-        A floor of the whole field (metres).
+        A floor of the whole field (metres). Default: the smallest gradation
+        ``h_min`` (the channel term needs a floor).
     cell : float or str, optional
         Cell size of the size grid (metres); default 1/1000 of the extent.
     rate : float, optional
         Largest size change per unit distance (gradation limit).
     bathymetry : BathymetryConfig, optional
+    channels : ChannelConfig
+        The channel-width term; on by default.
+    courant : CourantConfig, optional
+        The Courant term.
     """
 
     h_max: float
@@ -110,6 +204,8 @@ class SizeConfig:
     cell: float | None = None
     rate: float | None = None
     bathymetry: BathymetryConfig | None = None
+    channels: ChannelConfig = ChannelConfig()
+    courant: CourantConfig | None = None
 
     def _checked(self, c: Check) -> SizeConfig:
         h_max = c(schema.length(), self.h_max, "h_max")
@@ -133,4 +229,8 @@ class SizeConfig:
             bathymetry=None
             if bathymetry is None
             else bathymetry._checked(c.at("bathymetry")),
+            channels=check_part(self.channels, ChannelConfig, c, "channels"),
+            courant=None
+            if self.courant is None
+            else check_part(self.courant, CourantConfig, c, "courant"),
         )

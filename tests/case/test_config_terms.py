@@ -1,0 +1,166 @@
+"""``[mesh_size.channels]``, ``[mesh_size.courant]``: defaults, errors, round trip."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+from coastmesh.case import dump_case, parse_case
+from coastmesh.case.config import (
+    BathymetryConfig,
+    ChannelConfig,
+    CourantConfig,
+    NodeDepthConfig,
+)
+from coastmesh.errors import ConfigError
+
+BASE = """
+[case]
+name = "t"
+
+[shorelines]
+path = "/data/coast.gpkg"
+
+[shoreline_sets.full]
+id = 10
+
+[domain]
+seed = [0.5, 0.5]
+
+[mesh_size]
+h_max = "1 km"
+"""
+
+DEPTH = """
+[bathymetry]
+path = "/data/depth.tif"
+"""
+
+
+def parsed(extra: str):
+    return parse_case(BASE + extra, "/cases/t.toml")
+
+
+def test_channels_are_on_by_default_with_three_elements_across():
+    case = parsed("")
+    assert case.size.channels == ChannelConfig(True, 3.0, "keep")
+    assert case.size.courant is None
+
+
+def test_channel_and_courant_tables_parse_with_units():
+    case = parsed(
+        '[mesh_size.channels]\nelements_across = 4\nnarrow = "close"\n'
+        '[mesh_size.courant]\ndt = "30 s"\ncourant_min = 0.4\ncourant_max = 2\n'
+        'velocity = "2 kn"\n' + DEPTH
+    )
+    assert case.size.channels == ChannelConfig(True, 4.0, "close")
+    assert case.size.courant == CourantConfig(30.0, 2.0, 0.4, 2 * 1852 / 3600)
+
+
+def test_dt_alone_gets_the_explicit_model_default():
+    case = parsed('[mesh_size.courant]\ndt = "1 min"\n' + DEPTH)
+    assert case.size.courant == CourantConfig(60.0, 0.5, None, 1.0)
+    only_min = parsed('[mesh_size.courant]\ndt = "60 s"\ncourant_min = 0.9\n' + DEPTH)
+    assert only_min.size.courant.courant_max is None
+
+
+@pytest.mark.parametrize(
+    ("extra", "message"),
+    [
+        (
+            "[mesh_size.channels]\nelements_across = 0.5\n",
+            r"/cases/t.toml: mesh_size.channels.elements_across = 0.5: must be at "
+            r"least 1",
+        ),
+        (
+            '[mesh_size.channels]\nnarrow = "fill"\n',
+            r"mesh_size.channels.narrow = 'fill'",
+        ),
+        (
+            '[mesh_size.courant]\ndt = "10 s"\n',
+            r"/cases/t.toml: mesh_size.courant.dt = 10 s: the Courant term needs the "
+            r"depth; add \[mesh_size.bathymetry\] or \[bathymetry\]",
+        ),
+        (
+            '[mesh_size.courant]\ndt = "10 s"\ncourant_min = 0.5\ncourant_max = 0.5\n'
+            + DEPTH,
+            r"mesh_size.courant.courant_min = 0.5 is not below courant_max = 0.5",
+        ),
+        (
+            '[mesh_size.courant]\ndt = "10 s"\ncourant_min = 0.8\ncourant_max = 0.2\n'
+            + DEPTH,
+            r"mesh_size.courant.courant_min = 0.8 is not below courant_max = 0.2",
+        ),
+        (
+            "[mesh_size.courant]\ndt = 10\n" + DEPTH,
+            r"mesh_size.courant.dt = 10: write a number and a unit",
+        ),
+        (
+            '[mesh_size.courant]\ndt = "10 s"\nvelocity = "1 mph"\n' + DEPTH,
+            r"mesh_size.courant.velocity = '1 mph'",
+        ),
+        (
+            '[mesh_size.courant]\ndt = "-5 s"\n' + DEPTH,
+            r"mesh_size.courant.dt = -5 s: must be > 0",
+        ),
+        (
+            '[mesh_size.courant]\ndt = "5 s"\ncourant = 1\n' + DEPTH,
+            r"mesh_size.courant.courant",
+        ),
+    ],
+)
+def test_bad_terms_name_the_key(extra, message):
+    with pytest.raises(ConfigError, match=message):
+        parsed(extra)
+
+
+def test_python_configs_get_the_same_messages():
+    case = parsed(DEPTH)
+    with pytest.raises(
+        ConfigError,
+        match=r"CaseConfig: mesh_size.channels.elements_across = 0: must be at least 1",
+    ):
+        dataclasses.replace(
+            case,
+            source=None,
+            size=dataclasses.replace(case.size, channels=ChannelConfig(True, 0)),
+        )
+    with pytest.raises(ConfigError, match=r"courant_min = 1 is not below"):
+        dataclasses.replace(
+            case,
+            source=None,
+            size=dataclasses.replace(
+                case.size, courant=CourantConfig("10 s", courant_max=1, courant_min=1)
+            ),
+        )
+    # a number is seconds / m/s in Python
+    ok = dataclasses.replace(
+        case,
+        source=None,
+        size=dataclasses.replace(case.size, courant=CourantConfig(12, velocity=0)),
+    )
+    assert ok.size.courant == CourantConfig(12.0, 0.5, None, 0.0)
+
+
+@pytest.mark.parametrize(
+    "size_change",
+    [
+        {"channels": ChannelConfig(False)},
+        {"channels": ChannelConfig(True, 2.5, "close")},
+        {"courant": CourantConfig(7.5, 0.9, 0.1, 0.25)},
+        {
+            "courant": CourantConfig(20.0, None, 0.4, 1.0),
+            "bathymetry": BathymetryConfig("/data/d.tif", per_wavelength=50),
+        },
+    ],
+)
+def test_terms_round_trip_through_the_case_file(size_change):
+    case = dataclasses.replace(
+        parsed(DEPTH), source=None, text="", bathymetry=NodeDepthConfig("/d.tif")
+    )
+    case = dataclasses.replace(case, size=dataclasses.replace(case.size, **size_change))
+    again = dataclasses.replace(
+        parse_case(dump_case(case), "/x/t.toml"), source=None, text=""
+    )
+    assert again == case

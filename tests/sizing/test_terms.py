@@ -1,0 +1,220 @@
+"""The channel and Courant terms in the whole size field: order, reports, warnings."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+import shapely
+import xarray as xr
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from pyproj import Transformer
+
+from coastmesh.errors import CoastmeshWarning
+from coastmesh.sizing import (
+    BoundaryGradation,
+    ChannelSize,
+    CourantSize,
+    domain_size_field,
+    size_field_with_report,
+)
+from coastmesh.sizing.terms import GRAVITY, courant_bounds
+from coastmesh.types import BoundarySegment, Domain
+
+
+def _flat_raster(depth: float, crs: str = "EPSG:32631") -> xr.DataArray:
+    """A raster of constant elevation ``-depth`` covering the test domains."""
+    x = np.arange(-5_000.0, 40_001.0, 1000.0)
+    y = np.arange(-5_000.0, 40_001.0, 1000.0)
+    return xr.DataArray(
+        np.full((len(y), len(x)), -depth),
+        dims=("y", "x"),
+        coords={"y": y, "x": x},
+        attrs={"crs": crs},
+    )
+
+
+def _bay(inlet: float = 600.0) -> Domain:
+    x0, x1 = 10_000 - inlet / 2, 10_000 + inlet / 2
+    ring = [
+        (0, 0),
+        (20_000, 0),
+        (20_000, 20_000),
+        (x1, 20_000),
+        (x1, 26_000),
+        (x0, 26_000),
+        (x0, 20_000),
+        (0, 20_000),
+        (0, 0),
+    ]
+    return Domain(
+        shapely.Polygon(ring),
+        (
+            BoundarySegment(ring[:2], "open", "south", 2),
+            BoundarySegment(ring[1:], "shoreline", "coast", 1),
+        ),
+        crs="EPSG:32631",
+    )
+
+
+GRADE = [BoundaryGradation(("coast",), h_min=400.0, d_grade=5000.0)]
+
+
+def _at(field: xr.DataArray, x: float, y: float) -> float:
+    return float(field.sel(x=x, y=y, method="nearest"))
+
+
+def test_the_channel_term_is_on_by_default_and_puts_elements_across():
+    kw = {"mesh_crs": "EPSG:32631", "h_max": 3000.0, "cell": 50.0}
+    kw["gradations"] = GRADE
+    off = domain_size_field(_bay(), channels=None, h_min=100.0, **kw)
+    with pytest.warns(CoastmeshWarning, match="narrower than 2 elements") as caught:
+        on = domain_size_field(_bay(150.0), h_min=100.0, **kw)
+    assert "kept" in str(caught[0].message)
+    default = domain_size_field(_bay(), h_min=100.0, **kw)
+    # a 600 m inlet: 556 m from the gradation alone (300 m from the shore), at
+    # most 200 m (3 across) with the term
+    assert _at(off, 10_000, 23_000) == pytest.approx(400 + 300 * 2600 / 5000, rel=0.01)
+    assert 550 / 1.15 / 3 <= _at(default, 10_000, 23_000) <= 200.0
+    # a 150 m inlet cannot take 3 elements of 100 m: it takes the floor
+    assert _at(on, 10_000, 23_000) == 100.0
+    # in the open bay the term changes nothing
+    assert _at(default, 10_000, 8_000) == _at(off, 10_000, 8_000)
+
+
+def test_the_channel_report_counts_narrow_channels_and_gives_their_place():
+    with pytest.warns(CoastmeshWarning):
+        sized = size_field_with_report(
+            _bay(150.0),
+            mesh_crs="EPSG:32631",
+            h_max=3000.0,
+            h_min=100.0,
+            cell=25.0,
+            gradations=GRADE,
+        )
+    ch = sized.report.channels
+    assert ch.narrow_channels == 1 and ch.narrow == "keep"
+    assert 9_000 < ch.worst[0].y < 26_000 and ch.worst[0].width_m < 200.0
+    assert 0.5 < ch.narrow_km2 < 1.2  # the inlet: 150 m x 6 km
+    lon, lat = Transformer.from_crs(32631, 4326, always_xy=True).transform(
+        ch.worst[0].x, ch.worst[0].y
+    )
+    assert (ch.worst[0].lon, ch.worst[0].lat) == (round(lon, 6), round(lat, 6))
+    assert 140.0 / 1.15 < ch.worst[0].width_m < 200.0
+    assert len(sized.narrow) == 1 and sized.narrow[0].area > 0.5e6
+    assert "1 narrower than 2 x 100 m" in sized.report.summary()
+
+
+def test_h_min_defaults_to_the_smallest_gradation_when_channels_are_on():
+    sized = size_field_with_report(
+        _bay(),
+        mesh_crs="EPSG:32631",
+        h_max=3000.0,
+        cell=50.0,
+        gradations=GRADE,
+    )
+    assert sized.report.h_min_m == 400.0
+    assert float(sized.field.min()) == 400.0
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.floats(0.0, 5000.0),
+    st.floats(1.0, 120.0),
+    st.floats(0.0, 3.0),
+    st.floats(0.05, 0.9),
+    st.one_of(st.none(), st.floats(0.01, 0.04)),
+)
+def test_courant_bounds_match_the_formula(depth, dt, u, cmax, cmin):
+    c = CourantSize(
+        _flat_raster(1.0), dt=dt, courant_max=cmax, courant_min=cmin, velocity=u
+    )
+    floor, cap = courant_bounds(np.array([depth]), c)
+    speed = math.sqrt(GRAVITY * max(depth, 1.0)) + u
+    assert floor[0] == pytest.approx(dt * speed / cmax, rel=1e-12)
+    if cmin is None:
+        assert cap[0] == math.inf
+    else:
+        assert cap[0] == pytest.approx(dt * speed / cmin, rel=1e-12)
+        # the Courant number at either bound is the bound
+        assert dt * speed / floor[0] == pytest.approx(cmax)
+
+
+def test_the_courant_floor_beats_h_min_and_the_channel_term_and_h_max_beats_it():
+    # 100 m deep: c = 31.3 m/s + 1; dt 10 s, courant_max 1: floor 323 m
+    c = CourantSize(_flat_raster(100.0), dt=10.0, courant_max=1.0, velocity=1.0)
+    floor = 10.0 * (math.sqrt(GRAVITY * 100.0) + 1.0)
+    sized = size_field_with_report(
+        _bay(600.0),
+        mesh_crs="EPSG:32631",
+        h_max=3000.0,
+        h_min=100.0,
+        cell=50.0,
+        gradations=GRADE,
+        courant=c,
+    )
+    # in the inlet the channel term asks for ~180 m; the Courant floor wins
+    assert _at(sized.field, 10_000, 23_000) == pytest.approx(floor)
+    assert sized.report.courant.raised_km2 > 3.0
+    assert sized.report.courant.unmet_km2 == 0.0
+    # a floor above h_max: h_max wins, with a warning giving the area
+    deep = CourantSize(_flat_raster(4000.0), dt=60.0, courant_max=0.5)
+    with pytest.warns(CoastmeshWarning, match=r"on 4\d\d\.\d km2 of the domain"):
+        capped = size_field_with_report(
+            _bay(),
+            mesh_crs="EPSG:32631",
+            h_max=3000.0,
+            cell=100.0,
+            gradations=GRADE,
+            courant=deep,
+        )
+    assert float(capped.field.max()) == 3000.0
+
+
+def test_the_courant_cap_lowers_sizes_but_not_below_h_min():
+    # shallow: 4 m, u = 0: c = 6.26 m/s; dt 30 s, courant_min 0.5: cap 376 m
+    c = CourantSize(
+        _flat_raster(4.0), dt=30.0, courant_max=None, courant_min=0.5, velocity=0.0
+    )
+    cap = 30.0 * math.sqrt(GRAVITY * 4.0) / 0.5
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoastmeshWarning)
+        sized = size_field_with_report(
+            _bay(),
+            mesh_crs="EPSG:32631",
+            h_max=3000.0,
+            h_min=100.0,
+            cell=100.0,
+            gradations=GRADE,
+            courant=c,
+        )
+    assert float(sized.field.max()) == pytest.approx(cap)
+    assert sized.report.courant.lowered_km2 > 300
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"dt": 0.0}, "dt = 0.0: must be > 0"),
+        ({"dt": 10.0, "courant_max": 0.3, "courant_min": 0.3}, "courant_min = 0.3"),
+        ({"dt": 10.0, "velocity": -1.0}, "velocity = -1.0"),
+    ],
+)
+def test_bad_courant_terms_name_the_parameter(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        CourantSize(_flat_raster(1.0), **kwargs)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"elements_across": 0.5}, "elements_across = 0.5: must be a number >= 1"),
+        ({"narrow": "fill"}, "narrow = 'fill'"),
+    ],
+)
+def test_bad_channel_terms_name_the_parameter(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        ChannelSize(**kwargs)
