@@ -20,7 +20,7 @@ from reference_quality import (
 
 from coastmesh.io.msh import write_msh
 from coastmesh.meshing import generate_mesh
-from coastmesh.meshing import quality as quality_module
+from coastmesh.meshing import measure as measure_module
 from coastmesh.meshing.quality import edge_quality, mesh_quality, triangle_quality
 from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
 
@@ -158,7 +158,7 @@ def test_projected_mesh_is_measured_like_its_lonlat_copy(lonlat_mesh):
 def test_blocks_give_the_same_answer(lonlat_mesh, monkeypatch):
     whole = triangle_quality(lonlat_mesh)
     whole_edges = edge_quality(lonlat_mesh)
-    monkeypatch.setattr(quality_module, "_BLOCK", 7)
+    monkeypatch.setattr(measure_module, "_BLOCK", 7)
     blocked = triangle_quality(lonlat_mesh)
     blocked_edges = edge_quality(lonlat_mesh)
     for key in whole:
@@ -381,13 +381,13 @@ def test_report_as_data_and_text(lonlat_mesh):
     assert "south (open)" in text and "rock (shoreline)" in text
     assert f"{report.triangles:,} triangles" in text
     assert "edges in [0.5, 2]" in text
-    assert not text.endswith("\n") and len(text.splitlines()) == 8
+    assert not text.endswith("\n") and len(text.splitlines()) == 9
     for stats in (report.min_angle, report.radius_ratio, report.edge_ratio):
         assert stats.summary() in text
     assert report.interior_valence.to_dict()["nodes"] == report.interior_valence.nodes
     without_size = mesh_quality(grid_mesh("EPSG:4326", 0.01, (5, 60)))
     assert without_size.to_dict()["edge_length_over_size"] is None
-    assert len(without_size.summary().splitlines()) == 7
+    assert len(without_size.summary().splitlines()) == 8
 
 
 @pytest.mark.parametrize("which", ["generated", "grid"])

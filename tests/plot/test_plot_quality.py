@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from coastmesh.geometry import reproject_points
-from coastmesh.meshing import mesh_quality
-from coastmesh.plot import depth_figure, quality_figure
+from coastmesh.meshing import element_time_steps, mesh_quality
+from coastmesh.plot import depth_figure, quality_figure, time_step_figure
 from coastmesh.types import Mesh
 
 
@@ -68,3 +68,38 @@ def test_depth_figure_builds_and_saves(lonlat_mesh, tmp_path):
     assert (tmp_path / "depth.png").stat().st_size > 1000
     with pytest.raises(ValueError, match="no 'depth'"):
         depth_figure(lonlat_mesh)
+
+
+def test_time_step_figure_builds_and_saves(lonlat_mesh, mesh_with_islands, tmp_path):
+    lon = lonlat_mesh.points[:, 0]
+    # 72 m deep in the east, dry (above 0 m) in the west: blank there
+    mesh = lonlat_mesh.with_point_data(depth=2000 * (lon - lon.min()) - 10)
+    figure = time_step_figure(mesh, title="test")
+    assert len(figure.axes) == 2  # the map and its colour bar
+    ax, bar = figure.axes
+    assert ax.get_xlabel().startswith("longitude")
+    assert "stable time step (s)" in bar.get_ylabel()
+    assert bar.yaxis.get_scale() == "log"
+    steps = element_time_steps(mesh)["dt"]
+    finite = np.isfinite(steps)
+    assert 0 < finite.sum() < 0.95 * len(steps)
+    assert ax.collections[0].get_array().size == finite.sum()
+    marker = ax.lines[0]  # the smallest circled, and labelled
+    k = int(np.flatnonzero(finite)[np.argmin(steps[finite])])
+    centroid = mesh.points[mesh.triangles[k]].mean(axis=0)
+    np.testing.assert_allclose(marker.get_xydata()[0], centroid)
+    assert ax.texts[0].get_text() == f"min {steps[k]:.3g}"
+    figure.savefig(tmp_path / "time_step.png")
+    assert (tmp_path / "time_step.png").stat().st_size > 1000
+
+    both = time_step_figure(mesh_with_islands, dt=20.0, velocity=1.0)
+    assert len(both.axes) == 4
+    courant = both.axes[1]
+    assert "Courant number at dt = 20 s" in both.axes[3].get_ylabel()
+    report = mesh_quality(mesh_with_islands, dt=20.0, velocity=1.0).time_step
+    assert courant.texts[0].get_text() == f"max {report.courant.max:.3g}"
+    assert both.axes[0].texts[0].get_text() == f"min {report.min:.3g}"
+    both.savefig(tmp_path / "both.png")
+    assert (tmp_path / "both.png").stat().st_size > 1000
+    with pytest.raises(ValueError, match="no 'depth'"):
+        time_step_figure(lonlat_mesh)

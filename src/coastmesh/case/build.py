@@ -199,6 +199,7 @@ def build_case(
         open_boundaries=tuple(inputs.open_boundaries),
         crs=crs,
         seconds=time.perf_counter() - started,
+        channel_width=sized.width,
     )
     logger.info("%s", result.summary())
     return result
@@ -323,8 +324,15 @@ def _after_meshing(
         with timed("depth at the nodes") as progress:
             mesh, after["depth"] = _node_depths(config, mesh, progress)
     if config.outputs.quality:
+        courant = config.size.courant
         with timed("mesh quality"):
-            after["quality"] = mesh_quality(mesh)
+            after["quality"] = mesh_quality(
+                mesh,
+                dt=None if courant is None else courant.dt,
+                velocity=0.0 if courant is None else courant.velocity,
+                courant_max=None if courant is None else courant.courant_max,
+                courant_min=None if courant is None else courant.courant_min,
+            )
     return mesh, after
 
 

@@ -71,6 +71,9 @@ class CaseResult:
         The folder written by :func:`coastmesh.run_case`; None in memory.
     files : tuple of str
         The files written there, relative to it.
+    channel_width : xarray.DataArray or None
+        With the channel term: the width of the water on the size grid, metres
+        (NaN outside the domain, inf where wider than matters).
     """
 
     config: CaseConfig
@@ -84,6 +87,7 @@ class CaseResult:
     seconds: float
     output: Path | None = None
     files: tuple[str, ...] = ()
+    channel_width: xr.DataArray | None = None
 
     @property
     def name(self) -> str:
@@ -329,7 +333,7 @@ def _layer(geometry: list[Any], crs: Any, **fields: list[Any]) -> Features:
 def _write_figures(
     result: CaseResult, folder: Path, outputs: OutputConfig
 ) -> list[str]:
-    """Draw the domain, mesh, size, quality and depth figures into figures/."""
+    """Draw the domain, mesh, size, quality, depth and time-step figures."""
     from coastmesh import plot
 
     mesh, name, quality = result.mesh, result.name, result.report.quality
@@ -339,6 +343,17 @@ def _write_figures(
         ("mesh", lambda: plot.mesh_figure(mesh, names=names, title=name)),
         ("size", lambda: plot.size_figure(result.size, title=f"{name}: element size")),
     ]
+    if result.channel_width is not None:
+        figures.append(
+            (
+                "channels",
+                lambda: plot.channel_figure(
+                    result.channel_width,
+                    report=result.report.size_field.channels,
+                    title=f"{name}: width of the water",
+                ),
+            )
+        )
     if quality is not None:
         figures.append(
             (
@@ -349,9 +364,18 @@ def _write_figures(
             )
         )
     if "depth" in mesh.point_data:
-        figures.append(
-            ("depth", lambda: plot.depth_figure(mesh, title=f"{name}: depth"))
-        )
+        courant = result.config.size.courant
+        dt = None if courant is None else courant.dt
+        velocity = 0.0 if courant is None else courant.velocity
+        figures += [
+            ("depth", lambda: plot.depth_figure(mesh, title=f"{name}: depth")),
+            (
+                "time_step",
+                lambda: plot.time_step_figure(
+                    mesh, dt=dt, velocity=velocity, title=f"{name}: time step"
+                ),
+            ),
+        ]
     if outputs.detail is not None:
         figures.append(
             (

@@ -7,8 +7,12 @@
 :func:`resample_segment`  a polyline resampled to a target size
 :func:`clean_mesh`        all-boundary triangles, valence, slivers fixed
 :func:`depth_at_nodes`    a bathymetry raster on the nodes
-:func:`mesh_quality`      angles, radius ratios, edge sizes, valence
+:func:`mesh_quality`      angles, radius ratios, edge sizes, valence, corners
+:func:`boundary_angles`   the domain's interior angle at each boundary node
 ========================  =====================================================
+
+:func:`element_time_steps` gives each triangle's stable time step and, at a model
+time step, its Courant number.
 
 The types they take and return (:class:`~coastmesh.types.Domain`,
 :class:`~coastmesh.types.SizeGrid`, :class:`~coastmesh.types.Mesh`) live in
@@ -16,7 +20,8 @@ The types they take and return (:class:`~coastmesh.types.Domain`,
 
 Modules: ``engine`` (Gmsh), ``projection`` (the meshing CRS and sizes in it),
 ``boundary`` (resampling), ``topology`` (boundary rings and strings),
-``cleanup``, ``depth``, ``quality`` and ``quality_report`` (measure, never write).
+``cleanup``, ``depth``, ``quality``, ``quality_report``, ``measure``, ``timestep``
+and ``corners`` (measure, never write).
 
 Gmsh is imported only when :func:`generate_mesh` runs.
 """
@@ -29,22 +34,30 @@ from coastmesh.meshing.boundary import (
     resample_segment,
 )
 from coastmesh.meshing.cleanup import CleanupReport, clean_mesh
+from coastmesh.meshing.corners import CornerStats, SharpCorner, boundary_angles
 from coastmesh.meshing.depth import DEPTH_METHODS, DepthReport, depth_at_nodes
 from coastmesh.meshing.engine import generate_mesh
 from coastmesh.meshing.projection import default_mesh_crs, sample_size
 from coastmesh.meshing.quality import edge_quality, mesh_quality, triangle_quality
 from coastmesh.meshing.quality_report import QualityReport
+from coastmesh.meshing.timestep import CourantStats, TimeStepStats, element_time_steps
 
 __all__ = [
     "DEPTH_METHODS",
     "CleanupReport",
+    "CornerStats",
+    "CourantStats",
     "DepthReport",
     "QualityReport",
+    "SharpCorner",
     "SmallIslandWarning",
+    "TimeStepStats",
+    "boundary_angles",
     "clean_mesh",
     "default_mesh_crs",
     "depth_at_nodes",
     "edge_quality",
+    "element_time_steps",
     "generate_mesh",
     "mesh_quality",
     "resample_rings",

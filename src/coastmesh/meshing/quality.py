@@ -3,11 +3,14 @@
 Every length is measured on the WGS84 ellipsoid, never in degrees: the nodes go to
 earth-centred coordinates (EPSG:4978) and each side is the chord between its two
 nodes, turned into the arc of the ellipsoid's local curvature, which matches the
-geodesic to 3e-12 from 1 km to 100 km. Angles, radius ratios and areas then follow from
-the three sides of each triangle. A mesh without a CRS is taken as planar, in
-metres; the report says so. The report (:class:`QualityReport`) is data, defined
-in :mod:`coastmesh.meshing.quality_report`; :func:`coastmesh.io.write_report`
-writes it.
+geodesic to 3e-12 from 1 km to 100 km (:mod:`coastmesh.meshing.measure`). Angles,
+radius ratios and areas then follow from the three sides of each triangle. A mesh
+without a CRS is taken as planar, in metres; the report says so. With depths on
+the nodes, the report has the stable time step and Courant numbers
+(:mod:`coastmesh.meshing.timestep`); it always has the sharp boundary corners
+(:mod:`coastmesh.meshing.corners`). The report (:class:`QualityReport`) is data,
+defined in :mod:`coastmesh.meshing.quality_report`;
+:func:`coastmesh.io.write_report` writes it.
 """
 
 from __future__ import annotations
@@ -19,7 +22,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from coastmesh.geometry.earth import arc_lengths, earth_centred
+from coastmesh.meshing.corners import SHARP_ANGLE, corner_stats, interior_angles
+from coastmesh.meshing.measure import (
+    edge_measures,
+    mesh_earth_centred,
+    triangle_measures,
+)
 from coastmesh.meshing.quality_report import (
     AngleStats,
     EdgeRatioStats,
@@ -27,15 +35,18 @@ from coastmesh.meshing.quality_report import (
     RatioStats,
     ValenceStats,
 )
-from coastmesh.meshing.topology import unique_edges
+from coastmesh.meshing.timestep import (
+    check_time_step_options,
+    node_depth,
+    time_step_arrays,
+    time_step_stats,
+)
 from coastmesh.types import Mesh
 
 # the report types are in coastmesh.meshing.quality_report
 __all__ = ["edge_quality", "mesh_earth_centred", "mesh_quality", "triangle_quality"]
 
 logger = logging.getLogger(__name__)
-
-_BLOCK = 1 << 16  # triangles or edges per block: bounds the temporary memory
 
 
 def triangle_quality(mesh: Mesh) -> dict[str, NDArray[np.float64]]:
@@ -90,7 +101,7 @@ def triangle_quality(mesh: Mesh) -> dict[str, NDArray[np.float64]]:
     [45.] [0.8284] [5000.]
     """
     xyz, planar = mesh_earth_centred(_check_mesh(mesh))
-    return _triangle_measures(xyz, mesh.triangles, planar)
+    return triangle_measures(xyz, mesh.triangles, planar)
 
 
 def edge_quality(
@@ -132,21 +143,39 @@ def edge_quality(
     ([[0, 1], [0, 2], [1, 2]], [300.0, 400.0, 500.0], [3.0, 4.0, 5.0])
     """
     xyz, planar = mesh_earth_centred(_check_mesh(mesh))
-    return _edge_measures(xyz, mesh, planar, _node_size(mesh, size))
+    return edge_measures(xyz, mesh, planar, _node_size(mesh, size))
 
 
-def mesh_quality(mesh: Mesh, *, size: ArrayLike | None = None) -> QualityReport:
-    """Measure a mesh on the Earth: angles, radius ratios, edge sizes, valence.
+def mesh_quality(
+    mesh: Mesh,
+    *,
+    size: ArrayLike | None = None,
+    dt: float | None = None,
+    velocity: float = 0.0,
+    courant_max: float | None = None,
+    courant_min: float | None = None,
+) -> QualityReport:
+    """Measure a mesh on the Earth: shapes, sizes, valence, corners, time step.
 
     Parameters
     ----------
     mesh : Mesh
         Points in a geographic or projected CRS, or planar metres when
-        ``mesh.crs`` is None; at least one triangle.
+        ``mesh.crs`` is None; at least one triangle. With
+        ``point_data["depth"]`` (metres, positive down) the report has the
+        stable time step.
     size : array_like of shape (N,), optional
         Target edge length at each node, metres; default
         ``mesh.point_data["size"]`` if present. Without either, the report has no
         edge-size block.
+    dt : float, optional
+        The model's time step, seconds (> 0): the report then has the Courant
+        number of each triangle at it (with a depth).
+    velocity : float, default 0
+        Velocity scale added to the wave speed ``sqrt(g d)``, m/s (>= 0).
+    courant_max, courant_min : float, optional
+        Count the triangles whose Courant number at ``dt`` is above
+        ``courant_max`` or below ``courant_min``.
 
     Returns
     -------
@@ -158,8 +187,10 @@ def mesh_quality(mesh: Mesh, *, size: ArrayLike | None = None) -> QualityReport:
         If ``mesh`` is not a :class:`Mesh`.
     ValueError
         If the mesh has no triangles, ``size`` does not hold one finite value
-        > 0 per node, ``mesh.crs`` is neither geographic nor projected, or a node
-        has no position on the Earth.
+        > 0 per node, the depth not one value per node, an option is out of
+        range (``courant_min`` >= ``courant_max``, or a limit without ``dt``),
+        ``mesh.crs`` is neither geographic nor projected, or a node has no
+        position on the Earth.
 
     Notes
     -----
@@ -167,8 +198,15 @@ def mesh_quality(mesh: Mesh, *, size: ArrayLike | None = None) -> QualityReport:
     are found by sorting their node pairs; an edge in a single triangle is on the
     boundary, and so are its nodes. Triangles with all three nodes on the
     boundary include those with two boundary sides and those bridging a channel
-    one element wide. Takes about 1 s and 130 MB per million triangles (the
-    mesh itself is 32 MB); triangles and edges are measured in blocks.
+    one element wide (at most one boundary side: ``channel_spanning_triangles``).
+    A boundary node's interior angle is the sum of its triangles' angles there;
+    below 45 degrees it is a sharp corner
+    (:func:`~coastmesh.meshing.corners.boundary_angles`), and the radius ratios
+    are also given without the triangles that touch one. The time step and
+    Courant numbers are those of
+    :func:`~coastmesh.meshing.timestep.element_time_steps`. Takes about 1.3 s
+    and 110 MB per million triangles, 2 s and 180 MB with depths (the mesh
+    itself is 32 MB); triangles and edges are measured in blocks.
 
     Examples
     --------
@@ -182,21 +220,50 @@ def mesh_quality(mesh: Mesh, *, size: ArrayLike | None = None) -> QualityReport:
     [0, 1]
     >>> print(report.summary().splitlines()[2])
       boundary edges by id: 1 coast: 2; 2 sea: 2
+    >>> deep = m.with_point_data(depth=[10.0, 10.0, 40.0, 40.0])
+    >>> round(mesh_quality(deep, dt=0.1).time_step.courant.max, 4)
+    1.7403
     """
     started = time.perf_counter()
     _check_mesh(mesh)
     if len(mesh.triangles) == 0:
         raise ValueError("mesh has no triangles: nothing to measure")
     node_size = _node_size(mesh, size)
+    depth = node_depth(mesh)
+    check_time_step_options(velocity, dt, courant_max, courant_min)
     xyz, planar = mesh_earth_centred(mesh)
-    shape = _triangle_measures(xyz, mesh.triangles, planar, area=False)
-    edges = _edge_measures(xyz, mesh, planar, node_size)
+    keys = ("min_angle", "radius_ratio")
+    shape = triangle_measures(
+        xyz,
+        mesh.triangles,
+        planar,
+        keys if depth is None else (*keys, "r_in", "mean_edge"),
+    )
+    edges = edge_measures(xyz, mesh, planar, node_size)
     n = len(mesh.points)
     valence = np.bincount(mesh.triangles.ravel(), minlength=n)
+    boundary = edges["edges"][edges["triangles"] == 1]
     on_boundary = np.zeros(n, dtype=bool)
-    on_boundary[edges["edges"][edges["triangles"] == 1].ravel()] = True
+    on_boundary[boundary.ravel()] = True
     interior = ~on_boundary & (valence > 0)
     all_boundary = np.flatnonzero(on_boundary[mesh.triangles].all(axis=1))
+    corners, at_corner = corner_stats(
+        mesh, *interior_angles(xyz, planar, mesh.triangles, boundary), boundary
+    )
+    away = shape["radius_ratio"][~at_corner]
+    time_step = None
+    if depth is not None:
+        arrays = time_step_arrays(
+            shape["r_in"], shape["mean_edge"], depth[mesh.triangles], velocity, dt
+        )
+        time_step = time_step_stats(
+            mesh,
+            arrays,
+            velocity=velocity,
+            dt=dt,
+            courant_max=courant_max,
+            courant_min=courant_min,
+        )
     ids, counts = np.unique(mesh.boundary_ids, return_counts=True)
     report = QualityReport(
         nodes=n,
@@ -214,17 +281,53 @@ def mesh_quality(mesh: Mesh, *, size: ArrayLike | None = None) -> QualityReport:
         ),
         interior_valence=ValenceStats.from_values(valence[interior]),
         boundary_valence=ValenceStats.from_values(valence[on_boundary]),
+        corners=corners,
+        radius_ratio_away_from_corners=(
+            RatioStats.from_values(away) if away.size else None
+        ),
+        time_step=time_step,
         all_boundary_triangles=all_boundary,
+        channel_spanning_triangles=_channel_spanning(
+            mesh.triangles, all_boundary, boundary, n
+        ),
     )
     logger.info(
-        "quality: %d triangles, min angle %.2f deg, %d below 30, %d all-boundary",
+        "quality: %d triangles, min angle %.2f deg, %d below 30, %d all-boundary, "
+        "%d boundary corners below %g deg",
         report.triangles,
         report.min_angle.min,
         report.min_angle.below_30,
         len(all_boundary),
+        corners.sharp,
+        SHARP_ANGLE,
     )
+    if time_step is not None:
+        logger.info("quality: %s", time_step.summary())
     logger.debug("quality measured in %.2f s", time.perf_counter() - started)
     return report
+
+
+def _channel_spanning(
+    triangles: NDArray[np.int64],
+    all_boundary: NDArray[np.int64],
+    boundary: NDArray[np.int64],
+    n: int,
+) -> NDArray[np.int64]:
+    """Return the triangles of ``all_boundary`` with at most one boundary side.
+
+    ``boundary`` (K, 2) holds the boundary edges, lower node first, in
+    increasing order of ``lo * n + hi`` (as
+    :func:`~coastmesh.meshing.topology.unique_edges` returns them).
+    """
+    keys = boundary[:, 0] * n + boundary[:, 1]
+    nodes = triangles[all_boundary]
+    sides = np.zeros(len(all_boundary), dtype=np.int64)
+    for k in range(3):
+        i, j = nodes[:, k], nodes[:, (k + 1) % 3]
+        side = np.minimum(i, j) * n + np.maximum(i, j)
+        pos = np.minimum(np.searchsorted(keys, side), max(len(keys) - 1, 0))
+        sides += keys[pos] == side if len(keys) else 0
+    return all_boundary[sides <= 1]
 
 
 def _check_mesh(mesh: object) -> Mesh:
@@ -254,112 +357,3 @@ def _node_size(mesh: Mesh, size: ArrayLike | None) -> NDArray[np.float64] | None
             f"length > 0 (metres); {bad.size} such values"
         )
     return values
-
-
-def mesh_earth_centred(mesh: Mesh) -> tuple[NDArray[np.float64], bool]:
-    """Return the nodes of a mesh in earth-centred metres, or planar without a CRS.
-
-    Parameters
-    ----------
-    mesh : Mesh
-        Points in a geographic, projected or compound CRS, or planar metres
-        when ``mesh.crs`` is None.
-
-    Returns
-    -------
-    xyz : ndarray of shape (N, 3)
-        WGS84 earth-centred coordinates at height 0
-        (:func:`~coastmesh.geometry.earth.earth_centred`); for a mesh without a
-        CRS, its points with z = 0.
-    planar : bool
-        True when the mesh has no CRS.
-
-    Raises
-    ------
-    ValueError
-        If ``mesh.crs`` is neither geographic nor projected, or a node has no
-        position on the Earth.
-
-    Examples
-    --------
-    >>> m = Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]],
-    ...          [1, 1, 1], 1, "EPSG:4326")
-    >>> xyz, planar = mesh_earth_centred(m)
-    >>> xyz[0].tolist(), planar
-    ([6378137.0, 0.0, 0.0], False)
-    """
-    points = mesh.points
-    if mesh.crs is None:
-        return np.column_stack([points, np.zeros(len(points))]), True
-    return earth_centred(points, mesh.crs, name="mesh.points"), False
-
-
-def _lengths(
-    p: NDArray[np.float64], q: NDArray[np.float64], planar: bool
-) -> NDArray[np.float64]:
-    """Return the lengths (metres) from ``p`` to ``q`` (k, 3): chords, or arcs.
-
-    Arcs on the ellipsoid (:func:`~coastmesh.geometry.earth.arc_lengths`) unless
-    ``planar``.
-    """
-    if not planar:
-        return arc_lengths(p, q)
-    d = q - p
-    return np.sqrt(np.einsum("ij,ij->i", d, d))
-
-
-def _triangle_measures(
-    xyz: NDArray[np.float64],
-    triangles: NDArray[np.int64],
-    planar: bool,
-    *,
-    area: bool = True,
-) -> dict[str, NDArray[np.float64]]:
-    m = len(triangles)
-    keys = (
-        ("min_angle", "radius_ratio", "area") if area else ("min_angle", "radius_ratio")
-    )
-    out = {key: np.empty(m) for key in keys}
-    for start in range(0, m, _BLOCK):
-        block = triangles[start : start + _BLOCK]
-        p = [xyz[block[:, k]] for k in range(3)]
-        sides = np.sort(
-            np.column_stack(
-                [_lengths(p[(k + 1) % 3], p[(k + 2) % 3], planar) for k in range(3)]
-            ),
-            axis=1,
-        )
-        c, b, a = sides.T
-        f1 = np.maximum(c - (a - b), 0.0)
-        f2 = c + (a - b)
-        f3 = a + (b - c)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            half = np.where(a * b > 0, f1 * f2 / (4 * a * b), 0.0)
-            ratio = np.where(a * b * c > 0, f1 * f2 * f3 / (a * b * c), 0.0)
-        part = slice(start, start + len(block))
-        out["min_angle"][part] = np.degrees(2 * np.arcsin(np.sqrt(np.minimum(half, 1))))
-        out["radius_ratio"][part] = ratio
-        if area:
-            out["area"][part] = 0.25 * np.sqrt((a + (b + c)) * f1 * f2 * f3)
-    return out
-
-
-def _edge_measures(
-    xyz: NDArray[np.float64],
-    mesh: Mesh,
-    planar: bool,
-    node_size: NDArray[np.float64] | None,
-) -> dict[str, NDArray[Any]]:
-    """Every edge once (:func:`~coastmesh.meshing.topology.unique_edges`)."""
-    edges, shared = unique_edges(mesh.triangles, len(mesh.points))
-    length = np.empty(len(edges))
-    for start in range(0, len(edges), _BLOCK):
-        lo, hi = edges[start : start + _BLOCK].T
-        length[start : start + len(lo)] = _lengths(xyz[lo], xyz[hi], planar)
-    out = {"edges": edges, "triangles": shared, "length": length}
-    if node_size is not None:
-        target = node_size[edges[:, 0]]
-        target += node_size[edges[:, 1]]
-        target *= 0.5
-        out["ratio"] = np.divide(length, target, out=target)
-    return out

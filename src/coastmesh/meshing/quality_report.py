@@ -2,8 +2,11 @@
 
 :class:`QualityReport` holds the counts and one statistics block per measure
 (:class:`AngleStats`, :class:`RatioStats`, :class:`EdgeRatioStats`,
-:class:`ValenceStats`), each built from the measured arrays by ``from_values``.
-Every block has ``to_dict()`` and ``summary()``; writing them to files is left to
+:class:`ValenceStats`), each built from the measured arrays by ``from_values``,
+and the blocks for sharp boundary corners
+(:class:`~coastmesh.meshing.corners.CornerStats`) and the time step
+(:class:`~coastmesh.meshing.timestep.TimeStepStats`). Every block has
+``to_dict()`` and ``summary()``; writing them to files is left to
 :mod:`coastmesh.io`.
 """
 
@@ -15,10 +18,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from coastmesh.meshing.corners import CornerStats
+from coastmesh.meshing.timestep import TimeStepStats
 from coastmesh.types import Report
 
 __all__ = [
     "EDGE_RATIO_RANGE",
+    "RADIUS_RATIO_TARGET",
     "AngleStats",
     "EdgeRatioStats",
     "QualityReport",
@@ -28,6 +34,9 @@ __all__ = [
 
 #: Edge length / target size counted as on target.
 EDGE_RATIO_RANGE = (0.5, 2.0)
+
+#: The smallest radius ratio wanted, except at sharp boundary corners.
+RADIUS_RATIO_TARGET = 0.25
 
 _LENGTHS = {
     False: "on the WGS84 ellipsoid (metres)",
@@ -92,12 +101,15 @@ class RatioStats(Report):
     ----------
     min, p1, p5, mean : float
         Smallest value, 1st and 5th percentiles, and mean.
+    below_0_25 : int
+        Triangles with a ratio below :data:`RADIUS_RATIO_TARGET` (0.25).
     """
 
     min: float
     p1: float
     p5: float
     mean: float
+    below_0_25: int
 
     @classmethod
     def from_values(cls, ratio: NDArray[np.float64]) -> RatioStats:
@@ -114,13 +126,15 @@ class RatioStats(Report):
             p1=float(p1),
             p5=float(p5),
             mean=float(ratio.mean()),
+            below_0_25=int((ratio < RADIUS_RATIO_TARGET).sum()),
         )
 
     def summary(self) -> str:
         """Return a one-line summary."""
         return (
             f"radius ratio: min {self.min:.3f}, p1 {self.p1:.3f}, p5 {self.p5:.3f}, "
-            f"mean {self.mean:.3f}"
+            f"mean {self.mean:.3f}; {self.below_0_25:,} below "
+            f"{RADIUS_RATIO_TARGET:g}"
         )
 
 
@@ -247,9 +261,19 @@ class QualityReport(Report):
     interior_valence, boundary_valence : ValenceStats
         Triangles per node, for interior nodes and for nodes on the boundary
         (nodes of edges that belong to a single triangle).
+    corners : CornerStats
+        Boundary nodes with an interior angle below 45 degrees.
+    radius_ratio_away_from_corners : RatioStats or None
+        The radius ratios of the triangles that touch no sharp corner (the
+        target, at least 0.25, applies to them); None if every triangle does.
+    time_step : TimeStepStats or None
+        Stable time step and Courant numbers; None without a depth on the nodes.
     all_boundary_triangles : ndarray of int64, shape (k,)
         Indices of the triangles whose three nodes are all on the boundary; only
         their number goes into :meth:`to_dict` and :meth:`summary`.
+    channel_spanning_triangles : ndarray of int64, shape (k,)
+        Those of them with at most one side on the boundary: they span a
+        channel one element wide. Only their number is reported.
     """
 
     nodes: int
@@ -265,7 +289,11 @@ class QualityReport(Report):
     edge_ratio: EdgeRatioStats | None
     interior_valence: ValenceStats
     boundary_valence: ValenceStats
+    corners: CornerStats
+    radius_ratio_away_from_corners: RatioStats | None
+    time_step: TimeStepStats | None
     all_boundary_triangles: NDArray[np.int64] = field(repr=False, compare=False)
+    channel_spanning_triangles: NDArray[np.int64] = field(repr=False, compare=False)
 
     def to_dict(self) -> dict[str, Any]:
         """Return the report as JSON-ready data, floats to 6 significant digits.
@@ -277,9 +305,11 @@ class QualityReport(Report):
             measured), the counts, ``boundary_edges`` by id (with name, kind and
             number of edges), ``min_angle_deg``, ``radius_ratio``,
             ``edge_length_over_size`` (None without a size) and ``valence``
-            (``interior`` and ``boundary``). Integer keys (boundary ids,
-            valences) become strings, as JSON needs; ``all_boundary_triangles``
-            is their number.
+            (``interior`` and ``boundary``), ``corners``,
+            ``radius_ratio_away_from_corners`` and ``time_step`` (None without
+            depths). Integer keys (boundary ids, valences) become strings, as
+            JSON needs; ``all_boundary_triangles`` and
+            ``channel_spanning_triangles`` are their numbers.
         """
         from coastmesh import __version__
 
@@ -315,7 +345,17 @@ class QualityReport(Report):
                 None if self.edge_ratio is None else _rounded(self.edge_ratio.to_dict())
             ),
             "valence": valence,
+            "corners": _rounded(self.corners.to_dict()),
+            "radius_ratio_away_from_corners": (
+                None
+                if self.radius_ratio_away_from_corners is None
+                else _rounded(self.radius_ratio_away_from_corners.to_dict())
+            ),
+            "time_step": (
+                None if self.time_step is None else _rounded(self.time_step.to_dict())
+            ),
             "all_boundary_triangles": len(self.all_boundary_triangles),
+            "channel_spanning_triangles": len(self.channel_spanning_triangles),
         }
 
     def summary(self) -> str:
@@ -324,7 +364,7 @@ class QualityReport(Report):
         Returns
         -------
         str
-            About eight lines, without a trailing newline.
+            About ten lines, without a trailing newline.
         """
         iv, bv = self.interior_valence, self.boundary_valence
         ids = "; ".join(
@@ -345,8 +385,17 @@ class QualityReport(Report):
             f"  valence: interior max {iv.max}, {iv.above_8:,} above 8; "
             f"boundary max {bv.max}",
             "  triangles with all nodes on the boundary: "
-            f"{len(self.all_boundary_triangles):,}",
+            f"{len(self.all_boundary_triangles):,}, spanning a channel: "
+            f"{len(self.channel_spanning_triangles):,}",
+            f"  {self.corners.summary()}",
         ]
+        away = self.radius_ratio_away_from_corners
+        if self.corners.sharp and away is not None:
+            lines.append(f"  away from sharp corners, {away.summary()}")
+        if self.time_step is not None:
+            lines.append(f"  {self.time_step.summary()}")
+            if self.time_step.courant is not None:
+                lines.append(f"  {self.time_step.courant.summary()}")
         return "\n".join(lines)
 
 
@@ -357,9 +406,12 @@ def _label(pid: int, names: dict[int, str], kinds: dict[int, str]) -> str:
     return f"{pid}{name}{kind}"
 
 
-def _rounded(values: dict[str, Any]) -> dict[str, Any]:
-    """Floats to 6 significant digits; other values unchanged."""
-    return {
-        key: float(f"{value:.6g}") if isinstance(value, float) else value
-        for key, value in values.items()
-    }
+def _rounded(value: Any) -> Any:
+    """Floats to 6 significant digits, in dicts and lists too; the rest unchanged."""
+    if isinstance(value, float):
+        return float(f"{value:.6g}")
+    if isinstance(value, dict):
+        return {key: _rounded(item) for key, item in value.items()}
+    if isinstance(value, list):
+        return [_rounded(item) for item in value]
+    return value

@@ -9,8 +9,10 @@
 :func:`mesh_figure`                a mesh, boundary edges coloured by id
 :func:`mercator_figure`            a mesh in Mercator, whole and a detail
 :func:`size_figure`                a size field on a logarithmic scale
+:func:`channel_figure`             the width of the water, narrow channels
 :func:`quality_figure`             histograms of angles, ratios, edge sizes
 :func:`depth_figure`               depth at the nodes
+:func:`time_step_figure`           stable time step and Courant number per element
 :func:`save_figure`                save a figure atomically
 =================================  ============================================
 
@@ -24,16 +26,23 @@ functions build a whole :class:`matplotlib.figure.Figure` without pyplot, for
 from __future__ import annotations
 
 from coastmesh.plot.base import save_figure
-from coastmesh.plot.mesh import domain_figure, mercator_figure, mesh_figure, size_figure
+from coastmesh.plot.mesh import (
+    channel_figure,
+    domain_figure,
+    mercator_figure,
+    mesh_figure,
+    size_figure,
+)
 from coastmesh.plot.pca import (
     plot_raster_comparison,
     plot_shoreline_overlay,
     raster_figure,
     shoreline_figure,
 )
-from coastmesh.plot.quality import depth_figure, quality_figure
+from coastmesh.plot.quality import depth_figure, quality_figure, time_step_figure
 
 __all__ = [
+    "channel_figure",
     "depth_figure",
     "domain_figure",
     "mercator_figure",
@@ -45,4 +54,5 @@ __all__ = [
     "save_figure",
     "shoreline_figure",
     "size_figure",
+    "time_step_figure",
 ]

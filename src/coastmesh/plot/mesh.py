@@ -179,6 +179,76 @@ def size_figure(field: xr.DataArray, *, title: str | None = None) -> Figure:
     return figure
 
 
+def channel_figure(
+    width: xr.DataArray,
+    *,
+    report: Any = None,
+    title: str | None = None,
+) -> Figure:
+    """Draw the width of the water, with the narrow channels marked.
+
+    Parameters
+    ----------
+    width : xarray.DataArray
+        As :attr:`coastmesh.sizing.SizeField.width` (metres; NaN off the domain,
+        inf where wide).
+    report : coastmesh.sizing.ChannelReport, optional
+        Its narrow channels are circled and its floor drawn as a contour
+        (``2 h_min``: narrower water cannot take two elements).
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.colors import LogNorm
+    from matplotlib.figure import Figure
+    from pyproj import CRS
+
+    figure = Figure(figsize=(10, 6), layout="constrained")
+    ax = figure.add_subplot()
+    x, y = width["x"].values, width["y"].values
+    values = np.asarray(width.values, dtype=float)
+    finite = values[np.isfinite(values) & (values > 0)]
+    wide = np.where(np.isinf(values), 1.0, np.nan)
+    ax.pcolormesh(x, y, wide, shading="nearest", cmap="Greys", vmin=0, vmax=4)
+    if len(finite):
+        low, high = float(finite.min()), float(finite.max())
+        shown = np.where(np.isfinite(values), values, np.nan)
+        image = ax.pcolormesh(
+            x,
+            y,
+            shown,
+            shading="nearest",
+            cmap="magma",
+            norm=LogNorm(low, high) if high > low > 0 else None,
+        )
+        figure.colorbar(image, ax=ax, label="width of the water (m); grey: wider")
+    if report is not None:
+        floor = 2 * report.h_min
+        ax.contour(
+            x,
+            y,
+            np.nan_to_num(values, nan=np.inf),
+            levels=[floor],
+            colors="cyan",
+            linewidths=0.6,
+        )
+        for c in report.worst:
+            ax.plot(c.x, c.y, "o", mfc="none", mec="red", ms=9)
+        ax.set_xlabel(
+            f"{report.narrow_channels} narrower than 2 x {report.h_min:g} m (cyan "
+            f"contour; largest circled), {report.closed} closed; "
+            f"{report.elements_across:g} elements across set the size on "
+            f"{report.limited_km2:,.0f} km2"
+        )
+    crs = CRS.from_user_input(width.attrs["crs"]) if "crs" in width.attrs else None
+    _frame(ax, (x.min(), y.min(), x.max(), y.max()), crs)
+    if title:
+        ax.set_title(title)
+    return figure
+
+
 def _draw_mesh(
     ax: Axes,
     xy: NDArray[np.float64],

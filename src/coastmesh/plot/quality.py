@@ -1,4 +1,4 @@
-"""Figures of mesh quality and of depth on the mesh.
+"""Figures of mesh quality, of depth on the mesh and of the time step it allows.
 
 Like :mod:`coastmesh.plot.mesh`, these build a :class:`matplotlib.figure.Figure`
 without pyplot; save them with :func:`coastmesh.plot.save_figure`.
@@ -13,6 +13,7 @@ import numpy as np
 from coastmesh.meshing import (
     QualityReport,
     edge_quality,
+    element_time_steps,
     mesh_quality,
     triangle_quality,
 )
@@ -26,7 +27,7 @@ if TYPE_CHECKING:
 
     from coastmesh.types import Mesh
 
-__all__ = ["depth_figure", "quality_figure"]
+__all__ = ["depth_figure", "quality_figure", "time_step_figure"]
 
 _BINS = 90
 
@@ -175,6 +176,132 @@ def depth_figure(mesh: Mesh, *, title: str | None = None) -> Figure:
     span = f"{low:,.1f} to {high:,.1f} m" if finite.any() else "no finite values"
     ax.set_title(f"{title or 'depth'}: {span}")
     return figure
+
+
+def time_step_figure(
+    mesh: Mesh,
+    *,
+    dt: float | None = None,
+    velocity: float = 0.0,
+    title: str | None = None,
+) -> Figure:
+    """Map each triangle's stable time step and, at ``dt``, its Courant number.
+
+    Parameters
+    ----------
+    mesh : coastmesh.meshing.Mesh
+        With ``point_data["depth"]`` (metres, positive down).
+    dt : float, optional
+        A model time step, seconds: adds a map of the Courant numbers at it.
+    velocity : float, default 0
+        Velocity scale added to the wave speed, m/s.
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One map of ``r_in / (sqrt(g d) + u)`` per triangle, seconds, on a
+        logarithmic colour scale, with the smallest (the step the whole mesh
+        runs at) circled and labelled; with ``dt`` a second map of
+        ``dt (sqrt(g d) + u) / h`` with the largest circled. Each map has its
+        colour bar. Triangles that limit nothing (dry, or no depth) are blank.
+        See :func:`~coastmesh.meshing.timestep.element_time_steps`.
+
+    Raises
+    ------
+    ValueError
+        As for :func:`~coastmesh.meshing.timestep.element_time_steps`.
+
+    Examples
+    --------
+    >>> from coastmesh.types import Mesh
+    >>> m = Mesh([[0, 0], [100, 0], [0, 100]], [[0, 1, 2]],
+    ...          [[0, 1], [1, 2], [2, 0]], [1, 1, 1], 1, None,
+    ...          {"depth": [5.0, 10.0, 20.0]})
+    >>> len(time_step_figure(m, dt=1.0).axes)
+    4
+    """
+    from matplotlib.figure import Figure
+
+    values = element_time_steps(mesh, velocity=velocity, dt=dt)
+    panels = [("dt", "stable time step (s)", "min", "viridis")]
+    if dt is not None:
+        panels.append(("courant", f"Courant number at dt = {dt:g} s", "max", "magma"))
+    figure = Figure(figsize=(9 * len(panels), 8), layout="constrained")
+    for ax, (key, label, pick, cmap) in zip(
+        figure.subplots(1, len(panels), squeeze=False)[0], panels, strict=True
+    ):
+        _element_map(ax, mesh, values[key], label=label, pick=pick, cmap=cmap)
+    speed = f", velocity {velocity:g} m/s" if velocity else ""
+    figure.suptitle(f"{title or 'time step'}: r_in / (sqrt(g d) + u){speed}")
+    return figure
+
+
+def _element_map(
+    ax: Axes,
+    mesh: Mesh,
+    values: NDArray[np.float64],
+    *,
+    label: str,
+    pick: str,
+    cmap: str,
+) -> None:
+    """One value per triangle, log colours, the smallest or largest circled."""
+    from matplotlib.colors import LogNorm
+    from matplotlib.ticker import FuncFormatter, NullFormatter
+    from matplotlib.tri import Triangulation
+
+    shown = np.isfinite(values) & (values > 0)
+    x, y = mesh.points[:, 0], mesh.points[:, 1]
+    triangulation = Triangulation(
+        x, y, mesh.triangles, mask=None if shown.all() else ~shown
+    )
+    low, high = (
+        (float(values[shown].min()), float(values[shown].max()))
+        if shown.any()
+        else (1.0, 10.0)
+    )
+    image = ax.tripcolor(
+        triangulation,
+        facecolors=np.where(shown, values, low),
+        cmap=cmap,
+        norm=LogNorm(low, high if high > low else low * 10),
+    )
+    bar = ax.figure.colorbar(image, ax=ax, label=label)
+    plain = FuncFormatter(lambda value, _: f"{value:g}")
+    bar.ax.yaxis.set_major_formatter(plain)  # 0.5, 2, 10, not 5e-01, 2x10^0
+    bar.ax.yaxis.set_minor_formatter(plain if high < 20 * low else NullFormatter())
+    _frame(ax, mesh.points)
+    geographic_axes(ax, mesh.crs, _bounds(mesh.points))
+    ax.ticklabel_format(useOffset=False)
+    if not shown.any():
+        ax.set_title(f"{label}: no finite values")
+        return
+    index = np.flatnonzero(shown)
+    best = np.argmin if pick == "min" else np.argmax
+    k = int(index[best(values[index])])
+    cx, cy = mesh.points[mesh.triangles[k]].mean(axis=0)
+    ax.plot(
+        cx,
+        cy,
+        marker="o",
+        markersize=16,
+        markerfacecolor="none",
+        markeredgecolor="#c44e52",
+        markeredgewidth=2,
+    )
+    text = f"{pick} {values[k]:.3g}"
+    ax.annotate(
+        text,
+        (cx, cy),
+        xytext=(12, 12),
+        textcoords="offset points",
+        color="#c44e52",
+        fontweight="bold",
+        bbox={"boxstyle": "round", "facecolor": "white", "alpha": 0.8},
+    )
+    ax.set_title(f"{label}: {text} (triangle {k}), range {low:.3g} to {high:.3g}")
 
 
 def _histogram(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -15,11 +16,20 @@ from coastmesh.sizing.raster import interpolate_bilinear, raster_grid
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["M2_PERIOD", "depth_on_grid", "slope_size", "wavelength_size"]
+__all__ = [
+    "GRAVITY",
+    "M2_PERIOD",
+    "BathymetrySize",
+    "bathymetry_size",
+    "depth_on_grid",
+    "slope_size",
+    "wavelength_size",
+]
 
 #: Period of the principal lunar semi-diurnal tide M2, seconds.
 M2_PERIOD = 12.4206012 * 3600.0
-_G = 9.80665
+#: Standard gravity, m/s2: every wave speed of coastmesh uses it.
+GRAVITY = 9.80665
 
 
 def depth_on_grid(
@@ -116,7 +126,7 @@ def wavelength_size(
         raise ConfigError(f"period = {period}, min_depth = {min_depth}: must be > 0")
     d = np.asarray(depth, dtype=float)
     d = np.where(np.isnan(d) | (d < min_depth), min_depth, d)
-    return period * np.sqrt(_G * d) / per_wavelength
+    return period * np.sqrt(GRAVITY * d) / per_wavelength
 
 
 def slope_size(
@@ -165,3 +175,64 @@ def slope_size(
     steep = np.hypot(gx, gy)
     with np.errstate(divide="ignore"):
         return np.where(steep > 0, 2 * np.pi * d / (per_slope * steep), np.inf)
+
+
+@dataclass(frozen=True, slots=True)
+class BathymetrySize:
+    """Size terms from a bathymetry raster: tidal wavelength and slope.
+
+    Parameters
+    ----------
+    raster : xarray.DataArray
+        As :func:`coastmesh.io.read_raster` returns (dims ``("y", "x")``, a
+        ``crs`` attr, NaN for nodata).
+    positive : {"up", "down"}
+        The raster's sign: ``"up"`` for elevations (GEBCO, ETOPO).
+    per_wavelength : float, optional
+        Elements per tidal wavelength (:func:`~coastmesh.sizing.wavelength_size`).
+    period : float
+        The tide's period, seconds; default M2.
+    per_slope : float, optional
+        Elements per ``2 pi d / |grad d|`` (:func:`~coastmesh.sizing.slope_size`).
+    min_depth : float
+        Depth floor of both terms, metres.
+    """
+
+    raster: xr.DataArray
+    positive: str = "up"
+    per_wavelength: float | None = None
+    period: float = M2_PERIOD
+    per_slope: float | None = None
+    min_depth: float = 1.0
+
+
+def bathymetry_size(
+    b: BathymetrySize, field: xr.DataArray, mesh_crs: CRS
+) -> NDArray[np.float64]:
+    """Return the smaller of the wavelength and slope terms on a size field's grid.
+
+    ``field`` is a size field DataArray (dims ``("y", "x")``, in ``mesh_crs``).
+    """
+    depth = depth_on_grid(
+        b.raster, field.x.values, field.y.values, crs=mesh_crs, positive=b.positive
+    )
+    size = np.full(depth.shape, np.inf)
+    if b.per_wavelength is not None:
+        size = np.minimum(
+            size,
+            wavelength_size(
+                depth,
+                per_wavelength=b.per_wavelength,
+                period=b.period,
+                min_depth=b.min_depth,
+            ),
+        )
+    if b.per_slope is not None:
+        cell = float(field.x[1] - field.x[0])
+        size = np.minimum(
+            size,
+            slope_size(
+                depth, (cell, cell), per_slope=b.per_slope, min_depth=b.min_depth
+            ),
+        )
+    return size

@@ -343,17 +343,19 @@ def channel_polygons(
     ndarray of shapely polygons
         One (Multi)Polygon per label, 1 first.
     """
-    from rasterio import features
-    from rasterio.transform import Affine
-
     count = int(labels.max(initial=0))
     if count == 0:
         return np.empty(0, dtype=object)
     dx = float(x[1] - x[0])
-    transform = Affine(dx, 0.0, float(x[0]) - dx / 2, 0.0, dx, float(y[0]) - dx / 2)
-    parts: list[list[shapely.Geometry]] = [[] for _ in range(count)]
-    for geom, value in features.shapes(
-        labels, mask=labels > 0, transform=transform, connectivity=8
-    ):
-        parts[int(value) - 1].append(shapely.geometry.shape(geom))
-    return np.array([shapely.union_all(p) for p in parts], dtype=object)
+    rows, cols = np.nonzero(labels)
+    boxes = shapely.box(
+        x[cols] - dx / 2, y[rows] - dx / 2, x[cols] + dx / 2, y[rows] + dx / 2
+    )
+    order = np.argsort(labels[rows, cols], kind="stable")
+    starts = np.searchsorted(labels[rows, cols][order], np.arange(1, count + 2))
+    # the cells of a label tile it: coverage_union_all merges them exactly
+    parts = [
+        shapely.coverage_union_all(boxes[order[starts[k] : starts[k + 1]]])
+        for k in range(count)
+    ]
+    return np.array(parts, dtype=object)

@@ -24,12 +24,7 @@ from pyproj import CRS
 
 from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.geometry.earth import reproject
-from coastmesh.sizing.bathymetry import (
-    M2_PERIOD,
-    depth_on_grid,
-    slope_size,
-    wavelength_size,
-)
+from coastmesh.sizing.bathymetry import BathymetrySize, bathymetry_size
 from coastmesh.sizing.channel import ChannelReport, channel_polygons
 from coastmesh.sizing.field import Gradation, size_field
 from coastmesh.sizing.gradation import limit_gradation
@@ -89,35 +84,6 @@ class BoundaryGradation:
     h_min: float
     d_grade: float
     d_hold: float = 0.0
-
-
-@dataclass(frozen=True, slots=True)
-class BathymetrySize:
-    """Size terms from a bathymetry raster: tidal wavelength and slope.
-
-    Parameters
-    ----------
-    raster : xarray.DataArray
-        As :func:`coastmesh.io.read_raster` returns (dims ``("y", "x")``, a
-        ``crs`` attr, NaN for nodata).
-    positive : {"up", "down"}
-        The raster's sign: ``"up"`` for elevations (GEBCO, ETOPO).
-    per_wavelength : float, optional
-        Elements per tidal wavelength (:func:`~coastmesh.sizing.wavelength_size`).
-    period : float
-        The tide's period, seconds; default M2.
-    per_slope : float, optional
-        Elements per ``2 pi d / |grad d|`` (:func:`~coastmesh.sizing.slope_size`).
-    min_depth : float
-        Depth floor of both terms, metres.
-    """
-
-    raster: xr.DataArray
-    positive: str = "up"
-    per_wavelength: float | None = None
-    period: float = M2_PERIOD
-    per_slope: float | None = None
-    min_depth: float = 1.0
 
 
 @dataclass(frozen=True, slots=True)
@@ -304,11 +270,16 @@ class SizeField:
         The size field does not change the domain: :func:`coastmesh.build_case`
         adds these to the land and builds the domain again; a Python caller
         does the same with :func:`coastmesh.geometry.build_domain`.
+    width : xarray.DataArray or None
+        With the channel term: the width of the water on the same grid, metres
+        (NaN outside the domain, inf where wider than ``elements_across *
+        h_max``).
     """
 
     field: xr.DataArray
     report: SizeFieldReport
     narrow: NDArray[np.object_]
+    width: xr.DataArray | None = None
 
 
 def size_field_with_report(
@@ -359,12 +330,16 @@ def size_field_with_report(
     x, y = field.x.values, field.y.values
     values = field.values
     if bathymetry is not None:
-        values = np.minimum(values, _bathymetry_size(bathymetry, field, mesh_crs))
+        values = np.minimum(values, bathymetry_size(bathymetry, field, mesh_crs))
     channel_report, narrow, inside = None, np.empty(0, dtype=object), None
+    width = None
     if channels is not None:
-        values, channel_report, narrow, inside = _channel_term(
+        values, channel_report, narrow, inside, width = _channel_term(
             domain, channels, values, x, y, mesh_crs, h_min=h_min, h_max=h_max
         )
+        width = field.copy(data=np.where(inside, width, np.nan))
+        width.name = "width"
+        width.attrs["history"] = "coastmesh: width of the water (local thickness)"
     courant_report = None
     if courant is not None:
         if inside is None:
@@ -397,7 +372,7 @@ def size_field_with_report(
         field, h_min=h_min, channels=channel_report, courant=courant_report
     )
     logger.info("size field: %s", report.summary())
-    return SizeField(field, report, narrow)
+    return SizeField(field, report, narrow, width)
 
 
 def _channel_term(
@@ -410,8 +385,11 @@ def _channel_term(
     *,
     h_min: float,
     h_max: float,
-) -> tuple[NDArray[np.float64], ChannelReport, NDArray[np.object_], NDArray[Any]]:
-    """Apply the channel term; return the sizes, report, narrow channels, inside."""
+) -> tuple[Any, ...]:
+    """Apply the channel term.
+
+    Returns the sizes, report, narrow channels, nodes inside and the width.
+    """
     width, inside = domain_width(
         domain, x, y, mesh_crs, max_width=channels.elements_across * h_max
     )
@@ -438,7 +416,7 @@ def _channel_term(
         narrow = reproject(grown, mesh_crs, domain.crs)
         if channels.narrow == "keep":
             warn_narrow(report)
-    return values, report, narrow, inside
+    return values, report, narrow, inside, width
 
 
 def _extent(bounds: tuple[float, ...]) -> float:
@@ -479,32 +457,3 @@ def _gradations(
             )
         )
     return graded
-
-
-def _bathymetry_size(
-    b: BathymetrySize, field: xr.DataArray, mesh_crs: CRS
-) -> NDArray[np.float64]:
-    """Return the smaller of the wavelength and slope terms on the field's grid."""
-    depth = depth_on_grid(
-        b.raster, field.x.values, field.y.values, crs=mesh_crs, positive=b.positive
-    )
-    size = np.full(depth.shape, np.inf)
-    if b.per_wavelength is not None:
-        size = np.minimum(
-            size,
-            wavelength_size(
-                depth,
-                per_wavelength=b.per_wavelength,
-                period=b.period,
-                min_depth=b.min_depth,
-            ),
-        )
-    if b.per_slope is not None:
-        cell = float(field.x[1] - field.x[0])
-        size = np.minimum(
-            size,
-            slope_size(
-                depth, (cell, cell), per_slope=b.per_slope, min_depth=b.min_depth
-            ),
-        )
-    return size

@@ -21,7 +21,7 @@ from pyproj import CRS
 
 from coastmesh.errors import CoastmeshWarning
 from coastmesh.geometry.earth import reproject, transformer
-from coastmesh.sizing.bathymetry import depth_on_grid
+from coastmesh.sizing.bathymetry import GRAVITY, depth_on_grid
 from coastmesh.sizing.channel import (
     NARROW_ELEMENTS,
     ChannelReport,
@@ -50,8 +50,6 @@ __all__ = [
     "wave_speed",
 ]
 
-#: Acceleration due to gravity, m/s2.
-GRAVITY = 9.81
 #: What to do with channels too narrow for two elements of the floor size.
 NARROW_CHOICES = ("keep", "close")
 
@@ -182,7 +180,7 @@ def wave_speed(depth: NDArray[np.float64], velocity: float) -> NDArray[np.float6
     Examples
     --------
     >>> wave_speed(np.array([10.0, -2.0]), 1.0).round(3).tolist()
-    [10.905, 1.0]
+    [10.903, 1.0]
     """
     return np.sqrt(GRAVITY * np.maximum(depth, 0.0)) + velocity
 
@@ -210,7 +208,7 @@ def courant_bounds(
     >>> raster = xr.DataArray(np.zeros((2, 2)), dims=("y", "x"))
     >>> c = CourantSize(raster, dt=10.0, courant_max=0.5, courant_min=0.25,
     ...                 velocity=0.0)
-    >>> floor, cap = courant_bounds(np.array([100 / 9.81]), c)
+    >>> floor, cap = courant_bounds(np.array([100 / GRAVITY]), c)
     >>> floor.round(6).tolist(), cap.round(6).tolist()
     ([200.0], [400.0])
     """
@@ -250,13 +248,7 @@ def domain_width(
     inside : ndarray of bool
         Nodes inside the domain.
     """
-    from rasterio import features
-    from rasterio.transform import Affine
-
     cell = float(x[1] - x[0])
-    shape = (len(y), len(x))
-    x0, y0 = float(x[0]) - cell / 2, float(y[0]) - cell / 2
-    transform = Affine(cell, 0.0, x0, 0.0, cell, y0)
     b = domain.polygon.bounds
     step = max(b[2] - b[0], b[3] - b[1]) / 4000
 
@@ -267,26 +259,36 @@ def domain_width(
             mesh_crs,
         )
 
-    def burn(geometries, all_touched):
-        if not len(geometries):
-            return np.zeros(shape, dtype=bool)
-        mask = features.rasterize(
-            [(g, 1) for g in geometries],
-            out_shape=shape,
-            transform=transform,
-            all_touched=all_touched,
-            dtype="uint8",
-        )
-        return mask.astype(bool)
-
-    inside = burn(projected([domain.polygon]), False)
-    kinds = {"shoreline": [], "open": []}
+    polygon = projected([domain.polygon])[0]
+    shapely.prepare(polygon)
+    inside = shapely.contains_xy(polygon, *np.meshgrid(x, y))
+    lines: dict[str, list[shapely.Geometry]] = {"shoreline": [], "open": []}
     for s in domain.segments:
-        kinds[s.kind].append(shapely.LineString(s.coords))
-    shore = burn(projected(kinds["shoreline"]) if kinds["shoreline"] else [], True)
-    opened = burn(projected(kinds["open"]) if kinds["open"] else [], True)
+        lines[s.kind].append(shapely.LineString(s.coords))
+    shore = _touched(projected(lines["shoreline"]), x, y)
+    opened = _touched(projected(lines["open"]), x, y)
     water = water_mask(inside, shore, opened)
     return local_width(water, cell, max_width=max_width), inside
+
+
+def _touched(
+    lines: NDArray[np.object_], x: NDArray[np.float64], y: NDArray[np.float64]
+) -> NDArray[np.bool_]:
+    """Grid nodes next to the lines: the nearest node of every point of them.
+
+    Each line is sampled at a third of the grid spacing, so every cell it
+    crosses has a sample (a line burnt into the grid; rasterio is kept out of
+    the core stages).
+    """
+    mask = np.zeros((len(y), len(x)), dtype=bool)
+    if not len(lines):
+        return mask
+    cell = float(x[1] - x[0])
+    points = shapely.get_coordinates(shapely.segmentize(lines, cell / 3))
+    col = np.clip(np.rint((points[:, 0] - x[0]) / cell).astype(np.int64), 0, len(x) - 1)
+    row = np.clip(np.rint((points[:, 1] - y[0]) / cell).astype(np.int64), 0, len(y) - 1)
+    mask[row, col] = True
+    return mask
 
 
 def channel_report_of(
