@@ -28,6 +28,7 @@ import time
 from collections.abc import Iterator
 from typing import Any
 
+import numpy as np
 from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig, StudyCase
@@ -56,7 +57,10 @@ from coastmesh.sizing.domain import (
 from coastmesh.sizing.terms import ChannelSize, CourantSize, warn_narrow
 from coastmesh.types import Mesh, Progress, SizeGrid, StageFactory, quiet_stage
 
-__all__ = ["as_case", "build_case", "peak_memory_mb"]
+__all__ = ["CLOSE_PASSES", "as_case", "build_case", "peak_memory_mb"]
+
+#: Most times narrow channels are closed and the domain built again.
+CLOSE_PASSES = 2
 
 logger = logging.getLogger(__name__)
 
@@ -137,24 +141,10 @@ def build_case(
         sized = _size_field(config, domain, mesh_crs, progress)
     if len(sized.narrow) and config.size.channels.narrow == "close":
         with timed("closing narrow channels") as progress:
-            closed = sized.report.channels
-            warn_narrow(closed, closed=True)
-            inputs = build_case_domain(config, sets, crs, closed=sized.narrow)
-            domain = inputs.domain
-            # once: what is still narrow after the cut is kept, and warned of
-            sized = _size_field(config, domain, mesh_crs, progress, narrow="keep")
-            sized = dataclasses.replace(
-                sized,
-                report=dataclasses.replace(
-                    sized.report,
-                    channels=dataclasses.replace(
-                        sized.report.channels,
-                        narrow="close",
-                        closed=closed.narrow_channels,
-                        closed_km2=closed.narrow_km2,
-                    ),
-                ),
+            sized, inputs = _close_channels(
+                config, sets, crs, sized, mesh_crs, progress
             )
+            domain = inputs.domain
     size = sized.field
     output_crs = CRS.from_user_input(config.mesh.output_crs or crs)
     with timed("meshing") as progress:
@@ -305,6 +295,52 @@ def _size_field(
     )
 
 
+def _close_channels(
+    config: CaseConfig,
+    sets: dict[str, Any],
+    crs: CRS,
+    sized: SizeField,
+    mesh_crs: CRS,
+    progress: Progress,
+) -> tuple[SizeField, Any]:
+    """Make the narrow channels land and build the domain and size field again.
+
+    A cut can leave new narrow water next to it, so this is done up to
+    ``CLOSE_PASSES`` times; what is narrow after the last pass is kept, and
+    warned of.
+    """
+    closed_count, closed_km2 = 0, 0.0
+    land = []
+    for done in range(CLOSE_PASSES):
+        report = sized.report.channels
+        closed_count += report.narrow_channels
+        closed_km2 += report.narrow_km2
+        land.extend(sized.narrow)
+        inputs = build_case_domain(
+            config, sets, crs, closed=np.array(land, dtype=object)
+        )
+        last = done == CLOSE_PASSES - 1
+        sized = _size_field(
+            config, inputs.domain, mesh_crs, progress, narrow="keep" if last else None
+        )
+        if not len(sized.narrow):
+            break
+    warn_narrow(
+        dataclasses.replace(
+            report, narrow_channels=closed_count, narrow_km2=closed_km2
+        ),
+        closed=True,
+    )
+    channels = dataclasses.replace(
+        sized.report.channels,
+        narrow="close",
+        closed=closed_count,
+        closed_km2=closed_km2,
+    )
+    report = dataclasses.replace(sized.report, channels=channels)
+    return dataclasses.replace(sized, report=report), inputs
+
+
 def _after_meshing(
     config: CaseConfig, mesh: Mesh, timed: StageFactory
 ) -> tuple[Mesh, dict[str, Any]]:
@@ -318,6 +354,7 @@ def _after_meshing(
                 boundary_triangles=c.boundary_triangles,
                 max_valence=c.max_valence,
                 min_angle=c.min_angle,
+                smooth=c.smooth,
             )
         logger.info("cleanup: %s", after["cleanup"].summary())
     if config.bathymetry is not None:

@@ -184,6 +184,7 @@ def parse_case(text: str, source: str | os.PathLike[str]) -> CaseConfig | StudyC
                 "boundary_triangles",
                 "max_valence",
                 "min_angle",
+                "smooth",
             )
         ),
     }

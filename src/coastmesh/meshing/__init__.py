@@ -6,6 +6,7 @@
 :func:`sample_size`       a size grid interpolated as Gmsh does
 :func:`resample_segment`  a polyline resampled to a target size
 :func:`clean_mesh`        all-boundary triangles, valence, slivers fixed
+:func:`smooth_mesh`       interior nodes moved, minimum angle never lowered
 :func:`depth_at_nodes`    a bathymetry raster on the nodes
 :func:`mesh_quality`      angles, radius ratios, edge sizes, valence, corners
 :func:`boundary_angles`   the domain's interior angle at each boundary node
@@ -20,8 +21,8 @@ The types they take and return (:class:`~coastmesh.types.Domain`,
 
 Modules: ``engine`` (Gmsh), ``projection`` (the meshing CRS and sizes in it),
 ``boundary`` (resampling), ``topology`` (boundary rings and strings),
-``cleanup``, ``depth``, ``quality``, ``quality_report``, ``measure``, ``timestep``
-and ``corners`` (measure, never write).
+``cleanup``, ``smoothing``, ``depth``, ``quality``, ``quality_report``, ``measure``,
+``timestep`` and ``corners`` (measure, never write).
 
 Gmsh is imported only when :func:`generate_mesh` runs.
 """
@@ -40,6 +41,7 @@ from coastmesh.meshing.engine import generate_mesh
 from coastmesh.meshing.projection import default_mesh_crs, sample_size
 from coastmesh.meshing.quality import edge_quality, mesh_quality, triangle_quality
 from coastmesh.meshing.quality_report import QualityReport
+from coastmesh.meshing.smoothing import SmoothingReport, smooth_mesh, smooth_points
 from coastmesh.meshing.timestep import CourantStats, TimeStepStats, element_time_steps
 
 __all__ = [
@@ -51,6 +53,7 @@ __all__ = [
     "QualityReport",
     "SharpCorner",
     "SmallIslandWarning",
+    "SmoothingReport",
     "TimeStepStats",
     "boundary_angles",
     "clean_mesh",
@@ -63,5 +66,7 @@ __all__ = [
     "resample_rings",
     "resample_segment",
     "sample_size",
+    "smooth_mesh",
+    "smooth_points",
     "triangle_quality",
 ]

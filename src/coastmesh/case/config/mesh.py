@@ -70,12 +70,18 @@ class NodeDepthConfig:
 
 @dataclass(frozen=True, slots=True)
 class CleanupConfig:
-    """``[cleanup]``: fixes after meshing (see :mod:`coastmesh.meshing.cleanup`)."""
+    """``[cleanup]``: fixes after meshing (see :mod:`coastmesh.meshing.cleanup`).
+
+    ``smooth``: move interior nodes to raise the smallest angles (boundary nodes
+    stay); the result is kept only if its minimum angle and 1st percentile are
+    no worse than Gmsh's mesh.
+    """
 
     enabled: bool = True
     boundary_triangles: bool = True
     max_valence: int | None = None
     min_angle: float = 20.0
+    smooth: bool = True
 
     def _checked(self, c: Check) -> CleanupConfig:
         min_angle = c(schema.number, self.min_angle, "min_angle")
@@ -90,6 +96,7 @@ class CleanupConfig:
             ),
             max_valence=c.optional(schema.integer(4), self.max_valence, "max_valence"),
             min_angle=min_angle,
+            smooth=c(schema.boolean, self.smooth, "smooth"),
         )
 
 

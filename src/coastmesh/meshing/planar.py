@@ -1,0 +1,59 @@
+"""Measures of triangles in a plane, for the cleanup's local decisions.
+
+Each takes triangles as (k, 3, 2) coordinates in a conformal plane (where the
+cleanup works); :mod:`coastmesh.meshing.quality` measures on the Earth instead.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["signed_areas", "smallest_r_in", "triangle_angles"]
+
+
+def triangle_angles(xy: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Return the three angles (degrees) of triangles as (k, 3, 2) coordinates.
+
+    Examples
+    --------
+    >>> triangle_angles(np.array([[[0, 0], [1, 0], [0, 1.0]]])).round(6).tolist()
+    [[90.0, 45.0, 45.0]]
+    """
+    a = np.linalg.norm(xy[:, 1] - xy[:, 2], axis=1)
+    b = np.linalg.norm(xy[:, 2] - xy[:, 0], axis=1)
+    c = np.linalg.norm(xy[:, 0] - xy[:, 1], axis=1)
+
+    def angle(opposite, s1, s2):
+        cos = (s1**2 + s2**2 - opposite**2) / np.maximum(2 * s1 * s2, 1e-300)
+        return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+
+    return np.column_stack([angle(a, b, c), angle(b, c, a), angle(c, a, b)])
+
+
+def signed_areas(xy: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Return the signed areas of triangles as (k, 3, 2) coordinates.
+
+    Examples
+    --------
+    >>> signed_areas(np.array([[[0, 0], [2, 0], [0, 1.0]]])).tolist()
+    [1.0]
+    """
+    d1, d2 = xy[:, 1] - xy[:, 0], xy[:, 2] - xy[:, 0]
+    return 0.5 * (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
+
+
+def smallest_r_in(xy: ArrayLike) -> float:
+    """Return the smallest inscribed radius of triangles as (k, 3, 2) coordinates.
+
+    ``r_in = 2 A / perimeter``.
+
+    Examples
+    --------
+    >>> xy = [[[0, 0], [3, 0], [0, 4.0]], [[0, 0], [2, 0], [0, 2.0]]]
+    >>> round(smallest_r_in(xy), 9)
+    0.585786438
+    """
+    xy = np.asarray(xy, dtype=float)
+    sides = np.linalg.norm(xy - np.roll(xy, -1, axis=1), axis=2)
+    return float((2 * np.abs(signed_areas(xy)) / sides.sum(axis=1)).min())
