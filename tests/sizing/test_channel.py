@@ -17,6 +17,7 @@ from coastmesh.sizing.channel import (
     channel_size,
     local_width,
     narrow_channels,
+    slots,
     water_mask,
 )
 from coastmesh.sizing.terms import domain_width
@@ -190,3 +191,26 @@ def test_domain_width_measures_an_inlet_and_ignores_the_open_boundary():
     assert (in_inlet <= 600.0).all() and (in_inlet >= 550.0 / RADIUS_STEP).all()
     # at the open boundary, the bay is as wide as ever: the sea goes on
     assert np.isinf(width[np.searchsorted(y, 100.0), np.searchsorted(x, 10_000.0)])
+
+
+def test_slots_thinner_than_the_grid_are_found_and_corners_are_not():
+    # a 20 m bay with a 3 m wide, 60 m long slot, and a sharp cape
+    bay = shapely.Polygon(
+        [
+            (0, 0),
+            (20, 0),
+            (20, 20),
+            (11.5, 20),
+            (11.5, 80),
+            (8.5, 80),
+            (8.5, 20),
+            (0, 20),
+            (-5, 10),
+        ]
+    )
+    found = slots(bay, 6.0)
+    assert len(found) == 1
+    assert found[0].bounds[1] >= 19.9 and found[0].bounds[3] == 80.0
+    assert found[0].area == pytest.approx(3 * 60, rel=0.02)
+    # nothing narrower than 2 m: no slot
+    assert len(slots(bay, 2.0)) == 0

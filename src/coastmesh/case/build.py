@@ -311,26 +311,23 @@ def _close_channels(
     """
     closed_count, closed_km2 = 0, 0.0
     land = []
-    for done in range(CLOSE_PASSES):
+    for _ in range(CLOSE_PASSES):
         report = sized.report.channels
-        closed_count += report.narrow_channels
+        closed_count += len(sized.narrow)
         closed_km2 += report.narrow_km2
         land.extend(sized.narrow)
         inputs = build_case_domain(
             config, sets, crs, closed=np.array(land, dtype=object)
         )
-        last = done == CLOSE_PASSES - 1
-        sized = _size_field(
-            config, inputs.domain, mesh_crs, progress, narrow="keep" if last else None
-        )
+        sized = _size_field(config, inputs.domain, mesh_crs, progress)
         if not len(sized.narrow):
             break
-    warn_narrow(
-        dataclasses.replace(
-            report, narrow_channels=closed_count, narrow_km2=closed_km2
-        ),
-        closed=True,
+    closed = dataclasses.replace(
+        report, narrow_channels=closed_count, narrow_km2=closed_km2
     )
+    warn_narrow(closed, closed=True)
+    if len(sized.narrow):
+        warn_narrow(sized.report.channels, after_closing=CLOSE_PASSES)
     channels = dataclasses.replace(
         sized.report.channels,
         narrow="close",

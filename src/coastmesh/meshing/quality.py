@@ -263,6 +263,7 @@ def mesh_quality(
             dt=dt,
             courant_max=courant_max,
             courant_min=courant_min,
+            at_corner=at_corner,
         )
     ids, counts = np.unique(mesh.boundary_ids, return_counts=True)
     report = QualityReport(

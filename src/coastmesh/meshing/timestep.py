@@ -122,6 +122,10 @@ class TimeStepStats(Report):
         Triangles without a finite depth at any node: left out.
     courant : CourantStats or None
         At the model time step, when one was given.
+    min_away_from_corners : float
+        ``min`` over the triangles that touch no sharp boundary corner (where the
+        geometry, not the mesher, caps the shape); ``min_over_p1_away`` is it
+        over ``p1``.
     """
 
     velocity: float
@@ -133,6 +137,8 @@ class TimeStepStats(Report):
     dry: int
     no_depth: int
     courant: CourantStats | None
+    min_away_from_corners: float = math.nan
+    min_over_p1_away: float = math.nan
 
     def summary(self) -> str:
         """Return a one-line summary (the Courant numbers are their own line).
@@ -148,6 +154,13 @@ class TimeStepStats(Report):
             f"median {self.p50:.3g}; min / p1 {self.min_over_p1:.2f} "
             f"(target >= {MIN_OVER_P1_TARGET:g})"
         )
+        if self.min_away_from_corners != self.min and not math.isnan(
+            self.min_away_from_corners
+        ):
+            text += (
+                f"; away from sharp corners min {self.min_away_from_corners:.3g}, "
+                f"/ p1 {self.min_over_p1_away:.2f}"
+            )
         if self.velocity:
             text += f"; velocity {self.velocity:g} m/s"
         if self.dry:
@@ -300,8 +313,12 @@ def time_step_stats(
     dt: float | None,
     courant_max: float | None = None,
     courant_min: float | None = None,
+    at_corner: NDArray[np.bool_] | None = None,
 ) -> TimeStepStats:
-    """Summarise :func:`time_step_arrays` of ``mesh`` as a :class:`TimeStepStats`."""
+    """Summarise :func:`time_step_arrays` of ``mesh`` as a :class:`TimeStepStats`.
+
+    ``at_corner``: the triangles that touch a sharp boundary corner.
+    """
     step = arrays["dt"]
     known = ~np.isnan(step)
     limits = np.flatnonzero(known & np.isfinite(step))
@@ -317,7 +334,13 @@ def time_step_stats(
         courant = _courant_stats(
             mesh, arrays["courant"], known, dt, courant_max, courant_min
         )
+    away = math.nan
+    if at_corner is not None and limits.size:
+        kept = limits[~at_corner[limits]]
+        away = float(step[kept].min()) if kept.size else math.inf
     return TimeStepStats(
+        min_away_from_corners=away,
+        min_over_p1_away=away / float(p1) if limits.size and p1 > 0 else math.nan,
         velocity=float(velocity),
         min=low,
         at=at,

@@ -25,7 +25,7 @@ from pyproj import CRS
 from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.geometry.earth import reproject
 from coastmesh.sizing.bathymetry import BathymetrySize, bathymetry_size
-from coastmesh.sizing.channel import ChannelReport, channel_polygons
+from coastmesh.sizing.channel import ChannelReport, channel_polygons, slots
 from coastmesh.sizing.field import Gradation, size_field
 from coastmesh.sizing.gradation import limit_gradation
 from coastmesh.sizing.terms import (
@@ -407,15 +407,34 @@ def _channel_term(
         h_min=h_min,
     )
     narrow = np.empty(0, dtype=object)
+    if channels.narrow == "close":
+        # slots narrower than half the floor fall between the grid's nodes
+        b = domain.polygon.bounds
+        step = max(b[2] - b[0], b[3] - b[1]) / 4000
+        polygon = reproject(
+            shapely.segmentize(domain.polygon, step), domain.crs, mesh_crs
+        )
+        thin = slots(polygon, h_min / 2)
+        if len(thin):
+            narrow = reproject(shapely.buffer(thin, h_min / 20), mesh_crs, domain.crs)
     if report.narrow_channels:
         # closed as land: the cells of each channel, one cell wider (into the
         # land, and past its mouth) and simplified, so that the cut is clean
         cell = float(x[1] - x[0])
         cells = channel_polygons(labels, x, y)
         grown = shapely.simplify(shapely.buffer(cells, cell, quad_segs=2), cell)
-        narrow = reproject(grown, mesh_crs, domain.crs)
-        if channels.narrow == "keep":
-            warn_narrow(report)
+        grown = shapely.make_valid(grown)
+        narrow = np.concatenate([narrow, reproject(grown, mesh_crs, domain.crs)])
+    if len(narrow):
+        # never where the water meets an open boundary: the boundary must still
+        # cross the coast there to close the domain
+        opened = [
+            shapely.LineString(s.coords) for s in domain.segments if s.kind == "open"
+        ]
+        if opened:
+            narrow = narrow[~shapely.intersects(narrow, shapely.union_all(opened))]
+    if report.narrow_channels and channels.narrow == "keep":
+        warn_narrow(report)
     return values, report, narrow, inside, width
 
 

@@ -397,11 +397,22 @@ def domain_inside(
     return shapely.contains_xy(polygon, xx, yy)
 
 
-def warn_narrow(report: ChannelReport, *, closed: bool = False) -> None:
-    """Warn of narrow channels kept (or closed), where they are, and what to do."""
+def warn_narrow(
+    report: ChannelReport, *, closed: bool = False, after_closing: int = 0
+) -> None:
+    """Warn of narrow channels kept (or closed), where they are, and what to do.
+
+    ``after_closing``: these are left after closing others this many times.
+    """
     where = "; ".join(c.summary() for c in report.worst[:3])
     if closed:
         action = "closed: taken out of the domain as land"
+    elif after_closing:
+        action = (
+            f"left after closing narrow channels {after_closing} times (the cuts "
+            "made them), kept: they are one element wide. Lower h_min to resolve "
+            "them"
+        )
     else:
         action = (
             "kept: they are one element wide. Lower h_min to resolve them, or set "

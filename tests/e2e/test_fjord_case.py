@@ -1,0 +1,73 @@
+"""The hard-coast example: Sognefjorden with the channel and Courant terms.
+
+``examples/norway/fjords_mesh.toml`` run end to end, once, in the default test
+run (about 35 s): what the issue's targets say of it, and what it writes.
+"""
+
+from __future__ import annotations
+
+import json
+import warnings
+from pathlib import Path
+
+import pytest
+
+from coastmesh.case import run_case
+
+CASE = Path(__file__).parents[2] / "examples" / "norway" / "fjords_mesh.toml"
+
+
+@pytest.fixture(scope="module")
+def fjord(tmp_path_factory):
+    out = tmp_path_factory.mktemp("fjord") / "sognefjorden_mesh"
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = run_case(CASE, output=out)
+    return result, out, [str(w.message) for w in caught]
+
+
+def test_the_channel_term_closes_narrow_channels_and_says_so(fjord):
+    result, out, messages = fjord
+    channels = result.report.size_field.channels
+    assert channels.elements_across == 3.0 and channels.narrow == "close"
+    assert channels.closed > 100 and channels.closed_km2 > 5.0
+    assert channels.limited_km2 > 100.0  # the arms of the fjord are set by it
+    assert any("closed: taken out of the domain as land" in m for m in messages)
+    report = json.loads((out / "report.json").read_text())
+    assert report["size_field"]["channels"]["closed"] == channels.closed
+
+
+def test_the_mesh_meets_the_angle_targets_and_spans_few_channels(fjord):
+    result, _, _ = fjord
+    q = result.report.quality
+    assert q.min_angle.p1 >= 30.0
+    # the channel term and the cleanup leave few triangles across a channel:
+    # those left are in the stretches still narrower than 2 h_min (reported)
+    assert len(q.channel_spanning_triangles) <= 1e-3 * q.triangles
+    # slots thinner than the grid are closed too: no spike of the coast is left
+    # to hold a sliver, so every triangle keeps a radius ratio above 0.25
+    assert q.radius_ratio.below_0_25 == 0 and q.min_angle.min > 15.0
+    assert q.time_step.min_over_p1 > 0.45
+    assert result.report.cleanup.accepted in ("cleaned", "cleaned_partly")
+    assert result.report.cleanup.min_angle_p1_after >= (
+        result.report.cleanup.min_angle_p1_before
+    )
+
+
+def test_the_time_step_and_courant_numbers_are_reported_where_they_occur(fjord):
+    result, out, _ = fjord
+    ts = result.report.quality.time_step
+    assert ts.velocity == 1.0 and ts.courant.dt == 10.0
+    assert 4.5 < ts.at.lon < 7.8 and 60.85 < ts.at.lat < 61.5
+    assert ts.min <= ts.p1 <= ts.p50
+    quality = json.loads((out / "quality.json").read_text())
+    assert quality["time_step"]["courant"]["courant_max"] == 0.7
+    assert "stable time step (s)" in (out / "quality.txt").read_text()
+    size = result.report.size_field.courant
+    assert size.dt == 10.0 and size.raised_km2 > 0 and size.unmet_km2 == 0
+
+
+def test_it_draws_its_channels_and_time_steps(fjord):
+    _, out, _ = fjord
+    for name in ("channels", "time_step", "mesh", "size"):
+        assert (out / "figures" / f"{name}.png").stat().st_size > 10_000
