@@ -137,14 +137,24 @@ def build_case(
         if config.mesh.crs
         else default_mesh_crs(domain)
     )
+    closed = None
+    if config.size.channels.enabled and config.size.channels.narrow == "close":
+        with timed("closing narrow channels") as progress:
+            inputs, closed = _close_channels(config, sets, crs, inputs, mesh_crs)
+            domain = inputs.domain
     with timed("size field") as progress:
         sized = _size_field(config, domain, mesh_crs, progress)
-    if len(sized.narrow) and config.size.channels.narrow == "close":
-        with timed("closing narrow channels") as progress:
-            sized, inputs = _close_channels(
-                config, sets, crs, sized, mesh_crs, progress
-            )
-            domain = inputs.domain
+    if closed is not None:
+        if sized.report.channels.narrow_channels:
+            warn_narrow(sized.report.channels, after_closing=CLOSE_PASSES)
+        channels = dataclasses.replace(
+            sized.report.channels,
+            narrow="close",
+            closed=closed.narrow_channels,
+            closed_km2=closed.narrow_km2,
+        )
+        report = dataclasses.replace(sized.report, channels=channels)
+        sized = dataclasses.replace(sized, report=report)
     size = sized.field
     output_crs = CRS.from_user_input(config.mesh.output_crs or crs)
     with timed("meshing") as progress:
@@ -238,16 +248,27 @@ def _size_field(
     config: CaseConfig,
     domain: Any,
     mesh_crs: CRS,
-    progress: Progress,
+    progress: Progress | None,
     *,
-    narrow: str | None = None,
+    channels_only: bool = False,
 ) -> SizeField:
     """``[mesh_size]`` as :func:`coastmesh.sizing.size_field_with_report` takes it.
 
     The Courant term takes its depths from ``[mesh_size.bathymetry]``, else from
-    ``[bathymetry]``.
+    ``[bathymetry]``. ``channels_only``: the channel term alone, on the same
+    grid and floor (to find the narrow channels to close).
     """
     size = config.size
+    if channels_only:
+        h_min = size.h_min or min([g.h_min for g in size.gradations] or [size.h_max])
+        return size_field_with_report(
+            domain,
+            mesh_crs=mesh_crs,
+            h_max=size.h_max,
+            h_min=h_min,
+            cell=size.cell,
+            channels=ChannelSize(size.channels.elements_across, "close"),
+        )
     bathymetry = None
     if size.bathymetry is not None:
         b = size.bathymetry
@@ -261,9 +282,9 @@ def _size_field(
         )
     channels = None
     if size.channels.enabled:
-        channels = ChannelSize(
-            size.channels.elements_across, narrow or size.channels.narrow
-        )
+        # with "close", build_case has closed them already, and warns of any
+        # left after that
+        channels = ChannelSize(size.channels.elements_across, size.channels.narrow)
     courant = None
     if size.courant is not None:
         source = size.bathymetry or config.bathymetry
@@ -299,43 +320,38 @@ def _close_channels(
     config: CaseConfig,
     sets: dict[str, Any],
     crs: CRS,
-    sized: SizeField,
+    inputs: Any,
     mesh_crs: CRS,
-    progress: Progress,
-) -> tuple[SizeField, Any]:
-    """Make the narrow channels land and build the domain and size field again.
+) -> tuple[Any, Any]:
+    """Make the narrow channels land; return the domain inputs and what closed.
 
-    A cut can leave new narrow water next to it, so this is done up to
-    ``CLOSE_PASSES`` times; what is narrow after the last pass is kept, and
-    warned of.
+    The channels are found by the channel term alone (no gradation or
+    bathymetry term: the width of the water needs neither), on the size field's
+    grid. A cut can leave new narrow water next to it, so this is done up to
+    ``CLOSE_PASSES`` times; what is narrow after the last pass is kept (the
+    size field then warns of it). Returns ``(inputs, report)``, the report
+    counting every channel closed (None when none was).
     """
-    closed_count, closed_km2 = 0, 0.0
-    land = []
+    closed_count, closed_km2, land = 0, 0.0, []
+    report = None
     for _ in range(CLOSE_PASSES):
-        report = sized.report.channels
-        closed_count += len(sized.narrow)
+        found = _size_field(config, inputs.domain, mesh_crs, None, channels_only=True)
+        if not len(found.narrow):
+            break
+        report = found.report.channels
+        closed_count += len(found.narrow)
         closed_km2 += report.narrow_km2
-        land.extend(sized.narrow)
+        land.extend(found.narrow)
         inputs = build_case_domain(
             config, sets, crs, closed=np.array(land, dtype=object)
         )
-        sized = _size_field(config, inputs.domain, mesh_crs, progress)
-        if not len(sized.narrow):
-            break
+    if report is None:
+        return inputs, None
     closed = dataclasses.replace(
         report, narrow_channels=closed_count, narrow_km2=closed_km2
     )
     warn_narrow(closed, closed=True)
-    if len(sized.narrow):
-        warn_narrow(sized.report.channels, after_closing=CLOSE_PASSES)
-    channels = dataclasses.replace(
-        sized.report.channels,
-        narrow="close",
-        closed=closed_count,
-        closed_km2=closed_km2,
-    )
-    report = dataclasses.replace(sized.report, channels=channels)
-    return dataclasses.replace(sized, report=report), inputs
+    return inputs, closed
 
 
 def _after_meshing(
