@@ -11,9 +11,9 @@ its quality figures as one JSON line:
 
 Time the two side by side with farm-bench (the ratio is after / before)::
 
-    farm-bench -n 3 --timeout 1200 -- python benchmarks/bench_hard_coasts.py \\
-        examples/norway/fjords_mesh.toml after \\
-        --vs "python benchmarks/bench_hard_coasts.py examples/norway/fjords_mesh.toml before"
+    B="python benchmarks/bench_hard_coasts.py examples/norway/fjords_mesh.toml before"
+    farm-bench -n 3 --warmup 0 --timeout 1400 --vs "$B" -- \\
+        python benchmarks/bench_hard_coasts.py examples/norway/fjords_mesh.toml after
 
 and print the quality table of both with ``--table``::
 
