@@ -54,6 +54,16 @@ def test_the_mesh_meets_the_angle_targets_and_spans_few_channels(fjord):
     )
 
 
+def test_sharp_corners_are_counted_and_avoidable_ones_warned_of(fjord):
+    result, _, messages = fjord
+    corners = result.report.quality.corners
+    assert corners.avoidable >= 1 and corners.sharp >= corners.avoidable
+    assert all(c.angle < 45.0 for c in corners.sharpest)
+    warned = [m for m in messages if "open boundaries meet the coast" in m]
+    assert len(warned) == 1 and f"at {corners.avoidable} places" in warned[0]
+    assert "move the end of the open boundary" in warned[0]
+
+
 def test_the_time_step_and_courant_numbers_are_reported_where_they_occur(fjord):
     result, out, _ = fjord
     ts = result.report.quality.time_step

@@ -25,6 +25,7 @@ import logging
 import os
 import sys
 import time
+import warnings
 from collections.abc import Iterator
 from typing import Any
 
@@ -39,7 +40,7 @@ from coastmesh.case.inputs import (
 )
 from coastmesh.case.report import CaseReport, MeshReport
 from coastmesh.case.result import CaseResult
-from coastmesh.errors import ConfigError
+from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.io import read_raster
 from coastmesh.meshing import (
     clean_mesh,
@@ -383,7 +384,30 @@ def _after_meshing(
                 courant_max=None if courant is None else courant.courant_max,
                 courant_min=None if courant is None else courant.courant_min,
             )
+        _warn_avoidable_corners(after["quality"], mesh)
     return mesh, after
+
+
+def _warn_avoidable_corners(quality: Any, mesh: Mesh) -> None:
+    """Warn of open boundaries that meet the coast at a sharp angle."""
+    avoidable = [c for c in quality.corners.sharpest if c.avoidable]
+    if not avoidable:
+        return
+    names = dict(mesh.boundary_names)
+    where = "; ".join(
+        f"{'/'.join(str(names.get(i, i)) for i in c.boundary_ids)} at "
+        f"{c.angle:.1f} deg ({c.node.lon:.4f}, {c.node.lat:.4f})"
+        for c in avoidable[:5]
+        if c.node.lon is not None
+    )
+    warnings.warn(
+        f"open boundaries meet the coast at under {quality.corners.threshold:g} deg "
+        f"at {quality.corners.avoidable} places ({where}): the triangle there cannot "
+        "be well shaped; move the end of the open boundary so that it meets the "
+        "coast closer to a right angle",
+        CoastmeshWarning,
+        stacklevel=4,
+    )
 
 
 def _node_depths(
