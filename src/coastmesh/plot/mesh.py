@@ -236,16 +236,17 @@ def channel_figure(
         )
         for c in report.worst:
             ax.plot(c.x, c.y, "o", mfc="none", mec="red", ms=9)
-        ax.set_xlabel(
+        note = (
             f"{report.narrow_channels} narrower than 2 x {report.h_min:g} m (cyan "
-            f"contour; largest circled), {report.closed} closed; "
+            f"contour; largest circled), {report.closed} closed\n"
             f"{report.elements_across:g} elements across set the size on "
             f"{report.limited_km2:,.0f} km2"
         )
+        title = f"{title}\n{note}" if title else note
     crs = CRS.from_user_input(width.attrs["crs"]) if "crs" in width.attrs else None
     _frame(ax, (x.min(), y.min(), x.max(), y.max()), crs)
     if title:
-        ax.set_title(title)
+        ax.set_title(title, fontsize=10)
     return figure
 
 
