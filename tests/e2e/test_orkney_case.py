@@ -231,3 +231,15 @@ def test_polyline_boundary_and_region_from_files(tmp_path):
     assert shapely.dwithin(north[0], shapely.Point(-2.9, 59.47), 1e-9)
     assert result.boundary_edges["north (3)"] > 0
     assert result.boundary_edges["full (10)"] > 0
+
+
+def test_the_default_channel_term_keeps_narrow_channels_and_closes_slots(example_run):
+    result, _ = example_run
+    channels = result.report.size_field.channels
+    assert channels.narrow == "keep" and channels.closed == 0
+    assert channels.slots >= 1  # spikes of the coast thinner than h_min / 2
+    assert channels.narrow_channels >= 1 and channels.limited_km2 > 10.0
+    quality = result.report.quality
+    # the channel term and the cleanup leave few triangles across a channel
+    assert len(quality.channel_spanning_triangles) <= 1e-3 * quality.triangles
+    assert quality.min_angle.p1 >= 30.0 and quality.radius_ratio.below_0_25 == 0

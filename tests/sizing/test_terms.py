@@ -19,6 +19,7 @@ from coastmesh.sizing import (
     ChannelSize,
     CourantSize,
     domain_size_field,
+    domain_slots,
     size_field_with_report,
 )
 from coastmesh.sizing.terms import GRAVITY, courant_bounds
@@ -218,3 +219,28 @@ def test_bad_courant_terms_name_the_parameter(kwargs, message):
 def test_bad_channel_terms_name_the_parameter(kwargs, message):
     with pytest.raises(ValueError, match=message):
         ChannelSize(**kwargs)
+
+
+def test_domain_slots_are_closed_but_never_at_an_open_boundary():
+    # a 20 km bay open to the south, with a 20 m slot in its north shore and
+    # another reaching the open boundary
+    ring = [
+        (0, 0), (9_990, 0), (9_990, -3_000), (10_010, -3_000), (10_010, 0),
+        (20_000, 0), (20_000, 20_000), (5_010, 20_000), (5_010, 22_000),
+        (4_990, 22_000), (4_990, 20_000), (0, 20_000), (0, 0),
+    ]  # fmt: skip
+    domain = Domain(
+        shapely.Polygon(ring),
+        (
+            BoundarySegment(ring[:2], "open", "south_a", 2),
+            BoundarySegment(ring[1:5], "shoreline", "inlet", 1),
+            BoundarySegment(ring[4:6], "open", "south_b", 3),
+            BoundarySegment(ring[5:], "shoreline", "coast", 4),
+        ),
+        crs="EPSG:32631",
+    )
+    found = domain_slots(domain, "EPSG:32631", 50.0)
+    assert len(found) == 1
+    minx, _, maxx, maxy = found[0].bounds
+    assert 4_980 < minx < 4_990 and 5_010 < maxx < 5_020 and maxy > 22_000
+    assert len(domain_slots(domain, "EPSG:32631", 10.0)) == 0

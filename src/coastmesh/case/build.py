@@ -53,6 +53,7 @@ from coastmesh.sizing.domain import (
     BathymetrySize,
     BoundaryGradation,
     SizeField,
+    domain_slots,
     size_field_with_report,
 )
 from coastmesh.sizing.terms import ChannelSize, CourantSize, warn_narrow
@@ -138,13 +139,15 @@ def build_case(
         if config.mesh.crs
         else default_mesh_crs(domain)
     )
-    closed = None
-    if config.size.channels.enabled and config.size.channels.narrow == "close":
-        with timed("closing narrow channels") as progress:
-            inputs, closed = _close_channels(config, sets, crs, inputs, mesh_crs)
-            domain = inputs.domain
+    inputs, closed, slots = _close_water(config, sets, crs, inputs, mesh_crs, timed)
+    domain = inputs.domain
     with timed("size field") as progress:
         sized = _size_field(config, domain, mesh_crs, progress)
+    if slots:
+        channels = dataclasses.replace(sized.report.channels, slots=slots)
+        sized = dataclasses.replace(
+            sized, report=dataclasses.replace(sized.report, channels=channels)
+        )
     if closed is not None:
         if sized.report.channels.narrow_channels:
             warn_narrow(sized.report.channels, after_closing=CLOSE_PASSES)
@@ -261,12 +264,11 @@ def _size_field(
     """
     size = config.size
     if channels_only:
-        h_min = size.h_min or min([g.h_min for g in size.gradations] or [size.h_max])
         return size_field_with_report(
             domain,
             mesh_crs=mesh_crs,
             h_max=size.h_max,
-            h_min=h_min,
+            h_min=_floor(config),
             cell=size.cell,
             channels=ChannelSize(size.channels.elements_across, "close"),
         )
@@ -315,6 +317,39 @@ def _size_field(
         courant=courant,
         progress=progress,
     )
+
+
+def _close_water(
+    config: CaseConfig,
+    sets: dict[str, Any],
+    crs: CRS,
+    inputs: Any,
+    mesh_crs: CRS,
+    timed: StageFactory,
+) -> tuple[Any, Any, int]:
+    """Close what the channel term asks: narrow channels and slots, or slots.
+
+    Returns the domain inputs, the report of the channels closed (or None) and
+    the number of slots closed with ``narrow = "keep"``.
+    """
+    if not config.size.channels.enabled:
+        return inputs, None, 0
+    if config.size.channels.narrow == "close":
+        with timed("closing narrow channels"):
+            inputs, closed = _close_channels(config, sets, crs, inputs, mesh_crs)
+        return inputs, closed, 0
+    with timed("closing slots"):
+        thin = domain_slots(inputs.domain, mesh_crs, _floor(config) / 2)
+        if len(thin):
+            inputs = build_case_domain(config, sets, crs, closed=thin)
+            logger.info("closed %d slots narrower than h_min / 2", len(thin))
+    return inputs, None, len(thin)
+
+
+def _floor(config: CaseConfig) -> float:
+    """Return the size field's floor: ``h_min``, else the smallest gradation's."""
+    size = config.size
+    return size.h_min or min([g.h_min for g in size.gradations] or [size.h_max])
 
 
 def _close_channels(

@@ -41,6 +41,7 @@ from coastmesh.sizing.domain import (
     SizeField,
     SizeFieldReport,
     domain_size_field,
+    domain_slots,
     size_field_with_report,
 )
 from coastmesh.sizing.field import Gradation, size_field
@@ -72,6 +73,7 @@ __all__ = [
     "depth_on_grid",
     "distance_to_lines",
     "domain_size_field",
+    "domain_slots",
     "domain_width",
     "gradation_size",
     "interpolate_bilinear",

@@ -224,6 +224,10 @@ class ChannelReport(Report):
         The largest of them (up to 20), largest first.
     closed, closed_km2 : int, float
         Channels closed (taken out of the domain as land) and their area, km2.
+    slots : int
+        With ``narrow = "keep"``: slots narrower than ``h_min / 2`` closed all
+        the same (no element fits in them; with ``"close"`` they are counted in
+        ``closed``).
     """
 
     elements_across: float
@@ -235,6 +239,7 @@ class ChannelReport(Report):
     worst: tuple[NarrowChannel, ...] = ()
     closed: int = 0
     closed_km2: float = 0.0
+    slots: int = 0
 
     def summary(self) -> str:
         """Return a one-line summary."""

@@ -49,6 +49,7 @@ __all__ = [
     "SizeField",
     "SizeFieldReport",
     "domain_size_field",
+    "domain_slots",
     "size_field_with_report",
 ]
 
@@ -408,15 +409,7 @@ def _channel_term(
     )
     narrow = np.empty(0, dtype=object)
     if channels.narrow == "close":
-        # slots narrower than half the floor fall between the grid's nodes
-        b = domain.polygon.bounds
-        step = max(b[2] - b[0], b[3] - b[1]) / 4000
-        polygon = reproject(
-            shapely.segmentize(domain.polygon, step), domain.crs, mesh_crs
-        )
-        thin = slots(polygon, h_min / 2)
-        if len(thin):
-            narrow = reproject(shapely.buffer(thin, h_min / 20), mesh_crs, domain.crs)
+        narrow = domain_slots(domain, mesh_crs, h_min / 2)
     if report.narrow_channels:
         # closed as land: the cells of each channel, one cell wider (into the
         # land, and past its mouth) and simplified, so that the cut is clean
@@ -426,16 +419,45 @@ def _channel_term(
         grown = shapely.make_valid(grown)
         narrow = np.concatenate([narrow, reproject(grown, mesh_crs, domain.crs)])
     if len(narrow):
-        # never where the water meets an open boundary: the boundary must still
-        # cross the coast there to close the domain
-        opened = [
-            shapely.LineString(s.coords) for s in domain.segments if s.kind == "open"
-        ]
-        if opened:
-            narrow = narrow[~shapely.intersects(narrow, shapely.union_all(opened))]
+        narrow = _off_open_boundaries(narrow, domain)
     if report.narrow_channels and channels.narrow == "keep":
         warn_narrow(report)
     return values, report, narrow, inside, width
+
+
+def domain_slots(
+    domain: Domain, mesh_crs: CRS | str, width: float
+) -> NDArray[np.object_]:
+    """Return the slots of the domain's water narrower than ``width``, as land.
+
+    :func:`~coastmesh.sizing.channel.slots` of the domain (in ``mesh_crs``,
+    metres), grown by ``width / 10`` so that they overlap the land, in the
+    domain's CRS; none that touches an open boundary (it must still cross the
+    coast there to close the domain). :func:`coastmesh.build_case` closes the
+    slots narrower than half of ``h_min`` whatever ``narrow`` says: no element
+    fits in them, and their tips make the worst elements of a mesh.
+    """
+    mesh_crs = CRS.from_user_input(mesh_crs)
+    polygon = reproject(
+        shapely.segmentize(domain.polygon, _extent(domain.polygon.bounds) / 4000),
+        domain.crs,
+        mesh_crs,
+    )
+    thin = slots(polygon, width)
+    if not len(thin):
+        return thin
+    grown = reproject(shapely.buffer(thin, width / 10), mesh_crs, domain.crs)
+    return _off_open_boundaries(grown, domain)
+
+
+def _off_open_boundaries(
+    polygons: NDArray[np.object_], domain: Domain
+) -> NDArray[np.object_]:
+    """Drop the polygons that touch an open boundary of the domain."""
+    opened = [shapely.LineString(s.coords) for s in domain.segments if s.kind == "open"]
+    if not opened or not len(polygons):
+        return polygons
+    return polygons[~shapely.intersects(polygons, shapely.union_all(opened))]
 
 
 def _extent(bounds: tuple[float, ...]) -> float:
