@@ -364,8 +364,8 @@ def _close_channels(
     The channels are found by the channel term alone (no gradation or
     bathymetry term: the width of the water needs neither), on the size field's
     grid. A cut can leave new narrow water next to it, so this is done up to
-    ``CLOSE_PASSES`` times; what is narrow after the last pass is kept (the
-    size field then warns of it). Returns ``(inputs, report)``, the report
+    ``CLOSE_PASSES`` times; what is narrow after the last pass is kept, and
+    :func:`build_case` warns of it. Returns ``(inputs, report)``, the report
     counting every channel closed (None when none was).
     """
     closed_count, closed_km2, land = 0, 0.0, []
