@@ -196,3 +196,34 @@ def write_read():
         return reader(path)
 
     return round_trip
+
+
+def bay_with_inlet(inlet: float = 600.0):
+    """A 20 km bay in UTM 31N, open to the south, with an inlet ``inlet`` m wide.
+
+    The inlet runs 6 km north from the middle of the bay's north shore.
+    """
+    import shapely
+
+    from coastmesh.types import BoundarySegment, Domain
+
+    x0, x1 = 10_000 - inlet / 2, 10_000 + inlet / 2
+    ring = [
+        (0, 0),
+        (20_000, 0),
+        (20_000, 20_000),
+        (x1, 20_000),
+        (x1, 26_000),
+        (x0, 26_000),
+        (x0, 20_000),
+        (0, 20_000),
+        (0, 0),
+    ]
+    return Domain(
+        shapely.Polygon(ring),
+        (
+            BoundarySegment(ring[:2], "open", "south", 2),
+            BoundarySegment(ring[1:], "shoreline", "coast", 1),
+        ),
+        crs="EPSG:32631",
+    )

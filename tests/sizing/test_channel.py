@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 import shapely
+from conftest import bay_with_inlet
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
@@ -21,7 +22,6 @@ from coastmesh.sizing.channel import (
     water_mask,
 )
 from coastmesh.sizing.terms import domain_width
-from coastmesh.types import BoundarySegment, Domain
 
 
 def reference_width(water: np.ndarray, cell: float, max_width: float) -> np.ndarray:
@@ -155,33 +155,8 @@ def test_narrow_channels_are_labelled_largest_first_without_corner_tips():
     assert shapely.area(polygons).tolist() == [40 * 2500.0, 9 * 2500.0]
 
 
-def _bay_with_inlet(inlet: float) -> Domain:
-    """A 20 km bay, open to the south, with an inlet ``inlet`` metres wide."""
-    x0 = 10_000 - inlet / 2
-    x1 = 10_000 + inlet / 2
-    ring = [
-        (0, 0),
-        (20_000, 0),
-        (20_000, 20_000),
-        (x1, 20_000),
-        (x1, 26_000),
-        (x0, 26_000),
-        (x0, 20_000),
-        (0, 20_000),
-        (0, 0),
-    ]
-    return Domain(
-        shapely.Polygon(ring),
-        (
-            BoundarySegment(ring[:2], "open", "south", 2),
-            BoundarySegment(ring[1:], "shoreline", "coast", 1),
-        ),
-        crs="EPSG:32631",
-    )
-
-
 def test_domain_width_measures_an_inlet_and_ignores_the_open_boundary():
-    domain = _bay_with_inlet(600.0)
+    domain = bay_with_inlet(600.0)
     x = np.arange(-225.0, 20_226.0, 50.0)  # no node on the inlet walls
     y = np.arange(-200.0, 26_201.0, 50.0)
     width, inside = domain_width(domain, x, y, domain.crs, max_width=9000.0)

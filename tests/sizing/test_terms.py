@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import shapely
 import xarray as xr
+from conftest import bay_with_inlet
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from pyproj import Transformer
@@ -38,27 +39,7 @@ def _flat_raster(depth: float, crs: str = "EPSG:32631") -> xr.DataArray:
     )
 
 
-def _bay(inlet: float = 600.0) -> Domain:
-    x0, x1 = 10_000 - inlet / 2, 10_000 + inlet / 2
-    ring = [
-        (0, 0),
-        (20_000, 0),
-        (20_000, 20_000),
-        (x1, 20_000),
-        (x1, 26_000),
-        (x0, 26_000),
-        (x0, 20_000),
-        (0, 20_000),
-        (0, 0),
-    ]
-    return Domain(
-        shapely.Polygon(ring),
-        (
-            BoundarySegment(ring[:2], "open", "south", 2),
-            BoundarySegment(ring[1:], "shoreline", "coast", 1),
-        ),
-        crs="EPSG:32631",
-    )
+_bay = bay_with_inlet
 
 
 GRADE = [BoundaryGradation(("coast",), h_min=400.0, d_grade=5000.0)]

@@ -36,6 +36,7 @@ from coastmesh.sizing.terms import (
     channel_report_of,
     domain_inside,
     domain_width,
+    projected,
     warn_narrow,
 )
 from coastmesh.types import Domain, Progress, Report
@@ -438,12 +439,7 @@ def domain_slots(
     fits in them, and their tips make the worst elements of a mesh.
     """
     mesh_crs = CRS.from_user_input(mesh_crs)
-    polygon = reproject(
-        shapely.segmentize(domain.polygon, _extent(domain.polygon.bounds) / 4000),
-        domain.crs,
-        mesh_crs,
-    )
-    thin = slots(polygon, width)
+    thin = slots(projected(domain, [domain.polygon], mesh_crs)[0], width)
     if not len(thin):
         return thin
     grown = reproject(shapely.buffer(thin, width / 10), mesh_crs, domain.crs)

@@ -46,6 +46,7 @@ __all__ = [
     "courant_bounds",
     "domain_inside",
     "domain_width",
+    "projected",
     "warn_narrow",
     "wave_speed",
 ]
@@ -249,24 +250,12 @@ def domain_width(
         Nodes inside the domain.
     """
     cell = float(x[1] - x[0])
-    b = domain.polygon.bounds
-    step = max(b[2] - b[0], b[3] - b[1]) / 4000
-
-    def projected(geometries):
-        return reproject(
-            shapely.segmentize(np.array(geometries, dtype=object), step),
-            domain.crs,
-            mesh_crs,
-        )
-
-    polygon = projected([domain.polygon])[0]
-    shapely.prepare(polygon)
-    inside = shapely.contains_xy(polygon, *np.meshgrid(x, y))
+    inside = domain_inside(domain, x, y, mesh_crs)
     lines: dict[str, list[shapely.Geometry]] = {"shoreline": [], "open": []}
     for s in domain.segments:
         lines[s.kind].append(shapely.LineString(s.coords))
-    shore = _touched(projected(lines["shoreline"]), x, y)
-    opened = _touched(projected(lines["open"]), x, y)
+    shore = _touched(projected(domain, lines["shoreline"], mesh_crs), x, y)
+    opened = _touched(projected(domain, lines["open"], mesh_crs), x, y)
     water = water_mask(inside, shore, opened)
     return local_width(water, cell, max_width=max_width), inside
 
@@ -387,14 +376,27 @@ def domain_inside(
     domain: Domain, x: NDArray[np.float64], y: NDArray[np.float64], mesh_crs: CRS
 ) -> NDArray[np.bool_]:
     """Return the grid nodes inside the domain."""
+    polygon = projected(domain, [domain.polygon], mesh_crs)[0]
+    shapely.prepare(polygon)
+    xx, yy = np.meshgrid(x, y)
+    return shapely.contains_xy(polygon, xx, yy)
+
+
+def projected(
+    domain: Domain, geometries: list[shapely.Geometry], mesh_crs: CRS | str
+) -> NDArray[np.object_]:
+    """Return geometries of the domain in ``mesh_crs``, densified first.
+
+    Vertices go in every 1/4000 of the domain's extent, so that straight
+    edges in the domain's CRS (a meridian, a loxodrome) keep their shape.
+    """
     b = domain.polygon.bounds
-    polygon = reproject(
-        shapely.segmentize(domain.polygon, max(b[2] - b[0], b[3] - b[1]) / 4000),
+    step = max(b[2] - b[0], b[3] - b[1]) / 4000
+    return reproject(
+        shapely.segmentize(np.array(geometries, dtype=object), step),
         domain.crs,
         mesh_crs,
     )
-    xx, yy = np.meshgrid(x, y)
-    return shapely.contains_xy(polygon, xx, yy)
 
 
 def warn_narrow(
