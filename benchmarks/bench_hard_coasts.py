@@ -6,8 +6,9 @@ its quality figures as one JSON line:
 - ``after``: the case as it is (channel term on, its Courant term if it has
   one, cleanup with smoothing);
 - ``before``: the same case without them (``[mesh_size.channels] enabled =
-  false``, no ``[mesh_size.courant]``, cleanup without smoothing): coastmesh
-  as it was before these were added.
+  false``, no ``[mesh_size.courant]``, no default gradation limit, cleanup
+  without smoothing or time-step relief): coastmesh as it was before these
+  were added.
 
 Time the two side by side with farm-bench (the ratio is after / before)::
 
@@ -30,6 +31,7 @@ import warnings
 
 import coastmesh
 from coastmesh.case.config import ChannelConfig
+from coastmesh.sizing import DEFAULT_RATE
 
 # the targets
 TARGETS = {
@@ -45,10 +47,12 @@ def variant(path: str, which: str) -> coastmesh.CaseConfig:
     case = coastmesh.read_case(path)
     if which == "after":
         return case
+    # a case that sets no rate gets the default limit, new with this work
+    rate = None if case.size.rate == DEFAULT_RATE else case.size.rate
     size = dataclasses.replace(
-        case.size, channels=ChannelConfig(enabled=False), courant=None
+        case.size, channels=ChannelConfig(enabled=False), courant=None, rate=rate
     )
-    cleanup = dataclasses.replace(case.cleanup, smooth=False)
+    cleanup = dataclasses.replace(case.cleanup, smooth=False, time_step=False)
     return dataclasses.replace(case, size=size, cleanup=cleanup)
 
 
@@ -83,6 +87,8 @@ def measure(path: str, which: str) -> dict:
         row["time_step_min_over_p1"] = round(q.time_step.min_over_p1, 3)
     if r.cleanup is not None:
         row["cleanup"] = r.cleanup.summary()
+    if r.time_step is not None:
+        row["time_step_relief"] = r.time_step.summary()
     return row
 
 

@@ -1,4 +1,5 @@
-"""``[mesh_size.channels]``, ``[mesh_size.courant]``: defaults, errors, round trip."""
+"""``[mesh_size.channels]``, ``[mesh_size.courant]``, ``rate``, ``[cleanup] time_step``:
+defaults, errors, round trip."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from coastmesh.case.config import (
     NodeDepthConfig,
 )
 from coastmesh.errors import ConfigError
+from coastmesh.sizing import DEFAULT_RATE
 
 BASE = """
 [case]
@@ -148,6 +150,8 @@ def test_python_configs_get_the_same_messages():
     [
         {"channels": ChannelConfig(False)},
         {"channels": ChannelConfig(True, 2.5, "close")},
+        {"rate": None},
+        {"rate": 0.2},
         {"courant": CourantConfig(7.5, 0.9, 0.1, 0.25)},
         {
             "courant": CourantConfig(20.0, None, 0.4, 1.0),
@@ -164,3 +168,28 @@ def test_terms_round_trip_through_the_case_file(size_change):
         parse_case(dump_case(case), "/x/t.toml"), source=None, text=""
     )
     assert again == case
+
+
+def test_the_gradation_limit_is_on_by_default_and_false_turns_it_off():
+    assert parsed("").size.rate == DEFAULT_RATE == 0.7
+    assert parsed("rate = 0.3\n").size.rate == 0.3
+    assert parsed("rate = false\n").size.rate is None
+    with pytest.raises(ConfigError, match=r"mesh_size.rate = true: give the limit"):
+        parsed("rate = true\n")
+    with pytest.raises(ConfigError, match=r"mesh_size.rate = -1: must be > 0"):
+        parsed("rate = -1\n")
+    # no limit is written as false: an absent key would mean the default
+    case = dataclasses.replace(
+        parsed(""),
+        source=None,
+        text="",
+        size=dataclasses.replace(parsed("").size, rate=None),
+    )
+    assert "rate = false" in dump_case(case)
+
+
+def test_time_step_relief_is_on_by_default_and_can_be_turned_off():
+    assert parsed("").cleanup.time_step is True
+    assert parsed("[cleanup]\ntime_step = false\n").cleanup.time_step is False
+    with pytest.raises(ConfigError, match=r"cleanup.time_step = 'yes'"):
+        parsed('[cleanup]\ntime_step = "yes"\n')

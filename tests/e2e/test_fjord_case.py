@@ -7,6 +7,7 @@ run (about 35 s): what the issue's targets say of it, and what it writes.
 from __future__ import annotations
 
 import json
+import re
 import warnings
 from pathlib import Path
 
@@ -48,10 +49,24 @@ def test_the_mesh_meets_the_angle_targets_and_spans_few_channels(fjord):
     # to hold a sliver, so every triangle keeps a radius ratio above 0.25
     assert q.radius_ratio.below_0_25 == 0 and q.min_angle.min > 15.0
     assert q.time_step.min_over_p1 > 0.45
+    relief = result.report.time_step  # ran; kept only if the time step rose
+    assert relief is not None and relief.min_angle_p1_before >= 30.0
+    if relief.accepted:
+        assert relief.min_over_p1_after > relief.min_over_p1_before
     assert result.report.cleanup.accepted in ("cleaned", "cleaned_partly")
     assert result.report.cleanup.min_angle_p1_after >= (
         result.report.cleanup.min_angle_p1_before
     )
+
+
+def test_channel_spanning_triangles_are_warned_of_with_their_places(fjord):
+    result, _, messages = fjord
+    spanning = len(result.report.quality.channel_spanning_triangles)
+    warned = [m for m in messages if "span a channel one element wide" in m]
+    assert spanning > 0 and len(warned) == 1
+    assert warned[0].startswith(f"{spanning:,} triangles")
+    assert re.search(r"at \([4-7]\.\d{4}, 6[01]\.\d{4}\)", warned[0])  # lon, lat
+    assert "move an open boundary that runs along the coast" in warned[0]
 
 
 def test_sharp_corners_are_counted_and_avoidable_ones_warned_of(fjord):

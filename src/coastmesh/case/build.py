@@ -25,13 +25,13 @@ import logging
 import os
 import sys
 import time
-import warnings
 from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
 from pyproj import CRS
 
+from coastmesh.case.advice import warn_avoidable_corners, warn_spanning
 from coastmesh.case.config import CaseConfig, StudyCase
 from coastmesh.case.inputs import (
     build_case_domain,
@@ -40,7 +40,7 @@ from coastmesh.case.inputs import (
 )
 from coastmesh.case.report import CaseReport, MeshReport
 from coastmesh.case.result import CaseResult
-from coastmesh.errors import CoastmeshWarning, ConfigError
+from coastmesh.errors import ConfigError
 from coastmesh.io import read_raster
 from coastmesh.meshing import (
     clean_mesh,
@@ -48,6 +48,7 @@ from coastmesh.meshing import (
     depth_at_nodes,
     generate_mesh,
     mesh_quality,
+    relieve_time_step,
 )
 from coastmesh.sizing.domain import (
     BathymetrySize,
@@ -172,7 +173,7 @@ def build_case(
             optimize=config.mesh.optimize,
             progress=progress,
         )
-    mesh, after = _after_meshing(config, mesh, timed)
+    mesh, after = _after_meshing(config, mesh, timed, sized)
     from coastmesh import __version__
 
     report = CaseReport(
@@ -391,7 +392,7 @@ def _close_channels(
 
 
 def _after_meshing(
-    config: CaseConfig, mesh: Mesh, timed: StageFactory
+    config: CaseConfig, mesh: Mesh, timed: StageFactory, sized: SizeField
 ) -> tuple[Mesh, dict[str, Any]]:
     """Cleanup, depth at the nodes and quality, as the case asks."""
     after: dict[str, Any] = {"cleanup": None, "depth": None, "quality": None}
@@ -409,6 +410,12 @@ def _after_meshing(
     if config.bathymetry is not None:
         with timed("depth at the nodes") as progress:
             mesh, after["depth"] = _node_depths(config, mesh, progress)
+        if c.enabled and c.time_step:
+            with timed("time step") as progress:
+                mesh, after["time_step"], depth = _relieve(
+                    config, mesh, after["cleanup"], progress
+                )
+            after["depth"] = depth or after["depth"]
     if config.outputs.quality:
         courant = config.size.courant
         with timed("mesh quality"):
@@ -419,30 +426,33 @@ def _after_meshing(
                 courant_max=None if courant is None else courant.courant_max,
                 courant_min=None if courant is None else courant.courant_min,
             )
-        _warn_avoidable_corners(after["quality"], mesh)
+        warn_avoidable_corners(after["quality"], mesh)
+        field = sized.field
+        warn_spanning(
+            after["quality"],
+            mesh,
+            cell=float(abs(field.x[1] - field.x[0])),
+            h_min=sized.report.h_min_m,
+            narrow=config.size.channels.narrow,
+        )
     return mesh, after
 
 
-def _warn_avoidable_corners(quality: Any, mesh: Mesh) -> None:
-    """Warn of open boundaries that meet the coast at a sharp angle."""
-    avoidable = [c for c in quality.corners.sharpest if c.avoidable]
-    if not avoidable:
-        return
-    names = dict(mesh.boundary_names)
-    where = "; ".join(
-        f"{'/'.join(str(names.get(i, i)) for i in c.boundary_ids)} at "
-        f"{c.angle:.1f} deg ({c.node.lon:.4f}, {c.node.lat:.4f})"
-        for c in avoidable[:5]
-        if c.node.lon is not None
-    )
-    warnings.warn(
-        f"open boundaries meet the coast at under {quality.corners.threshold:g} deg "
-        f"at {quality.corners.avoidable} places ({where}): the triangle there cannot "
-        "be well shaped; move the end of the open boundary so that it meets the "
-        "coast closer to a right angle",
-        CoastmeshWarning,
-        stacklevel=4,
-    )
+def _relieve(config: CaseConfig, mesh: Mesh, cleanup: Any, progress: Progress) -> tuple:
+    """Relieve the elements that throttle the time step; depth at moved nodes.
+
+    The angles may not fall below Gmsh's own mesh's, the cleanup's bar.
+    """
+    courant = config.size.courant
+    velocity = 0.0 if courant is None else courant.velocity
+    keep = (cleanup.min_angle_before, cleanup.min_angle_p1_before)
+    relieved, report = relieve_time_step(mesh, velocity=velocity, keep_angles=keep)
+    logger.info("time step: %s", report.summary())
+    if not report.accepted:
+        return mesh, report, None
+    # the merged nodes took their pair's mean depth: read the raster there
+    relieved, depth = _node_depths(config, relieved, progress)
+    return relieved, report, depth
 
 
 def _node_depths(

@@ -149,7 +149,7 @@ def _dump_size(size: SizeConfig) -> dict[str, Any]:
         "h_max": _metres(size.h_max),
         "h_min": _metres(size.h_min),
         "cell": _metres(size.cell),
-        "rate": size.rate,
+        "rate": False if size.rate is None else size.rate,  # no limit
         "gradations": [
             {
                 "lines": g.lines,

@@ -185,6 +185,7 @@ def parse_case(text: str, source: str | os.PathLike[str]) -> CaseConfig | StudyC
                 "max_valence",
                 "min_angle",
                 "smooth",
+                "time_step",
             )
         ),
     }

@@ -8,7 +8,12 @@ import numpy as np
 
 from coastmesh.case.inputs import ShorelineSetReport
 from coastmesh.geometry import DomainReport, StitchReport
-from coastmesh.meshing import CleanupReport, DepthReport, QualityReport
+from coastmesh.meshing import (
+    CleanupReport,
+    DepthReport,
+    QualityReport,
+    ThrottleReport,
+)
 from coastmesh.sizing import SizeFieldReport
 from coastmesh.types import Mesh, Report
 
@@ -77,6 +82,10 @@ class CaseReport(Report):
         :class:`~coastmesh.meshing.cleanup.CleanupReport`,
         :class:`~coastmesh.meshing.depth.DepthReport`,
         :class:`~coastmesh.meshing.quality.QualityReport`, where the case asks.
+    time_step : ThrottleReport or None
+        The elements that throttled the time step, relieved
+        (:func:`~coastmesh.meshing.relieve_time_step`); with ``[bathymetry]``
+        and ``[cleanup] time_step``.
     seconds : dict of str to float
         Wall time of each stage.
     peak_memory_mb : float or None
@@ -104,6 +113,7 @@ class CaseReport(Report):
     seconds: dict[str, float]
     peak_memory_mb: float | None
     files: tuple[str, ...] = ()
+    time_step: ThrottleReport | None = None
 
     def summary(self) -> str:
         """Return the report as a few lines of text (``summary.txt``)."""
@@ -123,7 +133,7 @@ class CaseReport(Report):
             "overlaps merged"
         )
         lines.append(f"size field: {self.size_field.summary()}")
-        for name in ("cleanup", "depth"):
+        for name in ("cleanup", "time_step", "depth"):
             part = getattr(self, name)
             if part is not None:
                 lines.append(f"{name}: {part.summary()}")

@@ -7,6 +7,7 @@
 :func:`resample_segment`  a polyline resampled to a target size
 :func:`clean_mesh`        all-boundary triangles, valence, slivers fixed
 :func:`smooth_mesh`       interior nodes moved, minimum angle never lowered
+:func:`relieve_time_step` edges of time-step-throttling elements collapsed
 :func:`depth_at_nodes`    a bathymetry raster on the nodes
 :func:`mesh_quality`      angles, radius ratios, edge sizes, valence, corners
 :func:`boundary_angles`   the domain's interior angle at each boundary node
@@ -21,8 +22,9 @@ The types they take and return (:class:`~coastmesh.types.Domain`,
 
 Modules: ``engine`` (Gmsh), ``projection`` (the meshing CRS and sizes in it),
 ``boundary`` (resampling), ``topology`` (boundary rings and strings),
-``cleanup``, ``smoothing``, ``depth``, ``quality``, ``quality_report``, ``measure``,
-``timestep`` and ``corners`` (measure, never write).
+``cleanup``, ``smoothing``, ``throttle``, ``depth``, ``quality``,
+``quality_report``, ``measure``, ``timestep`` and ``corners`` (measure, never
+write).
 
 Gmsh is imported only when :func:`generate_mesh` runs.
 """
@@ -42,10 +44,16 @@ from coastmesh.meshing.projection import default_mesh_crs, sample_size
 from coastmesh.meshing.quality import edge_quality, mesh_quality, triangle_quality
 from coastmesh.meshing.quality_report import QualityReport
 from coastmesh.meshing.smoothing import SmoothingReport, smooth_mesh, smooth_points
+from coastmesh.meshing.throttle import (
+    THROTTLE_RATIO,
+    ThrottleReport,
+    relieve_time_step,
+)
 from coastmesh.meshing.timestep import CourantStats, TimeStepStats, element_time_steps
 
 __all__ = [
     "DEPTH_METHODS",
+    "THROTTLE_RATIO",
     "CleanupReport",
     "CornerStats",
     "CourantStats",
@@ -54,6 +62,7 @@ __all__ = [
     "SharpCorner",
     "SmallIslandWarning",
     "SmoothingReport",
+    "ThrottleReport",
     "TimeStepStats",
     "boundary_angles",
     "clean_mesh",
@@ -63,6 +72,7 @@ __all__ = [
     "element_time_steps",
     "generate_mesh",
     "mesh_quality",
+    "relieve_time_step",
     "resample_rings",
     "resample_segment",
     "sample_size",

@@ -45,7 +45,7 @@ from coastmesh.sizing.domain import (
     size_field_with_report,
 )
 from coastmesh.sizing.field import Gradation, size_field
-from coastmesh.sizing.gradation import gradation_size, limit_gradation
+from coastmesh.sizing.gradation import DEFAULT_RATE, gradation_size, limit_gradation
 from coastmesh.sizing.raster import interpolate_bilinear, raster_grid
 from coastmesh.sizing.terms import (
     ChannelSize,
@@ -57,6 +57,7 @@ from coastmesh.sizing.terms import (
 from coastmesh.sizing.units import EARTH_RADIUS, to_metres
 
 __all__ = [
+    "DEFAULT_RATE",
     "EARTH_RADIUS",
     "M2_PERIOD",
     "BathymetrySize",

@@ -27,7 +27,7 @@ from coastmesh.geometry.earth import reproject
 from coastmesh.sizing.bathymetry import BathymetrySize, bathymetry_size
 from coastmesh.sizing.channel import ChannelReport, channel_polygons, slots
 from coastmesh.sizing.field import Gradation, size_field
-from coastmesh.sizing.gradation import limit_gradation
+from coastmesh.sizing.gradation import DEFAULT_RATE, limit_gradation
 from coastmesh.sizing.terms import (
     ChannelSize,
     CourantReport,
@@ -156,7 +156,7 @@ def domain_size_field(
     gradations: Sequence[BoundaryGradation] = (),
     h_min: float | None = None,
     cell: float | None = None,
-    rate: float | None = None,
+    rate: float | None = DEFAULT_RATE,
     bathymetry: BathymetrySize | None = None,
     channels: ChannelSize | None = DEFAULT_CHANNELS,
     courant: CourantSize | None = None,
@@ -182,8 +182,9 @@ def domain_size_field(
     cell : float, optional
         Grid spacing, metres; default 1/1000 of the domain's extent, but not
         below the smallest ``h_min``.
-    rate : float, optional
-        Gradation limit: sizes grow by at most ``rate`` metres per metre.
+    rate : float or None, default DEFAULT_RATE (0.7)
+        Gradation limit: sizes grow by at most ``rate`` metres per metre; None
+        for none (steeper grading makes worse triangles).
     bathymetry : BathymetrySize, optional
         Wavelength and slope terms.
     channels : ChannelSize or None
@@ -292,7 +293,7 @@ def size_field_with_report(
     gradations: Sequence[BoundaryGradation] = (),
     h_min: float | None = None,
     cell: float | None = None,
-    rate: float | None = None,
+    rate: float | None = DEFAULT_RATE,
     bathymetry: BathymetrySize | None = None,
     channels: ChannelSize | None = DEFAULT_CHANNELS,
     courant: CourantSize | None = None,

@@ -7,7 +7,16 @@ from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import ConfigError
 
-__all__ = ["gradation_size", "limit_gradation"]
+__all__ = ["DEFAULT_RATE", "gradation_size", "limit_gradation"]
+
+#: The gradation limit of the size field unless a case or a caller sets one
+#: (metres per metre). Measured on the paper's NW-shelf meshes, whose gradations
+#: grow 1.4-1.5 m per m: without a limit 630 of the 1,306 triangles under 30 deg
+#: sat where the size grows faster than 0.5 m per m, and the 1st percentile of
+#: the minimum angle was 27.6 (coarse) and 29.7 deg (intermediate). At 0.7 it is
+#: 34.1 and 37.5 deg, for 20 % and 18 % more triangles; 0.5 buys 2 deg more for
+#: 40 %. OceanMesh2D's default is 0.2 to 0.35.
+DEFAULT_RATE = 0.7
 
 
 def gradation_size(

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from coastmesh.case import schema
 from coastmesh.case.config._check import Check, check_part, sequence
 from coastmesh.sizing.bathymetry import M2_PERIOD
+from coastmesh.sizing.gradation import DEFAULT_RATE
 
 __all__ = [
     "BathymetryConfig",
@@ -189,8 +191,9 @@ class SizeConfig:
         ``h_min`` (the channel term needs a floor).
     cell : float or str, optional
         Cell size of the size grid (metres); default 1/1000 of the extent.
-    rate : float, optional
-        Largest size change per unit distance (gradation limit).
+    rate : float or None, default :data:`coastmesh.sizing.DEFAULT_RATE` (0.7)
+        Largest size change per unit distance (gradation limit), metres per
+        metre; None (``rate = false`` in a case file) for no limit.
     bathymetry : BathymetryConfig, optional
     channels : ChannelConfig
         The channel-width term; on by default.
@@ -202,7 +205,7 @@ class SizeConfig:
     gradations: tuple[GradationConfig, ...] = ()
     h_min: float | None = None
     cell: float | None = None
-    rate: float | None = None
+    rate: float | None = DEFAULT_RATE
     bathymetry: BathymetryConfig | None = None
     channels: ChannelConfig = ChannelConfig()
     courant: CourantConfig | None = None
@@ -225,7 +228,7 @@ class SizeConfig:
             gradations=gradations,
             h_min=c.optional(schema.length(), self.h_min, "h_min"),
             cell=c.optional(schema.length(), self.cell, "cell"),
-            rate=c.optional(schema.positive, self.rate, "rate"),
+            rate=_rate(self.rate, c),
             bathymetry=None
             if bathymetry is None
             else bathymetry._checked(c.at("bathymetry")),
@@ -234,3 +237,12 @@ class SizeConfig:
             if self.courant is None
             else check_part(self.courant, CourantConfig, c, "courant"),
         )
+
+
+def _rate(value: Any, c: Check) -> float | None:
+    """``rate``: a number > 0, or false (None) for no gradation limit."""
+    if value is None or value is False:
+        return None
+    if value is True:
+        raise c.error("rate", "= true: give the limit (m per m), or false for none")
+    return c(schema.positive, value, "rate")

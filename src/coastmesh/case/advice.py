@@ -1,0 +1,74 @@
+"""Warnings that tell a case's author what to change, after the mesh is measured.
+
+The quality report counts what the geometry or the case forces (sharp corners,
+channels one element wide); these turn the counts into advice, with places.
+"""
+
+from __future__ import annotations
+
+import warnings
+from typing import Any
+
+from coastmesh.errors import CoastmeshWarning
+from coastmesh.meshing.measure import places
+from coastmesh.types import Mesh
+
+__all__ = ["warn_avoidable_corners", "warn_spanning"]
+
+#: Places given in a warning.
+_SHOWN = 5
+
+
+def warn_avoidable_corners(quality: Any, mesh: Mesh) -> None:
+    """Warn of open boundaries that meet the coast at a sharp angle."""
+    avoidable = [c for c in quality.corners.sharpest if c.avoidable]
+    if not avoidable:
+        return
+    names = dict(mesh.boundary_names)
+    where = "; ".join(
+        f"{'/'.join(str(names.get(i, i)) for i in c.boundary_ids)} at "
+        f"{c.angle:.1f} deg ({c.node.lon:.4f}, {c.node.lat:.4f})"
+        for c in avoidable[:_SHOWN]
+        if c.node.lon is not None
+    )
+    warnings.warn(
+        f"open boundaries meet the coast at under {quality.corners.threshold:g} deg "
+        f"at {quality.corners.avoidable} places ({where}): the triangle there cannot "
+        "be well shaped; move the end of the open boundary so that it meets the "
+        "coast closer to a right angle",
+        CoastmeshWarning,
+        stacklevel=4,
+    )
+
+
+def warn_spanning(
+    quality: Any, mesh: Mesh, *, cell: float, h_min: float | None, narrow: str
+) -> None:
+    """Warn of triangles one element across a channel, with what to change.
+
+    The channel term sees channels a few grid cells wide; narrower ones, and
+    strips of water between an open boundary and the coast, can still end up
+    one element wide. ``cell`` is the size grid's spacing and ``h_min`` the
+    field's floor (metres).
+    """
+    spanning = quality.channel_spanning_triangles
+    if len(spanning) == 0:
+        return
+    shown = places(mesh, spanning[:_SHOWN], triangles=True)
+    where = ", ".join(p.summary() for p in shown)
+    advice = []
+    if h_min is not None and cell > h_min:
+        advice.append(
+            f"the size grid ({cell:,.0f} m) is coarser than h_min ({h_min:,.0f} m) "
+            f"and cannot see channels narrower than about {2 * cell:,.0f} m: set "
+            "[mesh_size] cell nearer h_min"
+        )
+    if narrow != "close":
+        advice.append('set [mesh_size.channels] narrow = "close" to make them land')
+    advice.append("move an open boundary that runs along the coast")
+    warnings.warn(
+        f"{len(spanning):,} triangles span a channel one element wide (three "
+        f"boundary nodes, at most one boundary edge), at {where}: " + "; ".join(advice),
+        CoastmeshWarning,
+        stacklevel=4,
+    )
