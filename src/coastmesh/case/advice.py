@@ -9,6 +9,8 @@ from __future__ import annotations
 import warnings
 from typing import Any
 
+import numpy as np
+
 from coastmesh.errors import CoastmeshWarning
 from coastmesh.meshing.measure import places
 from coastmesh.types import Mesh
@@ -65,10 +67,38 @@ def warn_spanning(
         )
     if narrow != "close":
         advice.append('set [mesh_size.channels] narrow = "close" to make them land')
-    advice.append("move an open boundary that runs along the coast")
+    at_open = _at_open_boundaries(mesh, spanning)
+    if at_open:
+        advice.append(
+            f"{sum(at_open.values()):,} of them lie between an open boundary and the "
+            "coast ("
+            + ", ".join(f"{name}: {n:,}" for name, n in at_open.items())
+            + "), where the channel term sees open sea: move the open boundary "
+            "off the coast"
+        )
+    if not advice:
+        advice.append(
+            "they lie in stretches still narrower than 2 h_min after closing "
+            "(report.json lists the largest): lower h_min to resolve them"
+        )
     warnings.warn(
         f"{len(spanning):,} triangles span a channel one element wide (three "
         f"boundary nodes, at most one boundary edge), at {where}: " + "; ".join(advice),
         CoastmeshWarning,
         stacklevel=4,
     )
+
+
+def _at_open_boundaries(mesh: Mesh, triangles: np.ndarray) -> dict[str, int]:
+    """Count ``triangles`` with a node on each open boundary, by its name."""
+    kinds, names = dict(mesh.boundary_kinds), dict(mesh.boundary_names)
+    ids = np.asarray(mesh.boundary_ids)
+    nodes = mesh.triangles[triangles]
+    counts = {}
+    for pid in sorted(i for i, kind in kinds.items() if kind == "open"):
+        on = np.zeros(len(mesh.points), dtype=bool)
+        on[mesh.boundary_edges[ids == pid].ravel()] = True
+        n = int(on[nodes].any(axis=1).sum())
+        if n:
+            counts[str(names.get(pid, pid))] = n
+    return counts
