@@ -193,3 +193,17 @@ def test_time_step_relief_is_on_by_default_and_can_be_turned_off():
     assert parsed("[cleanup]\ntime_step = false\n").cleanup.time_step is False
     with pytest.raises(ConfigError, match=r"cleanup.time_step = 'yes'"):
         parsed('[cleanup]\ntime_step = "yes"\n')
+
+
+def test_mesh_parts_are_auto_by_default_or_a_count():
+    assert parsed("").mesh.parts == "auto"
+    assert parsed("[mesh]\nparts = 4\n").mesh.parts == 4
+    for bad in ("0", "2.5", '"many"', "true"):
+        with pytest.raises(ConfigError, match=r"mesh.parts = .*expected \"auto\""):
+            parsed(f"[mesh]\nparts = {bad}\n")
+    case = dataclasses.replace(parsed(""), source=None, text="")
+    case = dataclasses.replace(case, mesh=dataclasses.replace(case.mesh, parts=3))
+    again = dataclasses.replace(
+        parse_case(dump_case(case), "/x/t.toml"), source=None, text=""
+    )
+    assert again.mesh.parts == 3

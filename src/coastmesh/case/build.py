@@ -69,7 +69,10 @@ logger = logging.getLogger(__name__)
 
 
 def build_case(
-    case: CaseConfig | str | os.PathLike[str], *, stage: StageFactory | None = None
+    case: CaseConfig | str | os.PathLike[str],
+    *,
+    stage: StageFactory | None = None,
+    workers: int | None = None,
 ) -> CaseResult:
     """Build a whole mesh case in memory; write nothing.
 
@@ -82,6 +85,9 @@ def build_case(
         ``stage(label)`` returns a context manager yielding a
         ``progress(done, total)`` callback, entered once per stage (the command
         line draws a progress bar per stage with it).
+    workers : int, optional
+        Threads Gmsh meshes the parts of the water on (``[mesh] parts``);
+        default all cores. The mesh does not depend on it.
 
     Returns
     -------
@@ -171,6 +177,8 @@ def build_case(
             seed=config.mesh.seed,
             algorithm=config.mesh.algorithm,
             optimize=config.mesh.optimize,
+            parts=config.mesh.parts,
+            threads=_workers(workers),
             progress=progress,
         )
     mesh, after = _after_meshing(config, mesh, timed, sized)
@@ -208,6 +216,16 @@ def build_case(
     )
     logger.info("%s", result.summary())
     return result
+
+
+def _workers(workers: int | None) -> int:
+    """``workers``, checked; None is every core this process may use."""
+    if workers is None:
+        cores = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else None
+        return len(cores) if cores else os.cpu_count() or 1
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ConfigError(f"workers = {workers!r}: expected an integer >= 1")
+    return workers
 
 
 def as_case(case: Any) -> CaseConfig | StudyCase:

@@ -159,7 +159,13 @@ def parse_case(text: str, source: str | os.PathLike[str]) -> CaseConfig | StudyC
         "size": _size(root.table("mesh_size", required=True), path_of),
         "mesh": MeshConfig(
             **_done(
-                root.table("mesh"), "crs", "output_crs", "seed", "algorithm", "optimize"
+                root.table("mesh"),
+                "crs",
+                "output_crs",
+                "seed",
+                "algorithm",
+                "optimize",
+                "parts",
             )
         ),
         "outputs": OutputConfig(

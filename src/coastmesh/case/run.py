@@ -33,6 +33,7 @@ def run_case(
     output: str | os.PathLike[str] | None = None,
     overwrite: bool = False,
     stage: StageFactory | None = None,
+    workers: int | None = None,
 ) -> CaseResult | Any:
     """Run a case end to end and write its outputs.
 
@@ -48,6 +49,9 @@ def run_case(
     stage : callable, optional
         ``stage(label)`` returns a context manager yielding a
         ``progress(done, total)`` callback, entered once per stage.
+    workers : int, optional
+        Threads Gmsh meshes the parts on (see
+        :func:`~coastmesh.case.build.build_case`); default all cores.
 
     Returns
     -------
@@ -73,7 +77,7 @@ def run_case(
     if isinstance(config, StudyCase):
         return _run_study(config, target, overwrite, stage)
     started = time.perf_counter()
-    result = build_case(config, stage=stage)
+    result = build_case(config, stage=stage, workers=workers)
     result = result.write(target, overwrite=overwrite, stage=stage)
     result = dataclasses.replace(result, seconds=time.perf_counter() - started)
     logger.info("%s", result.summary())

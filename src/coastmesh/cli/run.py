@@ -32,11 +32,25 @@ __all__ = ["run"]
     is_flag=True,
     help="Only read and check the case file (keys, values, names, ids); run nothing.",
 )
+@click.option(
+    "-w",
+    "--workers",
+    type=click.IntRange(min=1),
+    default=None,
+    help="Threads to mesh on (default: all cores). The mesh is the same for any "
+    "number: [mesh] parts in the case sets how the water is cut.",
+)
 @overwrite_option
 @click.pass_context
 @translate_errors
 def run(
-    ctx: click.Context, *, case: Path, output: Path | None, check: bool, overwrite: bool
+    ctx: click.Context,
+    *,
+    case: Path,
+    output: Path | None,
+    check: bool,
+    overwrite: bool,
+    workers: int | None,
 ) -> None:
     """Build a mesh from a case file: shorelines, open boundaries, sizes, Gmsh.
 
@@ -70,7 +84,13 @@ def run(
         return
     from coastmesh.case import run_case
 
-    result = run_case(config, output=output, overwrite=overwrite, stage=_stages(quiet))
+    result = run_case(
+        config,
+        output=output,
+        overwrite=overwrite,
+        stage=_stages(quiet),
+        workers=workers,
+    )
     if quiet:
         return
     if isinstance(config, StudyCase):

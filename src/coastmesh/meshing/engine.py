@@ -22,6 +22,14 @@ from pyproj import CRS
 
 from coastmesh.errors import MeshingError
 from coastmesh.meshing.boundary import check_boundary, resample_rings
+from coastmesh.meshing.parts import (
+    add_faces,
+    auto_parts,
+    chunked,
+    cut_lines,
+    ring_pieces,
+    split_faces,
+)
 from coastmesh.meshing.projection import (
     default_mesh_crs,
     project_points,
@@ -52,6 +60,8 @@ def generate_mesh(
     seed: int = 0,
     algorithm: str = "frontal-delaunay",
     optimize: bool = True,
+    parts: int | str = 1,
+    threads: int = 1,
     progress: Progress | None = None,
 ) -> Mesh:
     """Mesh a domain with triangles whose edge lengths follow a size grid.
@@ -76,6 +86,17 @@ def generate_mesh(
         Gmsh's 2D algorithm.
     optimize : bool, default True
         Improve the triangles' shapes after meshing (Gmsh "Relocate2D").
+    parts : int or "auto", default 1
+        Cut the water into this many parts of equal expected triangle count
+        (:mod:`~coastmesh.meshing.parts`), one Gmsh surface each (or more,
+        where a cut crosses the water several times); the cuts' curves are
+        shared, so the mesh conforms. ``"auto"``: one part per 40,000 expected
+        triangles, rounded down to a power of two (at most 64). The same
+        ``parts`` and ``seed`` give the same mesh whatever ``threads``: nodes
+        are numbered in order of x, then y.
+    threads : int, default 1
+        Gmsh threads (``General.NumThreads``): separate surfaces and curves are
+        meshed at once.
     progress : callable, optional
         Called as ``progress(done, total)`` after each of the stages.
 
@@ -149,6 +170,14 @@ def generate_mesh(
         )
     if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
         raise ValueError(f"seed is {seed!r}, expected an integer >= 0")
+    numbers = {"threads": threads} | ({} if parts == "auto" else {"parts": parts})
+    for name, value in numbers.items():
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, int | np.integer)
+            or value < 1
+        ):
+            raise ValueError(f"{name} is {value!r}, expected an integer >= 1")
     mesh_crs = default_mesh_crs(domain) if mesh_crs is None else CRS(mesh_crs)
     if not mesh_crs.is_projected:
         raise ValueError(
@@ -188,6 +217,8 @@ def generate_mesh(
             algorithm,
             optimize,
             step,
+            parts=parts,
+            threads=int(threads),
         )
     target = sample_size(size, points)
     points = project_points(points, mesh_crs, output_crs, what="mesh nodes")
@@ -290,13 +321,16 @@ def _run_gmsh(
     algorithm: str,
     optimize: bool,
     step: Callable[[int], None],
+    *,
+    parts: int | str = 1,
+    threads: int = 1,
 ) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """Build the model, mesh it, and return nodes, triangles and tagged edges."""
     try:
         for name, value in (
-            ("General.NumThreads", 1),
-            ("Mesh.MaxNumThreads1D", 1),
-            ("Mesh.MaxNumThreads2D", 1),
+            ("General.NumThreads", threads),
+            ("Mesh.MaxNumThreads1D", threads),
+            ("Mesh.MaxNumThreads2D", threads),
             ("Mesh.RandomSeed", int(seed)),
             ("Mesh.Algorithm", ALGORITHMS[algorithm]),
             ("Mesh.MeshSizeFromPoints", 0),
@@ -306,7 +340,15 @@ def _run_gmsh(
             ("Mesh.LcIntegrationPrecision", _INTEGRATION_PRECISION),
         ):
             gmsh.option.setNumber(name, value)
-        curve_ids = _build_model(gmsh, rings, ids, surface_id)
+        if parts != 1:
+            pieces, water = ring_pieces(rings, ids)
+            parts = auto_parts(water, size) if parts == "auto" else parts
+            logger.info("meshing in %d parts on %d threads", parts, threads)
+        if parts == 1:
+            curve_ids = _build_model(gmsh, rings, ids, surface_id)
+        else:
+            cuts = cut_lines(water, size, parts)
+            curve_ids = add_faces(gmsh, split_faces(pieces, water, cuts), surface_id)
         bounds = shapely.MultiPoint(
             np.concatenate([p for ring in rings for seg in ring for p in seg])
         ).bounds
@@ -335,7 +377,8 @@ def _run_gmsh(
         raise MeshingError(
             f"Gmsh made no triangles: {gmsh.logger.getLastError() or 'no message'}"
         )
-    return _extract(node_tags, node_xyz, tri_nodes, lines)
+    # threads finish curves and surfaces in any order: number by place
+    return _canonical(*_extract(node_tags, node_xyz, tri_nodes, lines))
 
 
 def _build_model(
@@ -349,9 +392,9 @@ def _build_model(
     curve_ids: dict[int, int] = {}
     loops = []
     for ring, ring_ids in zip(rings, ids, strict=True):
-        pieces = [
-            (p, pid) for seg, pid in zip(ring, ring_ids, strict=True) for p in seg
-        ]
+        pieces = chunked(
+            [(p, pid) for seg, pid in zip(ring, ring_ids, strict=True) for p in seg]
+        )
         first = geo.addPoint(*pieces[0][0][0], 0.0)
         start = first
         curves = []
@@ -393,6 +436,22 @@ def _extract(
     if (edges < 0).any():
         raise MeshingError("Gmsh made boundary edges whose nodes no triangle uses")
     return points, renumber.reshape(-1, 3), edges, edge_ids
+
+
+def _canonical(
+    points: NDArray, triangles: NDArray, edges: NDArray, edge_ids: NDArray
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """Nodes in (x, y) order, triangles and edges in order of their nodes."""
+    order = np.lexsort((points[:, 1], points[:, 0]))
+    rank = np.empty_like(order)
+    rank[order] = np.arange(len(order))
+    triangles = rank[triangles]
+    turn = (np.argmin(triangles, axis=1)[:, None] + np.arange(3)) % 3  # keeps the
+    triangles = np.take_along_axis(triangles, turn, axis=1)  # orientation
+    triangles = triangles[np.lexsort(triangles.T[::-1])]
+    edges = rank[edges]
+    keep = np.lexsort(edges.T[::-1])
+    return points[order], triangles, edges[keep], edge_ids[keep]
 
 
 def _signed_areas(points: NDArray[np.float64], triangles: NDArray[np.int64]) -> NDArray:

@@ -118,6 +118,12 @@ class MeshConfig:
         Gmsh's random seed.
     algorithm : {"frontal-delaunay", "delaunay", "meshadapt", "automatic"}
     optimize : bool
+    parts : int or "auto"
+        Parts of the water meshed as separate Gmsh surfaces, on as many
+        threads as the run has workers (:mod:`coastmesh.meshing.parts`);
+        ``"auto"``: one per 40,000 expected triangles, rounded down to a power
+        of two (1 to 64). It depends on the case only, so the mesh is the same
+        on any number of cores; 1 is one surface.
     """
 
     crs: str | None = None
@@ -125,6 +131,7 @@ class MeshConfig:
     seed: int = 0
     algorithm: str = "frontal-delaunay"
     optimize: bool = True
+    parts: int | str = "auto"
 
     def _checked(self, c: Check) -> MeshConfig:
         from coastmesh.meshing.engine import ALGORITHMS
@@ -135,7 +142,17 @@ class MeshConfig:
             seed=c(schema.integer(0), self.seed, "seed"),
             algorithm=c(schema.choice(tuple(ALGORITHMS)), self.algorithm, "algorithm"),
             optimize=c(schema.boolean, self.optimize, "optimize"),
+            parts=self.parts
+            if self.parts == "auto"
+            else c(_parts, self.parts, "parts"),
         )
+
+
+def _parts(value: Any, key: str) -> int:
+    """``[mesh] parts``: "auto" or an integer >= 1."""
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise ConfigError(f'{key} = {value!r}: expected "auto" or an integer >= 1')
+    return value
 
 
 @dataclass(frozen=True, slots=True)

@@ -1,0 +1,183 @@
+"""Domain decomposition and meshing in parts: balance, conformity, determinism."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from coastmesh.meshing import generate_mesh
+from coastmesh.meshing.parts import (
+    auto_parts,
+    chunked,
+    cut_lines,
+    expected_triangles,
+    split_faces,
+)
+from coastmesh.types import BoundarySegment, Domain, SizeGrid
+
+OUTER = np.array([[0, 0], [12000, 0], [12000, 8000], [0, 8000], [0, 0]], float)
+ISLAND = np.array(
+    [[5000, 3000], [5000, 5000], [7000, 5000], [7000, 3000], [5000, 3000]], float
+)
+
+
+def _grid(h_min=120.0, slope=0.1, step=200.0):
+    x = np.arange(-400.0, 12401.0, step)
+    y = np.arange(-400.0, 8401.0, step)
+    X, Y = np.meshgrid(x, y)
+    return SizeGrid(x, y, h_min + slope * np.hypot(X - 2000, Y - 4000))
+
+
+def _domain():
+    sides = tuple(
+        BoundarySegment(
+            OUTER[i : i + 2], "open" if i == 1 else "shoreline", f"s{i}", i + 1
+        )
+        for i in range(4)
+    )
+    island = BoundarySegment(ISLAND, "shoreline", "island", 9)
+    return Domain(shapely.Polygon(OUTER, [ISLAND]), (*sides, island), crs="EPSG:32630")
+
+
+def _reference_expected(polygon, grid):
+    """Literal: every grid node, one at a time."""
+    cell = (grid.x[1] - grid.x[0]) * (grid.y[1] - grid.y[0])
+    total = 0.0
+    for j, y in enumerate(grid.y):
+        for i, x in enumerate(grid.x):
+            if polygon.contains(shapely.Point(x, y)):
+                total += 4.0 / np.sqrt(3.0) * cell / grid.values[j, i] ** 2
+    return total
+
+
+def test_expected_triangles_matches_the_literal_sum():
+    water = shapely.Polygon(OUTER, [ISLAND])
+    grid = _grid()
+    assert expected_triangles(water, grid) == pytest.approx(
+        _reference_expected(water, grid), rel=1e-12
+    )
+
+
+@settings(max_examples=25, deadline=None)
+@given(parts=st.integers(2, 7), slope=st.floats(0.0, 0.1), h=st.floats(20, 60))
+def test_cuts_balance_the_expected_triangles(parts, slope, h):
+    water = shapely.Polygon(OUTER, [ISLAND])
+    grid = _grid(h, slope, step=50.0)  # >= 10,000 expected triangles
+    cuts = cut_lines(water, grid, parts)
+    assert len(cuts) == parts - 1
+    pieces = shapely.get_parts(
+        shapely.polygonize(
+            [
+                *shapely.get_parts(
+                    shapely.node(shapely.union_all([water.boundary, *cuts]))
+                )
+            ]
+        )
+    )
+    pieces = [p for p in pieces if water.contains(p.point_on_surface())]
+    costs = np.array([expected_triangles(p, grid) for p in pieces])
+    # the cuts may split the water into more faces than parts (around the
+    # island), but no face holds much more than its share
+    assert costs.sum() == pytest.approx(expected_triangles(water, grid), rel=1e-9)
+    assert costs.max() <= 1.35 * costs.sum() / parts
+
+
+def test_one_part_has_no_cut_and_auto_grows_in_powers_of_two():
+    water = shapely.Polygon(OUTER)
+    assert cut_lines(water, _grid(), 1) == []
+    assert auto_parts(water, _grid(120.0, 0.0)) == 1  # about 7,700 triangles
+    fine = SizeGrid(
+        np.arange(0.0, 12001, 50), np.arange(0.0, 8001, 50), np.full((161, 241), 20.0)
+    )  # 554,000 triangles: 13.9 parts
+    assert auto_parts(water, fine) == 8
+    with pytest.raises(ValueError, match="parts is 0"):
+        cut_lines(water, _grid(), 0)
+
+
+def test_split_faces_shares_cut_curves_and_keeps_ids():
+    ring = OUTER
+    island = ISLAND[::-1]
+    faces = split_faces(
+        [(ring, 1), (island, 9)],
+        shapely.Polygon(ring, [island]),
+        [shapely.LineString([(6000, -100), (6000, 8100)])],
+    )
+    assert len(faces.faces) == 2  # the cut crosses the island: two faces
+    cut = [k for k, pid in enumerate(faces.ids) if pid is None]
+    assert len(cut) == 2  # the two crossings of the water
+    uses = np.zeros(len(faces.curves), int)
+    for loops in faces.faces:
+        for loop in loops:
+            for s in loop:
+                uses[abs(s) - 1] += 1
+    assert (uses[cut] == 2).all()  # shared by both faces
+    assert set(uses[[k for k in range(len(uses)) if k not in cut]]) == {1}
+    assert sorted({pid for pid in faces.ids if pid is not None}) == [1, 9]
+
+
+def test_chunks_share_their_ends():
+    piece = np.column_stack([np.arange(1300.0), np.zeros(1300)])
+    chunks = chunked([(piece, 4)], most=500)
+    assert [len(c) for c, _ in chunks] == [434, 434, 434]
+    assert all((a[-1] == b[0]).all() for (a, _), (b, _) in itertools.pairwise(chunks))
+    assert np.array_equal(
+        np.vstack([chunks[0][0], *(c[1:] for c, _ in chunks[1:])]), piece
+    )
+
+
+@pytest.fixture(scope="module")
+def meshes():
+    domain, grid = _domain(), _grid()
+    return {
+        (k, t): generate_mesh(domain, grid, parts=k, threads=t)
+        for k, t in ((1, 1), (3, 1), (3, 2), (4, 2))
+    }
+
+
+@pytest.mark.parametrize("key", [(3, 1), (4, 2)])
+def test_parts_give_one_conforming_mesh_with_the_same_boundary(meshes, key):
+    one, many = meshes[(1, 1)], meshes[key]
+    _, counts = np.unique(many.points, axis=0, return_counts=True)
+    assert (counts == 1).all()  # no duplicate node
+    t = many.triangles
+    edges = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
+    edges, uses = np.unique(edges, axis=0, return_counts=True)
+    assert uses.max() == 2
+    boundary = edges[uses == 1]
+    # every edge used once is a tagged boundary edge: the cuts left no seam
+    tagged = {tuple(e) for e in np.sort(many.boundary_edges, axis=1)}
+    assert {tuple(e) for e in boundary} == tagged
+    assert set(many.boundary_ids.tolist()) == set(one.boundary_ids.tolist())
+    # boundary edges lie on the domain's boundary, none on a cut
+    mid = many.points[many.boundary_edges].mean(axis=1)
+    water = shapely.Polygon(OUTER, [ISLAND])
+    assert shapely.distance(water.boundary, shapely.points(mid)).max() < 1e-6
+    # a cut adds about its length in edges: a few % on a mesh this small
+    assert abs(len(many.triangles) - len(one.triangles)) < 0.05 * len(one.triangles)
+    a = np.asarray(many.triangles)
+    p = many.points[a]
+    area = 0.5 * (
+        (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
+        - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0])
+    )
+    assert (area > 0).all() and area.sum() == pytest.approx(water.area, rel=1e-9)
+
+
+def test_the_mesh_does_not_depend_on_the_thread_count(meshes):
+    a, b = meshes[(3, 1)], meshes[(3, 2)]
+    np.testing.assert_array_equal(a.points, b.points)
+    np.testing.assert_array_equal(a.triangles, b.triangles)
+    np.testing.assert_array_equal(a.boundary_edges, b.boundary_edges)
+    np.testing.assert_array_equal(a.boundary_ids, b.boundary_ids)
+
+
+def test_bad_parts_and_threads_are_refused():
+    with pytest.raises(ValueError, match="threads is 0"):
+        generate_mesh(_domain(), _grid(), threads=0)
+    with pytest.raises(ValueError, match=r"parts is 1\.5"):
+        generate_mesh(_domain(), _grid(), parts=1.5)
