@@ -45,6 +45,24 @@ def test_help_describes_the_case_file(run_cli):
     assert result.exit_code == 0
     for words in ("CASE.toml", "--output", "--check", "--overwrite", "open boundaries"):
         assert words in result.output
+    assert "--workers" in result.output
+
+
+@pytest.mark.filterwarnings("ignore::coastmesh.meshing.SmallIslandWarning")
+def test_workers_give_the_same_mesh_in_parts(run_cli, case_file, tmp_path):
+    text = case_file.read_text().replace("[mesh]\n", "[mesh]\nparts = 3\n")
+    assert "parts = 3" in text
+    case_file.write_text(text)
+    meshes = []
+    for workers in ("1", "2"):
+        out = tmp_path / f"w{workers}"
+        result = run_cli("run", case_file, "-o", out, "--workers", workers)
+        assert result.exit_code == 0, result.output
+        meshes.append((out / "pentland_firth.msh").read_bytes())
+    assert meshes[0] == meshes[1]  # byte for byte
+    bad = run_cli("run", case_file, "-o", tmp_path / "w0", "--workers", "0")
+    assert bad.exit_code == 2 and "--workers" in bad.output
+    assert not (tmp_path / "w0").exists()
 
 
 @pytest.mark.filterwarnings("ignore::coastmesh.meshing.SmallIslandWarning")

@@ -11,13 +11,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from coastmesh.meshing import generate_mesh
-from coastmesh.meshing.parts import (
-    auto_parts,
-    chunked,
-    cut_lines,
-    expected_triangles,
-    split_faces,
-)
+from coastmesh.meshing import parts as parts_module
+from coastmesh.meshing.parts import auto_parts, cut_lines, expected_triangles
+from coastmesh.meshing.surfaces import chunked, split_faces
 from coastmesh.types import BoundarySegment, Domain, SizeGrid
 
 OUTER = np.array([[0, 0], [12000, 0], [12000, 8000], [0, 8000], [0, 0]], float)
@@ -64,10 +60,10 @@ def test_expected_triangles_matches_the_literal_sum():
 
 
 @settings(max_examples=25, deadline=None)
-@given(parts=st.integers(2, 7), slope=st.floats(0.0, 0.1), h=st.floats(20, 60))
+@given(parts=st.integers(2, 7), slope=st.floats(0.0, 0.01), h=st.floats(5, 15))
 def test_cuts_balance_the_expected_triangles(parts, slope, h):
     water = shapely.Polygon(OUTER, [ISLAND])
-    grid = _grid(h, slope, step=50.0)  # >= 10,000 expected triangles
+    grid = _grid(h, slope, step=50.0)  # >= 100,000 expected triangles per part
     cuts = cut_lines(water, grid, parts)
     assert len(cuts) == parts - 1
     pieces = shapely.get_parts(
@@ -89,14 +85,14 @@ def test_cuts_balance_the_expected_triangles(parts, slope, h):
 
 def test_one_part_has_no_cut_and_auto_grows_in_powers_of_two():
     water = shapely.Polygon(OUTER)
-    assert cut_lines(water, _grid(), 1) == []
+    assert cut_lines(water, _grid(5.0, 0.0), 1) == []
     assert auto_parts(water, _grid(120.0, 0.0)) == 1  # about 7,700 triangles
     fine = SizeGrid(
         np.arange(0.0, 12001, 50), np.arange(0.0, 8001, 50), np.full((161, 241), 20.0)
     )  # 554,000 triangles: 13.9 parts
     assert auto_parts(water, fine) == 8
     with pytest.raises(ValueError, match="parts is 0"):
-        cut_lines(water, _grid(), 0)
+        cut_lines(water, _grid(5.0, 0.0), 0)
 
 
 def test_split_faces_shares_cut_curves_and_keeps_ids():
@@ -133,10 +129,18 @@ def test_chunks_share_their_ends():
 @pytest.fixture(scope="module")
 def meshes():
     domain, grid = _domain(), _grid()
-    return {
-        (k, t): generate_mesh(domain, grid, parts=k, threads=t)
-        for k, t in ((1, 1), (3, 1), (3, 2), (4, 2))
-    }
+    with pytest.MonkeyPatch.context() as patch:  # cut even a mesh this small
+        patch.setattr(parts_module, "MIN_PART_TRIANGLES", 100)
+        return {
+            (k, t): generate_mesh(domain, grid, parts=k, threads=t)
+            for k, t in ((1, 1), (3, 1), (3, 2), (4, 2))
+        }
+
+
+def test_small_regions_are_not_cut():
+    water = shapely.Polygon(OUTER)
+    # 7,700 expected triangles: under twice the least a part may hold
+    assert cut_lines(water, _grid(120.0, 0.0), 4) == []
 
 
 @pytest.mark.parametrize("key", [(3, 1), (4, 2)])

@@ -20,8 +20,10 @@ The types they take and return (:class:`~coastmesh.types.Domain`,
 :class:`~coastmesh.types.SizeGrid`, :class:`~coastmesh.types.Mesh`) live in
 :mod:`coastmesh.types`.
 
-Modules: ``engine`` (Gmsh), ``projection`` (the meshing CRS and sizes in it),
-``boundary`` (resampling), ``topology`` (boundary rings and strings),
+Modules: ``engine`` (Gmsh), ``parts`` and ``surfaces`` (the water cut into
+parts, meshed at once as Gmsh surfaces sharing their cuts),
+``projection`` (the meshing CRS and sizes in it), ``boundary`` (resampling),
+``topology`` (boundary rings and strings),
 ``cleanup``, ``smoothing``, ``throttle``, ``depth``, ``quality``,
 ``quality_report``, ``measure``, ``timestep`` and ``corners`` (measure, never
 write).

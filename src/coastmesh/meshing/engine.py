@@ -22,20 +22,20 @@ from pyproj import CRS
 
 from coastmesh.errors import MeshingError
 from coastmesh.meshing.boundary import check_boundary, resample_rings
-from coastmesh.meshing.parts import (
-    add_faces,
-    auto_parts,
-    chunked,
-    cut_lines,
-    ring_pieces,
-    split_faces,
-)
+from coastmesh.meshing.parts import auto_parts, cut_lines
 from coastmesh.meshing.projection import (
     default_mesh_crs,
     project_points,
     project_rings,
     sample_size,
     to_map_units,
+)
+from coastmesh.meshing.surfaces import (
+    add_faces,
+    canonical_order,
+    chunked,
+    ring_pieces,
+    split_faces,
 )
 from coastmesh.types import Domain, Mesh, Progress, SizeGrid
 
@@ -347,7 +347,8 @@ def _run_gmsh(
         if parts == 1:
             curve_ids = _build_model(gmsh, rings, ids, surface_id)
         else:
-            cuts = cut_lines(water, size, parts)
+            ends = np.array([p[i] for p, _ in pieces for i in (0, -1)])
+            cuts = cut_lines(water, size, parts, ends=ends)
             curve_ids = add_faces(gmsh, split_faces(pieces, water, cuts), surface_id)
         bounds = shapely.MultiPoint(
             np.concatenate([p for ring in rings for seg in ring for p in seg])
@@ -358,6 +359,8 @@ def _run_gmsh(
         field = gmsh.model.mesh.field.add("PostView")
         gmsh.model.mesh.field.setNumber(field, "ViewTag", view)
         gmsh.model.mesh.field.setAsBackgroundMesh(field)
+        # build the view's search structure on one thread (Gmsh: lazily, in-loop)
+        gmsh.view.probe(view, bounds[0], bounds[1], 0.0)
 
         gmsh.model.mesh.generate(1)
         step(2)
@@ -377,8 +380,9 @@ def _run_gmsh(
         raise MeshingError(
             f"Gmsh made no triangles: {gmsh.logger.getLastError() or 'no message'}"
         )
-    # threads finish curves and surfaces in any order: number by place
-    return _canonical(*_extract(node_tags, node_xyz, tri_nodes, lines))
+    return canonical_order(  # threads finish in any order: number by place
+        *_extract(node_tags, node_xyz, tri_nodes, lines)
+    )
 
 
 def _build_model(
@@ -436,22 +440,6 @@ def _extract(
     if (edges < 0).any():
         raise MeshingError("Gmsh made boundary edges whose nodes no triangle uses")
     return points, renumber.reshape(-1, 3), edges, edge_ids
-
-
-def _canonical(
-    points: NDArray, triangles: NDArray, edges: NDArray, edge_ids: NDArray
-) -> tuple[NDArray, NDArray, NDArray, NDArray]:
-    """Nodes in (x, y) order, triangles and edges in order of their nodes."""
-    order = np.lexsort((points[:, 1], points[:, 0]))
-    rank = np.empty_like(order)
-    rank[order] = np.arange(len(order))
-    triangles = rank[triangles]
-    turn = (np.argmin(triangles, axis=1)[:, None] + np.arange(3)) % 3  # keeps the
-    triangles = np.take_along_axis(triangles, turn, axis=1)  # orientation
-    triangles = triangles[np.lexsort(triangles.T[::-1])]
-    edges = rank[edges]
-    keep = np.lexsort(edges.T[::-1])
-    return points[order], triangles, edges[keep], edge_ids[keep]
 
 
 def _signed_areas(points: NDArray[np.float64], triangles: NDArray[np.int64]) -> NDArray:

@@ -3,8 +3,9 @@
 Gmsh meshes separate plane surfaces of one model on separate threads
 (``General.NumThreads``), and a curve two surfaces share is meshed once, so
 their meshes conform with no stitching. :func:`cut_lines` chooses straight cuts
-through the sea; :func:`split_faces` nodes the boundary with them and returns
-the faces of water as loops of shared curves, ready for Gmsh.
+through the sea; :func:`~coastmesh.meshing.surfaces.split_faces` nodes the
+boundary with them and returns the faces of water as loops of shared curves,
+ready for Gmsh.
 
 **How the cuts are chosen.** The cost of a region is its expected triangle
 count, the integral over its water of the triangle density ``4 / (sqrt(3)
@@ -14,19 +15,18 @@ region is cut across its longer side, in recursive bisection: ``K`` parts take
 that quantile of the cost. Among 9 positions within 3 % of cost of it, the cut
 whose water crossing has the fewest target edges (``integral of 1 / h`` along
 it) wins: cuts go where the size is coarse and the water narrow, and keep off
-the fine coast. A crossing that meets the coast at under 50 degrees, or is
-under two target edges long, would make a bad triangle at its end: it counts
-as a million edges, so another position wins wherever one can. Nothing is
-random: the same water, grid and ``K`` give the same cuts.
-
-The noding (``shapely.node``) and the faces (``shapely.polygonize``) are GEOS;
-what is written here is the bookkeeping from faces to loops of signed curves.
+the fine coast. A crossing that would make thin triangles counts as a million
+edges, so another position wins wherever one can (41 positions within 15 %
+are tried if all 9 would): one under two target edges long, one that comes
+nearer the coast or an earlier cut than ``sin(50 deg) min(s, 2 h)`` at a
+distance ``s`` from its end (it meets the coast at under 50 degrees, or runs
+along it), or one that ends within half an edge of the end of a boundary
+curve or within an edge of another cut's end. A region holding under twice
+:data:`MIN_PART_TRIANGLES` is not cut. Nothing is random: the same water, grid
+and ``K`` give the same cuts.
 """
 
 from __future__ import annotations
-
-import itertools
-from dataclasses import dataclass
 
 import numpy as np
 import shapely
@@ -35,15 +35,11 @@ from numpy.typing import NDArray
 from coastmesh.types import SizeGrid
 
 __all__ = [
+    "MIN_PART_TRIANGLES",
     "TRIANGLES_PER_PART",
-    "Faces",
-    "add_faces",
     "auto_parts",
-    "chunked",
     "cut_lines",
     "expected_triangles",
-    "ring_pieces",
-    "split_faces",
 ]
 
 #: Triangles per unit area of an equilateral mesh of edge h: 4 / (sqrt(3) h^2).
@@ -53,12 +49,19 @@ _DENSITY = 4.0 / np.sqrt(3.0)
 #: never on the machine, so a case gives the same mesh on any number of cores.
 TRIANGLES_PER_PART = 40_000
 MAX_AUTO_PARTS = 64
-#: The most points of one Gmsh spline (:func:`chunked`).
-CURVE_POINTS = 500
+#: A region is not cut into parts of fewer expected triangles than this:
+#: ``parts`` is an upper bound. (Forced to 64 parts, the NW-shelf intermediate
+#: mesh, 141,000 triangles, got faces a few elements wide in the coarse North
+#: Sea, and triangles with a radius ratio of 0.16.)
+MIN_PART_TRIANGLES = 10_000
 #: Candidate cut positions tried around the balanced one, and their spread
 #: (a fraction of the region's cost on either side).
 _CANDIDATES = 9
 _SPREAD = 0.03
+#: Where every one of those would make thin triangles, positions this far off
+#: are tried too (a less even split beats a bad triangle).
+_WIDER_CANDIDATES = 41
+_WIDER = 0.15
 #: A cut crossing the coast at a smaller angle (degrees), or crossing water
 #: under two target edges wide, is penalised by this many edges.
 _MIN_CROSSING = 50.0
@@ -116,7 +119,11 @@ def auto_parts(polygon: shapely.Polygon, grid: SizeGrid) -> int:
 
 
 def cut_lines(
-    polygon: shapely.Polygon, grid: SizeGrid, parts: int
+    polygon: shapely.Polygon,
+    grid: SizeGrid,
+    parts: int,
+    *,
+    ends: NDArray[np.float64] | None = None,
 ) -> list[shapely.LineString]:
     """Return straight cuts that split the water into ``parts`` of equal cost.
 
@@ -128,18 +135,23 @@ def cut_lines(
         Target sizes there.
     parts : int
         The number of parts wanted, >= 1.
+    ends : ndarray of shape (k, 2), optional
+        Points of the boundary a cut should not end within half a target edge
+        of: the ends of its curves (a cut there leaves a sliver of curve).
 
     Returns
     -------
     list of shapely.LineString
-        ``parts - 1`` segments, each spanning the region it cuts (a region is
-        a box of the recursive bisection); later cuts end on earlier ones. A
-        cut may cross the water several times: each crossing is a shared curve.
+        ``parts - 1`` segments (fewer where a region holds under twice
+        :data:`MIN_PART_TRIANGLES` expected triangles), each spanning the
+        region it cuts (a box of the recursive bisection); later cuts end on
+        earlier ones. A cut may cross the water several times: each crossing is
+        a shared curve.
 
     Examples
     --------
     >>> g = SizeGrid(np.arange(0.0, 2001, 20), np.arange(0.0, 1001, 20),
-    ...              np.full((51, 101), 50.0))
+    ...              np.full((51, 101), 5.0))  # 180,000 triangles
     >>> [c.bounds for c in cut_lines(shapely.box(0, 0, 2000, 1000), g, 2)]
     [(1010.0, 0.0, 1010.0, 1000.0)]
     """
@@ -147,13 +159,36 @@ def cut_lines(
         raise ValueError(f"parts is {parts!r}; expected an integer >= 1")
     x, y, w = _cells(polygon, grid)
     cuts: list[shapely.LineString] = []
-    _bisect(polygon, grid, shapely.box(*polygon.bounds), x, y, w, int(parts), cuts)
+    coast = (
+        _coast_tree(polygon),
+        (
+            None
+            if ends is None or not len(ends)
+            else shapely.STRtree(shapely.points(ends))
+        ),
+        [],  # the ends of the cuts chosen so far
+        [],  # and their crossings of the water
+    )
+    _bisect(
+        polygon, grid, coast, shapely.box(*polygon.bounds), x, y, w, int(parts), cuts
+    )
     return cuts
+
+
+def _coast_tree(polygon: shapely.Polygon) -> shapely.STRtree:
+    """Return an R-tree of the polygon's boundary, one segment per edge."""
+    rings = shapely.get_rings(shapely.get_parts(polygon))
+    segments = []
+    for ring in rings:
+        xy = shapely.get_coordinates(ring)
+        segments.append(shapely.linestrings(np.stack([xy[:-1], xy[1:]], axis=1)))
+    return shapely.STRtree(np.concatenate(segments))
 
 
 def _bisect(
     polygon: shapely.Polygon,
     grid: SizeGrid,
+    coast: tuple,
     region: shapely.Polygon,
     x: NDArray,
     y: NDArray,
@@ -162,9 +197,15 @@ def _bisect(
     cuts: list[shapely.LineString],
 ) -> None:
     """Cut ``region`` (a box) and recurse into its two sides."""
-    if parts < 2 or len(w) < 2:
-        return
+    if parts < 2 or len(w) < 2 or w.sum() < 2 * MIN_PART_TRIANGLES:
+        return  # a part must be many elements across, or its cuts make slivers
     x0, y0, x1, y1 = region.bounds
+    # the water in the region only: each level works on less geometry
+    pieces = shapely.get_parts(shapely.clip_by_rect(polygon, x0, y0, x1, y1))
+    pieces = [g for g in pieces if g.geom_type == "Polygon"]
+    if not pieces:
+        return
+    polygon = pieces[0] if len(pieces) == 1 else shapely.MultiPolygon(pieces)
     across_x = (x1 - x0) >= (y1 - y0)  # cut across the longer side
     along = x if across_x else y
     spacing = abs(float(np.diff(grid.x if across_x else grid.y)[0]))
@@ -172,20 +213,30 @@ def _bisect(
     cum = np.cumsum(w[order]) / w.sum()
     share = (parts // 2) / parts
     best = None
-    tried = np.linspace(share - _SPREAD, share + _SPREAD, _CANDIDATES)
-    for q in sorted(tried, key=lambda q: abs(q - share)):  # ties: the balanced
-        k = min(int(np.searchsorted(cum, q)), len(order) - 1)
-        # half a cell past a grid node: no node lies on the cut
-        at = float(along[order[k]]) + 0.5 * spacing
-        if across_x:
-            line = shapely.LineString([(at, y0), (at, y1)])
-        else:
-            line = shapely.LineString([(x0, at), (x1, at)])
-        score = _edges_across(polygon, grid, line)
-        if best is None or score < best[0]:
-            best = (score, at, line)
+    for spread, count in ((_SPREAD, _CANDIDATES), (_WIDER, _WIDER_CANDIDATES)):
+        if best is not None and best[0] < _PENALTY:
+            break  # a clean cut within the first spread: no need to look wider
+        tried = np.linspace(share - spread, share + spread, count)
+        for q in sorted(tried, key=lambda q: abs(q - share)):  # ties: balanced
+            k = min(int(np.searchsorted(cum, q)), len(order) - 1)
+            # half a cell past a grid node: no node lies on the cut
+            at = float(along[order[k]]) + 0.5 * spacing
+            if across_x:
+                line = shapely.LineString([(at, y0), (at, y1)])
+            else:
+                line = shapely.LineString([(x0, at), (x1, at)])
+            score = _edges_across(polygon, grid, coast, line)
+            if best is None or score < best[0]:
+                best = (score, at, line)
     _, at, line = best
     cuts.append(line)
+    chosen = [
+        g
+        for g in shapely.get_parts(shapely.intersection(polygon, line))
+        if g.geom_type == "LineString" and not g.is_empty
+    ]
+    coast[2].extend(c for g in chosen for c in np.asarray(g.coords)[[0, -1]])
+    coast[3].extend(chosen)
     low = along < at
     if across_x:
         boxes = shapely.box(x0, y0, at, y1), shapely.box(at, y0, x1, y1)
@@ -195,244 +246,64 @@ def _bisect(
         (boxes[0], low, parts // 2),
         (boxes[1], ~low, parts - parts // 2),
     ):
-        _bisect(polygon, grid, box, x[side], y[side], w[side], n, cuts)
+        _bisect(polygon, grid, coast, box, x[side], y[side], w[side], n, cuts)
 
 
 def _edges_across(
-    polygon: shapely.Polygon, grid: SizeGrid, line: shapely.LineString
+    polygon: shapely.Polygon,
+    grid: SizeGrid,
+    coast: tuple,
+    line: shapely.LineString,
 ) -> float:
     """Return the target edges along ``line`` in the water, plus penalties.
 
-    Each crossing (chord) shorter than two target edges, or meeting the coast
-    at under :data:`_MIN_CROSSING` degrees, adds :data:`_PENALTY`: its end
-    would make a bad triangle.
+    Each crossing (chord) shorter than two target edges, ending within half a
+    target edge of one of ``coast[1]``'s points or within one of an earlier
+    cut's end (``coast[2]``), or coming nearer the coast or an earlier cut
+    (``coast[0]``, ``coast[3]``) than ``sin(50 deg) min(s, 2 h)`` at a distance
+    ``s`` from its nearer end (it meets the coast at under 50 degrees, or runs
+    along it), adds
+    :data:`_PENALTY`: it would make thin triangles.
     """
-    wet = shapely.intersection(polygon, line)
-    chords = [g for g in shapely.get_parts(wet) if g.geom_type == "LineString"]
-    if not chords:
-        return np.inf  # cuts nothing: never the best
     from coastmesh.meshing.projection import sample_size
 
+    wet = shapely.intersection(polygon, line)
+    chords = [
+        g
+        for g in shapely.get_parts(wet)
+        if g.geom_type == "LineString" and not g.is_empty
+    ]
+    if not chords:
+        return np.inf  # cuts nothing: never the best
     score = 0.0
-    boundary = polygon.boundary
     for chord in chords:
         a, b = np.asarray(chord.coords)[[0, -1]]
         length = float(np.hypot(*(b - a)))
-        xy = a + np.linspace(0.0, 1.0, 17)[:, None] * (b - a)
+        h_ends = sample_size(grid, np.stack([a, b]))
+        n = int(np.clip(2.0 * length / h_ends.min(), 16, 512))
+        t = np.linspace(0.0, 1.0, n + 1)
+        xy = a + t[:, None] * (b - a)
         h = sample_size(grid, xy)
         edges = float(length * np.mean(1.0 / h))
         score += edges
-        if edges < 2.0 or _crossing_angle(boundary, a, b) < _MIN_CROSSING:
-            score += _PENALTY
-    return score
-
-
-def _crossing_angle(boundary: object, a: NDArray, b: NDArray) -> float:
-    """Return the smaller angle (degrees) between chord ``a b`` and the coast."""
-    u = (b - a) / np.hypot(*(b - a))
-    worst = 90.0
-    for end in (a, b):
-        at = shapely.line_locate_point(boundary, shapely.Point(end))
-        span = 1e-6 * max(shapely.length(boundary), 1.0)
-        p, q = shapely.line_interpolate_point(boundary, [at - span, at + span])
-        v = np.asarray(q.coords[0]) - np.asarray(p.coords[0])
-        norm = np.hypot(*v)
-        if norm == 0:
-            continue
-        cos = abs(float(u @ v)) / norm
-        worst = min(worst, float(np.degrees(np.arccos(min(cos, 1.0)))))
-    return worst
-
-
-@dataclass(frozen=True, slots=True)
-class Faces:
-    """The boundary noded with the cuts, and the faces of water.
-
-    Attributes
-    ----------
-    curves : list of ndarray of shape (k, 2)
-        Pieces of the boundary (split where a cut meets them) and of the cuts.
-    ids : list of int or None
-        Each curve's physical id; None for a piece of a cut.
-    faces : list of list of list of int
-        Per face of water, its loops (the outer one first), each a list of
-        signed 1-based curve indices: ``-i`` runs curve ``i - 1`` backwards.
-    """
-
-    curves: list[NDArray[np.float64]]
-    ids: list[int | None]
-    faces: list[list[list[int]]]
-
-
-def split_faces(
-    pieces: list[tuple[NDArray[np.float64], int]],
-    polygon: shapely.Polygon,
-    cuts: list[shapely.LineString],
-) -> Faces:
-    """Node the boundary pieces with the cuts and return the faces of water.
-
-    Parameters
-    ----------
-    pieces : list of (ndarray of shape (k, 2), int)
-        The boundary as curves with their physical ids; consecutive pieces of a
-        ring share end points exactly.
-    polygon : shapely.Polygon
-        The water the pieces bound.
-    cuts : list of shapely.LineString
-        From :func:`cut_lines`.
-
-    Returns
-    -------
-    Faces
-        Every face of water bounded by the pieces and the cuts.
-
-    Examples
-    --------
-    >>> ring = np.array([[0, 0], [4, 0], [4, 2], [0, 2], [0, 0]], dtype=float)
-    >>> f = split_faces([(ring, 7)], shapely.Polygon(ring),
-    ...                 [shapely.LineString([(2, -1), (2, 3)])])
-    >>> len(f.faces), sorted(i for i in f.ids if i is not None), f.ids.count(None)
-    (2, [7, 7, 7], 1)
-    """
-    lines = [shapely.LineString(p) for p, _ in pieces] + list(cuts)
-    noded = shapely.node(shapely.GeometryCollection(lines))
-    curves = [np.asarray(g.coords) for g in noded.geoms]
-    # the id of each curve: the piece its first edge's midpoint lies on
-    tree = shapely.STRtree([shapely.LineString(p) for p, _ in pieces])
-    mids = shapely.points([0.5 * (c[0] + c[1]) for c in curves])
-    near, dist = tree.query_nearest(mids, return_distance=True, all_matches=False)
-    on_piece = np.full(len(curves), -1)
-    on_piece[near[0]] = near[1]
-    scale = max(np.ptp(shapely.get_coordinates(polygon), axis=0).max(), 1.0)
-    ids = [
-        pieces[int(on_piece[k])][1] if dist[k] <= 1e-9 * scale else None
-        for k in range(len(curves))
-    ]
-    first_edge: dict[tuple, int] = {}
-    for k, c in enumerate(curves):
-        first_edge[(tuple(c[0]), tuple(c[1]))] = k + 1
-        first_edge[(tuple(c[-1]), tuple(c[-2]))] = -(k + 1)
-    ends = {tuple(c[0]) for c in curves} | {tuple(c[-1]) for c in curves}
-    faces = []
-    for face in shapely.polygonize(list(noded.geoms)).geoms:
-        if not polygon.contains(face.point_on_surface()):
-            continue  # an island, or outside
-        loops = [
-            _loop(ring, first_edge, ends, curves)
-            for ring in [face.exterior, *face.interiors]
-        ]
-        faces.append(loops)
-    # keep the curves the faces use (not the cuts' ends outside the water)
-    used = sorted({abs(i) - 1 for loops in faces for loop in loops for i in loop})
-    new = {old: k + 1 for k, old in enumerate(used)}
-    faces = [
-        [[int(np.sign(i)) * new[abs(i) - 1] for i in loop] for loop in loops]
-        for loops in faces
-    ]
-    return Faces([curves[k] for k in used], [ids[k] for k in used], faces)
-
-
-def _loop(ring, first_edge: dict, ends: set, curves: list) -> list[int]:
-    """Return a face's ring as signed curve indices, from a curve end."""
-    xy = np.asarray(ring.coords)[:-1]
-    start = next(k for k in range(len(xy)) if tuple(xy[k]) in ends)
-    xy = np.vstack([np.roll(xy, -start, axis=0), xy[start : start + 1]])
-    loop, k = [], 0
-    while k < len(xy) - 1:
-        signed = first_edge[(tuple(xy[k]), tuple(xy[k + 1]))]
-        loop.append(signed)
-        k += len(curves[abs(signed) - 1]) - 1
-    return loop
-
-
-def add_faces(gmsh: object, faces: Faces, surface_id: int) -> dict[int, int]:
-    """Add the faces to the Gmsh model (geo kernel) as plane surfaces.
-
-    A curve two faces share is one Gmsh curve, so its nodes are shared. Curves
-    with an id get a physical group of that id; pieces of cuts get none. Every
-    surface is in the physical group ``surface_id``.
-
-    Returns
-    -------
-    dict of int to int
-        Gmsh curve tag -> physical id, for the tagged curves.
-    """
-    geo = gmsh.model.geo
-    point: dict[tuple[float, float], int] = {}
-
-    def tag(xy: NDArray) -> int:
-        key = (float(xy[0]), float(xy[1]))
-        if key not in point:
-            point[key] = geo.addPoint(key[0], key[1], 0.0)
-        return point[key]
-
-    curve_of: dict[int, int] = {}
-    surfaces = []
-    for loops in faces.faces:
-        loop_tags = []
-        for loop in loops:
-            signed = []
-            for s in loop:
-                i = abs(s) - 1
-                if i not in curve_of:
-                    c = faces.curves[i]
-                    ends = [tag(c[0]), *(geo.addPoint(x, y, 0.0) for x, y in c[1:-1])]
-                    ends.append(tag(c[-1]))
-                    curve_of[i] = (
-                        geo.addLine(*ends) if len(ends) == 2 else geo.addSpline(ends)
-                    )
-                signed.append(curve_of[i] if s > 0 else -curve_of[i])
-            loop_tags.append(geo.addCurveLoop(signed))
-        surfaces.append(geo.addPlaneSurface(loop_tags))
-    geo.synchronize()
-    curve_ids = {
-        curve_of[i]: pid
-        for i, pid in enumerate(faces.ids)
-        if pid is not None and i in curve_of
-    }
-    for pid in sorted(set(curve_ids.values())):
-        gmsh.model.addPhysicalGroup(
-            1, [c for c, p in curve_ids.items() if p == pid], tag=pid
+        s = length * np.minimum(t, 1.0 - t)
+        need = np.sin(np.radians(_MIN_CROSSING)) * np.minimum(s, 2.0 * h)
+        _, gap = coast[0].query_nearest(
+            shapely.points(xy[1:-1]), return_distance=True, all_matches=False
         )
-    gmsh.model.addPhysicalGroup(2, surfaces, tag=surface_id)
-    return curve_ids
-
-
-def chunked(pieces: list[tuple[NDArray, int]], most: int = CURVE_POINTS) -> list:
-    """Split (piece, id) pairs of more than ``most`` points; ends are shared.
-
-    Gmsh meshes curves on separate threads, and one spline through thousands of
-    points is one long serial job: in chunks, the 1-D meshing of the NW-shelf
-    intermediate boundary takes 1.1 s on 2 threads instead of 2.8 s on one.
-
-    Examples
-    --------
-    >>> [len(p) for p, _ in chunked([(np.zeros((1201, 2)), 3)], most=500)]
-    [401, 401, 401]
-    """
-    out = []
-    for piece, pid in pieces:
-        n = int(np.ceil((len(piece) - 1) / (most - 1)))
-        if n <= 1:
-            out.append((piece, pid))
-            continue
-        cuts = np.linspace(0, len(piece) - 1, n + 1).round().astype(int)
-        out += [(piece[a : b + 1], pid) for a, b in itertools.pairwise(cuts)]
-    return out
-
-
-def ring_pieces(rings: list, ids: list) -> tuple[list, shapely.Polygon]:
-    """Return the resampled rings as (piece, id) pairs, and the water."""
-    pieces = chunked(
-        [
-            (np.asarray(p, dtype=np.float64), pid)
-            for ring, ring_ids in zip(rings, ids, strict=True)
-            for seg, pid in zip(ring, ring_ids, strict=True)
-            for p in seg
-        ]
-    )
-    coords = [
-        np.concatenate([ring[0][0][:1], *(p[1:] for seg in ring for p in seg)])
-        for ring in rings
-    ]
-    return pieces, shapely.Polygon(coords[0], coords[1:])
+        near_end = False
+        if coast[1] is not None:
+            _, to_end = coast[1].query_nearest(
+                shapely.points([a, b]), return_distance=True, all_matches=False
+            )
+            near_end = bool((to_end < 0.5 * h_ends).any())
+        if coast[2]:  # two cuts meeting a third within h leave a sliver of it
+            joints = np.asarray(coast[2])
+            gaps = np.hypot(*(joints[None, :, :] - np.stack([a, b])[:, None, :]).T)
+            near_end = near_end or bool((gaps.T.min(axis=1) < h_ends).any())
+        if coast[3]:  # earlier cuts count as coast: no thin strip between cuts
+            earlier = shapely.multilinestrings(coast[3])
+            gap = np.minimum(gap, shapely.distance(earlier, shapely.points(xy[1:-1])))
+        if edges < 2.0 or near_end or (gap < 0.999 * need[1:-1]).any():
+            score += _PENALTY  # each bad crossing counts: the least bad wins
+    return score

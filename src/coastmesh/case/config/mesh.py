@@ -118,12 +118,12 @@ class MeshConfig:
         Gmsh's random seed.
     algorithm : {"frontal-delaunay", "delaunay", "meshadapt", "automatic"}
     optimize : bool
-    parts : int or "auto"
+    parts : int or "auto", default 1
         Parts of the water meshed as separate Gmsh surfaces, on as many
         threads as the run has workers (:mod:`coastmesh.meshing.parts`);
         ``"auto"``: one per 40,000 expected triangles, rounded down to a power
         of two (1 to 64). It depends on the case only, so the mesh is the same
-        on any number of cores; 1 is one surface.
+        on any number of cores. 1 (the default) is one surface.
     """
 
     crs: str | None = None
@@ -131,7 +131,7 @@ class MeshConfig:
     seed: int = 0
     algorithm: str = "frontal-delaunay"
     optimize: bool = True
-    parts: int | str = "auto"
+    parts: int | str = 1
 
     def _checked(self, c: Check) -> MeshConfig:
         from coastmesh.meshing.engine import ALGORITHMS
