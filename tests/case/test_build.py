@@ -163,3 +163,10 @@ def test_peak_memory_where_the_platform_cannot_tell(coarse, monkeypatch):
     report = dataclasses.replace(coarse.report, peak_memory_mb=None)
     assert "peak memory: not measured on this platform" in report.summary()
     assert report.to_dict()["peak_memory_mb"] is None
+
+
+@pytest.mark.parametrize("workers", [0, -2, 1.5, True])
+def test_bad_workers_are_refused_before_any_work(workers):
+    # checked first: a missing case file would be the other error
+    with pytest.raises(ConfigError, match=r"workers = .*expected an integer >= 1"):
+        build_case("/no/such/case.toml", workers=workers)

@@ -110,6 +110,7 @@ def build_case(
     ``docs/python-api.md`` builds the Orkney case from Python, region by
     region, then plots the mesh and writes two formats.
     """
+    threads = _workers(workers)  # checked before any work
     config = as_case(case)
     if isinstance(config, StudyCase):
         raise ConfigError(
@@ -178,7 +179,7 @@ def build_case(
             algorithm=config.mesh.algorithm,
             optimize=config.mesh.optimize,
             parts=config.mesh.parts,
-            threads=_workers(workers),
+            threads=threads,
             progress=progress,
         )
     mesh, after = _after_meshing(config, mesh, timed, sized)
