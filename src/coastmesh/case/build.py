@@ -33,6 +33,7 @@ from pyproj import CRS
 
 from coastmesh.case.advice import warn_avoidable_corners, warn_spanning
 from coastmesh.case.config import CaseConfig, StudyCase
+from coastmesh.case.depths import depth_raster, node_depths, relieve
 from coastmesh.case.inputs import (
     build_case_domain,
     build_shoreline_set,
@@ -45,10 +46,8 @@ from coastmesh.io import read_raster
 from coastmesh.meshing import (
     clean_mesh,
     default_mesh_crs,
-    depth_at_nodes,
     generate_mesh,
     mesh_quality,
-    relieve_time_step,
 )
 from coastmesh.sizing.domain import (
     BathymetrySize,
@@ -428,11 +427,12 @@ def _after_meshing(
         logger.info("cleanup: %s", after["cleanup"].summary())
     if config.bathymetry is not None:
         with timed("depth at the nodes") as progress:
-            mesh, after["depth"] = _node_depths(config, mesh, progress)
+            raster = depth_raster(config, progress)
+            mesh, after["depth"] = node_depths(config, mesh, raster, progress)
         if c.enabled and c.time_step:
             with timed("time step") as progress:
-                mesh, after["time_step"], depth = _relieve(
-                    config, mesh, after["cleanup"], progress
+                mesh, after["time_step"], depth = relieve(
+                    config, mesh, raster, after["cleanup"], progress
                 )
             after["depth"] = depth or after["depth"]
     if config.outputs.quality:
@@ -455,44 +455,3 @@ def _after_meshing(
             narrow=config.size.channels.narrow,
         )
     return mesh, after
-
-
-def _relieve(config: CaseConfig, mesh: Mesh, cleanup: Any, progress: Progress) -> tuple:
-    """Relieve the elements that throttle the time step; depth at moved nodes.
-
-    The angles may not fall below Gmsh's own mesh's, the cleanup's bar.
-    """
-    courant = config.size.courant
-    velocity = 0.0 if courant is None else courant.velocity
-    keep = (cleanup.min_angle_before, cleanup.min_angle_p1_before)
-    relieved, report = relieve_time_step(mesh, velocity=velocity, keep_angles=keep)
-    logger.info("time step: %s", report.summary())
-    if not report.accepted:
-        return mesh, report, None
-    # the merged nodes took their pair's mean depth: read the raster there
-    relieved, depth = _node_depths(config, relieved, progress)
-    return relieved, report, depth
-
-
-def _node_depths(
-    config: CaseConfig, mesh: Mesh, progress: Progress
-) -> tuple[Mesh, Any]:
-    b = config.bathymetry
-    raster = read_raster(b.path)
-    progress(0, 2)
-    if b.window is not None:
-        from coastmesh.pca import simplify_raster
-
-        raster = raster.copy(data=simplify_raster(raster.values, b.window, b.modes))
-    progress(1, 2)
-    depth, report = depth_at_nodes(
-        mesh,
-        raster,
-        positive=b.positive,
-        method=b.method,
-        min_depth=b.min_depth,
-        max_slope=b.max_slope,
-    )
-    progress(2, 2)
-    logger.info("%s", report.summary())
-    return mesh.with_point_data(depth=depth), report

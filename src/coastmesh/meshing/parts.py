@@ -32,6 +32,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from coastmesh.meshing.projection import sample_size
 from coastmesh.types import SizeGrid
 
 __all__ = [
@@ -265,8 +266,6 @@ def _edges_across(
     along it), adds
     :data:`_PENALTY`: it would make thin triangles.
     """
-    from coastmesh.meshing.projection import sample_size
-
     wet = shapely.intersection(polygon, line)
     chords = [
         g

@@ -38,7 +38,7 @@ from coastmesh.meshing.timestep import (
     element_time_steps,
     node_depth,
 )
-from coastmesh.sizing.bathymetry import GRAVITY
+from coastmesh.sizing.terms import wave_speed
 from coastmesh.types import Mesh, Report
 
 __all__ = ["THROTTLE_RATIO", "ThrottleReport", "relieve_time_step"]
@@ -243,7 +243,7 @@ def _plane_time_steps(pts: NDArray, corner_depth: NDArray, velocity: float) -> N
     sides = np.linalg.norm(pts - np.roll(pts, -1, axis=1), axis=2).sum(axis=1)
     r_in = 2 * signed_areas(pts) / np.maximum(sides, 1e-300)
     deepest = np.fmax.reduce(corner_depth, axis=1)  # NaN only if all three are
-    speed = np.sqrt(GRAVITY * np.maximum(deepest, 0.0)) + velocity
+    speed = wave_speed(deepest, velocity)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         return np.where(speed > 0, r_in / speed, np.inf)
 

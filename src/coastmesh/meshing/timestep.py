@@ -25,6 +25,7 @@ from coastmesh.meshing.measure import (
     triangle_measures,
 )
 from coastmesh.sizing.bathymetry import GRAVITY
+from coastmesh.sizing.terms import wave_speed
 from coastmesh.types import Mesh, Report
 
 __all__ = [
@@ -289,19 +290,19 @@ def time_step_arrays(
     ``corner_depth`` (M, 3) holds the depth at each node of each triangle.
     """
     deepest = np.fmax.reduce(corner_depth, axis=1)  # NaN only where all three are
-    wave_speed = np.sqrt(GRAVITY * np.maximum(deepest, 0.0)) + velocity
+    speed = wave_speed(deepest, velocity)
     with np.errstate(divide="ignore", invalid="ignore"):
-        step = np.where(wave_speed > 0, r_in / wave_speed, np.inf)
-        step[np.isnan(wave_speed)] = np.nan
+        step = np.where(speed > 0, r_in / speed, np.inf)
+        step[np.isnan(speed)] = np.nan
         out = {
             "r_in": r_in,
             "mean_edge": mean_edge,
             "depth": deepest,
-            "wave_speed": wave_speed,
+            "wave_speed": speed,
             "dt": step,
         }
         if dt is not None:
-            out["courant"] = dt * wave_speed / mean_edge
+            out["courant"] = dt * speed / mean_edge
     return out
 
 

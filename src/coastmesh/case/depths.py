@@ -1,0 +1,69 @@
+"""Depth at the mesh nodes, from ``[bathymetry]``, and the time-step relief.
+
+The raster is read (and PCA-simplified, if asked) once; after the relief the
+nodes are sampled again from that same raster.
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+from coastmesh.case.config import CaseConfig
+from coastmesh.io import read_raster
+from coastmesh.meshing import depth_at_nodes, relieve_time_step
+from coastmesh.types import Mesh, Progress
+
+__all__ = ["depth_raster", "node_depths", "relieve"]
+
+logger = logging.getLogger(__name__)
+
+
+def relieve(
+    config: CaseConfig, mesh: Mesh, raster: Any, cleanup: Any, progress: Progress
+) -> tuple:
+    """Relieve the elements that throttle the time step; depth at moved nodes.
+
+    The angles may not fall below Gmsh's own mesh's, the cleanup's bar.
+    """
+    courant = config.size.courant
+    velocity = 0.0 if courant is None else courant.velocity
+    keep = (cleanup.min_angle_before, cleanup.min_angle_p1_before)
+    relieved, report = relieve_time_step(mesh, velocity=velocity, keep_angles=keep)
+    logger.info("time step: %s", report.summary())
+    if not report.accepted:
+        return mesh, report, None
+    # the merged nodes took their pair's mean depth: read the raster there
+    relieved, depth = node_depths(config, relieved, raster, progress)
+    return relieved, report, depth
+
+
+def depth_raster(config: CaseConfig, progress: Progress) -> Any:
+    """Return the ``[bathymetry]`` raster, read (and PCA-simplified if asked)."""
+    b = config.bathymetry
+    raster = read_raster(b.path)
+    progress(0, 2)
+    if b.window is not None:
+        from coastmesh.pca import simplify_raster
+
+        raster = raster.copy(data=simplify_raster(raster.values, b.window, b.modes))
+    progress(1, 2)
+    return raster
+
+
+def node_depths(
+    config: CaseConfig, mesh: Mesh, raster: Any, progress: Progress
+) -> tuple[Mesh, Any]:
+    """Return ``mesh`` with ``depth`` at its nodes from ``raster``, and the report."""
+    b = config.bathymetry
+    depth, report = depth_at_nodes(
+        mesh,
+        raster,
+        positive=b.positive,
+        method=b.method,
+        min_depth=b.min_depth,
+        max_slope=b.max_slope,
+    )
+    progress(2, 2)
+    logger.info("%s", report.summary())
+    return mesh.with_point_data(depth=depth), report
