@@ -17,7 +17,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
-import logging
 import time
 import warnings
 
@@ -36,11 +35,6 @@ def main() -> None:
         case = dataclasses.replace(
             case, mesh=dataclasses.replace(case.mesh, parts=parts)
         )
-    messages: list[str] = []
-    handler = logging.Handler()
-    handler.emit = lambda record: messages.append(record.getMessage())  # type: ignore[method-assign]
-    logging.getLogger("coastmesh.meshing.engine").addHandler(handler)
-    logging.getLogger("coastmesh.meshing.engine").setLevel(logging.INFO)
     started = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -51,9 +45,7 @@ def main() -> None:
             {
                 "case": result.name,
                 "workers": args.workers,
-                "parts": next(
-                    (m for m in messages if m.startswith("meshing in")), "1 part"
-                ),
+                "parts": result.report.parts.to_dict(),
                 "seconds": round(time.perf_counter() - started, 2),
                 "stage_seconds": result.report.seconds,
                 "triangles": q.triangles,

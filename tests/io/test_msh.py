@@ -10,7 +10,8 @@ from io_meshes import canonical, same_mesh, same_topology
 
 from coastmesh.errors import FormatError, InputDataError, OutputExistsError
 from coastmesh.io.msh import read_msh, write_msh
-from coastmesh.meshing.engine import _gmsh_session, generate_mesh
+from coastmesh.meshing.engine import generate_mesh
+from coastmesh.meshing.session import gmsh_session
 from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
 
 FORMATS = [("2.2", False), ("2.2", True), ("4.1", False), ("4.1", True)]
@@ -75,7 +76,7 @@ def test_meshio_reads_the_physical_tags(tmp_path, mesh, version, binary):
 def test_gmsh_reads_the_physical_groups(tmp_path, mesh, version, binary):
     path = tmp_path / "m.msh"
     write_msh(path, mesh, version=version, binary=binary)
-    with _gmsh_session() as gmsh:
+    with gmsh_session() as gmsh:
         gmsh.open(str(path))
         groups = gmsh.model.getPhysicalGroups()
         counts = {}
@@ -132,7 +133,7 @@ def test_crs_is_attached_on_read(tmp_path, mesh):
 @pytest.mark.parametrize("version", ["2.2", "4.1"])
 def test_reads_a_file_written_by_gmsh(tmp_path, version):
     path = tmp_path / "gmsh.msh"
-    with _gmsh_session() as gmsh:
+    with gmsh_session() as gmsh:
         gmsh.model.occ.addRectangle(0, 0, 0, 3, 2)
         gmsh.model.occ.synchronize()
         curves = [tag for _, tag in gmsh.model.getEntities(1)]

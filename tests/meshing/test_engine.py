@@ -14,7 +14,7 @@ from pyproj import CRS, Transformer
 from coastmesh.errors import MeshingError
 from coastmesh.meshing import default_mesh_crs, generate_mesh, sample_size
 from coastmesh.meshing.boundary import SmallIslandWarning
-from coastmesh.meshing.engine import _gmsh_session
+from coastmesh.meshing.session import gmsh_session
 from coastmesh.types import BoundarySegment, Domain, SizeGrid
 
 OUTER = np.array([[0, 0], [10000, 0], [10000, 10000], [0, 10000], [0, 0]], float)
@@ -188,7 +188,7 @@ def test_gmsh_failures_become_meshing_errors(square, monkeypatch):
 def test_session_finalises_after_an_exception():
     import gmsh
 
-    with pytest.raises(KeyError), _gmsh_session():
+    with pytest.raises(KeyError), gmsh_session():
         assert gmsh.isInitialized()
         raise KeyError("boom")
     assert not gmsh.isInitialized()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import warnings
 
 import numpy as np
 import pytest
@@ -10,8 +11,10 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from coastmesh.case.executor import open_runner
 from coastmesh.meshing import generate_mesh
 from coastmesh.meshing import parts as parts_module
+from coastmesh.meshing.engine import PartsWarning, mesh_in_parts
 from coastmesh.meshing.parts import auto_parts, cut_lines, expected_triangles
 from coastmesh.meshing.surfaces import chunked, split_faces
 from coastmesh.types import BoundarySegment, Domain, SizeGrid
@@ -65,7 +68,7 @@ def test_cuts_balance_the_expected_triangles(parts, slope, h):
     water = shapely.Polygon(OUTER, [ISLAND])
     grid = _grid(h, slope, step=50.0)  # >= 100,000 expected triangles per part
     cuts = cut_lines(water, grid, parts)
-    assert len(cuts) == parts - 1
+    assert len(cuts) == parts - 1  # this water has a clean cut everywhere
     pieces = shapely.get_parts(
         shapely.polygonize(
             [
@@ -76,6 +79,7 @@ def test_cuts_balance_the_expected_triangles(parts, slope, h):
         )
     )
     pieces = [p for p in pieces if water.contains(p.point_on_surface())]
+    assert len(pieces) >= parts
     costs = np.array([expected_triangles(p, grid) for p in pieces])
     # the cuts may split the water into more faces than parts (around the
     # island), but no face holds much more than its share
@@ -126,15 +130,21 @@ def test_chunks_share_their_ends():
     )
 
 
+def _backwards(fn, items):
+    """Run the tasks last first: results must not depend on the order."""
+    return [fn(item) for item in items[::-1]][::-1]
+
+
 @pytest.fixture(scope="module")
 def meshes():
     domain, grid = _domain(), _grid()
     with pytest.MonkeyPatch.context() as patch:  # cut even a mesh this small
         patch.setattr(parts_module, "MIN_PART_TRIANGLES", 100)
-        return {
-            (k, t): generate_mesh(domain, grid, parts=k, threads=t)
-            for k, t in ((1, 1), (3, 1), (3, 2), (4, 2))
-        }
+        out = {(k, "serial"): generate_mesh(domain, grid, parts=k) for k in (1, 3, 4)}
+        out[(3, "backwards")] = generate_mesh(domain, grid, parts=3, runner=_backwards)
+        with open_runner(2) as pool:  # spawned workers: the real module constant
+            out[(3, "pool")] = generate_mesh(domain, grid, parts=3, runner=pool)
+        return out
 
 
 def test_small_regions_are_not_cut():
@@ -143,9 +153,9 @@ def test_small_regions_are_not_cut():
     assert cut_lines(water, _grid(120.0, 0.0), 4) == []
 
 
-@pytest.mark.parametrize("key", [(3, 1), (4, 2)])
+@pytest.mark.parametrize("key", [(3, "serial"), (4, "serial")])
 def test_parts_give_one_conforming_mesh_with_the_same_boundary(meshes, key):
-    one, many = meshes[(1, 1)], meshes[key]
+    one, many = meshes[(1, "serial")], meshes[key]
     _, counts = np.unique(many.points, axis=0, return_counts=True)
     assert (counts == 1).all()  # no duplicate node
     t = many.triangles
@@ -172,12 +182,23 @@ def test_parts_give_one_conforming_mesh_with_the_same_boundary(meshes, key):
     assert (area > 0).all() and area.sum() == pytest.approx(water.area, rel=1e-9)
 
 
-def test_the_mesh_does_not_depend_on_the_thread_count(meshes):
-    a, b = meshes[(3, 1)], meshes[(3, 2)]
+@pytest.mark.parametrize("how", ["backwards", "pool"])
+def test_the_mesh_does_not_depend_on_the_executor_or_order(meshes, how):
+    a, b = meshes[(3, "serial")], meshes[(3, how)]
     np.testing.assert_array_equal(a.points, b.points)
     np.testing.assert_array_equal(a.triangles, b.triangles)
     np.testing.assert_array_equal(a.boundary_edges, b.boundary_edges)
     np.testing.assert_array_equal(a.boundary_ids, b.boundary_ids)
+
+
+def test_too_many_parts_warns_and_meshes_fewer():
+    # 7,700 expected triangles: not one cut leaves two parts of 10,000
+    with pytest.warns(PartsWarning, match="at only 0 places; meshing 1 parts"):
+        _, report = mesh_in_parts(_domain(), _grid(), parts=4)
+    assert report.parts == 1 and report.wanted == 4 and report.cuts == ()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # "auto" asks for what it can have
+        mesh_in_parts(_domain(), _grid(), parts="auto")
 
 
 def test_bad_parts_and_threads_are_refused():

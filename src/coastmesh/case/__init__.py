@@ -15,7 +15,7 @@ The parts of a :class:`CaseConfig`, one per table of the case file, are
 :class:`BoundaryConfig` (with :class:`LoxodromeConfig`), :class:`DomainConfig`,
 :class:`SizeConfig` (with :class:`GradationConfig` and
 :class:`BathymetryConfig`), :class:`MeshConfig`, :class:`NodeDepthConfig`,
-:class:`CleanupConfig` and :class:`OutputConfig`.
+:class:`CleanupConfig`, :class:`OutputConfig` and :class:`RunConfig`.
 """
 
 from __future__ import annotations
@@ -33,6 +33,7 @@ from coastmesh.case.config import (
     NodeDepthConfig,
     OutputConfig,
     RegionConfig,
+    RunConfig,
     ShorelinesConfig,
     ShorelineSetConfig,
     SizeConfig,
@@ -60,6 +61,7 @@ __all__ = [
     "NodeDepthConfig",
     "OutputConfig",
     "RegionConfig",
+    "RunConfig",
     "ShorelineSetConfig",
     "ShorelineSetReport",
     "ShorelinesConfig",

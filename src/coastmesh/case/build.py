@@ -8,7 +8,8 @@ region, draw the open boundaries and build the domain
 4. the size field (:func:`coastmesh.sizing.domain_size_field`): gradations from
    named shoreline sets and open boundaries, bathymetry terms, a gradation
    limit, on a grid in the meshing CRS;
-5. mesh with Gmsh (:func:`~coastmesh.meshing.generate_mesh`), then clean up
+5. mesh with Gmsh (:func:`~coastmesh.meshing.generate_mesh`; in parts, on a
+   process pool or a Dask cluster: :mod:`coastmesh.case.executor`), then clean up
    (:func:`~coastmesh.meshing.clean_mesh`), put depths on the nodes
    (:func:`~coastmesh.meshing.depth_at_nodes`) and measure the quality
    (:func:`~coastmesh.meshing.mesh_quality`).
@@ -34,6 +35,7 @@ from pyproj import CRS
 from coastmesh.case.advice import warn_avoidable_corners, warn_spanning
 from coastmesh.case.config import CaseConfig, StudyCase
 from coastmesh.case.depths import depth_raster, node_depths, relieve
+from coastmesh.case.executor import open_runner
 from coastmesh.case.inputs import (
     build_case_domain,
     build_shoreline_set,
@@ -46,9 +48,10 @@ from coastmesh.io import read_raster
 from coastmesh.meshing import (
     clean_mesh,
     default_mesh_crs,
-    generate_mesh,
     mesh_quality,
 )
+from coastmesh.meshing.engine import mesh_in_parts
+from coastmesh.meshing.tasks import Runner
 from coastmesh.sizing.domain import (
     BathymetrySize,
     BoundaryGradation,
@@ -72,6 +75,7 @@ def build_case(
     *,
     stage: StageFactory | None = None,
     workers: int | None = None,
+    scheduler: str | None = None,
 ) -> CaseResult:
     """Build a whole mesh case in memory; write nothing.
 
@@ -85,8 +89,13 @@ def build_case(
         ``progress(done, total)`` callback, entered once per stage (the command
         line draws a progress bar per stage with it).
     workers : int, optional
-        Threads Gmsh meshes the parts of the water on (``[mesh] parts``);
-        default all cores. The mesh does not depend on it.
+        Local processes the parts of the water (``[mesh] parts``) are meshed
+        on; default ``[run] workers``, else every core. The mesh does not
+        depend on it.
+    scheduler : str, optional
+        A Dask scheduler's address (``"tcp://host:8786"``): the parts are
+        meshed as tasks on its cluster; default ``[run] scheduler``, else
+        none (this machine). The mesh does not depend on it.
 
     Returns
     -------
@@ -97,8 +106,9 @@ def build_case(
     Raises
     ------
     ConfigError
-        For a bad case, a study case (use :func:`coastmesh.run_case`), or a
-        value that does not fit the data (e.g. a seed on land).
+        For a bad case, a study case (use :func:`coastmesh.run_case`), a
+        value that does not fit the data (e.g. a seed on land), or a
+        scheduler that does not answer (checked before any work).
     InputDataError
         If a data file is missing or holds the wrong kind of geometry.
     MeshingError
@@ -109,13 +119,23 @@ def build_case(
     ``docs/python-api.md`` builds the Orkney case from Python, region by
     region, then plots the mesh and writes two formats.
     """
-    threads = _workers(workers)  # checked before any work
+    if workers is not None:
+        _workers(workers)  # checked before any work
     config = as_case(case)
     if isinstance(config, StudyCase):
         raise ConfigError(
             f"{config.source}: a {config.kind} study writes its tables and figures; "
             "run it with coastmesh.run_case (or coastmesh run), not build_case"
         )
+    threads = _workers(workers if workers is not None else config.run.workers)
+    with open_runner(threads, scheduler or config.run.scheduler) as runner:
+        return _build(config, stage, threads, runner)
+
+
+def _build(
+    config: CaseConfig, stage: StageFactory | None, threads: int, runner: Runner
+) -> CaseResult:
+    """Build the case (see :func:`build_case`) with the parts meshed by ``runner``."""
     started = time.perf_counter()
     timings: dict[str, float] = {}
     stage = stage or quiet_stage
@@ -169,7 +189,7 @@ def build_case(
     size = sized.field
     output_crs = CRS.from_user_input(config.mesh.output_crs or crs)
     with timed("meshing") as progress:
-        mesh = generate_mesh(
+        mesh, parts = mesh_in_parts(
             domain,
             SizeGrid.from_dataarray(size),
             mesh_crs=mesh_crs,
@@ -179,8 +199,11 @@ def build_case(
             optimize=config.mesh.optimize,
             parts=config.mesh.parts,
             threads=threads,
+            runner=runner,
             progress=progress,
         )
+    if parts.parts > 1:
+        logger.info("parts: %s", parts.summary())
     mesh, after = _after_meshing(config, mesh, timed, sized)
     from coastmesh import __version__
 
@@ -200,6 +223,7 @@ def build_case(
         mesh=MeshReport.of(mesh),
         seconds=timings,
         peak_memory_mb=peak_memory_mb(),
+        parts=parts,
         **after,
     )
     result = CaseResult(

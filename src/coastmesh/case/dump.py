@@ -100,6 +100,7 @@ def dump_case(case: CaseConfig) -> str:
         "mesh": _clean(_fields(case.mesh)),
         "output": _clean(_fields(case.outputs)),
         "cleanup": _clean(_fields(case.cleanup)),
+        "run": _clean(_fields(case.run)),
     }
     if case.bathymetry is not None:
         b = case.bathymetry

@@ -38,6 +38,7 @@ from coastmesh.case.config import (
     NodeDepthConfig,
     OutputConfig,
     RegionConfig,
+    RunConfig,
     ShorelinesConfig,
     ShorelineSetConfig,
     SizeConfig,
@@ -194,6 +195,7 @@ def parse_case(text: str, source: str | os.PathLike[str]) -> CaseConfig | StudyC
                 "time_step",
             )
         ),
+        "run": RunConfig(**_done(root.table("run"), "workers", "scheduler")),
     }
     root.taken.add("bathymetry")
     root.done()

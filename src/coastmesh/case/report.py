@@ -14,6 +14,7 @@ from coastmesh.meshing import (
     QualityReport,
     ThrottleReport,
 )
+from coastmesh.meshing.tasks import PartsReport
 from coastmesh.sizing import SizeFieldReport
 from coastmesh.types import Mesh, Report
 
@@ -82,6 +83,9 @@ class CaseReport(Report):
         :class:`~coastmesh.meshing.cleanup.CleanupReport`,
         :class:`~coastmesh.meshing.depth.DepthReport`,
         :class:`~coastmesh.meshing.quality.QualityReport`, where the case asks.
+    parts : PartsReport or None
+        How the water was cut into parts and what each cost
+        (:class:`~coastmesh.meshing.tasks.PartsReport`).
     time_step : ThrottleReport or None
         The elements that throttled the time step, relieved
         (:func:`~coastmesh.meshing.relieve_time_step`); with ``[bathymetry]``
@@ -114,6 +118,7 @@ class CaseReport(Report):
     peak_memory_mb: float | None
     files: tuple[str, ...] = ()
     time_step: ThrottleReport | None = None
+    parts: PartsReport | None = None
 
     def summary(self) -> str:
         """Return the report as a few lines of text (``summary.txt``)."""
@@ -133,6 +138,8 @@ class CaseReport(Report):
             "overlaps merged"
         )
         lines.append(f"size field: {self.size_field.summary()}")
+        if self.parts is not None and self.parts.parts > 1:
+            lines.append(f"parts: {self.parts.summary()}")
         for name in ("cleanup", "time_step", "depth"):
             part = getattr(self, name)
             if part is not None:

@@ -34,6 +34,7 @@ def run_case(
     overwrite: bool = False,
     stage: StageFactory | None = None,
     workers: int | None = None,
+    scheduler: str | None = None,
 ) -> CaseResult | Any:
     """Run a case end to end and write its outputs.
 
@@ -50,8 +51,11 @@ def run_case(
         ``stage(label)`` returns a context manager yielding a
         ``progress(done, total)`` callback, entered once per stage.
     workers : int, optional
-        Threads Gmsh meshes the parts on (see
-        :func:`~coastmesh.case.build.build_case`); default all cores.
+        Local processes the parts are meshed on (see
+        :func:`~coastmesh.case.build.build_case`); default ``[run] workers``,
+        else all cores.
+    scheduler : str, optional
+        A Dask scheduler's address: the parts are meshed on its cluster.
 
     Returns
     -------
@@ -77,7 +81,7 @@ def run_case(
     if isinstance(config, StudyCase):
         return _run_study(config, target, overwrite, stage)
     started = time.perf_counter()
-    result = build_case(config, stage=stage, workers=workers)
+    result = build_case(config, stage=stage, workers=workers, scheduler=scheduler)
     result = result.write(target, overwrite=overwrite, stage=stage)
     result = dataclasses.replace(result, seconds=time.perf_counter() - started)
     logger.info("%s", result.summary())

@@ -37,8 +37,17 @@ __all__ = ["run"]
     "--workers",
     type=click.IntRange(min=1),
     default=None,
-    help="Threads to mesh on (default: all cores). The mesh is the same for any "
-    "number: [mesh] parts in the case sets how the water is cut.",
+    help="Processes to mesh the parts of the water on (default: [run] workers, "
+    "else all cores). The mesh is the same for any number: [mesh] parts in the "
+    "case sets how the water is cut.",
+)
+@click.option(
+    "--scheduler",
+    metavar="ADDRESS",
+    default=None,
+    help="Mesh the parts as tasks on this Dask cluster (e.g. tcp://10.0.0.5:8786; "
+    "default: [run] scheduler, else this machine). Start one with `dask "
+    "scheduler` and `dask worker ADDRESS --nthreads 1`.",
 )
 @overwrite_option
 @click.pass_context
@@ -51,6 +60,7 @@ def run(
     check: bool,
     overwrite: bool,
     workers: int | None,
+    scheduler: str | None,
 ) -> None:
     """Build a mesh from a case file: shorelines, open boundaries, sizes, Gmsh.
 
@@ -90,6 +100,7 @@ def run(
         overwrite=overwrite,
         stage=_stages(quiet),
         workers=workers,
+        scheduler=scheduler,
     )
     if quiet:
         return

@@ -1,18 +1,18 @@
 """Gmsh meshing engine: a Domain and a size grid in, a Mesh out.
 
-This is the only module that imports gmsh, and only inside :func:`_gmsh_session`,
-so ``import coastmesh.meshing`` stays light. Gmsh keeps process-global state: one
-session at a time holds a lock, and the session is always finalised. The meshing
-CRS and the sizes in its map units come from :mod:`coastmesh.meshing.projection`.
+Gmsh is imported only inside :func:`~coastmesh.meshing.session.gmsh_session`,
+so ``import coastmesh.meshing`` stays light. One part is one Gmsh model here;
+several parts are tasks (:mod:`coastmesh.meshing.tasks`) for any executor. The
+meshing CRS and the sizes in its map units come from
+:mod:`coastmesh.meshing.projection`.
 """
 
 from __future__ import annotations
 
 import logging
-import threading
 import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+import warnings
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -20,9 +20,9 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS
 
-from coastmesh.errors import MeshingError
+from coastmesh.errors import CoastmeshWarning, MeshingError
 from coastmesh.meshing.boundary import check_boundary, resample_rings
-from coastmesh.meshing.parts import auto_parts, cut_lines
+from coastmesh.meshing.parts import MIN_PART_TRIANGLES, auto_parts, cut_lines
 from coastmesh.meshing.projection import (
     default_mesh_crs,
     project_points,
@@ -30,25 +30,37 @@ from coastmesh.meshing.projection import (
     sample_size,
     to_map_units,
 )
+from coastmesh.meshing.session import (
+    ALGORITHMS,
+    add_size_view,
+    gmsh_session,
+    set_options,
+)
 from coastmesh.meshing.surfaces import (
-    add_faces,
+    Faces,
     canonical_order,
     chunked,
     ring_pieces,
     split_faces,
 )
+from coastmesh.meshing.tasks import (
+    PartsReport,
+    Runner,
+    merge_parts,
+    mesh_arrays,
+    mesh_part,
+    part_tasks,
+    serial_runner,
+)
 from coastmesh.types import Domain, Mesh, Progress, SizeGrid
 
-__all__ = ["ALGORITHMS", "generate_mesh"]
+__all__ = ["ALGORITHMS", "PartsWarning", "generate_mesh", "mesh_in_parts"]
 
 logger = logging.getLogger(__name__)
 
-#: Gmsh 2D algorithms by name (the ``Mesh.Algorithm`` option).
-ALGORITHMS = {"meshadapt": 1, "automatic": 2, "delaunay": 5, "frontal-delaunay": 6}
 
-_LOCK = threading.Lock()
-# Relative precision of Gmsh's integral of 1/h along each curve (boundary nodes).
-_INTEGRATION_PRECISION = 1e-4
+class PartsWarning(CoastmeshWarning):
+    """The water could not be cut cleanly into as many parts as asked."""
 
 
 def generate_mesh(
@@ -62,6 +74,7 @@ def generate_mesh(
     optimize: bool = True,
     parts: int | str = 1,
     threads: int = 1,
+    runner: Runner | None = None,
     progress: Progress | None = None,
 ) -> Mesh:
     """Mesh a domain with triangles whose edge lengths follow a size grid.
@@ -88,15 +101,22 @@ def generate_mesh(
         Improve the triangles' shapes after meshing (Gmsh "Relocate2D").
     parts : int or "auto", default 1
         Cut the water into this many parts of equal expected triangle count
-        (:mod:`~coastmesh.meshing.parts`), one Gmsh surface each (or more,
-        where a cut crosses the water several times); the cuts' curves are
-        shared, so the mesh conforms. ``"auto"``: one part per 40,000 expected
-        triangles, rounded down to a power of two (at most 64). The same
-        ``parts`` and ``seed`` give the same mesh whatever ``threads``: nodes
-        are numbered in order of x, then y.
+        (:mod:`~coastmesh.meshing.parts`), each meshed alone as a task (or
+        more, where a cut crosses the water several times). Each cut is
+        discretised once and both parts get its nodes, so the mesh conforms
+        (:mod:`~coastmesh.meshing.tasks`). ``"auto"``: one part per 40,000
+        expected triangles, rounded down to a power of two (at most 64). Fewer
+        parts are made where no clean cut exists (a warning says so when
+        ``parts`` is a number). The same ``parts`` and ``seed`` give the same
+        mesh whatever ``runner``: nodes are numbered in order of x, then y.
     threads : int, default 1
-        Gmsh threads (``General.NumThreads``): separate surfaces and curves are
-        meshed at once.
+        Gmsh threads (``General.NumThreads``) for a one-part mesh: its curves
+        are meshed at once.
+    runner : callable, optional
+        ``runner(fn, tasks)`` returns ``[fn(t) for t in tasks]``, computed
+        anywhere: a process pool or a Dask cluster
+        (:func:`coastmesh.case.executor.open_runner`). Default: one after the
+        other in this process.
     progress : callable, optional
         Called as ``progress(done, total)`` after each of the stages.
 
@@ -125,6 +145,8 @@ def generate_mesh(
     -----
     SmallIslandWarning
         If islands smaller than the local size were dropped.
+    PartsWarning
+        If ``parts`` is a number the water cannot be cleanly cut into.
 
     Notes
     -----
@@ -159,6 +181,46 @@ def generate_mesh(
     >>> m = generate_mesh(d, g)
     >>> sorted(set(m.boundary_ids.tolist())), m.surface_id, m.crs.to_epsg()
     ([3], 1, 32630)
+    """
+    return mesh_in_parts(
+        domain,
+        size,
+        mesh_crs=mesh_crs,
+        output_crs=output_crs,
+        seed=seed,
+        algorithm=algorithm,
+        optimize=optimize,
+        parts=parts,
+        threads=threads,
+        runner=runner,
+        progress=progress,
+    )[0]
+
+
+def mesh_in_parts(
+    domain: Domain,
+    size: SizeGrid,
+    *,
+    mesh_crs: Any = None,
+    output_crs: Any = None,
+    seed: int = 0,
+    algorithm: str = "frontal-delaunay",
+    optimize: bool = True,
+    parts: int | str = 1,
+    threads: int = 1,
+    runner: Runner | None = None,
+    progress: Progress | None = None,
+) -> tuple[Mesh, PartsReport]:
+    """:func:`generate_mesh`, also returning how the water was cut into parts.
+
+    Takes the same arguments and raises the same errors.
+
+    Returns
+    -------
+    mesh : Mesh
+    parts : PartsReport
+        The parts, their cuts (in ``output_crs``), and each part's expected and
+        actual triangles and meshing time.
     """
     if not isinstance(domain, Domain):
         raise TypeError(f"domain is a {type(domain).__name__}, expected Domain")
@@ -206,20 +268,32 @@ def generate_mesh(
         len(dropped),
     )
     step(1)
-    with _gmsh_session() as gmsh:
-        points, triangles, edges, edge_ids = _run_gmsh(
-            gmsh,
-            resampled,
-            ids,
-            map_size,
-            domain.surface_id,
-            seed,
-            algorithm,
-            optimize,
-            step,
-            parts=parts,
-            threads=int(threads),
+    faces, wanted = _cut(resampled, ids, map_size, parts)
+    if faces is None:
+        tasks, results = [], []
+        with gmsh_session() as gmsh:
+            arrays = _run_gmsh(
+                gmsh,
+                resampled,
+                ids,
+                map_size,
+                domain.surface_id,
+                seed,
+                algorithm,
+                optimize,
+                step,
+                threads=int(threads),
+            )
+    else:
+        tasks = part_tasks(
+            faces, map_size, seed=int(seed), algorithm=algorithm, optimize=optimize
         )
+        step(2)
+        logger.info("meshing %d parts", len(tasks))
+        results = (runner or serial_runner)(mesh_part, tasks)
+        arrays = merge_parts(results)
+    points, triangles, edges, edge_ids = canonical_order(*arrays)
+    step(3)
     target = sample_size(size, points)
     points = project_points(points, mesh_crs, output_crs, what="mesh nodes")
     triangles = _orient(points, triangles)
@@ -232,7 +306,16 @@ def generate_mesh(
         len(edges),
         time.perf_counter() - started,
     )
-    return Mesh(
+    cuts = (
+        ()
+        if faces is None
+        else tuple(
+            project_points(c, mesh_crs, output_crs, what="cuts")
+            for c, pid in zip(faces.curves, faces.ids, strict=True)
+            if pid is None
+        )
+    )
+    mesh = Mesh(
         points,
         triangles,
         edges,
@@ -243,72 +326,34 @@ def generate_mesh(
         {s.physical_id: s.name for s in domain.segments},
         {s.physical_id: s.kind for s in domain.segments},
     )
+    return mesh, PartsReport.of(parts, wanted, tasks, results, cuts)
 
 
-@contextmanager
-def _gmsh_session() -> Iterator[Any]:
-    """Initialise Gmsh, route its messages to our logger, and always finalise.
-
-    Yields
-    ------
-    module
-        The ``gmsh`` module, initialised with an empty model.
-    """
-    import gmsh
-
-    with _LOCK:
-        if gmsh.isInitialized():
-            raise MeshingError(
-                "Gmsh is already initialised in this process by other code; "
-                "coastmesh needs it to itself"
-            )
-        gmsh.initialize(readConfigFiles=False, run=False, interruptible=False)
-        try:
-            gmsh.option.setNumber("General.Terminal", 0)
-            gmsh.logger.start()
-            gmsh.model.add("coastmesh")
-            yield gmsh
-        finally:
-            _forward_log(gmsh)
-            gmsh.logger.stop()
-            gmsh.finalize()
-
-
-def _forward_log(gmsh: Any) -> None:
-    for line in gmsh.logger.get():
-        if line.startswith(("Warning", "Error")):
-            logger.warning("gmsh: %s", line)
-        else:
-            logger.debug("gmsh: %s", line)
-
-
-def _grid_view_data(size: SizeGrid, bounds: tuple[float, ...]) -> NDArray[np.float64]:
-    """Quadrangles of the size grid, padded to ``bounds``, in Gmsh list format."""
-    minx, miny, maxx, maxy = bounds
-    pad = 0.01 * max(maxx - minx, maxy - miny) + 1.0
-    x, y, v = size.x, size.y, size.values
-    if minx - pad < x[0]:
-        x, v = np.concatenate([[minx - pad], x]), np.hstack([v[:, :1], v])
-    if maxx + pad > x[-1]:
-        x, v = np.concatenate([x, [maxx + pad]]), np.hstack([v, v[:, -1:]])
-    if miny - pad < y[0]:
-        y, v = np.concatenate([[miny - pad], y]), np.vstack([v[:1], v])
-    if maxy + pad > y[-1]:
-        y, v = np.concatenate([y, [maxy + pad]]), np.vstack([v, v[-1:]])
-    gx, gy = np.meshgrid(x, y)
-    corners = [(0, 0), (0, 1), (1, 1), (1, 0)]  # (dj, di), counter-clockwise
-
-    def at(a: NDArray[np.float64], dj: int, di: int) -> NDArray[np.float64]:
-        return a[dj : a.shape[0] - 1 + dj, di : a.shape[1] - 1 + di].ravel()
-
-    columns = (
-        [at(gx, dj, di) for dj, di in corners]
-        + [at(gy, dj, di) for dj, di in corners]
-        + [np.zeros(gx[:-1, :-1].size)] * 4
-        + [at(v, dj, di) for dj, di in corners]
-    )
-    # gmsh's Python API takes a contiguous float64 array as it is (no list copy)
-    return np.column_stack(columns).ravel()
+def _cut(
+    rings: list, ids: list, size: SizeGrid, parts: int | str
+) -> tuple[Faces | None, int]:
+    """Cut the water into parts; return its faces (None: one part) and the aim."""
+    if parts == 1:
+        return None, 1
+    pieces, water = ring_pieces(rings, ids)
+    wanted = auto_parts(water, size) if parts == "auto" else int(parts)
+    if wanted == 1:
+        return None, 1
+    ends = np.array([p[i] for p, _ in pieces for i in (0, -1)])
+    cuts = cut_lines(water, size, wanted, ends=ends)
+    if parts != "auto" and len(cuts) < wanted - 1:
+        warnings.warn(
+            f"parts = {parts}: the water can be cut cleanly (every part at least "
+            f"{MIN_PART_TRIANGLES:,} expected triangles, cuts clear of the coast "
+            f"and of each other) at only {len(cuts)} places; meshing "
+            f"{len(cuts) + 1} parts",
+            PartsWarning,
+            stacklevel=3,
+        )
+    if not cuts:
+        return None, wanted
+    faces = split_faces(pieces, water, cuts)
+    return (faces if len(faces.faces) > 1 else None), wanted
 
 
 def _run_gmsh(
@@ -322,67 +367,26 @@ def _run_gmsh(
     optimize: bool,
     step: Callable[[int], None],
     *,
-    parts: int | str = 1,
     threads: int = 1,
 ) -> tuple[NDArray, NDArray, NDArray, NDArray]:
-    """Build the model, mesh it, and return nodes, triangles and tagged edges."""
+    """Build the one-part model, mesh it, and return its arrays."""
     try:
-        for name, value in (
-            ("General.NumThreads", threads),
-            ("Mesh.MaxNumThreads1D", threads),
-            ("Mesh.MaxNumThreads2D", threads),
-            ("Mesh.RandomSeed", int(seed)),
-            ("Mesh.Algorithm", ALGORITHMS[algorithm]),
-            ("Mesh.MeshSizeFromPoints", 0),
-            ("Mesh.MeshSizeFromCurvature", 0),
-            ("Mesh.MeshSizeExtendFromBoundary", 0),
-            # 1e-9 (the default) makes 1D meshing of long splines 100 times slower
-            ("Mesh.LcIntegrationPrecision", _INTEGRATION_PRECISION),
-        ):
-            gmsh.option.setNumber(name, value)
-        if parts != 1:
-            pieces, water = ring_pieces(rings, ids)
-            parts = auto_parts(water, size) if parts == "auto" else parts
-            logger.info("meshing in %d parts on %d threads", parts, threads)
-        if parts == 1:
-            curve_ids = _build_model(gmsh, rings, ids, surface_id)
-        else:
-            ends = np.array([p[i] for p, _ in pieces for i in (0, -1)])
-            cuts = cut_lines(water, size, parts, ends=ends)
-            curve_ids = add_faces(gmsh, split_faces(pieces, water, cuts), surface_id)
+        set_options(gmsh, threads=threads, seed=seed, algorithm=algorithm)
+        curve_ids = _build_model(gmsh, rings, ids, surface_id)
         bounds = shapely.MultiPoint(
             np.concatenate([p for ring in rings for seg in ring for p in seg])
         ).bounds
-        view = gmsh.view.add("size")
-        data = _grid_view_data(size, bounds)
-        gmsh.view.addListData(view, "SQ", len(data) // 16, data)
-        field = gmsh.model.mesh.field.add("PostView")
-        gmsh.model.mesh.field.setNumber(field, "ViewTag", view)
-        gmsh.model.mesh.field.setAsBackgroundMesh(field)
-        # build the view's search structure on one thread (Gmsh: lazily, in-loop)
-        gmsh.view.probe(view, bounds[0], bounds[1], 0.0)
-
+        add_size_view(gmsh, size, bounds)
         gmsh.model.mesh.generate(1)
         step(2)
         gmsh.model.mesh.generate(2)
         if optimize:
             gmsh.model.mesh.optimize("Relocate2D")
-        step(3)
-        node_tags, node_xyz, _ = gmsh.model.mesh.getNodes()
-        _, tri_nodes = gmsh.model.mesh.getElementsByType(2)
-        lines = [
-            (gmsh.model.mesh.getElementsByType(1, curve)[1], pid)
-            for curve, pid in curve_ids.items()
-        ]
+        return mesh_arrays(gmsh, curve_ids)
+    except MeshingError:
+        raise
     except Exception as exc:  # gmsh raises bare Exception with its last error
         raise MeshingError(f"Gmsh failed: {exc}") from exc
-    if len(tri_nodes) == 0:
-        raise MeshingError(
-            f"Gmsh made no triangles: {gmsh.logger.getLastError() or 'no message'}"
-        )
-    return canonical_order(  # threads finish in any order: number by place
-        *_extract(node_tags, node_xyz, tri_nodes, lines)
-    )
 
 
 def _build_model(
@@ -418,28 +422,6 @@ def _build_model(
         gmsh.model.addPhysicalGroup(1, curves, tag=pid)
     gmsh.model.addPhysicalGroup(2, [surface], tag=surface_id)
     return curve_ids
-
-
-def _extract(
-    node_tags: NDArray,
-    node_xyz: NDArray,
-    tri_nodes: NDArray,
-    lines: list[tuple[NDArray, int]],
-) -> tuple[NDArray, NDArray, NDArray, NDArray]:
-    """Gmsh node tags to indices; keep only the nodes triangles use."""
-    index = np.full(int(node_tags.max()) + 1, -1, dtype=np.int64)
-    index[node_tags.astype(np.int64)] = np.arange(len(node_tags))
-    triangles = index[tri_nodes.astype(np.int64)].reshape(-1, 3)
-    edges = index[np.concatenate([n for n, _ in lines]).astype(np.int64)].reshape(-1, 2)
-    edge_ids = np.concatenate([np.full(len(n) // 2, pid) for n, pid in lines])
-    used, renumber = np.unique(triangles, return_inverse=True)
-    lookup = np.full(len(node_tags), -1, dtype=np.int64)
-    lookup[used] = np.arange(len(used))
-    points = node_xyz.reshape(-1, 3)[used, :2].copy()
-    edges = lookup[edges]
-    if (edges < 0).any():
-        raise MeshingError("Gmsh made boundary edges whose nodes no triangle uses")
-    return points, renumber.reshape(-1, 3), edges, edge_ids
 
 
 def _signed_areas(points: NDArray[np.float64], triangles: NDArray[np.int64]) -> NDArray:

@@ -1,11 +1,10 @@
 """Domain decomposition: cut the water into parts of about equal meshing cost.
 
-Gmsh meshes separate plane surfaces of one model on separate threads
-(``General.NumThreads``), and a curve two surfaces share is meshed once, so
-their meshes conform with no stitching. :func:`cut_lines` chooses straight cuts
-through the sea; :func:`~coastmesh.meshing.surfaces.split_faces` nodes the
-boundary with them and returns the faces of water as loops of shared curves,
-ready for Gmsh.
+:func:`cut_lines` chooses straight cuts through the sea;
+:func:`~coastmesh.meshing.surfaces.split_faces` nodes the boundary with them
+and returns the faces of water as loops of shared curves, and
+:mod:`~coastmesh.meshing.tasks` meshes each face alone, with the cuts'
+nodes fixed once for both sides, so the meshes conform with no stitching.
 
 **How the cuts are chosen.** The cost of a region is its expected triangle
 count, the integral over its water of the triangle density ``4 / (sqrt(3)
@@ -15,15 +14,18 @@ region is cut across its longer side, in recursive bisection: ``K`` parts take
 that quantile of the cost. Among 9 positions within 3 % of cost of it, the cut
 whose water crossing has the fewest target edges (``integral of 1 / h`` along
 it) wins: cuts go where the size is coarse and the water narrow, and keep off
-the fine coast. A crossing that would make thin triangles counts as a million
-edges, so another position wins wherever one can (41 positions within 15 %
-are tried if all 9 would): one under two target edges long, one that comes
-nearer the coast or an earlier cut than ``sin(50 deg) min(s, 2 h)`` at a
-distance ``s`` from its end (it meets the coast at under 50 degrees, or runs
-along it), or one that ends within half an edge of the end of a boundary
-curve or within an edge of another cut's end. A region holding under twice
-:data:`MIN_PART_TRIANGLES` is not cut. Nothing is random: the same water, grid
-and ``K`` give the same cuts.
+the fine coast. A cut must be clean where it crosses the water, every time
+it does: if none of the 9 is, 41 positions within 15 % are tried, then the
+same across the shorter side; a region with no clean cut is not cut (fewer
+parts, never thin triangles). A crossing makes thin
+triangles when it is under two target edges long, comes nearer the coast or
+an earlier cut than ``sin(35 deg) min(s, 2 h)`` at a distance ``s >= h`` from
+its end (it meets the coast at under 35 degrees, or runs along it; nearer its
+end, the coast's roughness below the size is noise), or ends
+within half an edge of the end of a boundary curve or within an edge of
+another cut's end. A region holding under twice :data:`MIN_PART_TRIANGLES` is
+not cut. Nothing is random: the same water, grid and ``K`` give the same
+cuts.
 """
 
 from __future__ import annotations
@@ -65,7 +67,7 @@ _WIDER_CANDIDATES = 41
 _WIDER = 0.15
 #: A cut crossing the coast at a smaller angle (degrees), or crossing water
 #: under two target edges wide, is penalised by this many edges.
-_MIN_CROSSING = 50.0
+_MIN_CROSSING = 35.0
 _PENALTY = 1e6
 
 
@@ -144,10 +146,10 @@ def cut_lines(
     -------
     list of shapely.LineString
         ``parts - 1`` segments (fewer where a region holds under twice
-        :data:`MIN_PART_TRIANGLES` expected triangles), each spanning the
-        region it cuts (a box of the recursive bisection); later cuts end on
-        earlier ones. A cut may cross the water several times: each crossing is
-        a shared curve.
+        :data:`MIN_PART_TRIANGLES` expected triangles or has no clean cut),
+        each spanning the region it cuts (a box of the recursive bisection);
+        later cuts end on earlier ones. A cut may cross the water several
+        times: each crossing is a shared curve.
 
     Examples
     --------
@@ -207,35 +209,19 @@ def _bisect(
     if not pieces:
         return
     polygon = pieces[0] if len(pieces) == 1 else shapely.MultiPolygon(pieces)
-    across_x = (x1 - x0) >= (y1 - y0)  # cut across the longer side
-    along = x if across_x else y
-    spacing = abs(float(np.diff(grid.x if across_x else grid.y)[0]))
-    order = np.argsort(along, kind="stable")
-    cum = np.cumsum(w[order]) / w.sum()
     share = (parts // 2) / parts
-    best = None
-    for spread, count in ((_SPREAD, _CANDIDATES), (_WIDER, _WIDER_CANDIDATES)):
-        if best is not None and best[0] < _PENALTY:
-            break  # a clean cut within the first spread: no need to look wider
-        tried = np.linspace(share - spread, share + spread, count)
-        for q in sorted(tried, key=lambda q: abs(q - share)):  # ties: balanced
-            k = min(int(np.searchsorted(cum, q)), len(order) - 1)
-            # half a cell past a grid node: no node lies on the cut
-            at = float(along[order[k]]) + 0.5 * spacing
-            if across_x:
-                line = shapely.LineString([(at, y0), (at, y1)])
-            else:
-                line = shapely.LineString([(x0, at), (x1, at)])
-            score = _edges_across(polygon, grid, coast, line)
-            if best is None or score < best[0]:
-                best = (score, at, line)
-    _, at, line = best
+    longer_x = (x1 - x0) >= (y1 - y0)  # cut across the longer side first
+    for across_x in (longer_x, not longer_x):
+        along = x if across_x else y
+        score, line, chosen = _best_cut(
+            polygon, grid, coast, region, along, w, share, across_x
+        )
+        if score < _PENALTY:
+            break
+    else:
+        return  # no clean cut: fewer parts beat thin triangles
     cuts.append(line)
-    chosen = [
-        g
-        for g in shapely.get_parts(shapely.intersection(polygon, line))
-        if g.geom_type == "LineString" and not g.is_empty
-    ]
+    at = line.coords[0][0] if across_x else line.coords[0][1]
     coast[2].extend(c for g in chosen for c in np.asarray(g.coords)[[0, -1]])
     coast[3].extend(chosen)
     low = along < at
@@ -250,21 +236,55 @@ def _bisect(
         _bisect(polygon, grid, coast, box, x[side], y[side], w[side], n, cuts)
 
 
+def _best_cut(
+    polygon: shapely.Polygon | shapely.MultiPolygon,
+    grid: SizeGrid,
+    coast: tuple,
+    region: shapely.Polygon,
+    along: NDArray,
+    w: NDArray,
+    share: float,
+    across_x: bool,
+) -> tuple[float, shapely.LineString, list[shapely.LineString]]:
+    """Return the best cut across x (or y): its score, line and crossings."""
+    x0, y0, x1, y1 = region.bounds
+    spacing = abs(float(np.diff(grid.x if across_x else grid.y)[0]))
+    order = np.argsort(along, kind="stable")
+    cum = np.cumsum(w[order]) / w.sum()
+    best: tuple[float, shapely.LineString, list] = (np.inf, shapely.LineString(), [])
+    for spread, count in ((_SPREAD, _CANDIDATES), (_WIDER, _WIDER_CANDIDATES)):
+        if best[0] < _PENALTY:
+            break  # a clean cut within the first spread: no need to look wider
+        tried = np.linspace(share - spread, share + spread, count)
+        for q in sorted(tried, key=lambda q: abs(q - share)):  # ties: balanced
+            k = min(int(np.searchsorted(cum, q)), len(order) - 1)
+            # half a cell past a grid node: no node lies on the cut
+            at = float(along[order[k]]) + 0.5 * spacing
+            if across_x:
+                line = shapely.LineString([(at, y0), (at, y1)])
+            else:
+                line = shapely.LineString([(x0, at), (x1, at)])
+            score, chords = _edges_across(polygon, grid, coast, line)
+            if score < best[0]:
+                best = (score, line, chords)
+    return best
+
+
 def _edges_across(
     polygon: shapely.Polygon,
     grid: SizeGrid,
     coast: tuple,
     line: shapely.LineString,
-) -> float:
+) -> tuple[float, list[shapely.LineString]]:
     """Return the target edges along ``line`` in the water, plus penalties.
 
     Each crossing (chord) shorter than two target edges, ending within half a
     target edge of one of ``coast[1]``'s points or within one of an earlier
     cut's end (``coast[2]``), or coming nearer the coast or an earlier cut
-    (``coast[0]``, ``coast[3]``) than ``sin(50 deg) min(s, 2 h)`` at a distance
-    ``s`` from its nearer end (it meets the coast at under 50 degrees, or runs
-    along it), adds
-    :data:`_PENALTY`: it would make thin triangles.
+    (``coast[0]``, ``coast[3]``) than ``sin(35 deg) min(s, 2 h)`` at a distance
+    ``s >= h`` from its nearer end (it meets the coast at under 35 degrees, or runs
+    along it), adds :data:`_PENALTY`: it would make thin triangles. The
+    crossings are returned too.
     """
     wet = shapely.intersection(polygon, line)
     chords = [
@@ -273,7 +293,7 @@ def _edges_across(
         if g.geom_type == "LineString" and not g.is_empty
     ]
     if not chords:
-        return np.inf  # cuts nothing: never the best
+        return np.inf, []  # cuts nothing: never the best
     score = 0.0
     for chord in chords:
         a, b = np.asarray(chord.coords)[[0, -1]]
@@ -284,7 +304,6 @@ def _edges_across(
         xy = a + t[:, None] * (b - a)
         h = sample_size(grid, xy)
         edges = float(length * np.mean(1.0 / h))
-        score += edges
         s = length * np.minimum(t, 1.0 - t)
         need = np.sin(np.radians(_MIN_CROSSING)) * np.minimum(s, 2.0 * h)
         _, gap = coast[0].query_nearest(
@@ -303,6 +322,8 @@ def _edges_across(
         if coast[3]:  # earlier cuts count as coast: no thin strip between cuts
             earlier = shapely.multilinestrings(coast[3])
             gap = np.minimum(gap, shapely.distance(earlier, shapely.points(xy[1:-1])))
-        if edges < 2.0 or near_end or (gap < 0.999 * need[1:-1]).any():
-            score += _PENALTY  # each bad crossing counts: the least bad wins
-    return score
+        # within one target edge of its ends the coast's own roughness (below
+        # the size: the resampled boundary has two points per edge) is noise
+        tight = (gap < 0.999 * need[1:-1]) & (s[1:-1] >= 2.0 * h[1:-1])
+        score += edges + (_PENALTY if edges < 2.0 or near_end or tight.any() else 0)
+    return score, chords

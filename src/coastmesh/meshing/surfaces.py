@@ -1,11 +1,11 @@
-"""The faces of water as Gmsh surfaces that share their cut curves.
+"""The faces of water: the boundary noded with the cuts, as loops of curves.
 
 :func:`split_faces` nodes the boundary with the cuts of
-:mod:`~coastmesh.meshing.parts` and finds the faces of water; :func:`add_faces`
-makes each face a Gmsh plane surface whose loops reuse the curves it shares
-with its neighbours, so a cut is meshed once and both sides get its nodes.
-The noding (``shapely.node``) and the faces (``shapely.polygonize``) are GEOS;
-what is written here is the bookkeeping from faces to loops of signed curves.
+:mod:`~coastmesh.meshing.parts` and finds the faces of water; each face is a
+list of loops of signed curves, so the curves of a cut are shared by the two
+faces beside it (:mod:`~coastmesh.meshing.tasks` meshes the faces). The noding
+(``shapely.node``) and the faces (``shapely.polygonize``) are GEOS; what is
+written here is the bookkeeping from faces to loops of signed curves.
 """
 
 from __future__ import annotations
@@ -20,7 +20,6 @@ from numpy.typing import NDArray
 __all__ = [
     "CURVE_POINTS",
     "Faces",
-    "add_faces",
     "canonical_order",
     "chunked",
     "ring_pieces",
@@ -132,59 +131,6 @@ def _loop(ring, first_edge: dict, ends: set, curves: list) -> list[int]:
     return loop
 
 
-def add_faces(gmsh: object, faces: Faces, surface_id: int) -> dict[int, int]:
-    """Add the faces to the Gmsh model (geo kernel) as plane surfaces.
-
-    A curve two faces share is one Gmsh curve, so its nodes are shared. Curves
-    with an id get a physical group of that id; pieces of cuts get none. Every
-    surface is in the physical group ``surface_id``.
-
-    Returns
-    -------
-    dict of int to int
-        Gmsh curve tag -> physical id, for the tagged curves.
-    """
-    geo = gmsh.model.geo
-    point: dict[tuple[float, float], int] = {}
-
-    def tag(xy: NDArray) -> int:
-        key = (float(xy[0]), float(xy[1]))
-        if key not in point:
-            point[key] = geo.addPoint(key[0], key[1], 0.0)
-        return point[key]
-
-    curve_of: dict[int, int] = {}
-    surfaces = []
-    for loops in faces.faces:
-        loop_tags = []
-        for loop in loops:
-            signed = []
-            for s in loop:
-                i = abs(s) - 1
-                if i not in curve_of:
-                    c = faces.curves[i]
-                    ends = [tag(c[0]), *(geo.addPoint(x, y, 0.0) for x, y in c[1:-1])]
-                    ends.append(tag(c[-1]))
-                    curve_of[i] = (
-                        geo.addLine(*ends) if len(ends) == 2 else geo.addSpline(ends)
-                    )
-                signed.append(curve_of[i] if s > 0 else -curve_of[i])
-            loop_tags.append(geo.addCurveLoop(signed))
-        surfaces.append(geo.addPlaneSurface(loop_tags))
-    geo.synchronize()
-    curve_ids = {
-        curve_of[i]: pid
-        for i, pid in enumerate(faces.ids)
-        if pid is not None and i in curve_of
-    }
-    for pid in sorted(set(curve_ids.values())):
-        gmsh.model.addPhysicalGroup(
-            1, [c for c, p in curve_ids.items() if p == pid], tag=pid
-        )
-    gmsh.model.addPhysicalGroup(2, surfaces, tag=surface_id)
-    return curve_ids
-
-
 def chunked(pieces: list[tuple[NDArray, int]], most: int = CURVE_POINTS) -> list:
     """Split (piece, id) pairs of more than ``most`` points; ends are shared.
 
@@ -230,8 +176,8 @@ def canonical_order(
 ) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """Return nodes in (x, y) order, triangles and edges in order of their nodes.
 
-    Gmsh numbers nodes as its threads finish; this numbering depends on the
-    mesh only, so the same parts give the same arrays on any thread count.
+    This numbering depends on the mesh only, not on the order in which Gmsh
+    or the parts' tasks made the nodes.
     Each triangle keeps its orientation (it is rotated, never flipped).
     """
     order = np.lexsort((points[:, 1], points[:, 0]))

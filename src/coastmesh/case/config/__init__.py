@@ -30,6 +30,7 @@ from coastmesh.case.config.mesh import (
     MeshConfig,
     NodeDepthConfig,
     OutputConfig,
+    RunConfig,
 )
 from coastmesh.case.config.shorelines import (
     DomainConfig,
@@ -62,6 +63,7 @@ __all__ = [
     "NodeDepthConfig",
     "OutputConfig",
     "RegionConfig",
+    "RunConfig",
     "ShorelineSetConfig",
     "ShorelinesConfig",
     "SizeConfig",

@@ -14,6 +14,7 @@ from coastmesh.case.config.mesh import (
     MeshConfig,
     NodeDepthConfig,
     OutputConfig,
+    RunConfig,
 )
 from coastmesh.case.config.shorelines import (
     DomainConfig,
@@ -53,6 +54,9 @@ class CaseConfig:
     bathymetry : NodeDepthConfig, optional
         Depth at the nodes.
     cleanup : CleanupConfig
+    run : RunConfig
+        Where the parts are meshed (workers, a Dask scheduler); it never
+        changes the mesh.
     crs : str, optional
         The CRS the case works in; default the shoreline file's.
     output : path, optional
@@ -97,6 +101,7 @@ class CaseConfig:
     outputs: OutputConfig = field(default_factory=OutputConfig)
     bathymetry: NodeDepthConfig | None = None
     cleanup: CleanupConfig = field(default_factory=CleanupConfig)
+    run: RunConfig = field(default_factory=RunConfig)
     crs: str | None = None
     output: Path | None = None
     source: Path | None = None
@@ -136,6 +141,7 @@ class CaseConfig:
             if self.bathymetry is None
             else check_part(self.bathymetry, NodeDepthConfig, c, "bathymetry"),
             "cleanup": check_part(self.cleanup, CleanupConfig, c, "cleanup"),
+            "run": check_part(self.run, RunConfig, c, "run"),
             "text": c(_text, self.text, "text"),
         }
         _cross_check(checked, c.source)

@@ -11,7 +11,13 @@ from coastmesh.case import schema
 from coastmesh.case.config._check import Check
 from coastmesh.errors import ConfigError
 
-__all__ = ["CleanupConfig", "MeshConfig", "NodeDepthConfig", "OutputConfig"]
+__all__ = [
+    "CleanupConfig",
+    "MeshConfig",
+    "NodeDepthConfig",
+    "OutputConfig",
+    "RunConfig",
+]
 
 _UP_DOWN = ("up", "down")
 
@@ -119,11 +125,14 @@ class MeshConfig:
     algorithm : {"frontal-delaunay", "delaunay", "meshadapt", "automatic"}
     optimize : bool
     parts : int or "auto", default 1
-        Parts of the water meshed as separate Gmsh surfaces, on as many
-        threads as the run has workers (:mod:`coastmesh.meshing.parts`);
-        ``"auto"``: one per 40,000 expected triangles, rounded down to a power
-        of two (1 to 64). It depends on the case only, so the mesh is the same
-        on any number of cores. 1 (the default) is one surface.
+        Parts of the water meshed alone, at once on as many processes as the
+        run has workers, or on a Dask cluster (:mod:`coastmesh.meshing.parts`,
+        :mod:`coastmesh.meshing.tasks`); ``"auto"``: one per 40,000 expected
+        triangles, rounded down to a power of two (1 to 64). It depends on the
+        case only, so the mesh is the same on any number of cores or machines.
+        1 (the default) is one Gmsh surface: a part's boundary curves that a
+        cut splits are meshed apart, so Gmsh's nodes, and its worst triangles,
+        move (docs/meshing.md).
     """
 
     crs: str | None = None
@@ -146,6 +155,42 @@ class MeshConfig:
             if self.parts == "auto"
             else c(_parts, self.parts, "parts"),
         )
+
+
+@dataclass(frozen=True, slots=True)
+class RunConfig:
+    """``[run]``: where the parts are meshed (never what the mesh is).
+
+    Attributes
+    ----------
+    workers : int, optional
+        Local worker processes; default every core this process may use.
+        ``coastmesh run --workers`` overrides it.
+    scheduler : str, optional
+        The address of a Dask distributed scheduler (``"tcp://host:8786"``):
+        the parts are meshed as tasks on its workers. ``coastmesh run
+        --scheduler`` overrides it.
+    """
+
+    workers: int | None = None
+    scheduler: str | None = None
+
+    def _checked(self, c: Check) -> RunConfig:
+        return RunConfig(
+            workers=c.optional(schema.integer(1), self.workers, "workers"),
+            scheduler=c.optional(_address, self.scheduler, "scheduler"),
+        )
+
+
+def _address(value: Any, key: str) -> str:
+    """``[run] scheduler``: a Dask address such as "tcp://host:8786"."""
+    text = schema.string(value, key)
+    if "://" not in text and ":" not in text:
+        raise ConfigError(
+            f"{key} = {value!r}: expected a Dask scheduler address such as "
+            '"tcp://10.0.0.5:8786"'
+        )
+    return text
 
 
 def _parts(value: Any, key: str) -> int:

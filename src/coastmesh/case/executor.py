@@ -1,0 +1,209 @@
+"""Where the parts of a mesh are made: here, a local process pool, or Dask.
+
+:func:`open_runner` yields a :data:`~coastmesh.meshing.tasks.Runner`,
+``runner(fn, tasks) -> [fn(t) for t in tasks]``, that computes the tasks
+
+- one after the other in this process, with one worker;
+- in a local pool of worker processes (:class:`concurrent.futures.
+  ProcessPoolExecutor`, started on first use, so a one-part case starts none);
+- or as tasks on a Dask distributed cluster, given a scheduler address.
+
+Nothing here schedules: the pool and Dask do. Results come back in the tasks'
+order, whatever order they finish in, so the mesh does not depend on the
+executor. Tasks are handed out longest first (their ``expected`` triangles),
+which keeps the workers evenly loaded.
+
+A local worker that dies is replaced and its task run again, once; Dask
+re-runs the tasks of a lost worker itself (``distributed.scheduler.
+allowed-failures``). A task that still fails stops the run with the part
+named, before anything is written.
+"""
+
+from __future__ import annotations
+
+import logging
+import multiprocessing
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
+from contextlib import contextmanager
+from typing import Any
+
+from coastmesh.errors import ConfigError, MeshingError
+from coastmesh.meshing.tasks import Runner, serial_runner
+
+__all__ = ["SCHEDULER_TIMEOUT", "open_runner"]
+
+logger = logging.getLogger(__name__)
+
+#: Seconds to wait for a Dask scheduler to answer and to have a worker.
+SCHEDULER_TIMEOUT = 20.0
+_GUARD = (
+    "a worker process started by coastmesh ran your script again: Python starts "
+    "worker processes by importing the main script, so a script that builds a "
+    'case must do it under `if __name__ == "__main__":` (or pass workers=1)'
+)
+
+
+@contextmanager
+def open_runner(
+    workers: int, scheduler: str | None = None, *, timeout: float | None = None
+) -> Iterator[Runner]:
+    """Yield a runner for the parts' tasks; close what it opened on exit.
+
+    Parameters
+    ----------
+    workers : int
+        Local worker processes (>= 1); 1 runs the tasks in this process.
+        Ignored with ``scheduler``: the cluster has its own workers.
+    scheduler : str, optional
+        The address of a Dask distributed scheduler, e.g.
+        ``"tcp://10.0.0.5:8786"``.
+    timeout : float, optional
+        Seconds to wait for the scheduler and for at least one worker; default
+        :data:`SCHEDULER_TIMEOUT`.
+
+    Raises
+    ------
+    ConfigError
+        If the scheduler cannot be reached, or has no workers, within
+        ``timeout`` seconds.
+
+    Examples
+    --------
+    >>> with open_runner(1) as run:
+    ...     run(abs, [-1, 2, -3])
+    [1, 2, 3]
+    """
+    if getattr(multiprocessing.current_process(), "_inheriting", False):
+        # a spawned worker is importing the user's script again: stop at once
+        raise RuntimeError(_GUARD)
+    if scheduler is not None:
+        client = _connect(scheduler, timeout or SCHEDULER_TIMEOUT)
+        try:
+            yield _dask_runner(client)
+        finally:
+            client.close()
+        return
+    if workers == 1:
+        yield serial_runner
+        return
+    pools: list[ProcessPoolExecutor] = []
+    try:
+        yield _pool_runner(workers, pools)
+    finally:
+        for pool in pools:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _label(item: Any, index: int, count: int) -> str:
+    return getattr(item, "label", f"task {index + 1} of {count}")
+
+
+def _longest_first(items: Sequence[Any]) -> list[int]:
+    return sorted(
+        range(len(items)), key=lambda i: (-float(getattr(items[i], "expected", 0)), i)
+    )
+
+
+def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
+    """Return a runner on a local process pool, replaced once if a worker dies."""
+
+    def new_pool(n: int) -> ProcessPoolExecutor:
+        # spawn: a worker starts clean, with no copy of this process's threads
+        pool = ProcessPoolExecutor(
+            max_workers=n, mp_context=multiprocessing.get_context("spawn")
+        )
+        pools.append(pool)
+        return pool
+
+    def run(fn: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
+        if len(items) <= 1:
+            return [fn(item) for item in items]
+        results: dict[int, Any] = {}
+        todo = _longest_first(items)
+        for attempt in range(2):
+            pool = new_pool(min(workers, len(todo)))
+            futures = {i: pool.submit(fn, items[i]) for i in todo}
+            broken = []
+            for i, future in futures.items():
+                try:
+                    results[i] = future.result()
+                except BrokenProcessPool as exc:
+                    if attempt == 1:
+                        raise MeshingError(
+                            f"{_label(items[i], i, len(items))}: its worker "
+                            f"process died twice ({exc}); nothing was written. "
+                            f"If this runs from a script: {_GUARD}"
+                        ) from exc
+                    broken.append(i)
+            pool.shutdown(wait=True, cancel_futures=True)
+            if not broken:
+                break
+            logger.warning("a worker process died; running %d parts again", len(broken))
+            todo = broken
+        return [results[i] for i in range(len(items))]
+
+    return run
+
+
+def _connect(address: str, timeout: float) -> Any:
+    """Connect to a Dask scheduler that has at least one worker."""
+    from distributed import Client
+
+    advice = (
+        "start one with `dask scheduler` and workers with `dask worker ADDRESS "
+        "--nthreads 1`, or leave the scheduler out to mesh on this machine"
+    )
+    try:
+        client = Client(address, timeout=f"{timeout}s", set_as_default=False)
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise ConfigError(
+            f"scheduler = {address!r}: no Dask scheduler answered within "
+            f"{timeout:g} s ({exc}); {advice}"
+        ) from None
+    try:
+        client.wait_for_workers(1, timeout=timeout)
+    except (OSError, TimeoutError) as exc:
+        client.close()
+        raise ConfigError(
+            f"scheduler = {address!r}: the scheduler has no workers after "
+            f"{timeout:g} s ({exc}); {advice}"
+        ) from None
+    logger.info(
+        "Dask scheduler %s: %d workers",
+        address,
+        len(client.scheduler_info().get("workers", {})),
+    )
+    return client
+
+
+def _dask_runner(client: Any) -> Runner:
+    """Return a runner on a Dask cluster: one task per item, each sent once."""
+    from distributed import KilledWorker
+
+    def run(fn: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
+        order = _longest_first(items)
+        # the data goes to the workers once; each task then names its part only
+        scattered = client.scatter([items[i] for i in order], hash=False)
+        futures = {
+            i: client.submit(
+                fn, data, pure=False, priority=len(order) - rank, retries=1
+            )
+            for rank, (i, data) in enumerate(zip(order, scattered, strict=True))
+        }
+        results = {}
+        try:
+            for i, future in futures.items():
+                try:
+                    results[i] = future.result()
+                except KilledWorker as exc:
+                    raise MeshingError(
+                        f"{_label(items[i], i, len(items))}: the Dask workers "
+                        f"running it died ({exc}); nothing was written"
+                    ) from exc
+        finally:
+            client.cancel(list(futures.values()) + list(scattered))
+        return [results[i] for i in range(len(items))]
+
+    return run

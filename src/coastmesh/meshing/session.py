@@ -1,0 +1,146 @@
+"""One Gmsh session: options, the size field as a background view, cleanup.
+
+Gmsh keeps process-global state, so :func:`gmsh_session` holds a lock for the
+whole session and always finalises; every Gmsh model coastmesh builds, in this
+process or in a worker (:mod:`coastmesh.meshing.tasks`), is set up here, with
+the same options, so a part meshed anywhere is meshed the same way.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from coastmesh.errors import MeshingError
+from coastmesh.types import SizeGrid
+
+__all__ = ["ALGORITHMS", "add_size_view", "gmsh_session", "set_options"]
+
+logger = logging.getLogger("coastmesh.meshing.engine")
+
+#: Gmsh 2D algorithms by name (the ``Mesh.Algorithm`` option).
+ALGORITHMS = {"meshadapt": 1, "automatic": 2, "delaunay": 5, "frontal-delaunay": 6}
+
+_LOCK = threading.Lock()
+# Relative precision of Gmsh's integral of 1/h along each curve (boundary nodes).
+_INTEGRATION_PRECISION = 1e-4
+
+
+@contextmanager
+def gmsh_session() -> Iterator[Any]:
+    """Initialise Gmsh, route its messages to our logger, and always finalise.
+
+    Yields
+    ------
+    module
+        The ``gmsh`` module, initialised with an empty model.
+    """
+    import gmsh
+
+    with _LOCK:
+        if gmsh.isInitialized():
+            raise MeshingError(
+                "Gmsh is already initialised in this process by other code; "
+                "coastmesh needs it to itself"
+            )
+        gmsh.initialize(readConfigFiles=False, run=False, interruptible=False)
+        try:
+            gmsh.option.setNumber("General.Terminal", 0)
+            gmsh.logger.start()
+            gmsh.model.add("coastmesh")
+            yield gmsh
+        finally:
+            for line in gmsh.logger.get():
+                if line.startswith(("Warning", "Error")):
+                    logger.warning("gmsh: %s", line)
+                else:
+                    logger.debug("gmsh: %s", line)
+            gmsh.logger.stop()
+            gmsh.finalize()
+
+
+def set_options(gmsh: Any, *, threads: int, seed: int, algorithm: str) -> None:
+    """Set the options every coastmesh model is meshed with."""
+    for name, value in (
+        ("General.NumThreads", threads),
+        ("Mesh.MaxNumThreads1D", threads),
+        ("Mesh.MaxNumThreads2D", threads),
+        ("Mesh.RandomSeed", int(seed)),
+        ("Mesh.Algorithm", ALGORITHMS[algorithm]),
+        ("Mesh.MeshSizeFromPoints", 0),
+        ("Mesh.MeshSizeFromCurvature", 0),
+        ("Mesh.MeshSizeExtendFromBoundary", 0),
+        # 1e-9 (the default) makes 1D meshing of long splines 100 times slower
+        ("Mesh.LcIntegrationPrecision", _INTEGRATION_PRECISION),
+    ):
+        gmsh.option.setNumber(name, value)
+
+
+def add_size_view(gmsh: Any, size: SizeGrid, bounds: tuple[float, ...]) -> None:
+    """Make the size grid, padded to ``bounds``, Gmsh's background mesh size."""
+    view = gmsh.view.add("size")
+    data = grid_view_data(size, bounds)
+    gmsh.view.addListData(view, "SQ", len(data) // 16, data)
+    field = gmsh.model.mesh.field.add("PostView")
+    gmsh.model.mesh.field.setNumber(field, "ViewTag", view)
+    gmsh.model.mesh.field.setAsBackgroundMesh(field)
+    # build the view's search structure on one thread (Gmsh: lazily, in-loop)
+    gmsh.view.probe(view, bounds[0], bounds[1], 0.0)
+
+
+def grid_view_data(size: SizeGrid, bounds: tuple[float, ...]) -> NDArray[np.float64]:
+    """Quadrangles of the size grid, padded to ``bounds``, in Gmsh list format."""
+    minx, miny, maxx, maxy = bounds
+    pad = 0.01 * max(maxx - minx, maxy - miny) + 1.0
+    x, y, v = size.x, size.y, size.values
+    if minx - pad < x[0]:
+        x, v = np.concatenate([[minx - pad], x]), np.hstack([v[:, :1], v])
+    if maxx + pad > x[-1]:
+        x, v = np.concatenate([x, [maxx + pad]]), np.hstack([v, v[:, -1:]])
+    if miny - pad < y[0]:
+        y, v = np.concatenate([[miny - pad], y]), np.vstack([v[:1], v])
+    if maxy + pad > y[-1]:
+        y, v = np.concatenate([y, [maxy + pad]]), np.vstack([v, v[-1:]])
+    gx, gy = np.meshgrid(x, y)
+    corners = [(0, 0), (0, 1), (1, 1), (1, 0)]  # (dj, di), counter-clockwise
+
+    def at(a: NDArray[np.float64], dj: int, di: int) -> NDArray[np.float64]:
+        return a[dj : a.shape[0] - 1 + dj, di : a.shape[1] - 1 + di].ravel()
+
+    columns = (
+        [at(gx, dj, di) for dj, di in corners]
+        + [at(gy, dj, di) for dj, di in corners]
+        + [np.zeros(gx[:-1, :-1].size)] * 4
+        + [at(v, dj, di) for dj, di in corners]
+    )
+    # gmsh's Python API takes a contiguous float64 array as it is (no list copy)
+    return np.column_stack(columns).ravel()
+
+
+def crop_grid(grid: SizeGrid, bounds: tuple[float, ...], margin: int = 2) -> SizeGrid:
+    """Return the part of ``grid`` covering ``bounds``, ``margin`` cells wider.
+
+    Inside ``bounds`` it interpolates exactly as ``grid`` does: the cells there
+    are the same cells.
+
+    Examples
+    --------
+    >>> g = SizeGrid(np.arange(10.0), np.arange(5.0), np.ones((5, 10)))
+    >>> c = crop_grid(g, (3.5, 1.0, 5.5, 2.0), margin=1)
+    >>> c.x.tolist(), c.y.tolist()
+    ([2.0, 3.0, 4.0, 5.0, 6.0, 7.0], [0.0, 1.0, 2.0, 3.0])
+    """
+    x0, y0, x1, y1 = bounds
+    i0 = max(int(np.searchsorted(grid.x, x0, side="right")) - 1 - margin, 0)
+    i1 = min(int(np.searchsorted(grid.x, x1, side="left")) + 1 + margin, len(grid.x))
+    j0 = max(int(np.searchsorted(grid.y, y0, side="right")) - 1 - margin, 0)
+    j1 = min(int(np.searchsorted(grid.y, y1, side="left")) + 1 + margin, len(grid.y))
+    i1, j1 = max(i1, i0 + 2), max(j1, j0 + 2)
+    i0, j0 = min(i0, len(grid.x) - 2), min(j0, len(grid.y) - 2)
+    return SizeGrid(grid.x[i0:i1], grid.y[j0:j1], grid.values[j0:j1, i0:i1])

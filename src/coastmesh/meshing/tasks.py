@@ -1,0 +1,498 @@
+"""The parts of the water as tasks: each meshed alone, merged by shared nodes.
+
+:func:`part_tasks` turns the faces of :func:`~coastmesh.meshing.surfaces.split_faces`
+into :class:`PartTask` objects that hold all one part needs and nothing else:
+its own curves, its window of the size grid and the Gmsh options. Each piece of
+a cut is discretised once, here, from the size grid (one node per target edge,
+:func:`~coastmesh.meshing.boundary.resample_segment`), and given to both parts
+it separates as fixed nodes (a chain of 2-node lines), so the two meshes share
+those nodes exactly and :func:`merge_parts` joins them by the nodes' shared
+numbers: no stitching, no search by distance.
+
+:func:`mesh_part` is a plain function of its task, so any executor can run it:
+a loop in this process, a local process pool, or a Dask cluster. The mesh of a
+part does not depend on where or when it was made, so the merged mesh does not
+depend on the executor or the worker count.
+"""
+
+from __future__ import annotations
+
+import itertools
+import os
+import socket
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any, TypeVar
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from coastmesh.errors import MeshingError
+from coastmesh.meshing.boundary import resample_segment
+from coastmesh.meshing.parts import expected_triangles
+from coastmesh.meshing.projection import sample_size
+from coastmesh.meshing.session import (
+    add_size_view,
+    crop_grid,
+    gmsh_session,
+    set_options,
+)
+from coastmesh.meshing.surfaces import Faces
+from coastmesh.types import Report, SizeGrid
+
+__all__ = [
+    "PartMesh",
+    "PartTask",
+    "Runner",
+    "merge_parts",
+    "mesh_arrays",
+    "mesh_part",
+    "part_tasks",
+    "serial_runner",
+]
+
+T = TypeVar("T")
+R = TypeVar("R")
+#: Runs ``fn`` on every item and returns the results in the items' order.
+Runner = Callable[[Callable[[T], R], Sequence[T]], list[R]]
+
+
+def serial_runner(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
+    """Run the tasks one after the other in this process."""
+    return [fn(item) for item in items]
+
+
+@dataclass(frozen=True, slots=True)
+class PartTask:
+    """All that meshing one part of the water needs.
+
+    Attributes
+    ----------
+    index, count : int
+        This part's number (0-based) and the number of parts.
+    curves : tuple of ndarray of shape (k, 2)
+        The part's curves in the meshing CRS. A cut's points are its nodes.
+    ids : tuple of int or None
+        Each curve's physical id; None for a piece of a cut.
+    shared : tuple of ndarray of int
+        Per curve, the shared number of each point of a cut (empty for others).
+    loops : tuple of tuple of int
+        The outer loop first, then holes: signed 1-based curve indices.
+    size : SizeGrid
+        The size grid (map units) over the part's bounds, a few cells wider.
+    seed : int
+    algorithm : str
+    optimize : bool
+    expected : float
+        The part's expected triangle count.
+    """
+
+    index: int
+    count: int
+    curves: tuple[NDArray[np.float64], ...]
+    ids: tuple[int | None, ...]
+    shared: tuple[NDArray[np.int64], ...]
+    loops: tuple[tuple[int, ...], ...]
+    size: SizeGrid
+    seed: int
+    algorithm: str
+    optimize: bool
+    expected: float
+
+    @property
+    def label(self) -> str:
+        """Name the part in messages: number, size and place."""
+        xy = np.concatenate(self.curves)
+        cx, cy = 0.5 * (xy.min(axis=0) + xy.max(axis=0))
+        return (
+            f"part {self.index + 1} of {self.count} ({self.expected:,.0f} expected "
+            f"triangles, centred at x={cx:.0f}, y={cy:.0f} in the meshing CRS)"
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class PartMesh:
+    """One part's mesh, in the meshing CRS.
+
+    ``shared[i]`` is the shared number of node ``i`` if it lies on a cut, else
+    -1. ``seconds`` is the Gmsh time of the part and ``worker`` the host and
+    process that made it.
+    """
+
+    index: int
+    points: NDArray[np.float64]
+    triangles: NDArray[np.int64]
+    edges: NDArray[np.int64]
+    edge_ids: NDArray[np.int64]
+    shared: NDArray[np.int64]
+    seconds: float
+    worker: str
+
+
+def part_tasks(
+    faces: Faces,
+    size: SizeGrid,
+    *,
+    seed: int,
+    algorithm: str,
+    optimize: bool,
+) -> list[PartTask]:
+    """Return one task per face of water, its cuts discretised once.
+
+    Parameters
+    ----------
+    faces : Faces
+        From :func:`~coastmesh.meshing.surfaces.split_faces`.
+    size : SizeGrid
+        Target sizes in map units.
+    seed, algorithm, optimize
+        As :func:`~coastmesh.meshing.generate_mesh` takes them.
+
+    Returns
+    -------
+    list of PartTask
+        In the order of ``faces.faces``.
+    """
+
+    def size_at(xy: NDArray[np.float64]) -> NDArray[np.float64]:
+        return sample_size(size, xy)
+
+    numbers: dict[tuple[float, float], int] = {}
+    chains: dict[int, tuple[NDArray[np.float64], NDArray[np.int64]]] = {}
+    for i, pid in enumerate(faces.ids):
+        if pid is not None:
+            continue
+        chain = resample_segment(faces.curves[i], size_at, points_per_edge=1.0)
+        keys = [(float(x), float(y)) for x, y in chain]
+        chains[i] = chain, np.array([numbers.setdefault(k, len(numbers)) for k in keys])
+    tasks = []
+    for index, loops in enumerate(faces.faces):
+        used = sorted({abs(s) - 1 for loop in loops for s in loop})
+        local = {g: k + 1 for k, g in enumerate(used)}
+        curves = tuple(chains[g][0] if g in chains else faces.curves[g] for g in used)
+        signed = tuple(
+            tuple(int(np.sign(s)) * local[abs(s) - 1] for s in loop) for loop in loops
+        )
+        xy = np.concatenate(curves)
+        bounds = (*xy.min(axis=0), *xy.max(axis=0))
+        polygon = shapely.Polygon(
+            _ring(signed[0], curves), [_ring(h, curves) for h in signed[1:]]
+        )
+        tasks.append(
+            PartTask(
+                index=index,
+                count=len(faces.faces),
+                curves=curves,
+                ids=tuple(faces.ids[g] for g in used),
+                shared=tuple(
+                    chains[g][1] if g in chains else np.empty(0, np.int64) for g in used
+                ),
+                loops=signed,
+                size=crop_grid(size, bounds),
+                seed=seed,
+                algorithm=algorithm,
+                optimize=optimize,
+                expected=expected_triangles(polygon, size),
+            )
+        )
+    return tasks
+
+
+def _ring(loop: Sequence[int], curves: tuple) -> NDArray[np.float64]:
+    """Return a loop of signed 1-based curve indices as one ring's points."""
+    pieces = [curves[abs(s) - 1][:: 1 if s > 0 else -1] for s in loop]
+    return np.concatenate([p[:-1] for p in pieces])
+
+
+def mesh_part(task: PartTask) -> PartMesh:
+    """Mesh one part alone, in a Gmsh session of its own.
+
+    Raises
+    ------
+    MeshingError
+        If Gmsh fails or makes no triangles; the message names the part.
+    """
+    started = time.perf_counter()
+    with gmsh_session() as gmsh:
+        try:
+            set_options(gmsh, threads=1, seed=task.seed, algorithm=task.algorithm)
+            curve_ids, fixed = _build_part(gmsh, task)
+            xy = np.concatenate(task.curves)
+            add_size_view(gmsh, task.size, (*xy.min(axis=0), *xy.max(axis=0)))
+            gmsh.model.mesh.generate(1)
+            gmsh.model.mesh.generate(2)
+            if task.optimize:
+                gmsh.model.mesh.optimize("Relocate2D")
+            node_of = {
+                key: int(gmsh.model.mesh.getNodes(0, point)[0][0])
+                for point, key in fixed.items()
+            }
+            arrays, tags = mesh_arrays(gmsh, curve_ids, return_tags=True)
+        except MeshingError as exc:
+            raise MeshingError(f"{task.label}: {exc}") from exc
+        except Exception as exc:  # gmsh raises bare Exception with its last error
+            raise MeshingError(f"{task.label}: Gmsh failed: {exc}") from exc
+    points, triangles, edges, edge_ids = arrays
+    shared = np.full(len(points), -1, dtype=np.int64)
+    where = np.searchsorted(tags, list(node_of.values()))
+    shared[where] = list(node_of.keys())
+    return PartMesh(
+        task.index,
+        points,
+        triangles,
+        edges,
+        edge_ids,
+        shared,
+        round(time.perf_counter() - started, 3),
+        f"{socket.gethostname()}:{os.getpid()}",
+    )
+
+
+def _build_part(gmsh: Any, task: PartTask) -> tuple[dict[int, int], dict[int, int]]:
+    """Add the part's points, curves and surface; return its tagged curves.
+
+    A cut becomes a chain of straight 2-node lines through its fixed nodes.
+
+    Returns
+    -------
+    curve_ids : dict of int to int
+        Gmsh curve tag -> physical id, for the tagged curves.
+    fixed : dict of int to int
+        Gmsh point tag -> shared number, for the points of cuts.
+    """
+    geo = gmsh.model.geo
+    point: dict[tuple[float, float], int] = {}
+
+    def tag(xy: NDArray) -> int:
+        key = (float(xy[0]), float(xy[1]))
+        if key not in point:
+            point[key] = geo.addPoint(key[0], key[1], 0.0)
+        return point[key]
+
+    curve_ids: dict[int, int] = {}
+    fixed: dict[int, int] = {}
+    chains: list[int] = []
+    made: list[list[int]] = []
+    for c, pid, shared in zip(task.curves, task.ids, task.shared, strict=True):
+        if pid is None:
+            tags = [tag(p) for p in c]
+            fixed.update(zip(tags, shared.tolist(), strict=True))
+            lines = [geo.addLine(a, b) for a, b in itertools.pairwise(tags)]
+            chains += lines
+        else:
+            inner = [geo.addPoint(x, y, 0.0) for x, y in c[1:-1]]
+            tags = [tag(c[0]), *inner, tag(c[-1])]
+            lines = [geo.addLine(*tags) if len(tags) == 2 else geo.addSpline(tags)]
+            curve_ids[lines[0]] = pid
+        made.append(lines)
+    loops = []
+    for loop in task.loops:
+        signed = []
+        for s in loop:
+            lines = made[abs(s) - 1]
+            signed += lines if s > 0 else [-t for t in reversed(lines)]
+        loops.append(geo.addCurveLoop(signed))
+    geo.addPlaneSurface(loops)
+    geo.synchronize()
+    for line in chains:  # a cut's nodes are its points: no node between them
+        gmsh.model.mesh.setTransfiniteCurve(line, 2)
+    return curve_ids, fixed
+
+
+def mesh_arrays(
+    gmsh: Any, curve_ids: dict[int, int], *, return_tags: bool = False
+) -> Any:
+    """Return nodes, triangles and tagged edges of the meshed model.
+
+    Only the nodes triangles use are kept. With ``return_tags``, also the
+    Gmsh tag of each kept node, ascending.
+
+    Raises
+    ------
+    MeshingError
+        If Gmsh made no triangles, or boundary edges whose nodes no triangle uses.
+    """
+    node_tags, node_xyz, _ = gmsh.model.mesh.getNodes()
+    _, tri_nodes = gmsh.model.mesh.getElementsByType(2)
+    if len(tri_nodes) == 0:
+        raise MeshingError(
+            f"Gmsh made no triangles: {gmsh.logger.getLastError() or 'no message'}"
+        )
+    lines = [
+        (gmsh.model.mesh.getElementsByType(1, curve)[1], pid)
+        for curve, pid in curve_ids.items()
+    ]
+    node_tags = node_tags.astype(np.int64)
+    order = np.argsort(node_tags)
+    node_tags, node_xyz = node_tags[order], node_xyz.reshape(-1, 3)[order]
+    index = np.full(int(node_tags.max()) + 1, -1, dtype=np.int64)
+    index[node_tags] = np.arange(len(node_tags))
+    triangles = index[tri_nodes.astype(np.int64)].reshape(-1, 3)
+    flat = [n for n, _ in lines]
+    edges = index[np.concatenate(flat).astype(np.int64) if flat else np.empty(0, int)]
+    edges = edges.reshape(-1, 2)
+    edge_ids = np.concatenate(
+        [np.full(len(n) // 2, pid, dtype=np.int64) for n, pid in lines]
+        or [np.empty(0, np.int64)]
+    )
+    used, renumber = np.unique(triangles, return_inverse=True)
+    lookup = np.full(len(node_tags), -1, dtype=np.int64)
+    lookup[used] = np.arange(len(used))
+    points = node_xyz[used, :2].copy()
+    edges = lookup[edges]
+    if (edges < 0).any():
+        raise MeshingError("Gmsh made boundary edges whose nodes no triangle uses")
+    arrays = (points, renumber.reshape(-1, 3), edges, edge_ids)
+    return (arrays, node_tags[used]) if return_tags else arrays
+
+
+def merge_parts(
+    parts: Sequence[PartMesh],
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """Join the parts' meshes into one: each shared node once.
+
+    Returns
+    -------
+    points, triangles, edges, edge_ids
+        The nodes on cuts first, in order of their shared numbers, then each
+        part's other nodes in part order.
+
+    Raises
+    ------
+    MeshingError
+        If two parts put a shared node at different places.
+    """
+    parts = sorted(parts, key=lambda p: p.index)
+    n_shared = max((int(p.shared.max()) + 1 for p in parts), default=0)
+    shared_xy = np.full((n_shared, 2), np.nan)
+    offsets, points = [], [shared_xy]
+    start = n_shared
+    for p in parts:
+        on_cut = p.shared >= 0
+        here = shared_xy[p.shared[on_cut]]
+        seen = ~np.isnan(here[:, 0])
+        if not np.array_equal(here[seen], p.points[on_cut][seen]):
+            raise MeshingError(
+                f"part {p.index + 1} put a node of a cut at another place than "
+                "its neighbour did; the parts do not conform"
+            )
+        shared_xy[p.shared[on_cut]] = p.points[on_cut]
+        number = np.empty(len(p.points), dtype=np.int64)
+        number[on_cut] = p.shared[on_cut]
+        number[~on_cut] = start + np.arange(int((~on_cut).sum()))
+        start += int((~on_cut).sum())
+        points.append(p.points[~on_cut])
+        offsets.append(number)
+    if np.isnan(shared_xy).any():
+        raise MeshingError("a node of a cut is in no part's mesh")
+    return (
+        np.concatenate(points),
+        np.concatenate([n[p.triangles] for n, p in zip(offsets, parts, strict=True)]),
+        np.concatenate([n[p.edges] for n, p in zip(offsets, parts, strict=True)]),
+        np.concatenate([p.edge_ids for p in parts]),
+    )
+
+
+@dataclass(frozen=True, slots=True)
+class PartsReport(Report):
+    """How the water was cut into parts, and what each part cost.
+
+    Attributes
+    ----------
+    requested : int or "auto"
+        ``parts`` as given.
+    wanted : int
+        The number of parts aimed at (``"auto"`` resolved).
+    cuts : tuple of ndarray of shape (k, 2)
+        The pieces of cuts through the water, in the mesh's output CRS.
+    expected, triangles, seconds : tuple
+        Per part: expected and actual triangles, and Gmsh seconds.
+    workers : tuple of str
+        Per part: the host and process that meshed it.
+    """
+
+    requested: int | str
+    wanted: int
+    cuts: tuple[NDArray[np.float64], ...]
+    expected: tuple[float, ...]
+    triangles: tuple[int, ...]
+    seconds: tuple[float, ...]
+    workers: tuple[str, ...]
+
+    @classmethod
+    def of(
+        cls,
+        requested: int | str,
+        wanted: int,
+        tasks: Sequence[PartTask],
+        results: Sequence[PartMesh],
+        cuts: tuple[NDArray[np.float64], ...],
+    ) -> PartsReport:
+        """Collect the report of a run (no tasks: one part)."""
+        results = sorted(results, key=lambda p: p.index)
+        return cls(
+            requested,
+            wanted,
+            cuts,
+            tuple(round(t.expected, 1) for t in tasks),
+            tuple(len(p.triangles) for p in results),
+            tuple(p.seconds for p in results),
+            tuple(p.worker for p in results),
+        )
+
+    @property
+    def parts(self) -> int:
+        """The number of parts meshed (1 when the water was not cut)."""
+        return max(len(self.triangles), 1)
+
+    def projected_speedup(self, cores: int) -> float:
+        """Return the meshing stage's speed-up on ``cores`` workers, from part times.
+
+        The parts are scheduled longest first onto the least loaded worker (as
+        a pool that hands out the next task to the first free worker does);
+        the speed-up is the serial time over the busiest worker's time. It
+        ignores start-up and data transfer, and is 1 for one part.
+
+        Examples
+        --------
+        >>> r = PartsReport(4, 4, (), (1.0,) * 4, (1,) * 4, (3.0, 1.0, 1.0, 1.0), ())
+        >>> r.projected_speedup(2), r.projected_speedup(4)
+        (2.0, 2.0)
+        """
+        if not self.seconds:
+            return 1.0
+        loads = np.zeros(max(int(cores), 1))
+        for t in sorted(self.seconds, reverse=True):
+            loads[int(np.argmin(loads))] += t
+        return float(sum(self.seconds) / loads.max())
+
+    def to_dict(self) -> dict[str, Any]:
+        """Return the report as JSON-ready values (the cuts as their count only)."""
+        return {
+            "requested": self.requested,
+            "wanted": self.wanted,
+            "parts": self.parts,
+            "cut_pieces": len(self.cuts),
+            "expected_triangles": list(self.expected),
+            "triangles": list(self.triangles),
+            "seconds": list(self.seconds),
+            "workers": sorted(set(self.workers)),
+            "projected_speedup": {
+                str(n): round(self.projected_speedup(n), 2) for n in (2, 8, 32)
+            },
+        }
+
+    def summary(self) -> str:
+        """One line: parts, balance, and the projected speed-ups."""
+        if not self.seconds:
+            return "1 part"
+        most = max(self.triangles)
+        return (
+            f"{self.parts} parts ({min(self.triangles):,} to {most:,} triangles, "
+            f"largest {most / float(np.mean(self.triangles)):.2f} x the mean), "
+            f"{sum(self.seconds):.1f} s of Gmsh on "
+            f"{len(set(self.workers))} workers; projected speed-up on 8 / 32 cores "
+            f"{self.projected_speedup(8):.1f} / {self.projected_speedup(32):.1f}"
+        )

@@ -1,0 +1,59 @@
+"""Where parts are meshed: a local pool that survives a dying worker, Dask."""
+
+from __future__ import annotations
+
+import os
+import time
+from pathlib import Path
+
+import pytest
+
+from coastmesh.case.executor import open_runner
+from coastmesh.errors import ConfigError, MeshingError
+
+
+def _square(x):
+    return x * x
+
+
+def _die_once(marker: str) -> str:
+    """Kill this worker the first time any worker runs it."""
+    try:
+        fd = os.open(marker, os.O_CREAT | os.O_EXCL)
+    except FileExistsError:
+        return "ok"
+    os.close(fd)
+    os._exit(3)
+
+
+def _die(_):
+    os._exit(3)
+
+
+def test_the_pool_returns_results_in_order_whatever_finishes_first():
+    with open_runner(2) as run:
+        assert run(_square, list(range(7))) == [x * x for x in range(7)]
+    with open_runner(1) as run:  # one worker: this process
+        assert run(_square, [3]) == [9]
+
+
+def test_a_dying_worker_is_replaced_and_its_task_run_again(tmp_path):
+    marker = str(tmp_path / "died")
+    with open_runner(2) as run:
+        assert run(_die_once, [marker, marker, marker]) == ["ok"] * 3
+    assert Path(marker).exists()
+
+
+def test_a_task_that_always_kills_its_worker_is_named():
+    with open_runner(2) as run, pytest.raises(MeshingError, match="task 1 of 2"):
+        run(_die, [0, 1])
+
+
+def test_an_unreachable_scheduler_is_a_clear_error_within_the_timeout():
+    started = time.perf_counter()
+    with (
+        pytest.raises(ConfigError, match=r"tcp://127.0.0.1:9.*no Dask scheduler"),
+        open_runner(2, "tcp://127.0.0.1:9", timeout=2),
+    ):
+        pass
+    assert time.perf_counter() - started < 15

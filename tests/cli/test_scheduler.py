@@ -1,0 +1,98 @@
+"""``coastmesh run --scheduler``: the parts meshed on a Dask cluster."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import re
+import warnings
+from pathlib import Path
+
+import pytest
+
+import coastmesh
+from coastmesh.case import executor
+
+SHELF = (
+    Path(__file__).parents[2] / "examples" / "nw_european_shelf" / "intermediate.toml"
+)
+ORKNEY = Path(__file__).parents[2] / "examples" / "orkney" / "pentland_firth.toml"
+
+
+@pytest.fixture(scope="module")
+def scheduler():
+    """A local Dask cluster of two worker processes, one thread each."""
+    from distributed import LocalCluster
+
+    with (
+        warnings.catch_warnings(),
+        LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster,
+    ):
+        yield cluster.scheduler_address
+
+
+def _case_file(path: Path, source: Path, parts: int, tmp_path: Path) -> Path:
+    """The case with [mesh] parts, data paths absolute, one format, no figures."""
+    case = coastmesh.read_case(source)
+    case = dataclasses.replace(
+        case,
+        mesh=dataclasses.replace(case.mesh, parts=parts),
+        outputs=dataclasses.replace(case.outputs, formats=("msh2",), figures=False),
+        output=tmp_path / "unused",
+    )
+    path.write_text(coastmesh.dump_case(case))
+    return path
+
+
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_a_cluster_makes_the_mesh_a_local_run_makes(run_cli, scheduler, tmp_path):
+    case = _case_file(tmp_path / "case.toml", ORKNEY, 3, tmp_path)
+    meshes = {}
+    for how, args in {
+        "dask": ("--scheduler", scheduler),
+        "local": ("--workers", "1"),
+    }.items():
+        out = tmp_path / how
+        result = run_cli("run", case, "-o", out, *args)
+        assert result.exit_code == 0, result.output
+        meshes[how] = next(out.glob("*.msh")).read_bytes()
+        report = json.loads((out / "report.json").read_text())
+        assert report["parts"]["parts"] >= 3
+    assert meshes["dask"] == meshes["local"]  # byte for byte
+
+
+@pytest.mark.slow
+@pytest.mark.filterwarnings("ignore::UserWarning")
+def test_the_intermediate_shelf_on_a_cluster_is_the_local_mesh(
+    run_cli, scheduler, tmp_path
+):
+    case = _case_file(tmp_path / "shelf.toml", SHELF, 4, tmp_path)
+    meshes = {}
+    for how, args in {
+        "dask": ("--scheduler", scheduler),
+        "local": ("--workers", "2"),
+    }.items():
+        out = tmp_path / how
+        result = run_cli("run", case, "-o", out, *args)
+        assert result.exit_code == 0, result.output
+        meshes[how] = next(out.glob("*.msh")).read_bytes()
+        parts = json.loads((out / "report.json").read_text())["parts"]
+        assert parts["parts"] >= 4 and len(parts["workers"]) == 2
+    assert meshes["dask"] == meshes["local"]
+
+
+def test_an_unreachable_scheduler_fails_fast_and_writes_nothing(
+    run_cli, tmp_path, monkeypatch
+):
+    monkeypatch.setattr(executor, "SCHEDULER_TIMEOUT", 2.0)
+    case = _case_file(tmp_path / "case.toml", ORKNEY, 3, tmp_path)
+    out = tmp_path / "never"
+    result = run_cli("run", case, "-o", out, "--scheduler", "tcp://127.0.0.1:9")
+    assert result.exit_code == 2  # a bad value, as for any bad option
+    assert re.search(
+        r"scheduler = 'tcp://127.0.0.1:9': no Dask scheduler", result.output
+    )
+    assert "dask scheduler" in result.output
+    assert not out.exists() and not list(tmp_path.glob("never*"))
