@@ -202,7 +202,7 @@ def test_too_many_parts_warns_and_meshes_fewer():
 
 
 def test_bad_parts_and_threads_are_refused():
-    with pytest.raises(ValueError, match="threads is 0"):
-        generate_mesh(_domain(), _grid(), threads=0)
+    with pytest.raises(ValueError, match="parts is 0"):
+        generate_mesh(_domain(), _grid(), parts=0)
     with pytest.raises(ValueError, match=r"parts is 1\.5"):
         generate_mesh(_domain(), _grid(), parts=1.5)

@@ -354,6 +354,19 @@ def _write_figures(
                 ),
             )
         )
+    parts = result.report.parts
+    if parts is not None and parts.parts > 1:
+        figures.append(
+            (
+                "parts",
+                lambda: plot.parts_figure(
+                    result.domain,
+                    parts,
+                    crs=mesh.crs,
+                    title=f"{name}: {parts.summary()}",
+                ),
+            )
+        )
     if quality is not None:
         figures.append(
             (

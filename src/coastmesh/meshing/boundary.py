@@ -40,7 +40,11 @@ class SmallIslandWarning(CoastmeshWarning):
 
 
 def resample_segment(
-    coords: ArrayLike, size_at: SizeAt, *, points_per_edge: float = 2.0
+    coords: ArrayLike,
+    size_at: SizeAt,
+    *,
+    points_per_edge: float = 2.0,
+    up: bool = False,
 ) -> NDArray[np.float64]:
     r"""Resample a polyline so its point spacing follows a target size.
 
@@ -54,6 +58,10 @@ def resample_segment(
     points_per_edge : float, default 2.0
         Points per target edge length: the spacing is about
         ``size_at(x) / points_per_edge``.
+    up : bool, default False
+        Round the number of edges between kept vertices up (as Gmsh does when
+        it meshes a curve), so no edge is longer than its target; by default
+        to the nearest.
 
     Returns
     -------
@@ -83,7 +91,7 @@ def resample_segment(
     >>> len(out), out[0].tolist(), out[-1].tolist()
     (11, [0.0, 0.0], [100.0, 0.0])
     """
-    return _resample(coords, size_at, points_per_edge)[0]
+    return _resample(coords, size_at, points_per_edge, up)[0]
 
 
 def resample_rings(
@@ -91,6 +99,7 @@ def resample_rings(
     size_at: SizeAt,
     *,
     points_per_edge: float = 2.0,
+    up: bool = False,
 ) -> tuple[list[list[list[NDArray[np.float64]]]], list[int]]:
     """Resample the segments of polygon rings; drop holes that collapse.
 
@@ -104,6 +113,8 @@ def resample_rings(
         Target edge length in metres at positions, as in :func:`resample_segment`.
     points_per_edge : float, default 2.0
         Points per target edge length.
+    up : bool, default False
+        As in :func:`resample_segment`.
 
     Returns
     -------
@@ -145,7 +156,7 @@ def resample_rings(
         segments = []
         distinct = 0
         for coords in ring:
-            points, corners = _resample(coords, size_at, points_per_edge)
+            points, corners = _resample(coords, size_at, points_per_edge, up)
             segments.append([points[a : b + 1] for a, b in itertools.pairwise(corners)])
             distinct += len(points) - 1
         # A hole needs three mesh edges around it; Gmsh puts about
@@ -206,7 +217,7 @@ def check_boundary(rings: Sequence[Sequence[Sequence[ArrayLike]]]) -> None:
 
 
 def _resample(
-    coords: ArrayLike, size_at: SizeAt, points_per_edge: float
+    coords: ArrayLike, size_at: SizeAt, points_per_edge: float, up: bool = False
 ) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
     """Resample one polyline; also return the output indices of kept vertices."""
     xy = np.array(coords, dtype=np.float64)
@@ -247,7 +258,9 @@ def _resample(
     # equal steps of s between kept vertices
     kept = np.flatnonzero(corner)
     s_kept = s[vertex_at[kept]]
-    n = np.maximum(1, np.rint(np.diff(s_kept) * points_per_edge)).astype(np.intp)
+    edges = np.diff(s_kept) * points_per_edge
+    # up: Gmsh's own rule for a curve, floor(s + 0.99) edges
+    n = np.maximum(1, np.floor(edges + 0.99) if up else np.rint(edges)).astype(np.intp)
     piece = np.repeat(np.arange(len(n)), n)
     step = np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)
     targets = s_kept[piece] + np.diff(s_kept)[piece] * step / n[piece]

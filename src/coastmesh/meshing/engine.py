@@ -12,7 +12,6 @@ from __future__ import annotations
 import logging
 import time
 import warnings
-from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -22,6 +21,8 @@ from pyproj import CRS
 
 from coastmesh.errors import CoastmeshWarning, MeshingError
 from coastmesh.meshing.boundary import check_boundary, resample_rings
+from coastmesh.meshing.curves import boundary_nodes
+from coastmesh.meshing.junctions import join_cuts
 from coastmesh.meshing.parts import MIN_PART_TRIANGLES, auto_parts, cut_lines
 from coastmesh.meshing.projection import (
     default_mesh_crs,
@@ -32,22 +33,15 @@ from coastmesh.meshing.projection import (
 )
 from coastmesh.meshing.session import (
     ALGORITHMS,
-    add_size_view,
-    gmsh_session,
-    set_options,
 )
 from coastmesh.meshing.surfaces import (
-    Faces,
     canonical_order,
-    chunked,
-    ring_pieces,
     split_faces,
 )
 from coastmesh.meshing.tasks import (
     PartsReport,
     Runner,
     merge_parts,
-    mesh_arrays,
     mesh_part,
     part_tasks,
     serial_runner,
@@ -110,8 +104,8 @@ def generate_mesh(
         ``parts`` is a number). The same ``parts`` and ``seed`` give the same
         mesh whatever ``runner``: nodes are numbered in order of x, then y.
     threads : int, default 1
-        Gmsh threads (``General.NumThreads``) for a one-part mesh: its curves
-        are meshed at once.
+        Gmsh threads for the boundary nodes (:mod:`~coastmesh.meshing.curves`):
+        separate pieces of the boundary are meshed at once.
     runner : callable, optional
         ``runner(fn, tasks)`` returns ``[fn(t) for t in tasks]``, computed
         anywhere: a process pool or a Dask cluster
@@ -158,17 +152,19 @@ def generate_mesh(
     map units, ``size.values * k``, before the boundary is resampled and Gmsh
     sees it; edge lengths measured on the ellipsoid then follow ``size``.
 
-    Each segment is projected to ``mesh_crs`` and resampled to about two points
-    per local target edge (:func:`~coastmesh.meshing.boundary.resample_rings`),
-    keeping end points and corners. Every piece between kept points becomes a
-    Gmsh spline through the resampled points, so the boundary is smooth at the
-    target resolution. The size grid is handed to Gmsh as a list-based
-    post-processing view of quadrangles (bilinear interpolation), padded to the
-    domain's bounds with the edge values, and used as the background field;
-    sizes from points, curvature and the boundary are switched off, and the
-    integral of 1/h along curves is computed to a relative precision of 1e-4.
-    The run is reproducible: one thread, a fixed seed, fixed options; the same
-    input gives the same arrays.
+    Each segment is projected to ``mesh_crs`` and resampled to one point per
+    local target edge (:func:`~coastmesh.meshing.boundary.resample_rings`:
+    equal steps of the integral of 1/h, end points and corners kept). Those
+    points are the boundary nodes: Gmsh gets each boundary edge as a straight
+    line meshed with its two end nodes only, so the boundary is discretised
+    once, here, the same way whether the water is meshed whole or in parts
+    (where a cut meets the boundary, the nearer node moves onto the meeting
+    point: :mod:`~coastmesh.meshing.junctions`). The size grid is handed to
+    Gmsh as a list-based post-processing view of quadrangles (bilinear
+    interpolation), padded to the part's bounds with the edge values, and used
+    as the background field; sizes from points, curvature and the boundary are
+    switched off. The run is reproducible: a fixed seed, fixed options; the
+    same input gives the same arrays.
 
     Examples
     --------
@@ -222,24 +218,7 @@ def mesh_in_parts(
         The parts, their cuts (in ``output_crs``), and each part's expected and
         actual triangles and meshing time.
     """
-    if not isinstance(domain, Domain):
-        raise TypeError(f"domain is a {type(domain).__name__}, expected Domain")
-    if not isinstance(size, SizeGrid):
-        raise TypeError(f"size is a {type(size).__name__}, expected SizeGrid")
-    if algorithm not in ALGORITHMS:
-        raise ValueError(
-            f"algorithm is {algorithm!r}; pick one of {sorted(ALGORITHMS)}"
-        )
-    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
-        raise ValueError(f"seed is {seed!r}, expected an integer >= 0")
-    numbers = {"threads": threads} | ({} if parts == "auto" else {"parts": parts})
-    for name, value in numbers.items():
-        if (
-            isinstance(value, bool)
-            or not isinstance(value, int | np.integer)
-            or value < 1
-        ):
-            raise ValueError(f"{name} is {value!r}, expected an integer >= 1")
+    _check_args(domain, size, algorithm, seed, parts)
     mesh_crs = default_mesh_crs(domain) if mesh_crs is None else CRS(mesh_crs)
     if not mesh_crs.is_projected:
         raise ValueError(
@@ -259,39 +238,27 @@ def mesh_in_parts(
     resampled, dropped = resample_rings(rings, lambda xy: sample_size(map_size, xy))
     ids = [ring_ids for r, ring_ids in enumerate(ids) if r not in set(dropped)]
     check_boundary(resampled)
-    n_boundary = sum(len(p) - 1 for ring in resampled for seg in ring for p in seg)
     logger.info(
-        "boundary: %d rings, %d -> %d vertices, %d islands dropped",
+        "boundary: %d rings, %d -> %d nodes, %d islands dropped",
         len(rings),
         sum(len(c) for ring in rings for c in ring),
-        n_boundary,
+        sum(len(p) - 1 for ring in resampled for seg in ring for p in seg),
         len(dropped),
     )
     step(1)
-    faces, wanted = _cut(resampled, ids, map_size, parts)
-    if faces is None:
-        tasks, results = [], []
-        with gmsh_session() as gmsh:
-            arrays = _run_gmsh(
-                gmsh,
-                resampled,
-                ids,
-                map_size,
-                domain.surface_id,
-                seed,
-                algorithm,
-                optimize,
-                step,
-                threads=int(threads),
-            )
-    else:
-        tasks = part_tasks(
-            faces, map_size, seed=int(seed), algorithm=algorithm, optimize=optimize
-        )
-        step(2)
+    pieces, water = boundary_nodes(resampled, ids, map_size, threads=threads)
+    pieces, chords, wanted = _cut(pieces, water, map_size, parts)
+    faces = split_faces(pieces, water, [shapely.LineString(c) for c in chords])
+    tasks = part_tasks(
+        faces, map_size, seed=int(seed), algorithm=algorithm, optimize=optimize
+    )
+    step(2)
+    if len(tasks) > 1:
         logger.info("meshing %d parts", len(tasks))
         results = (runner or serial_runner)(mesh_part, tasks)
-        arrays = merge_parts(results)
+    else:
+        results = [mesh_part(tasks[0])]
+    arrays = merge_parts(results)
     points, triangles, edges, edge_ids = canonical_order(*arrays)
     step(3)
     target = sample_size(size, points)
@@ -306,14 +273,10 @@ def mesh_in_parts(
         len(edges),
         time.perf_counter() - started,
     )
-    cuts = (
-        ()
-        if faces is None
-        else tuple(
-            project_points(c, mesh_crs, output_crs, what="cuts")
-            for c, pid in zip(faces.curves, faces.ids, strict=True)
-            if pid is None
-        )
+    cuts = tuple(
+        project_points(c, mesh_crs, output_crs, what="cuts")
+        for c, pid in zip(faces.curves, faces.ids, strict=True)
+        if pid is None
     )
     mesh = Mesh(
         points,
@@ -326,19 +289,48 @@ def mesh_in_parts(
         {s.physical_id: s.name for s in domain.segments},
         {s.physical_id: s.kind for s in domain.segments},
     )
-    return mesh, PartsReport.of(parts, wanted, tasks, results, cuts)
+    if len(tasks) == 1:
+        tasks, results = [], []  # one part: nothing to report but the aim
+    centres = (
+        project_points(
+            np.array([t.centre for t in tasks]), mesh_crs, output_crs, what="parts"
+        )
+        if tasks
+        else np.empty((0, 2))
+    )
+    report = PartsReport.of(
+        parts, wanted, tasks, results, cuts, tuple(map(tuple, centres.tolist()))
+    )
+    return mesh, report
+
+
+def _check_args(domain: Any, size: Any, algorithm: str, seed: Any, parts: Any) -> None:
+    """Refuse arguments of the wrong type or value (see :func:`generate_mesh`)."""
+    if not isinstance(domain, Domain):
+        raise TypeError(f"domain is a {type(domain).__name__}, expected Domain")
+    if not isinstance(size, SizeGrid):
+        raise TypeError(f"size is a {type(size).__name__}, expected SizeGrid")
+    if algorithm not in ALGORITHMS:
+        raise ValueError(
+            f"algorithm is {algorithm!r}; pick one of {sorted(ALGORITHMS)}"
+        )
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise ValueError(f"seed is {seed!r}, expected an integer >= 0")
+    if parts != "auto" and (
+        isinstance(parts, bool) or not isinstance(parts, int | np.integer) or parts < 1
+    ):
+        raise ValueError(f'parts is {parts!r}, expected "auto" or an integer >= 1')
 
 
 def _cut(
-    rings: list, ids: list, size: SizeGrid, parts: int | str
-) -> tuple[Faces | None, int]:
-    """Cut the water into parts; return its faces (None: one part) and the aim."""
+    pieces: list, water: shapely.Polygon, size: SizeGrid, parts: int | str
+) -> tuple[list, list[NDArray[np.float64]], int]:
+    """Cut the water into parts: the pieces joined to the cuts, chords, aim."""
     if parts == 1:
-        return None, 1
-    pieces, water = ring_pieces(rings, ids)
+        return pieces, [], 1
     wanted = auto_parts(water, size) if parts == "auto" else int(parts)
     if wanted == 1:
-        return None, 1
+        return pieces, [], 1
     ends = np.array([p[i] for p, _ in pieces for i in (0, -1)])
     cuts = cut_lines(water, size, wanted, ends=ends)
     if parts != "auto" and len(cuts) < wanted - 1:
@@ -348,80 +340,10 @@ def _cut(
             f"and of each other) at only {len(cuts)} places; meshing "
             f"{len(cuts) + 1} parts",
             PartsWarning,
-            stacklevel=3,
+            stacklevel=4,
         )
-    if not cuts:
-        return None, wanted
-    faces = split_faces(pieces, water, cuts)
-    return (faces if len(faces.faces) > 1 else None), wanted
-
-
-def _run_gmsh(
-    gmsh: Any,
-    rings: list[list[list[NDArray[np.float64]]]],
-    ids: list[list[int]],
-    size: SizeGrid,
-    surface_id: int,
-    seed: int,
-    algorithm: str,
-    optimize: bool,
-    step: Callable[[int], None],
-    *,
-    threads: int = 1,
-) -> tuple[NDArray, NDArray, NDArray, NDArray]:
-    """Build the one-part model, mesh it, and return its arrays."""
-    try:
-        set_options(gmsh, threads=threads, seed=seed, algorithm=algorithm)
-        curve_ids = _build_model(gmsh, rings, ids, surface_id)
-        bounds = shapely.MultiPoint(
-            np.concatenate([p for ring in rings for seg in ring for p in seg])
-        ).bounds
-        add_size_view(gmsh, size, bounds)
-        gmsh.model.mesh.generate(1)
-        step(2)
-        gmsh.model.mesh.generate(2)
-        if optimize:
-            gmsh.model.mesh.optimize("Relocate2D")
-        return mesh_arrays(gmsh, curve_ids)
-    except MeshingError:
-        raise
-    except Exception as exc:  # gmsh raises bare Exception with its last error
-        raise MeshingError(f"Gmsh failed: {exc}") from exc
-
-
-def _build_model(
-    gmsh: Any,
-    rings: list[list[list[NDArray[np.float64]]]],
-    ids: list[list[int]],
-    surface_id: int,
-) -> dict[int, int]:
-    """Add points, curves, the surface and physical groups; return curve -> id."""
-    geo = gmsh.model.geo
-    curve_ids: dict[int, int] = {}
-    loops = []
-    for ring, ring_ids in zip(rings, ids, strict=True):
-        pieces = chunked(
-            [(p, pid) for seg, pid in zip(ring, ring_ids, strict=True) for p in seg]
-        )
-        first = geo.addPoint(*pieces[0][0][0], 0.0)
-        start = first
-        curves = []
-        for k, (piece, pid) in enumerate(pieces):
-            inner = [geo.addPoint(x, y, 0.0) for x, y in piece[1:-1]]
-            end = first if k == len(pieces) - 1 else geo.addPoint(*piece[-1], 0.0)
-            tags = [start, *inner, end]
-            curve = geo.addLine(*tags) if len(tags) == 2 else geo.addSpline(tags)
-            curve_ids[curve] = pid
-            curves.append(curve)
-            start = end
-        loops.append(geo.addCurveLoop(curves))
-    surface = geo.addPlaneSurface(loops)
-    geo.synchronize()
-    for pid in sorted(set(curve_ids.values())):
-        curves = [c for c, p in curve_ids.items() if p == pid]
-        gmsh.model.addPhysicalGroup(1, curves, tag=pid)
-    gmsh.model.addPhysicalGroup(2, [surface], tag=surface_id)
-    return curve_ids
+    pieces, chords = join_cuts(pieces, water, cuts)
+    return pieces, chords, wanted
 
 
 def _signed_areas(points: NDArray[np.float64], triangles: NDArray[np.int64]) -> NDArray:

@@ -87,6 +87,8 @@ class PartTask:
     optimize : bool
     expected : float
         The part's expected triangle count.
+    centre : (float, float)
+        A point inside the part, in the meshing CRS (for labels).
     """
 
     index: int
@@ -100,6 +102,7 @@ class PartTask:
     algorithm: str
     optimize: bool
     expected: float
+    centre: tuple[float, float] = (0.0, 0.0)
 
     @property
     def label(self) -> str:
@@ -164,7 +167,7 @@ def part_tasks(
     for i, pid in enumerate(faces.ids):
         if pid is not None:
             continue
-        chain = resample_segment(faces.curves[i], size_at, points_per_edge=1.0)
+        chain = resample_segment(faces.curves[i], size_at, points_per_edge=1.0, up=True)
         keys = [(float(x), float(y)) for x, y in chain]
         chains[i] = chain, np.array([numbers.setdefault(k, len(numbers)) for k in keys])
     tasks = []
@@ -195,6 +198,7 @@ def part_tasks(
                 algorithm=algorithm,
                 optimize=optimize,
                 expected=expected_triangles(polygon, size),
+                centre=tuple(np.asarray(polygon.point_on_surface().coords)[0]),
             )
         )
     return tasks
@@ -209,6 +213,9 @@ def _ring(loop: Sequence[int], curves: tuple) -> NDArray[np.float64]:
 def mesh_part(task: PartTask) -> PartMesh:
     """Mesh one part alone, in a Gmsh session of its own.
 
+    Every curve is a chain of straight 2-node lines through its points: the
+    points are the boundary's nodes, and Gmsh meshes only the inside.
+
     Raises
     ------
     MeshingError
@@ -218,50 +225,62 @@ def mesh_part(task: PartTask) -> PartMesh:
     with gmsh_session() as gmsh:
         try:
             set_options(gmsh, threads=1, seed=task.seed, algorithm=task.algorithm)
-            curve_ids, fixed = _build_part(gmsh, task)
+            _build_part(gmsh, task)
             xy = np.concatenate(task.curves)
             add_size_view(gmsh, task.size, (*xy.min(axis=0), *xy.max(axis=0)))
-            gmsh.model.mesh.generate(1)
             gmsh.model.mesh.generate(2)
             if task.optimize:
                 gmsh.model.mesh.optimize("Relocate2D")
-            node_of = {
-                key: int(gmsh.model.mesh.getNodes(0, point)[0][0])
-                for point, key in fixed.items()
-            }
-            arrays, tags = mesh_arrays(gmsh, curve_ids, return_tags=True)
+            points, triangles = mesh_arrays(gmsh)
         except MeshingError as exc:
             raise MeshingError(f"{task.label}: {exc}") from exc
         except Exception as exc:  # gmsh raises bare Exception with its last error
             raise MeshingError(f"{task.label}: Gmsh failed: {exc}") from exc
-    points, triangles, edges, edge_ids = arrays
+    find = _Finder(points)
     shared = np.full(len(points), -1, dtype=np.int64)
-    where = np.searchsorted(tags, list(node_of.values()))
-    shared[where] = list(node_of.keys())
+    edges, edge_ids = [], []
+    for c, pid, numbers in zip(task.curves, task.ids, task.shared, strict=True):
+        nodes = find(c, task)
+        if pid is None:
+            shared[nodes] = numbers
+        else:
+            edges.append(np.column_stack([nodes[:-1], nodes[1:]]))
+            edge_ids.append(np.full(len(nodes) - 1, pid, dtype=np.int64))
     return PartMesh(
         task.index,
         points,
         triangles,
-        edges,
-        edge_ids,
+        np.concatenate(edges) if edges else np.empty((0, 2), np.int64),
+        np.concatenate(edge_ids) if edge_ids else np.empty(0, np.int64),
         shared,
         round(time.perf_counter() - started, 3),
         f"{socket.gethostname()}:{os.getpid()}",
     )
 
 
-def _build_part(gmsh: Any, task: PartTask) -> tuple[dict[int, int], dict[int, int]]:
-    """Add the part's points, curves and surface; return its tagged curves.
+class _Finder:
+    """Find given points among the mesh nodes, exactly.
 
-    A cut becomes a chain of straight 2-node lines through its fixed nodes.
-
-    Returns
-    -------
-    curve_ids : dict of int to int
-        Gmsh curve tag -> physical id, for the tagged curves.
-    fixed : dict of int to int
-        Gmsh point tag -> shared number, for the points of cuts.
+    A boundary node is a Gmsh point, at the very coordinates it was given.
     """
+
+    def __init__(self, points: NDArray[np.float64]) -> None:
+        # complex numbers sort by real part, then imaginary: (x, y) order
+        self.keys = points[:, 0] + 1j * points[:, 1]
+        self.order = np.argsort(self.keys, kind="stable")
+        self.sorted = self.keys[self.order]
+
+    def __call__(self, xy: NDArray[np.float64], task: PartTask) -> NDArray[np.int64]:
+        want = xy[:, 0] + 1j * xy[:, 1]
+        at = np.clip(np.searchsorted(self.sorted, want), 0, len(self.sorted) - 1)
+        found = self.order[at]
+        if not np.array_equal(self.keys[found], want):
+            raise MeshingError(f"{task.label}: Gmsh left out nodes of its boundary")
+        return found.astype(np.int64)
+
+
+def _build_part(gmsh: Any, task: PartTask) -> None:
+    """Add the part's points, its curves as 2-node lines, and its surface."""
     geo = gmsh.model.geo
     point: dict[tuple[float, float], int] = {}
 
@@ -271,22 +290,10 @@ def _build_part(gmsh: Any, task: PartTask) -> tuple[dict[int, int], dict[int, in
             point[key] = geo.addPoint(key[0], key[1], 0.0)
         return point[key]
 
-    curve_ids: dict[int, int] = {}
-    fixed: dict[int, int] = {}
-    chains: list[int] = []
-    made: list[list[int]] = []
-    for c, pid, shared in zip(task.curves, task.ids, task.shared, strict=True):
-        if pid is None:
-            tags = [tag(p) for p in c]
-            fixed.update(zip(tags, shared.tolist(), strict=True))
-            lines = [geo.addLine(a, b) for a, b in itertools.pairwise(tags)]
-            chains += lines
-        else:
-            inner = [geo.addPoint(x, y, 0.0) for x, y in c[1:-1]]
-            tags = [tag(c[0]), *inner, tag(c[-1])]
-            lines = [geo.addLine(*tags) if len(tags) == 2 else geo.addSpline(tags)]
-            curve_ids[lines[0]] = pid
-        made.append(lines)
+    made = [
+        [geo.addLine(a, b) for a, b in itertools.pairwise([tag(p) for p in c])]
+        for c in task.curves
+    ]
     loops = []
     for loop in task.loops:
         signed = []
@@ -295,24 +302,18 @@ def _build_part(gmsh: Any, task: PartTask) -> tuple[dict[int, int], dict[int, in
             signed += lines if s > 0 else [-t for t in reversed(lines)]
         loops.append(geo.addCurveLoop(signed))
     geo.addPlaneSurface(loops)
+    for line in itertools.chain.from_iterable(made):
+        geo.mesh.setTransfiniteCurve(line, 2)  # its two end nodes, nothing between
     geo.synchronize()
-    for line in chains:  # a cut's nodes are its points: no node between them
-        gmsh.model.mesh.setTransfiniteCurve(line, 2)
-    return curve_ids, fixed
 
 
-def mesh_arrays(
-    gmsh: Any, curve_ids: dict[int, int], *, return_tags: bool = False
-) -> Any:
-    """Return nodes, triangles and tagged edges of the meshed model.
-
-    Only the nodes triangles use are kept. With ``return_tags``, also the
-    Gmsh tag of each kept node, ascending.
+def mesh_arrays(gmsh: Any) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
+    """Return the meshed model's nodes that triangles use, and the triangles.
 
     Raises
     ------
     MeshingError
-        If Gmsh made no triangles, or boundary edges whose nodes no triangle uses.
+        If Gmsh made no triangles.
     """
     node_tags, node_xyz, _ = gmsh.model.mesh.getNodes()
     _, tri_nodes = gmsh.model.mesh.getElementsByType(2)
@@ -320,32 +321,13 @@ def mesh_arrays(
         raise MeshingError(
             f"Gmsh made no triangles: {gmsh.logger.getLastError() or 'no message'}"
         )
-    lines = [
-        (gmsh.model.mesh.getElementsByType(1, curve)[1], pid)
-        for curve, pid in curve_ids.items()
-    ]
     node_tags = node_tags.astype(np.int64)
-    order = np.argsort(node_tags)
-    node_tags, node_xyz = node_tags[order], node_xyz.reshape(-1, 3)[order]
     index = np.full(int(node_tags.max()) + 1, -1, dtype=np.int64)
     index[node_tags] = np.arange(len(node_tags))
     triangles = index[tri_nodes.astype(np.int64)].reshape(-1, 3)
-    flat = [n for n, _ in lines]
-    edges = index[np.concatenate(flat).astype(np.int64) if flat else np.empty(0, int)]
-    edges = edges.reshape(-1, 2)
-    edge_ids = np.concatenate(
-        [np.full(len(n) // 2, pid, dtype=np.int64) for n, pid in lines]
-        or [np.empty(0, np.int64)]
-    )
     used, renumber = np.unique(triangles, return_inverse=True)
-    lookup = np.full(len(node_tags), -1, dtype=np.int64)
-    lookup[used] = np.arange(len(used))
-    points = node_xyz[used, :2].copy()
-    edges = lookup[edges]
-    if (edges < 0).any():
-        raise MeshingError("Gmsh made boundary edges whose nodes no triangle uses")
-    arrays = (points, renumber.reshape(-1, 3), edges, edge_ids)
-    return (arrays, node_tags[used]) if return_tags else arrays
+    points = node_xyz.reshape(-1, 3)[used, :2].copy()
+    return points, renumber.reshape(-1, 3).astype(np.int64)
 
 
 def merge_parts(
@@ -411,6 +393,8 @@ class PartsReport(Report):
         Per part: expected and actual triangles, and Gmsh seconds.
     workers : tuple of str
         Per part: the host and process that meshed it.
+    centres : tuple of (float, float)
+        Per part: a point inside it, in the output CRS.
     """
 
     requested: int | str
@@ -420,6 +404,7 @@ class PartsReport(Report):
     triangles: tuple[int, ...]
     seconds: tuple[float, ...]
     workers: tuple[str, ...]
+    centres: tuple[tuple[float, float], ...] = ()
 
     @classmethod
     def of(
@@ -429,6 +414,7 @@ class PartsReport(Report):
         tasks: Sequence[PartTask],
         results: Sequence[PartMesh],
         cuts: tuple[NDArray[np.float64], ...],
+        centres: tuple[tuple[float, float], ...] = (),
     ) -> PartsReport:
         """Collect the report of a run (no tasks: one part)."""
         results = sorted(results, key=lambda p: p.index)
@@ -440,6 +426,7 @@ class PartsReport(Report):
             tuple(len(p.triangles) for p in results),
             tuple(p.seconds for p in results),
             tuple(p.worker for p in results),
+            centres,
         )
 
     @property

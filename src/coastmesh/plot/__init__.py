@@ -8,6 +8,7 @@
 :func:`domain_figure`              a domain, boundary segments coloured by id
 :func:`mesh_figure`                a mesh, boundary edges coloured by id
 :func:`mercator_figure`            a mesh in Mercator, whole and a detail
+:func:`parts_figure`               the cuts into parts, each part's cost
 :func:`size_figure`                a size field on a logarithmic scale
 :func:`channel_figure`             the width of the water, narrow channels
 :func:`quality_figure`             histograms of angles, ratios, edge sizes
@@ -31,6 +32,7 @@ from coastmesh.plot.mesh import (
     domain_figure,
     mercator_figure,
     mesh_figure,
+    parts_figure,
     size_figure,
 )
 from coastmesh.plot.pca import (
@@ -47,6 +49,7 @@ __all__ = [
     "domain_figure",
     "mercator_figure",
     "mesh_figure",
+    "parts_figure",
     "plot_raster_comparison",
     "plot_shoreline_overlay",
     "quality_figure",

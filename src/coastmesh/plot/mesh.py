@@ -20,9 +20,16 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from coastmesh.meshing.tasks import PartsReport
     from coastmesh.types import Domain, Mesh
 
-__all__ = ["domain_figure", "mercator_figure", "mesh_figure", "size_figure"]
+__all__ = [
+    "domain_figure",
+    "mercator_figure",
+    "mesh_figure",
+    "parts_figure",
+    "size_figure",
+]
 
 #: Above this many triangles the mesh figure draws the boundary only.
 MAX_DRAWN_TRIANGLES = 400_000
@@ -354,4 +361,65 @@ def mercator_figure(
     _legend(axes[0], {int(i): labels.get(int(i), "") for i in ids}, colours)
     if title:
         figure.suptitle(title)
+    return figure
+
+
+def parts_figure(
+    domain: Domain,
+    parts: PartsReport,
+    *,
+    crs: Any = None,
+    title: str | None = None,
+) -> Figure:
+    """Draw how the water was cut into parts: the cuts, and each part's cost.
+
+    Parameters
+    ----------
+    domain : coastmesh.types.Domain
+        The domain, in the CRS of ``parts``.
+    parts : coastmesh.meshing.tasks.PartsReport
+        From :func:`coastmesh.meshing.engine.mesh_in_parts`.
+    crs : pyproj.CRS or CRS-like, optional
+        The CRS of ``parts`` (the mesh's); default ``domain.crs``.
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The water, the cuts in red, and at a point in each part its number,
+        triangles and Gmsh seconds.
+    """
+    from matplotlib.collections import LineCollection
+    from matplotlib.figure import Figure
+
+    crs = domain.crs if crs is None else crs
+
+    def here(xy: Any) -> NDArray[np.float64]:
+        return reproject_points(np.asarray(xy, dtype=float), domain.crs, crs)
+
+    figure = Figure(figsize=(9, 8), layout="constrained")
+    ax = figure.add_subplot()
+    ax.fill(*here(domain.polygon.exterior.coords).T, color="#dbe9f6", zorder=0)
+    for ring in domain.polygon.interiors:
+        ax.fill(*here(ring.coords).T, color="white", zorder=0)
+    outline = [here(s.coords) for s in domain.segments]
+    ax.add_collection(LineCollection(outline, colors="0.45", linewidths=0.6))
+    ax.add_collection(
+        LineCollection(list(parts.cuts), colors="#c0392b", linewidths=1.6, zorder=3)
+    )
+    for k, (xy, n, t) in enumerate(
+        zip(parts.centres, parts.triangles, parts.seconds, strict=False)
+    ):
+        ax.annotate(
+            f"{k + 1}\n{n:,} tri\n{t:.1f} s",
+            xy,
+            ha="center",
+            va="center",
+            fontsize=7,
+            zorder=4,
+            bbox={"boxstyle": "round", "fc": "white", "ec": "0.6", "alpha": 0.8},
+        )
+    xy = np.concatenate(outline)
+    _frame(ax, (*xy.min(axis=0), *xy.max(axis=0)), crs)
+    ax.set_title(title or parts.summary(), fontsize=9)
     return figure

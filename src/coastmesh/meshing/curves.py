@@ -1,0 +1,114 @@
+"""The boundary nodes, made once by Gmsh's own 1-D mesher.
+
+Gmsh meshes each boundary piece (a spline through the points of
+:func:`~coastmesh.meshing.boundary.resample_rings`, at most
+:data:`~coastmesh.meshing.surfaces.CURVE_POINTS` points) from the size grid:
+equal steps of the integral of 1/h, rounded up, so no boundary edge is longer
+than its target. That is done here once, for the whole boundary, before the
+water is cut; the nodes are then fixed, and every part (or the whole water)
+is meshed inside them. So the boundary nodes, where the worst triangles of a
+coastal mesh sit, are the same however the water is cut, and a cut that ends
+on a boundary curve cannot move the nodes along it.
+"""
+
+from __future__ import annotations
+
+import itertools
+from typing import Any
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from coastmesh.errors import MeshingError
+from coastmesh.meshing.session import add_size_view, gmsh_session, set_options
+from coastmesh.meshing.surfaces import chunked
+from coastmesh.types import SizeGrid
+
+__all__ = ["boundary_nodes"]
+
+
+def boundary_nodes(
+    rings: list[list[list[NDArray[np.float64]]]],
+    ids: list[list[int]],
+    size: SizeGrid,
+    *,
+    threads: int = 1,
+) -> tuple[list[tuple[NDArray[np.float64], int]], shapely.Polygon]:
+    """Return the boundary as chains of its mesh nodes, and the water.
+
+    Parameters
+    ----------
+    rings : list of list of list of ndarray of shape (k, 2)
+        From :func:`~coastmesh.meshing.boundary.resample_rings`, in the
+        meshing CRS.
+    ids : list of list of int
+        Each ring's segments' physical ids.
+    size : SizeGrid
+        Target sizes in map units.
+    threads : int, default 1
+        Gmsh threads: separate pieces are meshed at once.
+
+    Returns
+    -------
+    pieces : list of (ndarray of shape (m, 2), int)
+        Per piece, in ring order, its nodes from end to end (the ends are the
+        piece's own end points) and its physical id.
+    water : shapely.Polygon
+        The polygon those nodes bound.
+
+    Raises
+    ------
+    MeshingError
+        If Gmsh fails.
+    """
+    with gmsh_session() as gmsh:
+        try:
+            set_options(gmsh, threads=threads, seed=0, algorithm="frontal-delaunay")
+            curves = _add_curves(gmsh, rings, ids)
+            xy = np.concatenate([p for p, _, _ in curves])
+            add_size_view(gmsh, size, (*xy.min(axis=0), *xy.max(axis=0)))
+            gmsh.model.mesh.generate(1)
+            pieces = []
+            for piece, pid, tag in curves:
+                _, coords, params = gmsh.model.mesh.getNodes(1, tag)
+                inner = coords.reshape(-1, 3)[np.argsort(params), :2]
+                pieces.append((np.vstack([piece[:1], inner, piece[-1:]]), pid))
+        except Exception as exc:  # gmsh raises bare Exception with its last error
+            raise MeshingError(f"Gmsh failed on the boundary: {exc}") from exc
+    starts = np.cumsum([0] + [len(r) for r in _ring_pieces(rings, ids)])
+    coords = [
+        np.concatenate([pieces[a][0][:1], *(p[1:] for p, _ in pieces[a:b])])
+        for a, b in itertools.pairwise(starts)
+    ]
+    return pieces, shapely.Polygon(coords[0], coords[1:])
+
+
+def _ring_pieces(rings: list, ids: list) -> list[list]:
+    """Return each ring's pieces, chunked, with their ids."""
+    return [
+        chunked(
+            [(p, pid) for seg, pid in zip(ring, ring_ids, strict=True) for p in seg]
+        )
+        for ring, ring_ids in zip(rings, ids, strict=True)
+    ]
+
+
+def _add_curves(
+    gmsh: Any, rings: list, ids: list
+) -> list[tuple[NDArray[np.float64], int, int]]:
+    """Add each ring's pieces as Gmsh splines; return (piece, id, curve tag)."""
+    geo = gmsh.model.geo
+    out = []
+    for pieces in _ring_pieces(rings, ids):
+        first = geo.addPoint(*pieces[0][0][0], 0.0)
+        start = first
+        for k, (piece, pid) in enumerate(pieces):
+            inner = [geo.addPoint(x, y, 0.0) for x, y in piece[1:-1]]
+            end = first if k == len(pieces) - 1 else geo.addPoint(*piece[-1], 0.0)
+            tags = [start, *inner, end]
+            curve = geo.addLine(*tags) if len(tags) == 2 else geo.addSpline(tags)
+            out.append((np.asarray(piece, dtype=np.float64), pid, curve))
+            start = end
+    geo.synchronize()
+    return out
