@@ -195,8 +195,9 @@ def test_time_step_relief_is_on_by_default_and_can_be_turned_off():
         parsed('[cleanup]\ntime_step = "yes"\n')
 
 
-def test_mesh_parts_are_one_by_default_auto_or_a_count():
-    assert parsed("").mesh.parts == 1
+def test_mesh_parts_are_auto_by_default_or_a_count():
+    assert parsed("").mesh.parts == "auto"
+    assert parsed("[mesh]\nparts = 1\n").mesh.parts == 1
     assert parsed('[mesh]\nparts = "auto"\n').mesh.parts == "auto"
     assert parsed("[mesh]\nparts = 4\n").mesh.parts == 4
     for bad in ("0", "2.5", '"many"', "true"):

@@ -206,3 +206,21 @@ def test_bad_parts_and_threads_are_refused():
         generate_mesh(_domain(), _grid(), parts=0)
     with pytest.raises(ValueError, match=r"parts is 1\.5"):
         generate_mesh(_domain(), _grid(), parts=1.5)
+
+
+def test_the_parts_figure_draws_every_cut_and_labels_every_part(monkeypatch):
+    from coastmesh import plot
+
+    monkeypatch.setattr(parts_module, "MIN_PART_TRIANGLES", 100)
+    _, report = mesh_in_parts(_domain(), _grid(), parts=3)
+    assert report.parts >= 3 and len(report.centres) == report.parts
+    water = shapely.Polygon(OUTER, [ISLAND])
+    assert all(water.contains(shapely.Point(c)) for c in report.centres)
+    figure = plot.parts_figure(_domain(), report)
+    ax = figure.axes[0]
+    cuts = ax.collections[-1]
+    assert len(cuts.get_segments()) == len(report.cuts) > 0
+    labels = [t.get_text() for t in ax.texts]
+    assert len(labels) == report.parts
+    pairs = zip(report.triangles, labels, strict=True)
+    assert all(f"{n:,} tri" in label for n, label in pairs)

@@ -2,6 +2,7 @@
 
 ========================  =====================================================
 :func:`generate_mesh`     Domain + SizeGrid -> Mesh, with Gmsh
+:func:`mesh_in_parts`     the same, in parts, with a :class:`PartsReport`
 :func:`default_mesh_crs`  the conformal CRS meshes are made in by default
 :func:`sample_size`       a size grid interpolated as Gmsh does
 :func:`resample_segment`  a polyline resampled to a target size
@@ -20,8 +21,10 @@ The types they take and return (:class:`~coastmesh.types.Domain`,
 :class:`~coastmesh.types.SizeGrid`, :class:`~coastmesh.types.Mesh`) live in
 :mod:`coastmesh.types`.
 
-Modules: ``engine`` (Gmsh), ``parts`` and ``surfaces`` (the water cut into
-parts, meshed at once as Gmsh surfaces sharing their cuts),
+Modules: ``engine`` (Gmsh), ``session`` (one Gmsh session and its options),
+``curves`` (the boundary nodes, made once), ``parts``, ``junctions`` and
+``surfaces`` (the water cut into parts), ``tasks`` (each part meshed alone,
+on any executor, and the parts merged by their shared nodes),
 ``projection`` (the meshing CRS and sizes in it), ``boundary`` (resampling),
 ``topology`` (boundary rings and strings),
 ``cleanup``, ``smoothing``, ``throttle``, ``depth``, ``quality``,
@@ -41,11 +44,12 @@ from coastmesh.meshing.boundary import (
 from coastmesh.meshing.cleanup import CleanupReport, clean_mesh
 from coastmesh.meshing.corners import CornerStats, SharpCorner, boundary_angles
 from coastmesh.meshing.depth import DEPTH_METHODS, DepthReport, depth_at_nodes
-from coastmesh.meshing.engine import generate_mesh
+from coastmesh.meshing.engine import PartsWarning, generate_mesh, mesh_in_parts
 from coastmesh.meshing.projection import default_mesh_crs, sample_size
 from coastmesh.meshing.quality import edge_quality, mesh_quality, triangle_quality
 from coastmesh.meshing.quality_report import QualityReport
 from coastmesh.meshing.smoothing import SmoothingReport, smooth_mesh, smooth_points
+from coastmesh.meshing.tasks import PartsReport
 from coastmesh.meshing.throttle import (
     THROTTLE_RATIO,
     ThrottleReport,
@@ -60,6 +64,8 @@ __all__ = [
     "CornerStats",
     "CourantStats",
     "DepthReport",
+    "PartsReport",
+    "PartsWarning",
     "QualityReport",
     "SharpCorner",
     "SmallIslandWarning",
@@ -73,6 +79,7 @@ __all__ = [
     "edge_quality",
     "element_time_steps",
     "generate_mesh",
+    "mesh_in_parts",
     "mesh_quality",
     "relieve_time_step",
     "resample_rings",

@@ -1,16 +1,18 @@
 """Where cuts meet the boundary: on a boundary node, never between two.
 
-The boundary reaches the mesher as chains of nodes, one per target edge
-(:func:`~coastmesh.meshing.boundary.resample_rings` at one point per edge),
-so its nodes are the same whether the water is meshed whole or in parts. A
-straight cut meets the boundary between two of those nodes; inserting the
-meeting point would leave a boundary edge as short as the rounding allows, and
-a sliver beside it. :func:`join_cuts` moves the nearer of the two nodes onto
-the meeting point instead (never a node that ends a piece: corners and the ends
-of segments stay), so the boundary keeps its spacing and every cut ends on a
-node. A later cut ending on an earlier one (a T) gets its end point as a node
-of the earlier cut. What comes out is noded linework that GEOS only has to
-polygonize; nothing is left to floating-point intersection.
+The boundary reaches the parts as fixed chains of nodes, made once
+(:mod:`~coastmesh.meshing.curves`), so its nodes are the same whether the
+water is meshed whole or in parts. A straight cut meets the boundary between
+two of those nodes; inserting the meeting point would leave a boundary edge
+as short as chance makes it, and a sliver beside it. :func:`join_cuts` moves
+the nearer of the two nodes onto the meeting point instead, so the boundary
+keeps its spacing and every cut ends on a node. A node that ends a piece (a
+corner, the end of a segment) never moves: if it is the nearer one, the point
+is added beside it (cuts keep half an edge from such nodes:
+:mod:`~coastmesh.meshing.parts`). A later cut ending on an earlier one (a T)
+gets its end point as a node of the earlier cut. What comes out is noded
+linework that GEOS only has to polygonize; nothing is left to floating-point
+intersection.
 """
 
 from __future__ import annotations
@@ -46,8 +48,8 @@ def join_cuts(
     Returns
     -------
     pieces : list of (ndarray, int)
-        The same pieces, a node moved onto each place a cut meets them (or, in
-        a piece of one edge, a node added there).
+        The same pieces, a node moved onto each place a cut meets them (or,
+        next to a piece's end, a node added there).
     chords : list of ndarray of shape (m, 2)
         Each crossing of the water by a cut, from boundary node (or T point) to
         boundary node (or T point), with the T points of later cuts as nodes.
@@ -114,19 +116,23 @@ def join_cuts(
 def _move(
     piece: NDArray[np.float64], joins: list[tuple[int, NDArray[np.float64]]]
 ) -> NDArray[np.float64]:
-    """Move the nearer inner node of each joined edge onto its join point."""
+    """Move the nearer node of each joined edge onto its join point.
+
+    If the nearer node ends the piece (a corner), the point is added between
+    them instead: moving the farther node would bend the boundary by more than
+    half an edge.
+    """
     piece = piece.copy()
     inserts = []
     moved: set[int] = set()
     last = len(piece) - 1
     for edge, point in joins:
-        choices = [i for i in (edge, edge + 1) if 0 < i < last and i not in moved]
-        if not choices:
-            inserts.append((edge + 1, point))  # a one-edge piece: add a node
-            continue
-        i = min(choices, key=lambda i: float(np.hypot(*(piece[i] - point))))
-        piece[i] = point
-        moved.add(i)
+        i = min((edge, edge + 1), key=lambda i: float(np.hypot(*(piece[i] - point))))
+        if 0 < i < last and i not in moved:
+            piece[i] = point
+            moved.add(i)
+        else:
+            inserts.append((edge + 1, point))
     for at, point in sorted(inserts, key=lambda t: -t[0]):
         piece = np.insert(piece, at, point, axis=0)
     return piece

@@ -19,9 +19,9 @@ it does: if none of the 9 is, 41 positions within 15 % are tried, then the
 same across the shorter side; a region with no clean cut is not cut (fewer
 parts, never thin triangles). A crossing makes thin
 triangles when it is under two target edges long, comes nearer the coast or
-an earlier cut than ``sin(35 deg) min(s, 2 h)`` at a distance ``s >= h`` from
-its end (it meets the coast at under 35 degrees, or runs along it; nearer its
-end, the coast's roughness below the size is noise), or ends
+an earlier cut than ``sin(35 deg) min(s, 2 h)`` at a distance ``s >= 2 h``
+from its end (it meets the coast at under 35 degrees, or runs along it; nearer
+its end, the coast's roughness below the size is noise), or ends
 within half an edge of the end of a boundary curve or within an edge of
 another cut's end. A region holding under twice :data:`MIN_PART_TRIANGLES` is
 not cut. Nothing is random: the same water, grid and ``K`` give the same
@@ -282,7 +282,7 @@ def _edges_across(
     target edge of one of ``coast[1]``'s points or within one of an earlier
     cut's end (``coast[2]``), or coming nearer the coast or an earlier cut
     (``coast[0]``, ``coast[3]``) than ``sin(35 deg) min(s, 2 h)`` at a distance
-    ``s >= h`` from its nearer end (it meets the coast at under 35 degrees, or runs
+    ``s >= 2 h`` from its nearer end (it meets the coast at under 35 degrees, or runs
     along it), adds :data:`_PENALTY`: it would make thin triangles. The
     crossings are returned too.
     """
@@ -322,7 +322,7 @@ def _edges_across(
         if coast[3]:  # earlier cuts count as coast: no thin strip between cuts
             earlier = shapely.multilinestrings(coast[3])
             gap = np.minimum(gap, shapely.distance(earlier, shapely.points(xy[1:-1])))
-        # within one target edge of its ends the coast's own roughness (below
+        # within two target edges of its ends the coast's own roughness (below
         # the size: the resampled boundary has two points per edge) is noise
         tight = (gap < 0.999 * need[1:-1]) & (s[1:-1] >= 2.0 * h[1:-1])
         score += edges + (_PENALTY if edges < 2.0 or near_end or tight.any() else 0)
