@@ -221,6 +221,7 @@ def test_the_parts_figure_draws_every_cut_and_labels_every_part(monkeypatch):
     cuts = ax.collections[-1]
     assert len(cuts.get_segments()) == len(report.cuts) > 0
     labels = [t.get_text() for t in ax.texts]
-    assert len(labels) == report.parts
-    pairs = zip(report.triangles, labels, strict=True)
+    big = [n for n in report.triangles if n >= 0.005 * sum(report.triangles)]
+    assert len(labels) == len(big) >= 3
+    pairs = zip(big, labels, strict=True)
     assert all(f"{n:,} tri" in label for n, label in pairs)
