@@ -52,6 +52,9 @@ def main() -> None:
                 "min_angle_p1": round(q.min_angle.p1, 2),
                 "radius_ratio_min": round(q.radius_ratio.min, 3),
                 "peak_memory_mb": result.report.peak_memory_mb,
+                "cleanup": None
+                if result.report.cleanup is None
+                else result.report.cleanup.summary(),
             }
         )
     )

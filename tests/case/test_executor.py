@@ -45,8 +45,13 @@ def test_a_dying_worker_is_replaced_and_its_task_run_again(tmp_path):
 
 
 def test_a_task_that_always_kills_its_worker_is_named():
-    with open_runner(2) as run, pytest.raises(MeshingError, match="task 1 of 2"):
+    with (
+        open_runner(2) as run,
+        pytest.raises(MeshingError, match="died twice while meshing task") as info,
+    ):
         run(_die, [0, 1])
+    assert "task 1 of 2" in str(info.value) and "task 2 of 2" in str(info.value)
+    assert "__main__" in str(info.value)  # the advice for scripts
 
 
 def test_an_unreachable_scheduler_is_a_clear_error_within_the_timeout():

@@ -129,17 +129,18 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
             for i, future in futures.items():
                 try:
                     results[i] = future.result()
-                except BrokenProcessPool as exc:
-                    if attempt == 1:
-                        raise MeshingError(
-                            f"{_label(items[i], i, len(items))}: its worker "
-                            f"process died twice ({exc}); nothing was written. "
-                            f"If this runs from a script: {_GUARD}"
-                        ) from exc
-                    broken.append(i)
+                except BrokenProcessPool:
+                    broken.append(i)  # this one, or one beside it, killed it
             pool.shutdown(wait=True, cancel_futures=True)
             if not broken:
                 break
+            if attempt == 1:
+                names = "; ".join(_label(items[i], i, len(items)) for i in broken[:3])
+                more = f" and {len(broken) - 3} more" if len(broken) > 3 else ""
+                raise MeshingError(
+                    f"a worker process died twice while meshing {names}{more}; "
+                    f"nothing was written. If this runs from a script: {_GUARD}"
+                )
             logger.warning("a worker process died; running %d parts again", len(broken))
             todo = broken
         return [results[i] for i in range(len(items))]
