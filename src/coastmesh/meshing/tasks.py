@@ -183,6 +183,7 @@ def part_tasks(
         polygon = shapely.Polygon(
             _ring(signed[0], curves), [_ring(h, curves) for h in signed[1:]]
         )
+        window = crop_grid(size, bounds)  # the same cells, over the part only
         tasks.append(
             PartTask(
                 index=index,
@@ -193,11 +194,11 @@ def part_tasks(
                     chains[g][1] if g in chains else np.empty(0, np.int64) for g in used
                 ),
                 loops=signed,
-                size=crop_grid(size, bounds),
+                size=window,
                 seed=seed,
                 algorithm=algorithm,
                 optimize=optimize,
-                expected=expected_triangles(polygon, size),
+                expected=expected_triangles(polygon, window),
                 centre=tuple(np.asarray(polygon.point_on_surface().coords)[0]),
             )
         )
