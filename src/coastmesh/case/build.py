@@ -118,6 +118,10 @@ def build_case(
     -----
     ``docs/python-api.md`` builds the Orkney case from Python, region by
     region, then plots the mesh and writes two formats.
+
+    A case meshed in several parts on several workers starts worker
+    processes, which import the main script again: call this from a script
+    under ``if __name__ == "__main__":`` (or pass ``workers=1``).
     """
     if workers is not None:
         _workers(workers)  # checked before any work
