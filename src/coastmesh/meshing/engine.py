@@ -152,17 +152,20 @@ def generate_mesh(
     map units, ``size.values * k``, before the boundary is resampled and Gmsh
     sees it; edge lengths measured on the ellipsoid then follow ``size``.
 
-    Each segment is projected to ``mesh_crs`` and resampled to one point per
-    local target edge (:func:`~coastmesh.meshing.boundary.resample_rings`:
-    equal steps of the integral of 1/h, end points and corners kept). Those
-    points are the boundary nodes: Gmsh gets each boundary edge as a straight
-    line meshed with its two end nodes only, so the boundary is discretised
-    once, here, the same way whether the water is meshed whole or in parts
-    (where a cut meets the boundary, the nearer node moves onto the meeting
-    point: :mod:`~coastmesh.meshing.junctions`). The size grid is handed to
-    Gmsh as a list-based post-processing view of quadrangles (bilinear
-    interpolation), padded to the part's bounds with the edge values, and used
-    as the background field; sizes from points, curvature and the boundary are
+    Each segment is projected to ``mesh_crs`` and resampled to about two
+    points per local target edge
+    (:func:`~coastmesh.meshing.boundary.resample_rings`), keeping end points
+    and corners. Gmsh's 1-D mesher then places the boundary nodes on splines
+    through those points, once, for the whole boundary
+    (:mod:`~coastmesh.meshing.curves`, integral of 1/h to a relative
+    precision of 1e-4), and the nodes are fixed: every boundary edge goes to
+    the 2-D mesher as a straight line with its two end nodes only, so the
+    boundary is the same whether the water is meshed whole or in parts (where
+    a cut meets the boundary, the nearer node moves onto the meeting point:
+    :mod:`~coastmesh.meshing.junctions`). The size grid is handed to Gmsh as a
+    list-based post-processing view of quadrangles (bilinear interpolation),
+    padded to the part's bounds with the edge values, and used as the
+    background field; sizes from points, curvature and the boundary are
     switched off. The run is reproducible: a fixed seed, fixed options; the
     same input gives the same arrays.
 

@@ -20,7 +20,14 @@ from numpy.typing import NDArray
 from coastmesh.errors import MeshingError
 from coastmesh.types import SizeGrid
 
-__all__ = ["ALGORITHMS", "add_size_view", "gmsh_session", "set_options"]
+__all__ = [
+    "ALGORITHMS",
+    "add_size_view",
+    "crop_grid",
+    "gmsh_session",
+    "grid_view_data",
+    "set_options",
+]
 
 logger = logging.getLogger("coastmesh.meshing.engine")
 
