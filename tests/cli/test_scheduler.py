@@ -46,21 +46,27 @@ def _case_file(path: Path, source: Path, parts: int, tmp_path: Path) -> Path:
     return path
 
 
+def _dask_and_local(run_cli, case, scheduler, workers, tmp_path):
+    """Run the case on the cluster and locally; return each mesh and parts report."""
+    out = {}
+    for how, args in {
+        "dask": ("--scheduler", scheduler),
+        "local": ("--workers", workers),
+    }.items():
+        folder = tmp_path / how
+        result = run_cli("run", case, "-o", folder, *args)
+        assert result.exit_code == 0, result.output
+        report = json.loads((folder / "report.json").read_text())
+        out[how] = next(folder.glob("*.msh")).read_bytes(), report["parts"]
+    return out
+
+
 @pytest.mark.filterwarnings("ignore::UserWarning")
 def test_a_cluster_makes_the_mesh_a_local_run_makes(run_cli, scheduler, tmp_path):
     case = _case_file(tmp_path / "case.toml", ORKNEY, 3, tmp_path)
-    meshes = {}
-    for how, args in {
-        "dask": ("--scheduler", scheduler),
-        "local": ("--workers", "1"),
-    }.items():
-        out = tmp_path / how
-        result = run_cli("run", case, "-o", out, *args)
-        assert result.exit_code == 0, result.output
-        meshes[how] = next(out.glob("*.msh")).read_bytes()
-        report = json.loads((out / "report.json").read_text())
-        assert report["parts"]["parts"] >= 3
-    assert meshes["dask"] == meshes["local"]  # byte for byte
+    runs = _dask_and_local(run_cli, case, scheduler, "1", tmp_path)
+    assert all(parts["parts"] >= 3 for _, parts in runs.values())
+    assert runs["dask"][0] == runs["local"][0]  # byte for byte
 
 
 @pytest.mark.slow
@@ -69,18 +75,10 @@ def test_the_intermediate_shelf_on_a_cluster_is_the_local_mesh(
     run_cli, scheduler, tmp_path
 ):
     case = _case_file(tmp_path / "shelf.toml", SHELF, 4, tmp_path)
-    meshes = {}
-    for how, args in {
-        "dask": ("--scheduler", scheduler),
-        "local": ("--workers", "2"),
-    }.items():
-        out = tmp_path / how
-        result = run_cli("run", case, "-o", out, *args)
-        assert result.exit_code == 0, result.output
-        meshes[how] = next(out.glob("*.msh")).read_bytes()
-        parts = json.loads((out / "report.json").read_text())["parts"]
+    runs = _dask_and_local(run_cli, case, scheduler, "2", tmp_path)
+    for _, parts in runs.values():
         assert parts["parts"] >= 4 and len(parts["workers"]) == 2
-    assert meshes["dask"] == meshes["local"]
+    assert runs["dask"][0] == runs["local"][0]
 
 
 def test_an_unreachable_scheduler_fails_fast_and_writes_nothing(

@@ -9,7 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from coastmesh.errors import MeshingError
-from coastmesh.meshing.surfaces import ring_pieces, split_faces
+from coastmesh.meshing.curves import boundary_nodes
+from coastmesh.meshing.surfaces import split_faces
 from coastmesh.meshing.tasks import (
     PartMesh,
     PartsReport,
@@ -98,8 +99,12 @@ def test_each_part_alone_keeps_the_cut_nodes_it_was_given():
         np.arange(-100.0, 2101, 100),
         np.full((23, 43), 60.0),
     )
-    # one segment, a straight piece per side (corners end Gmsh's splines)
-    pieces, water = ring_pieces([[[outer[i : i + 2] for i in range(4)]]], [[5]])
+    # one segment, a straight piece per side (corners end Gmsh's splines),
+    # its nodes placed once by Gmsh's 1-D mesher: about 60 m apart
+    sides = [[[outer[i : i + 2] for i in range(4)]]]
+    pieces, water = boundary_nodes(sides, [[5]], grid)
+    steps = np.hypot(*np.diff(np.concatenate([p for p, _ in pieces]), axis=0).T)
+    assert 40 < steps[steps > 0].min() and steps.max() <= 60 * 1.01
     faces = split_faces(pieces, water, [shapely.LineString([(2010, -5), (2010, 2005)])])
     tasks = part_tasks(faces, grid, seed=0, algorithm="frontal-delaunay", optimize=True)
     assert len(tasks) == 2 and "part 1 of 2" in tasks[0].label

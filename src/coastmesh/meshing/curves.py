@@ -65,7 +65,8 @@ def boundary_nodes(
     with gmsh_session() as gmsh:
         try:
             set_options(gmsh, threads=threads, seed=0, algorithm="frontal-delaunay")
-            curves = _add_curves(gmsh, rings, ids)
+            by_ring = _ring_pieces(rings, ids)
+            curves = _add_curves(gmsh, by_ring)
             xy = np.concatenate([p for p, _, _ in curves])
             add_size_view(gmsh, size, (*xy.min(axis=0), *xy.max(axis=0)))
             gmsh.model.mesh.generate(1)
@@ -76,7 +77,7 @@ def boundary_nodes(
                 pieces.append((np.vstack([piece[:1], inner, piece[-1:]]), pid))
         except Exception as exc:  # gmsh raises bare Exception with its last error
             raise MeshingError(f"Gmsh failed on the boundary: {exc}") from exc
-    starts = np.cumsum([0] + [len(r) for r in _ring_pieces(rings, ids)])
+    starts = np.cumsum([0] + [len(r) for r in by_ring])
     coords = [
         np.concatenate([pieces[a][0][:1], *(p[1:] for p, _ in pieces[a:b])])
         for a, b in itertools.pairwise(starts)
@@ -95,12 +96,12 @@ def _ring_pieces(rings: list, ids: list) -> list[list]:
 
 
 def _add_curves(
-    gmsh: Any, rings: list, ids: list
+    gmsh: Any, by_ring: list[list]
 ) -> list[tuple[NDArray[np.float64], int, int]]:
     """Add each ring's pieces as Gmsh splines; return (piece, id, curve tag)."""
     geo = gmsh.model.geo
     out = []
-    for pieces in _ring_pieces(rings, ids):
+    for pieces in by_ring:
         first = geo.addPoint(*pieces[0][0][0], 0.0)
         start = first
         for k, (piece, pid) in enumerate(pieces):

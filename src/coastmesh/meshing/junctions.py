@@ -38,7 +38,7 @@ def join_cuts(
     ----------
     pieces : list of (ndarray of shape (k, 2), int)
         The boundary's pieces with their physical ids, as
-        :func:`~coastmesh.meshing.surfaces.ring_pieces` returns them.
+        :func:`~coastmesh.meshing.curves.boundary_nodes` returns them.
     water : shapely.Polygon
         The polygon they bound.
     cuts : list of shapely.LineString

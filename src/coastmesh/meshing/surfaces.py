@@ -22,7 +22,6 @@ __all__ = [
     "Faces",
     "canonical_order",
     "chunked",
-    "ring_pieces",
     "split_faces",
 ]
 
@@ -152,23 +151,6 @@ def chunked(pieces: list[tuple[NDArray, int]], most: int = CURVE_POINTS) -> list
         cuts = np.linspace(0, len(piece) - 1, n + 1).round().astype(int)
         out += [(piece[a : b + 1], pid) for a, b in itertools.pairwise(cuts)]
     return out
-
-
-def ring_pieces(rings: list, ids: list) -> tuple[list, shapely.Polygon]:
-    """Return the resampled rings as (piece, id) pairs, and the water."""
-    pieces = chunked(
-        [
-            (np.asarray(p, dtype=np.float64), pid)
-            for ring, ring_ids in zip(rings, ids, strict=True)
-            for seg, pid in zip(ring, ring_ids, strict=True)
-            for p in seg
-        ]
-    )
-    coords = [
-        np.concatenate([ring[0][0][:1], *(p[1:] for seg in ring for p in seg)])
-        for ring in rings
-    ]
-    return pieces, shapely.Polygon(coords[0], coords[1:])
 
 
 def canonical_order(
