@@ -12,7 +12,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from coastmesh.case.executor import open_runner
-from coastmesh.meshing import generate_mesh
+from coastmesh.meshing import CleanupOptions, generate_mesh
 from coastmesh.meshing import parts as parts_module
 from coastmesh.meshing.engine import PartsWarning, mesh_in_parts
 from coastmesh.meshing.parts import auto_parts, cut_lines, expected_triangles
@@ -142,8 +142,17 @@ def meshes():
         patch.setattr(parts_module, "MIN_PART_TRIANGLES", 100)
         out = {(k, "serial"): generate_mesh(domain, grid, parts=k) for k in (1, 3, 4)}
         out[(3, "backwards")] = generate_mesh(domain, grid, parts=3, runner=_backwards)
+        clean = CleanupOptions(max_valence=7)
+        for k in (1, 3):
+            out[(k, "clean")] = mesh_in_parts(domain, grid, parts=k, cleanup=clean)
+        out[(3, "clean-backwards")] = generate_mesh(
+            domain, grid, parts=3, runner=_backwards, cleanup=clean
+        )
         with open_runner(2) as pool:  # spawned workers: the real module constant
             out[(3, "pool")] = generate_mesh(domain, grid, parts=3, runner=pool)
+            out[(3, "clean-pool")] = generate_mesh(
+                domain, grid, parts=3, runner=pool, cleanup=clean
+            )
         return out
 
 
@@ -153,9 +162,10 @@ def test_small_regions_are_not_cut():
     assert cut_lines(water, _grid(120.0, 0.0), 4) == []
 
 
-@pytest.mark.parametrize("key", [(3, "serial"), (4, "serial")])
+@pytest.mark.parametrize("key", [(3, "serial"), (4, "serial"), (3, "clean")])
 def test_parts_give_one_conforming_mesh_with_the_same_boundary(meshes, key):
     one, many = meshes[(1, "serial")], meshes[key]
+    many = many[0] if isinstance(many, tuple) else many
     _, counts = np.unique(many.points, axis=0, return_counts=True)
     assert (counts == 1).all()  # no duplicate node
     t = many.triangles
@@ -182,9 +192,10 @@ def test_parts_give_one_conforming_mesh_with_the_same_boundary(meshes, key):
     assert (area > 0).all() and area.sum() == pytest.approx(water.area, rel=1e-9)
 
 
-@pytest.mark.parametrize("how", ["backwards", "pool"])
+@pytest.mark.parametrize("how", ["backwards", "pool", "clean-backwards", "clean-pool"])
 def test_the_mesh_does_not_depend_on_the_executor_or_order(meshes, how):
-    a, b = meshes[(3, "serial")], meshes[(3, how)]
+    a = meshes[(3, "clean")][0] if how.startswith("clean") else meshes[(3, "serial")]
+    b = meshes[(3, how)]
     np.testing.assert_array_equal(a.points, b.points)
     np.testing.assert_array_equal(a.triangles, b.triangles)
     np.testing.assert_array_equal(a.boundary_edges, b.boundary_edges)
@@ -225,3 +236,64 @@ def test_the_parts_figure_draws_every_cut_and_labels_every_part(monkeypatch):
     assert len(labels) == len(big) >= 3
     pairs = zip(big, labels, strict=True)
     assert all(f"{n:,} tri" in label for n, label in pairs)
+
+
+def _literal_stats(mesh, min_angle):
+    """Literal: each triangle's angles by the law of cosines, one at a time."""
+    boundary = set(mesh.boundary_edges.ravel().tolist())
+    valence, angles, ratios, all_boundary = {}, [], [], 0
+    for t in mesh.triangles.tolist():
+        p = [mesh.points[v] for v in t]
+        sides = [float(np.hypot(*(p[(i + 1) % 3] - p[(i + 2) % 3]))) for i in range(3)]
+        a, b, c = sides
+        corner = [
+            np.degrees(np.arccos((b * b + c * c - a * a) / (2 * b * c))),
+            np.degrees(np.arccos((c * c + a * a - b * b) / (2 * c * a))),
+            np.degrees(np.arccos((a * a + b * b - c * c) / (2 * a * b))),
+        ]
+        angles.append(min(corner))
+        s = (a + b + c) / 2
+        area = np.sqrt(s * (s - a) * (s - b) * (s - c))
+        ratios.append(2 * (area / s) / (a * b * c / (4 * area)))
+        all_boundary += all(v in boundary for v in t)
+        for v in t:
+            valence[v] = valence.get(v, 0) + 1
+    return {
+        "boundary_triangles": all_boundary,
+        "max_valence": max(n for v, n in valence.items() if v not in boundary),
+        "slivers": sum(x < min_angle for x in angles),
+        "min_angle": min(angles),
+        "min_angle_p1": float(np.percentile(angles, 1)),
+        "radius_ratio": min(ratios),
+    }
+
+
+@pytest.mark.parametrize("k", [1, 3])
+def test_cleaning_in_parts_reports_as_if_the_whole_mesh_was_cleaned(meshes, k):
+    # before: the merged Gmsh mesh (the same parts, uncleaned); after: the result
+    gmsh_mesh = meshes[(k, "serial")]
+    cleaned, report = meshes[(k, "clean")]
+    if k > 1:
+        assert report.parts == k and len(report.cleanup_seconds) == k
+    c = report.cleanup
+    for when, mesh in (("before", gmsh_mesh), ("after", cleaned)):
+        literal = _literal_stats(mesh, 20.0)
+        for name, value in literal.items():
+            assert getattr(c, f"{name}_{when}") == pytest.approx(value, abs=1e-6), name
+    assert c.smoothed_nodes > 0 and c.accepted in ("cleaned", "cleaned_partly")
+    assert c.min_angle_after >= c.min_angle_before
+    assert len(cleaned.points) - len(gmsh_mesh.points) == (
+        c.boundary_splits + c.boundary_edge_splits
+    )
+    # the nodes of the cuts did not move: the Gmsh mesh's are all still there
+    if report.cuts:
+        on_cut = (
+            shapely.distance(
+                shapely.MultiLineString(list(report.cuts)),
+                shapely.points(gmsh_mesh.points),
+            )
+            < 1e-6
+        )
+        kept = {tuple(xy) for xy in cleaned.points.tolist()}
+        assert on_cut.sum() > 10
+        assert all(tuple(xy) in kept for xy in gmsh_mesh.points[on_cut].tolist())

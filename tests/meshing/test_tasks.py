@@ -10,10 +10,10 @@ from hypothesis import strategies as st
 
 from coastmesh.errors import MeshingError
 from coastmesh.meshing.curves import boundary_nodes
+from coastmesh.meshing.parts_report import PartsReport
 from coastmesh.meshing.surfaces import split_faces
 from coastmesh.meshing.tasks import (
     PartMesh,
-    PartsReport,
     merge_parts,
     mesh_part,
     part_tasks,

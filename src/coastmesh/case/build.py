@@ -8,9 +8,9 @@ region, draw the open boundaries and build the domain
 4. the size field (:func:`coastmesh.sizing.domain_size_field`): gradations from
    named shoreline sets and open boundaries, bathymetry terms, a gradation
    limit, on a grid in the meshing CRS;
-5. mesh with Gmsh (:func:`~coastmesh.meshing.generate_mesh`; in parts, on a
-   process pool or a Dask cluster: :mod:`coastmesh.case.executor`), then clean up
-   (:func:`~coastmesh.meshing.clean_mesh`), put depths on the nodes
+5. mesh with Gmsh and clean up (:func:`~coastmesh.meshing.generate_mesh` and
+   :func:`~coastmesh.meshing.clean_mesh`, both part by part, on a process pool
+   or a Dask cluster: :mod:`coastmesh.case.executor`), put depths on the nodes
    (:func:`~coastmesh.meshing.depth_at_nodes`) and measure the quality
    (:func:`~coastmesh.meshing.mesh_quality`).
 
@@ -46,7 +46,7 @@ from coastmesh.case.result import CaseResult
 from coastmesh.errors import ConfigError
 from coastmesh.io import read_raster
 from coastmesh.meshing import (
-    clean_mesh,
+    CleanupOptions,
     default_mesh_crs,
     mesh_quality,
 )
@@ -192,6 +192,12 @@ def _build(
         sized = dataclasses.replace(sized, report=report)
     size = sized.field
     output_crs = CRS.from_user_input(config.mesh.output_crs or crs)
+    c = config.cleanup
+    cleanup = (
+        CleanupOptions(c.boundary_triangles, c.max_valence, c.min_angle, c.smooth)
+        if c.enabled
+        else None
+    )
     with timed("meshing") as progress:
         mesh, parts = mesh_in_parts(
             domain,
@@ -204,11 +210,12 @@ def _build(
             parts=config.mesh.parts,
             threads=threads,
             runner=runner,
+            cleanup=cleanup,
             progress=progress,
         )
     if parts.parts > 1:
         logger.info("parts: %s", parts.summary())
-    mesh, after = _after_meshing(config, mesh, timed, sized)
+    mesh, after = _after_meshing(config, mesh, timed, sized, parts.cleanup)
     from coastmesh import __version__
 
     report = CaseReport(
@@ -438,21 +445,18 @@ def _close_channels(
 
 
 def _after_meshing(
-    config: CaseConfig, mesh: Mesh, timed: StageFactory, sized: SizeField
+    config: CaseConfig,
+    mesh: Mesh,
+    timed: StageFactory,
+    sized: SizeField,
+    cleanup: Any,
 ) -> tuple[Mesh, dict[str, Any]]:
-    """Cleanup, depth at the nodes and quality, as the case asks."""
-    after: dict[str, Any] = {"cleanup": None, "depth": None, "quality": None}
+    """Depth at the nodes, time step and quality, as the case asks.
+
+    ``cleanup`` is the report of the cleanup done with the meshing, part by part.
+    """
+    after: dict[str, Any] = {"cleanup": cleanup, "depth": None, "quality": None}
     c = config.cleanup
-    if c.enabled:
-        with timed("cleanup"):
-            mesh, after["cleanup"] = clean_mesh(
-                mesh,
-                boundary_triangles=c.boundary_triangles,
-                max_valence=c.max_valence,
-                min_angle=c.min_angle,
-                smooth=c.smooth,
-            )
-        logger.info("cleanup: %s", after["cleanup"].summary())
     if config.bathymetry is not None:
         with timed("depth at the nodes") as progress:
             raster = depth_raster(config, progress)

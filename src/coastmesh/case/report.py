@@ -14,7 +14,7 @@ from coastmesh.meshing import (
     QualityReport,
     ThrottleReport,
 )
-from coastmesh.meshing.tasks import PartsReport
+from coastmesh.meshing.parts_report import PartsReport
 from coastmesh.sizing import SizeFieldReport
 from coastmesh.types import Mesh, Report
 
@@ -85,7 +85,7 @@ class CaseReport(Report):
         :class:`~coastmesh.meshing.quality.QualityReport`, where the case asks.
     parts : PartsReport or None
         How the water was cut into parts and what each cost
-        (:class:`~coastmesh.meshing.tasks.PartsReport`).
+        (:class:`~coastmesh.meshing.parts_report.PartsReport`).
     time_step : ThrottleReport or None
         The elements that throttled the time step, relieved
         (:func:`~coastmesh.meshing.relieve_time_step`); with ``[bathymetry]``

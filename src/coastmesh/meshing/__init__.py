@@ -41,15 +41,15 @@ from coastmesh.meshing.boundary import (
     resample_rings,
     resample_segment,
 )
-from coastmesh.meshing.cleanup import CleanupReport, clean_mesh
+from coastmesh.meshing.cleanup import CleanupOptions, CleanupReport, clean_mesh
 from coastmesh.meshing.corners import CornerStats, SharpCorner, boundary_angles
 from coastmesh.meshing.depth import DEPTH_METHODS, DepthReport, depth_at_nodes
 from coastmesh.meshing.engine import PartsWarning, generate_mesh, mesh_in_parts
+from coastmesh.meshing.parts_report import PartsReport
 from coastmesh.meshing.projection import default_mesh_crs, sample_size
 from coastmesh.meshing.quality import edge_quality, mesh_quality, triangle_quality
 from coastmesh.meshing.quality_report import QualityReport
 from coastmesh.meshing.smoothing import SmoothingReport, smooth_mesh, smooth_points
-from coastmesh.meshing.tasks import PartsReport
 from coastmesh.meshing.throttle import (
     THROTTLE_RATIO,
     ThrottleReport,
@@ -60,6 +60,7 @@ from coastmesh.meshing.timestep import CourantStats, TimeStepStats, element_time
 __all__ = [
     "DEPTH_METHODS",
     "THROTTLE_RATIO",
+    "CleanupOptions",
     "CleanupReport",
     "CornerStats",
     "CourantStats",

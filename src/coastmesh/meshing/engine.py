@@ -21,9 +21,11 @@ from pyproj import CRS
 
 from coastmesh.errors import CoastmeshWarning, MeshingError
 from coastmesh.meshing.boundary import check_boundary, resample_rings
+from coastmesh.meshing.cleanup_report import CleanupOptions, combine, stats
 from coastmesh.meshing.curves import boundary_nodes
 from coastmesh.meshing.junctions import join_cuts
 from coastmesh.meshing.parts import MIN_PART_TRIANGLES, auto_parts, cut_lines
+from coastmesh.meshing.parts_report import PartsReport
 from coastmesh.meshing.projection import (
     default_mesh_crs,
     project_points,
@@ -39,7 +41,6 @@ from coastmesh.meshing.surfaces import (
     split_faces,
 )
 from coastmesh.meshing.tasks import (
-    PartsReport,
     Runner,
     merge_parts,
     mesh_part,
@@ -69,6 +70,7 @@ def generate_mesh(
     parts: int | str = 1,
     threads: int = 1,
     runner: Runner | None = None,
+    cleanup: CleanupOptions | None = None,
     progress: Progress | None = None,
 ) -> Mesh:
     """Mesh a domain with triangles whose edge lengths follow a size grid.
@@ -111,6 +113,11 @@ def generate_mesh(
         anywhere: a process pool or a Dask cluster
         (:func:`coastmesh.case.executor.open_runner`). Default: one after the
         other in this process.
+    cleanup : CleanupOptions, optional
+        Clean each part where it is meshed
+        (:func:`~coastmesh.meshing.tasks.clean_part`:
+        :func:`~coastmesh.meshing.clean_mesh` with the nodes of the cuts held);
+        :func:`mesh_in_parts` reports what it did. Default: no cleanup.
     progress : callable, optional
         Called as ``progress(done, total)`` after each of the stages.
 
@@ -192,6 +199,7 @@ def generate_mesh(
         parts=parts,
         threads=threads,
         runner=runner,
+        cleanup=cleanup,
         progress=progress,
     )[0]
 
@@ -208,6 +216,7 @@ def mesh_in_parts(
     parts: int | str = 1,
     threads: int = 1,
     runner: Runner | None = None,
+    cleanup: CleanupOptions | None = None,
     progress: Progress | None = None,
 ) -> tuple[Mesh, PartsReport]:
     """:func:`generate_mesh`, also returning how the water was cut into parts.
@@ -218,8 +227,9 @@ def mesh_in_parts(
     -------
     mesh : Mesh
     parts : PartsReport
-        The parts, their cuts (in ``output_crs``), and each part's expected and
-        actual triangles and meshing time.
+        The parts, their cuts (in ``output_crs``), each part's expected and
+        actual triangles and meshing and cleanup time, and the cleanup's report
+        (``parts.cleanup``).
     """
     _check_args(domain, size, algorithm, seed, parts)
     mesh_crs = default_mesh_crs(domain) if mesh_crs is None else CRS(mesh_crs)
@@ -253,7 +263,12 @@ def mesh_in_parts(
     pieces, chords, wanted = _cut(pieces, water, map_size, parts)
     faces = split_faces(pieces, water, [shapely.LineString(c) for c in chords])
     tasks = part_tasks(
-        faces, map_size, seed=int(seed), algorithm=algorithm, optimize=optimize
+        faces,
+        map_size,
+        seed=int(seed),
+        algorithm=algorithm,
+        optimize=optimize,
+        cleanup=cleanup,
     )
     step(2)
     if len(tasks) > 1:
@@ -263,6 +278,13 @@ def mesh_in_parts(
         results = [mesh_part(tasks[0])]
     arrays = merge_parts(results)
     points, triangles, edges, edge_ids = canonical_order(*arrays)
+    cleaned = None
+    if cleanup is not None:  # the "after" numbers, measured on the whole mesh
+        on_boundary = np.zeros(len(points), dtype=bool)
+        on_boundary[edges.ravel()] = True
+        after = stats(points, triangles, on_boundary, cleanup.min_angle)
+        cleaned = combine([r.cleanup for r in results], after)
+        logger.info("cleanup: %s", cleaned.summary())
     step(3)
     target = sample_size(size, points)
     points = project_points(points, mesh_crs, output_crs, what="mesh nodes")
@@ -302,7 +324,13 @@ def mesh_in_parts(
         else np.empty((0, 2))
     )
     report = PartsReport.of(
-        parts, wanted, tasks, results, cuts, tuple(map(tuple, centres.tolist()))
+        parts,
+        wanted,
+        tasks,
+        results,
+        cuts,
+        tuple(map(tuple, centres.tolist())),
+        cleaned,
     )
     return mesh, report
 

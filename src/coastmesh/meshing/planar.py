@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["signed_areas", "smallest_r_in", "triangle_angles"]
+__all__ = ["radius_ratios", "signed_areas", "smallest_r_in", "triangle_angles"]
 
 
 def triangle_angles(xy: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -57,3 +57,20 @@ def smallest_r_in(xy: ArrayLike) -> float:
     xy = np.asarray(xy, dtype=float)
     sides = np.linalg.norm(xy - np.roll(xy, -1, axis=1), axis=2)
     return float((2 * np.abs(signed_areas(xy)) / sides.sum(axis=1)).min())
+
+
+def radius_ratios(xy: ArrayLike) -> NDArray[np.float64]:
+    """Return twice the inscribed over the circumscribed radius of triangles.
+
+    Triangles as (k, 3, 2) coordinates; ``16 A^2 / (P a b c)``, 1 for an
+    equilateral triangle, 0 for a flat one.
+
+    Examples
+    --------
+    >>> radius_ratios([[[0, 0], [2, 0], [1, 3 ** 0.5]], [[0, 0], [4, 0], [0, 3.0]]])
+    array([1. , 0.8])
+    """
+    xy = np.asarray(xy, dtype=float)
+    sides = np.linalg.norm(xy - np.roll(xy, -1, axis=1), axis=2)
+    area = signed_areas(xy)
+    return 16 * area**2 / np.maximum(sides.sum(axis=1) * sides.prod(axis=1), 1e-300)

@@ -17,6 +17,7 @@ depend on the executor or the worker count.
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import os
 import socket
@@ -31,7 +32,10 @@ from numpy.typing import NDArray
 
 from coastmesh.errors import MeshingError
 from coastmesh.meshing.boundary import resample_segment
+from coastmesh.meshing.cleanup import clean_mesh
+from coastmesh.meshing.cleanup_report import CleanupOptions, PartCleanup
 from coastmesh.meshing.parts import expected_triangles
+from coastmesh.meshing.planar import signed_areas
 from coastmesh.meshing.projection import sample_size
 from coastmesh.meshing.session import (
     add_size_view,
@@ -39,13 +43,15 @@ from coastmesh.meshing.session import (
     gmsh_session,
     set_options,
 )
+from coastmesh.meshing.smoothing import min_angles
 from coastmesh.meshing.surfaces import Faces
-from coastmesh.types import Report, SizeGrid
+from coastmesh.types import Mesh, SizeGrid
 
 __all__ = [
     "PartMesh",
     "PartTask",
     "Runner",
+    "clean_part",
     "merge_parts",
     "mesh_arrays",
     "mesh_part",
@@ -89,6 +95,8 @@ class PartTask:
         The part's expected triangle count.
     centre : (float, float)
         A point inside the part, in the meshing CRS (for labels).
+    cleanup : CleanupOptions or None
+        Clean the part's mesh, the nodes of its cuts held (:func:`clean_part`).
     """
 
     index: int
@@ -103,6 +111,7 @@ class PartTask:
     optimize: bool
     expected: float
     centre: tuple[float, float] = (0.0, 0.0)
+    cleanup: CleanupOptions | None = None
 
     @property
     def label(self) -> str:
@@ -121,7 +130,7 @@ class PartMesh:
 
     ``shared[i]`` is the shared number of node ``i`` if it lies on a cut, else
     -1. ``seconds`` is the Gmsh time of the part and ``worker`` the host and
-    process that made it.
+    process that made it; ``cleanup`` is what cleaning it did, if it was.
     """
 
     index: int
@@ -132,6 +141,7 @@ class PartMesh:
     shared: NDArray[np.int64]
     seconds: float
     worker: str
+    cleanup: PartCleanup | None = None
 
 
 def part_tasks(
@@ -141,6 +151,7 @@ def part_tasks(
     seed: int,
     algorithm: str,
     optimize: bool,
+    cleanup: CleanupOptions | None = None,
 ) -> list[PartTask]:
     """Return one task per face of water, its cuts discretised once.
 
@@ -152,6 +163,8 @@ def part_tasks(
         Target sizes in map units.
     seed, algorithm, optimize
         As :func:`~coastmesh.meshing.generate_mesh` takes them.
+    cleanup : CleanupOptions, optional
+        Clean each part where it is meshed.
 
     Returns
     -------
@@ -200,6 +213,7 @@ def part_tasks(
                 optimize=optimize,
                 expected=expected_triangles(polygon, window),
                 centre=tuple(np.asarray(polygon.point_on_surface().coords)[0]),
+                cleanup=cleanup,
             )
         )
     return tasks
@@ -212,7 +226,7 @@ def _ring(loop: Sequence[int], curves: tuple) -> NDArray[np.float64]:
 
 
 def mesh_part(task: PartTask) -> PartMesh:
-    """Mesh one part alone, in a Gmsh session of its own.
+    """Mesh one part alone, in a Gmsh session of its own; clean it if asked.
 
     Every curve is a chain of straight 2-node lines through its points: the
     points are the boundary's nodes, and Gmsh meshes only the inside.
@@ -247,7 +261,7 @@ def mesh_part(task: PartTask) -> PartMesh:
         else:
             edges.append(np.column_stack([nodes[:-1], nodes[1:]]))
             edge_ids.append(np.full(len(nodes) - 1, pid, dtype=np.int64))
-    return PartMesh(
+    part = PartMesh(
         task.index,
         points,
         triangles,
@@ -256,6 +270,45 @@ def mesh_part(task: PartTask) -> PartMesh:
         shared,
         round(time.perf_counter() - started, 3),
         f"{socket.gethostname()}:{os.getpid()}",
+    )
+    return part if task.cleanup is None else clean_part(part, task.cleanup)
+
+
+def clean_part(part: PartMesh, options: CleanupOptions) -> PartMesh:
+    """Return ``part`` cleaned (:func:`~coastmesh.meshing.clean_mesh`), its cuts held.
+
+    The nodes of the cuts neither move nor count as boundary or in the valence,
+    and an edge of a cut is never flipped or split (it has one triangle here),
+    so the neighbour's mesh still meets this one node for node. New nodes come
+    last; the meshing CRS is conformal, so angles are measured in it.
+    """
+    started = time.perf_counter()
+    on_cut = part.shared >= 0
+    on_cut[part.edges.ravel()] = False  # a cut's ends on the boundary are boundary
+    mesh = Mesh(part.points, part.triangles, part.edges, part.edge_ids, 1, None)
+    clean, report = clean_mesh(
+        mesh,
+        boundary_triangles=options.boundary_triangles,
+        max_valence=options.max_valence,
+        min_angle=options.min_angle,
+        smooth=options.smooth,
+        fixed=on_cut,
+    )
+    valence = np.bincount(part.triangles.ravel(), minlength=len(part.points))
+    shared = np.full(len(clean.points), -1, dtype=np.int64)
+    shared[: len(part.shared)] = part.shared
+    return dataclasses.replace(
+        part,
+        points=clean.points,
+        triangles=clean.triangles,
+        shared=shared,
+        cleanup=PartCleanup(
+            report,
+            min_angles(part.points, part.triangles),
+            part.shared[on_cut],
+            valence[on_cut],
+            round(time.perf_counter() - started, 3),
+        ),
     )
 
 
@@ -311,6 +364,8 @@ def _build_part(gmsh: Any, task: PartTask) -> None:
 def mesh_arrays(gmsh: Any) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     """Return the meshed model's nodes that triangles use, and the triangles.
 
+    The triangles are counter-clockwise in the model's plane.
+
     Raises
     ------
     MeshingError
@@ -328,7 +383,10 @@ def mesh_arrays(gmsh: Any) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
     triangles = index[tri_nodes.astype(np.int64)].reshape(-1, 3)
     used, renumber = np.unique(triangles, return_inverse=True)
     points = node_xyz.reshape(-1, 3)[used, :2].copy()
-    return points, renumber.reshape(-1, 3).astype(np.int64)
+    triangles = renumber.reshape(-1, 3).astype(np.int64)
+    clockwise = signed_areas(points[triangles]) < 0  # Gmsh's follow the surface's
+    triangles[clockwise] = triangles[clockwise][:, [0, 2, 1]]  # normal
+    return points, triangles
 
 
 def merge_parts(
@@ -376,111 +434,3 @@ def merge_parts(
         np.concatenate([n[p.edges] for n, p in zip(offsets, parts, strict=True)]),
         np.concatenate([p.edge_ids for p in parts]),
     )
-
-
-@dataclass(frozen=True, slots=True)
-class PartsReport(Report):
-    """How the water was cut into parts, and what each part cost.
-
-    Attributes
-    ----------
-    requested : int or "auto"
-        ``parts`` as given.
-    wanted : int
-        The number of parts aimed at (``"auto"`` resolved).
-    cuts : tuple of ndarray of shape (k, 2)
-        The pieces of cuts through the water, in the mesh's output CRS.
-    expected, triangles, seconds : tuple
-        Per part: expected and actual triangles, and Gmsh seconds.
-    workers : tuple of str
-        Per part: the host and process that meshed it.
-    centres : tuple of (float, float)
-        Per part: a point inside it, in the output CRS.
-    """
-
-    requested: int | str
-    wanted: int
-    cuts: tuple[NDArray[np.float64], ...]
-    expected: tuple[float, ...]
-    triangles: tuple[int, ...]
-    seconds: tuple[float, ...]
-    workers: tuple[str, ...]
-    centres: tuple[tuple[float, float], ...] = ()
-
-    @classmethod
-    def of(
-        cls,
-        requested: int | str,
-        wanted: int,
-        tasks: Sequence[PartTask],
-        results: Sequence[PartMesh],
-        cuts: tuple[NDArray[np.float64], ...],
-        centres: tuple[tuple[float, float], ...] = (),
-    ) -> PartsReport:
-        """Collect the report of a run (no tasks: one part)."""
-        results = sorted(results, key=lambda p: p.index)
-        return cls(
-            requested,
-            wanted,
-            cuts,
-            tuple(round(t.expected, 1) for t in tasks),
-            tuple(len(p.triangles) for p in results),
-            tuple(p.seconds for p in results),
-            tuple(p.worker for p in results),
-            centres,
-        )
-
-    @property
-    def parts(self) -> int:
-        """The number of parts meshed (1 when the water was not cut)."""
-        return max(len(self.triangles), 1)
-
-    def projected_speedup(self, cores: int) -> float:
-        """Return the meshing stage's speed-up on ``cores`` workers, from part times.
-
-        The parts are scheduled longest first onto the least loaded worker (as
-        a pool that hands out the next task to the first free worker does);
-        the speed-up is the serial time over the busiest worker's time. It
-        ignores start-up and data transfer, and is 1 for one part.
-
-        Examples
-        --------
-        >>> r = PartsReport(4, 4, (), (1.0,) * 4, (1,) * 4, (3.0, 1.0, 1.0, 1.0), ())
-        >>> r.projected_speedup(2), r.projected_speedup(4)
-        (2.0, 2.0)
-        """
-        if not self.seconds:
-            return 1.0
-        loads = np.zeros(max(int(cores), 1))
-        for t in sorted(self.seconds, reverse=True):
-            loads[int(np.argmin(loads))] += t
-        return float(sum(self.seconds) / loads.max())
-
-    def to_dict(self) -> dict[str, Any]:
-        """Return the report as JSON-ready values (the cuts as their count only)."""
-        return {
-            "requested": self.requested,
-            "wanted": self.wanted,
-            "parts": self.parts,
-            "cut_pieces": len(self.cuts),
-            "expected_triangles": list(self.expected),
-            "triangles": list(self.triangles),
-            "seconds": list(self.seconds),
-            "workers": sorted(set(self.workers)),
-            "projected_speedup": {
-                str(n): round(self.projected_speedup(n), 2) for n in (2, 8, 32)
-            },
-        }
-
-    def summary(self) -> str:
-        """One line: parts, balance, and the projected speed-ups."""
-        if not self.seconds:
-            return "1 part"
-        most = max(self.triangles)
-        return (
-            f"{self.parts} parts ({min(self.triangles):,} to {most:,} triangles, "
-            f"largest {most / float(np.mean(self.triangles)):.2f} x the mean), "
-            f"{sum(self.seconds):.1f} s of Gmsh on "
-            f"{len(set(self.workers))} workers; projected speed-up on 8 / 32 cores "
-            f"{self.projected_speedup(8):.1f} / {self.projected_speedup(32):.1f}"
-        )

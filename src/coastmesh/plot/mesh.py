@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from coastmesh.meshing.tasks import PartsReport
+    from coastmesh.meshing.parts_report import PartsReport
     from coastmesh.types import Domain, Mesh
 
 __all__ = [
@@ -378,7 +378,7 @@ def parts_figure(
     ----------
     domain : coastmesh.types.Domain
         The domain, in the CRS of ``parts``.
-    parts : coastmesh.meshing.tasks.PartsReport
+    parts : coastmesh.meshing.parts_report.PartsReport
         From :func:`coastmesh.meshing.engine.mesh_in_parts`.
     crs : pyproj.CRS or CRS-like, optional
         The CRS of ``parts`` (the mesh's); default ``domain.crs``.
