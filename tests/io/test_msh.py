@@ -6,6 +6,8 @@ import meshio
 import numpy as np
 import pytest
 import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from io_meshes import canonical, same_mesh, same_topology
 
 from coastmesh.errors import FormatError, InputDataError, OutputExistsError
@@ -201,3 +203,33 @@ def test_boundary_names_and_kinds_round_trip(tmp_path):
     back = read_msh(tmp_path / "m.msh")
     assert back.boundary_names == {1: "coast", 2: "north"}
     assert back.boundary_kinds == {1: "shoreline", 2: "open"}
+
+
+@settings(deadline=None, max_examples=30)
+@given(
+    n=st.integers(3, 400),
+    ids=st.lists(st.integers(1, 9), min_size=1, max_size=4),
+    named=st.booleans(),
+    scale=st.sampled_from([1e-9, 1.0, 7.3e5, -3.2e7]),
+    seed=st.integers(0, 2**16),
+)
+def test_ascii_22_is_the_bytes_meshio_writes(
+    tmp_path_factory, n, ids, named, scale, seed
+):
+    # the block writer against meshio's row-by-row writer: the same file
+    import meshio.gmsh
+
+    from coastmesh.io.msh import _to_meshio
+
+    rng = np.random.default_rng(seed)
+    points = rng.normal(size=(n, 2)) * scale
+    triangles = rng.integers(0, n, size=(2 * n, 3))
+    edges = rng.integers(0, n, size=(n // 2 + 1, 2))
+    edge_ids = np.array(ids)[rng.integers(0, len(ids), len(edges))]
+    names = {i: f"b{i}" for i in ids} if named else {}
+    kinds = dict.fromkeys(ids[:1], "open") if named else {}
+    m = Mesh(points, triangles, edges, edge_ids, 5, None, {}, names, kinds)
+    folder = tmp_path_factory.mktemp("msh")
+    write_msh(folder / "ours.msh", m)
+    meshio.gmsh.write(folder / "meshio.msh", _to_meshio(meshio, m), "2.2", binary=False)
+    assert (folder / "ours.msh").read_bytes() == (folder / "meshio.msh").read_bytes()

@@ -62,7 +62,7 @@ from coastmesh.sizing.domain import (
 from coastmesh.sizing.terms import ChannelSize, CourantSize, warn_narrow
 from coastmesh.types import Mesh, Progress, SizeGrid, StageFactory, quiet_stage
 
-__all__ = ["CLOSE_PASSES", "as_case", "build_case", "peak_memory_mb"]
+__all__ = ["CLOSE_PASSES", "as_case", "build_case", "peak_memory_mb", "worker_count"]
 
 #: Most times narrow channels are closed and the domain built again.
 CLOSE_PASSES = 2
@@ -124,14 +124,14 @@ def build_case(
     under ``if __name__ == "__main__":`` (or pass ``workers=1``).
     """
     if workers is not None:
-        _workers(workers)  # checked before any work
+        worker_count(workers)  # checked before any work
     config = as_case(case)
     if isinstance(config, StudyCase):
         raise ConfigError(
             f"{config.source}: a {config.kind} study writes its tables and figures; "
             "run it with coastmesh.run_case (or coastmesh run), not build_case"
         )
-    threads = _workers(workers if workers is not None else config.run.workers)
+    threads = worker_count(workers if workers is not None else config.run.workers)
     with open_runner(threads, scheduler or config.run.scheduler) as runner:
         return _build(config, stage, threads, runner)
 
@@ -253,7 +253,7 @@ def _build(
     return result
 
 
-def _workers(workers: int | None) -> int:
+def worker_count(workers: int | None) -> int:
     """``workers``, checked; None is every core this process may use."""
     if workers is None:
         cores = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else None

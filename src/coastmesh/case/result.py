@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import dataclasses
 import os
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -21,6 +20,7 @@ from pyproj import CRS
 from coastmesh import __version__
 from coastmesh.case.config import CaseConfig, OutputConfig
 from coastmesh.case.dump import dump_case
+from coastmesh.case.figures import FigureJobs, figure_jobs
 from coastmesh.case.report import CaseReport
 from coastmesh.geometry import OpenBoundary
 from coastmesh.io import (
@@ -139,6 +139,7 @@ class CaseResult:
         formats: tuple[str, ...] | list[str] | None = None,
         overwrite: bool = False,
         stage: StageFactory | None = None,
+        workers: int = 1,
     ) -> CaseResult:
         """Write the mesh formats, domain, size field, reports and figures.
 
@@ -158,6 +159,10 @@ class CaseResult:
             Whether a non-empty ``folder`` may be replaced.
         stage : callable, optional
             ``stage(label)`` returns a context manager (for a progress bar).
+        workers : int, default 1
+            Processes the figures are drawn on (spawned: a script that passes
+            more than 1 runs under ``if __name__ == "__main__":``), while this
+            one writes the mesh files. The files are the same for any number.
 
         Returns
         -------
@@ -182,6 +187,7 @@ class CaseResult:
             result.config.outputs,
             overwrite=overwrite,
             stage=stage,
+            workers=workers,
         )
         return dataclasses.replace(
             result,
@@ -198,6 +204,7 @@ def _write_case(
     *,
     overwrite: bool = False,
     stage: StageFactory | None = None,
+    workers: int = 1,
 ) -> list[str]:
     """Write every output of a case into ``folder``, atomically.
 
@@ -213,6 +220,8 @@ def _write_case(
         Whether a non-empty ``folder`` may be replaced.
     stage : callable, optional
         ``stage(label)`` returns a context manager, entered once.
+    workers : int, default 1
+        Processes to draw the figures on (:mod:`coastmesh.case.figures`).
 
     Returns
     -------
@@ -222,6 +231,9 @@ def _write_case(
     with (
         (stage or quiet_stage)("writing outputs"),
         atomic_directory(folder, overwrite=overwrite) as partial,
+        FigureJobs(
+            figure_jobs(result, outputs) if outputs.figures else [], partial, workers
+        ) as figures,
     ):
         files = _write_models(result, partial, outputs)
         if outputs.domain:
@@ -236,8 +248,7 @@ def _write_case(
                 partial / "quality.json", quality, summary=partial / "quality.txt"
             )
             files += ["quality.json", "quality.txt"]
-        if outputs.figures:
-            files += _write_figures(result, partial, outputs)
+        files += figures.files()
         write_case_copy(partial, result.config)
         files += ["case.toml", "report.json", "summary.txt"]
         report = dataclasses.replace(result.report, files=tuple(files))
@@ -328,79 +339,3 @@ def _layer(geometry: list[Any], crs: Any, **fields: list[Any]) -> Features:
         np.arange(len(geometry)),
         "<memory>",
     )
-
-
-def _write_figures(
-    result: CaseResult, folder: Path, outputs: OutputConfig
-) -> list[str]:
-    """Draw the domain, mesh, size, quality, depth and time-step figures."""
-    from coastmesh import plot
-
-    mesh, name, quality = result.mesh, result.name, result.report.quality
-    names = {s.physical_id: s.name for s in result.domain.segments}
-    figures: list[tuple[str, Callable[[], Any]]] = [
-        ("domain", lambda: plot.domain_figure(result.domain, title=f"{name}: domain")),
-        ("mesh", lambda: plot.mesh_figure(mesh, names=names, title=name)),
-        ("size", lambda: plot.size_figure(result.size, title=f"{name}: element size")),
-    ]
-    if result.channel_width is not None:
-        figures.append(
-            (
-                "channels",
-                lambda: plot.channel_figure(
-                    result.channel_width,
-                    report=result.report.size_field.channels,
-                    title=f"{name}: width of the water",
-                ),
-            )
-        )
-    parts = result.report.parts
-    if parts is not None and parts.parts > 1:
-        figures.append(
-            (
-                "parts",
-                lambda: plot.parts_figure(
-                    result.domain,
-                    parts,
-                    crs=mesh.crs,
-                    title=f"{name}: {parts.summary()}",
-                ),
-            )
-        )
-    if quality is not None:
-        figures.append(
-            (
-                "quality",
-                lambda: plot.quality_figure(
-                    mesh, quality, title=f"{name}: element quality"
-                ),
-            )
-        )
-    if "depth" in mesh.point_data:
-        courant = result.config.size.courant
-        dt = None if courant is None else courant.dt
-        velocity = 0.0 if courant is None else courant.velocity
-        figures += [
-            ("depth", lambda: plot.depth_figure(mesh, title=f"{name}: depth")),
-            (
-                "time_step",
-                lambda: plot.time_step_figure(
-                    mesh, dt=dt, velocity=velocity, title=f"{name}: time step"
-                ),
-            ),
-        ]
-    if outputs.detail is not None:
-        figures.append(
-            (
-                "mesh_mercator",
-                lambda: plot.mercator_figure(
-                    mesh, detail=outputs.detail, names=names, title=name
-                ),
-            )
-        )
-    (folder / "figures").mkdir()
-    files = []
-    for stem, draw in figures:
-        plot.save_figure(draw(), folder / "figures" / f"{stem}.png")
-        files.append(f"figures/{stem}.png")
-    return files

@@ -16,7 +16,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from coastmesh.case.build import as_case, build_case
+from coastmesh.case.build import as_case, build_case, worker_count
 from coastmesh.case.config import CaseConfig, StudyCase
 from coastmesh.case.result import CaseResult, write_case_copy
 from coastmesh.io import atomic_directory, check_directory
@@ -52,8 +52,8 @@ def run_case(
         ``progress(done, total)`` callback, entered once per stage.
     workers : int, optional
         Local processes the parts are meshed on (see
-        :func:`~coastmesh.case.build.build_case`); default ``[run] workers``,
-        else all cores.
+        :func:`~coastmesh.case.build.build_case`) and the figures drawn on;
+        default ``[run] workers``, else all cores.
     scheduler : str, optional
         A Dask scheduler's address: the parts are meshed on its cluster.
 
@@ -82,7 +82,9 @@ def run_case(
         return _run_study(config, target, overwrite, stage)
     started = time.perf_counter()
     result = build_case(config, stage=stage, workers=workers, scheduler=scheduler)
-    result = result.write(target, overwrite=overwrite, stage=stage)
+    # the figures are drawn on local processes, whatever meshed the parts
+    local = worker_count(workers if workers is not None else config.run.workers)
+    result = result.write(target, overwrite=overwrite, stage=stage, workers=local)
     result = dataclasses.replace(result, seconds=time.perf_counter() - started)
     logger.info("%s", result.summary())
     return result
