@@ -1,11 +1,12 @@
 """Meshing in parts on several processes: what it buys, stage by stage.
 
-Builds a case in memory (nothing is written) with ``--workers N`` worker
-processes and prints one JSON line: wall time, each stage's time, the parts,
-triangles, the quality figures the decomposition must not change, and the peak
-memory of this process and of the whole process tree (this process and its
-workers together, sampled every 0.2 s with psutil). The mesh is the
-same for any ``N`` (``[mesh] parts`` is taken from the case; ``--parts``
+Builds a case in memory (nothing is written; with ``--output DIR``, runs it
+end to end and writes its outputs there, as ``coastmesh run`` does) with
+``--workers N`` worker processes and prints one JSON line: wall time, each
+stage's time, the parts, triangles, the quality figures the decomposition must
+not change, and the peak memory of this process and of the whole process tree
+(this process and its workers together, sampled every 0.2 s with psutil). The
+mesh is the same for any ``N`` (``[mesh] parts`` is taken from the case; ``--parts``
 overrides it). Time two worker counts side by side with farm-bench::
 
     C=examples/nw_european_shelf/intermediate.toml
@@ -62,6 +63,7 @@ def main() -> None:
     parser.add_argument("case")
     parser.add_argument("--workers", type=int, default=None)
     parser.add_argument("--parts", default=None, help='"auto" or a count')
+    parser.add_argument("--output", default=None, help="write the outputs here")
     args = parser.parse_args()
     case = coastmesh.read_case(args.case)
     if args.parts is not None:
@@ -72,7 +74,12 @@ def main() -> None:
     started = time.perf_counter()
     with warnings.catch_warnings(), TreeMemory() as tree:
         warnings.simplefilter("ignore")
-        result = coastmesh.build_case(case, workers=args.workers)
+        if args.output is None:
+            result = coastmesh.build_case(case, workers=args.workers)
+        else:
+            result = coastmesh.run_case(
+                case, output=args.output, workers=args.workers, overwrite=True
+            )
     q = result.report.quality
     print(
         json.dumps(

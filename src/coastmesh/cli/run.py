@@ -37,9 +37,9 @@ __all__ = ["run"]
     "--workers",
     type=click.IntRange(min=1),
     default=None,
-    help="Processes to mesh the parts of the water on (default: [run] workers, "
-    "else all cores). The mesh is the same for any number: [mesh] parts in the "
-    "case sets how the water is cut.",
+    help="Processes to mesh and clean the parts of the water on, and to draw "
+    "the figures on (default: [run] workers, else all cores). The outputs are "
+    "the same for any number: [mesh] parts in the case sets how the water is cut.",
 )
 @click.option(
     "--scheduler",

@@ -113,16 +113,17 @@ def clean_mesh(
     before = stats(work.xy, mesh.triangles, work.on_boundary, min_angle, fixed)
     good = max(35.0, smoothing.percentile(work.angles, 5))  # the worst 5% move
     # (accepted, least angle and radius ratio a boundary fix leaves, least
-    # angle a valence flip leaves)
-    floors = [("cleaned", min_angle / 2, 0.0, 0.0)]
+    # angle and radius ratio a valence flip leaves)
+    rr = before["radius_ratio"]
+    floors = [("cleaned", min_angle / 2, 0.0, 0.0, 0.0)]
     if (boundary_triangles and before["boundary_triangles"]) or max_valence:
         # only the fixes and flips that keep the input's smallest angle and
         # radius ratio, then the fixes that keep its 1st percentile: one fix
         # that smoothing cannot make up for then no longer undoes the pass
-        least, rr = before["min_angle"], before["radius_ratio"]
-        floors.append(("cleaned_partly", max(min_angle / 2, least), rr, least))
+        least = before["min_angle"]
+        floors.append(("cleaned_partly", max(min_angle / 2, least), rr, least, rr))
         if boundary_triangles and before["min_angle_p1"] > floors[-1][1]:
-            floors.append(("cleaned_partly", before["min_angle_p1"], rr, least))
+            floors.append(("cleaned_partly", before["min_angle_p1"], rr, least, rr))
     for attempt, (accepted, *floor) in enumerate(floors):
         work = work if attempt == 0 else _Work(mesh, fixed, region)
         counts = work.clean(floor, boundary_triangles, max_valence, min_angle)
@@ -206,7 +207,7 @@ class _Work(EditableMesh):
         """Make every pass; return the report's counts of fixes.
 
         ``floor``: the least minimum angle and radius ratio a boundary fix
-        leaves, and the least angle a valence flip leaves (and the same ratio).
+        leaves, and the least angle and radius ratio a valence flip leaves.
         """
         fixes = self.fix_boundary_triangles(*floor[:2]) if boundary else (0, 0, 0)
         names = ("boundary_flips", "boundary_splits", "boundary_edge_splits")
@@ -214,7 +215,7 @@ class _Work(EditableMesh):
         counts["valence_flips"] = (
             0
             if max_valence is None
-            else self.reduce_valence(max_valence, min_angle, floor[2], floor[1])
+            else self.reduce_valence(max_valence, min_angle, floor[2], floor[3])
         )
         counts["sliver_flips"] = self.flip_slivers(min_angle, max_valence)
         return counts
