@@ -20,7 +20,9 @@ def test_figures_on_processes_are_the_same_files(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for workers in (1, 2):
-            out[workers] = run_case(case, output=tmp_path / str(workers), workers=workers)
+            out[workers] = run_case(
+                case, output=tmp_path / str(workers), workers=workers
+            )
     one, two = out[1], out[2]
     assert one.files == two.files
     figures = [f for f in one.files if f.startswith("figures/")]
@@ -28,7 +30,9 @@ def test_figures_on_processes_are_the_same_files(tmp_path):
     for name in one.files:
         if name in ("report.json", "summary.txt") or name.endswith(".gpkg"):
             continue  # they hold the run's times
-        assert (one.output / name).read_bytes() == (two.output / name).read_bytes(), name
+        assert (one.output / name).read_bytes() == (two.output / name).read_bytes(), (
+            name
+        )
 
 
 def test_a_figure_that_fails_on_a_worker_fails_the_write(tmp_path):

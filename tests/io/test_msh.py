@@ -224,8 +224,9 @@ def test_ascii_22_is_the_bytes_meshio_writes(
     rng = np.random.default_rng(seed)
     points = rng.normal(size=(n, 2)) * scale
     triangles = rng.integers(0, n, size=(2 * n, 3))
-    edges = rng.integers(0, n, size=(n // 2 + 1, 2))
-    edge_ids = np.array(ids)[rng.integers(0, len(ids), len(edges))]
+    chain = rng.permutation(n)[: n // 2 + 2]  # a chain of edges, an id per stretch
+    edges = np.column_stack([chain[:-1], chain[1:]])
+    edge_ids = np.sort(np.array(ids)[rng.integers(0, len(ids), len(edges))])
     names = {i: f"b{i}" for i in ids} if named else {}
     kinds = dict.fromkeys(ids[:1], "open") if named else {}
     m = Mesh(points, triangles, edges, edge_ids, 5, None, {}, names, kinds)
