@@ -297,3 +297,33 @@ def test_cleaning_in_parts_reports_as_if_the_whole_mesh_was_cleaned(meshes, k):
         kept = {tuple(xy) for xy in cleaned.points.tolist()}
         assert on_cut.sum() > 10
         assert all(tuple(xy) in kept for xy in gmsh_mesh.points[on_cut].tolist())
+
+
+@settings(deadline=None, max_examples=40)
+@given(
+    frac=st.floats(0.01, 0.99),
+    across_x=st.booleans(),
+    seed=st.integers(0, 2**16),
+)
+def test_the_clipped_crossing_is_the_whole_polygons(frac, across_x, seed):
+    # a jagged coast with islands: the line's wet part, clipped first or not
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    r = 5000 * (1 + 0.3 * rng.random(len(t)))
+    shell = np.column_stack([r * np.cos(t), r * np.sin(t)])
+    holes = [
+        c + 300 * np.column_stack([np.cos(t[::20]), np.sin(t[::20])])
+        for c in rng.uniform(-2500, 2500, (5, 2))
+    ]
+    water = shapely.make_valid(shapely.Polygon(shell, holes))
+    x0, y0, x1, y1 = water.bounds
+    if across_x:
+        at = x0 + frac * (x1 - x0)
+        line = shapely.LineString([(at, y0), (at, y1)])
+    else:
+        at = y0 + frac * (y1 - y0)
+        line = shapely.LineString([(x0, at), (x1, at)])
+    fast, literal = parts_module._wet(water, line), shapely.intersection(water, line)
+    assert shapely.get_num_geometries(fast) == shapely.get_num_geometries(literal)
+    assert fast.length == pytest.approx(literal.length, abs=1e-6)
+    assert shapely.hausdorff_distance(fast, literal) < 1e-6
