@@ -38,8 +38,8 @@ from coastmesh.case.depths import depth_raster, node_depths, relieve
 from coastmesh.case.executor import open_runner
 from coastmesh.case.inputs import (
     build_case_domain,
+    build_shoreline_set,
     read_shorelines,
-    shoreline_sets,
 )
 from coastmesh.case.report import CaseReport, MeshReport
 from coastmesh.case.result import CaseResult
@@ -154,7 +154,14 @@ def _build(
 
     with timed("reading shorelines"):
         features, crs = read_shorelines(config)
-    sets, set_reports = shoreline_sets(config, features, crs, runner, timed, threads)
+    sets, set_reports = {}, {}
+    for s in config.sets:
+        label = f"shoreline set {s.name!r} ({s.label})"
+        with timed(label) as progress:
+            sets[s.name], set_reports[s.name] = build_shoreline_set(
+                s, features, crs, config.shorelines.min_area, progress
+            )
+        logger.info("%s: %s", label, set_reports[s.name].summary())
     with timed("building the domain"):
         inputs = build_case_domain(config, sets, crs)
     domain = inputs.domain

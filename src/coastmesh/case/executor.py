@@ -88,13 +88,12 @@ def open_runner(
     if workers == 1:
         yield serial_runner
         return
-    pools: list[ProcessPoolExecutor | None] = []
+    pools: list[ProcessPoolExecutor] = []
     try:
         yield _pool_runner(workers, pools)
     finally:
         for pool in pools:
-            if pool is not None:
-                pool.shutdown(wait=True, cancel_futures=True)
+            pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _label(item: Any, index: int, count: int) -> str:
@@ -107,23 +106,16 @@ def _longest_first(items: Sequence[Any]) -> list[int]:
     )
 
 
-def _pool_runner(workers: int, pools: list[ProcessPoolExecutor | None]) -> Runner:
-    """Return a runner on a local process pool, replaced once if a worker dies.
+def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
+    """Return a runner on a local process pool, replaced once if a worker dies."""
 
-    The pool starts at the first call with more than one task and serves every
-    later call (its workers start once: a spawned worker takes a second or two
-    to import coastmesh); ``pools`` collects every pool made, to shut down.
-    """
-
-    def pool() -> ProcessPoolExecutor:
-        if not pools or pools[-1] is None:
-            # spawn: a worker starts clean, with no copy of this process's threads
-            pools.append(
-                ProcessPoolExecutor(
-                    max_workers=workers, mp_context=multiprocessing.get_context("spawn")
-                )
-            )
-        return pools[-1]
+    def new_pool(n: int) -> ProcessPoolExecutor:
+        # spawn: a worker starts clean, with no copy of this process's threads
+        pool = ProcessPoolExecutor(
+            max_workers=n, mp_context=multiprocessing.get_context("spawn")
+        )
+        pools.append(pool)
+        return pool
 
     def run(fn: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
         if len(items) <= 1:
@@ -131,16 +123,15 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor | None]) -> Runne
         results: dict[int, Any] = {}
         todo = _longest_first(items)
         for attempt in range(2):
-            futures = {i: pool().submit(fn, items[i]) for i in todo}
+            pool = new_pool(min(workers, len(todo)))
+            futures = {i: pool.submit(fn, items[i]) for i in todo}
             broken = []
             for i, future in futures.items():
                 try:
                     results[i] = future.result()
                 except BrokenProcessPool:
                     broken.append(i)  # this one, or one beside it, killed it
-            if broken:  # a new pool for the next call
-                pools[-1].shutdown(wait=True, cancel_futures=True)
-                pools.append(None)
+            pool.shutdown(wait=True, cancel_futures=True)
             if not broken:
                 break
             if attempt == 1:

@@ -58,15 +58,11 @@ __all__ = [
     "build_shoreline_set",
     "fill_lakes",
     "read_shorelines",
-    "shoreline_sets",
 ]
 
 logger = logging.getLogger(__name__)
 
 _LONLAT = CRS.from_epsg(4326)
-#: shorelines with fewer points are built in this process: starting the worker
-#: processes (a second or two) would cost more than building the sets there
-PARALLEL_SETS_POINTS = 200_000
 
 
 @dataclass(frozen=True, slots=True)
@@ -371,43 +367,3 @@ def _polyline(b: BoundaryConfig, where: str, crs: CRS) -> NDArray[np.float64]:
     if features.crs is not None:
         line = reproject(line, features.crs, crs)
     return shapely.get_coordinates(line)
-
-
-def shoreline_sets(
-    config: CaseConfig,
-    features: Any,
-    crs: CRS,
-    runner: Any,
-    timed: Any,
-    workers: int,
-) -> tuple[dict[str, Any], dict[str, Any]]:
-    """Build every shoreline set, one task each on the workers for big ones.
-
-    On the workers when there are several sets and the shorelines have at
-    least :data:`PARALLEL_SETS_POINTS` points.
-
-    ``runner`` runs the tasks (:func:`coastmesh.case.executor.open_runner`) and
-    ``timed(label)`` times a stage; returns the sets' land and reports by name.
-    """
-    sets, reports = {}, {}
-    points = int(shapely.get_num_coordinates(features.geometry).sum())
-    if workers > 1 and len(config.sets) > 1 and points >= PARALLEL_SETS_POINTS:
-        jobs = [(s, features, crs, config.shorelines.min_area) for s in config.sets]
-        with timed("shoreline sets"):
-            built = runner(_shoreline_set, jobs)
-        for s, (land, report) in zip(config.sets, built, strict=True):
-            sets[s.name], reports[s.name] = land, report
-            logger.info("shoreline set %r: %s", s.name, report.summary())
-    for s in config.sets if not sets else ():
-        label = f"shoreline set {s.name!r} ({s.label})"
-        with timed(label) as progress:
-            sets[s.name], reports[s.name] = build_shoreline_set(
-                s, features, crs, config.shorelines.min_area, progress
-            )
-        logger.info("%s: %s", label, reports[s.name].summary())
-    return sets, reports
-
-
-def _shoreline_set(job: tuple) -> tuple:
-    """Build one shoreline set from ``(set, features, crs, min_area)``: a task."""
-    return build_shoreline_set(*job)
