@@ -1,7 +1,8 @@
 """A case's figures: what to draw, drawn one after the other or on processes.
 
 Each figure is a job: the name of a :mod:`coastmesh.plot` function and its
-arguments. With ``workers > 1`` the jobs are drawn on a pool of that many
+arguments. With ``workers > 1`` and a mesh of at least
+:data:`POOL_MIN_TRIANGLES` triangles, the jobs are drawn on a pool of that many
 spawned processes (matplotlib draws in one thread: on the NW-shelf fine mesh
 the nine figures take 40 s one after the other), the longest first, while the
 calling process writes the mesh files; the files are the same either way.
@@ -19,8 +20,11 @@ from coastmesh.case.config import OutputConfig
 if TYPE_CHECKING:
     from coastmesh.case.result import CaseResult
 
-__all__ = ["FigureJobs", "figure_jobs"]
+__all__ = ["POOL_MIN_TRIANGLES", "FigureJobs", "figure_jobs"]
 
+#: meshes with fewer triangles have their figures drawn in this process:
+#: starting the worker processes (1-2 s each) would cost more than it saves
+POOL_MIN_TRIANGLES = 200_000
 #: the figures that draw every triangle first: they take longest
 _SLOW_FIRST = ("time_step", "quality", "domain", "parts", "mesh_mercator")
 

@@ -18,6 +18,7 @@ import shapely
 from pyproj import CRS
 
 from coastmesh import __version__
+from coastmesh.case import figures
 from coastmesh.case.config import CaseConfig, OutputConfig
 from coastmesh.case.dump import dump_case
 from coastmesh.case.figures import FigureJobs, figure_jobs
@@ -160,9 +161,10 @@ class CaseResult:
         stage : callable, optional
             ``stage(label)`` returns a context manager (for a progress bar).
         workers : int, default 1
-            Processes the figures are drawn on (spawned: a script that passes
-            more than 1 runs under ``if __name__ == "__main__":``), while this
-            one writes the mesh files. The files are the same for any number.
+            Processes the figures of a large mesh are drawn on
+            (:mod:`coastmesh.case.figures`; spawned: a script that passes more
+            than 1 runs under ``if __name__ == "__main__":``), while this one
+            writes the mesh files. The files are the same for any number.
 
         Returns
         -------
@@ -232,8 +234,10 @@ def _write_case(
         (stage or quiet_stage)("writing outputs"),
         atomic_directory(folder, overwrite=overwrite) as partial,
         FigureJobs(
-            figure_jobs(result, outputs) if outputs.figures else [], partial, workers
-        ) as figures,
+            figure_jobs(result, outputs) if outputs.figures else [],
+            partial,
+            workers if len(result.mesh.triangles) >= figures.POOL_MIN_TRIANGLES else 1,
+        ) as drawn,
     ):
         files = _write_models(result, partial, outputs)
         if outputs.domain:
@@ -248,7 +252,7 @@ def _write_case(
                 partial / "quality.json", quality, summary=partial / "quality.txt"
             )
             files += ["quality.json", "quality.txt"]
-        files += figures.files()
+        files += drawn.files()
         write_case_copy(partial, result.config)
         files += ["case.toml", "report.json", "summary.txt"]
         report = dataclasses.replace(result.report, files=tuple(files))

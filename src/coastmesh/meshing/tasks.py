@@ -17,7 +17,6 @@ depend on the executor or the worker count.
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 import os
 import socket
@@ -297,12 +296,16 @@ def clean_part(part: PartMesh, options: CleanupOptions) -> PartMesh:
     valence = np.bincount(part.triangles.ravel(), minlength=len(part.points))
     shared = np.full(len(clean.points), -1, dtype=np.int64)
     shared[: len(part.shared)] = part.shared
-    return dataclasses.replace(
-        part,
-        points=clean.points,
-        triangles=clean.triangles,
-        shared=shared,
-        cleanup=PartCleanup(
+    return PartMesh(
+        part.index,
+        clean.points,
+        clean.triangles,
+        part.edges,
+        part.edge_ids,
+        shared,
+        part.seconds,
+        part.worker,
+        PartCleanup(
             report,
             min_angles(part.points, part.triangles),
             part.shared[on_cut],
