@@ -101,10 +101,10 @@ def draw(path: Path, function: str, args: tuple, kwargs: dict[str, Any]) -> None
 
 
 class FigureJobs:
-    """Draw a case's figures into ``folder/figures``, started by :meth:`start`.
+    """Draw a case's figures into ``folder/figures``.
 
     ``with FigureJobs(jobs, folder, workers) as figures: ...`` starts the jobs
-    on a pool (``workers > 1``) and lets the caller work meanwhile;
+    on a pool when entered (``workers > 1``) and lets the caller work meanwhile;
     :meth:`files` waits for them (drawing them here if ``workers`` is 1) and
     returns their names. An error in any job is raised by :meth:`files`.
     """
