@@ -47,6 +47,7 @@ from coastmesh.meshing.tasks import (
     part_tasks,
     serial_runner,
 )
+from coastmesh.meshing.topology import unique_edges
 from coastmesh.types import Domain, Mesh, Progress, SizeGrid
 
 __all__ = ["ALGORITHMS", "PartsWarning", "generate_mesh", "mesh_in_parts"]
@@ -404,17 +405,13 @@ def _check_edges(
     directed = np.concatenate(
         [triangles[:, [0, 1]], triangles[:, [1, 2]], triangles[:, [2, 0]]]
     )
-    low, high = directed.min(axis=1), directed.max(axis=1)
-    undirected = low * n + high
-    # an edge of one triangle only is a boundary edge: its key is there once
-    # (one sort and two binary searches: np.isin on millions of keys sorts
-    # both arrays together, ten times slower)
-    s = np.sort(undirected)
-    once = np.ones(len(s), dtype=bool)
-    same = s[1:] == s[:-1]
-    once[1:] &= ~same
-    once[:-1] &= ~same
-    boundary = np.sort(directed[_member(undirected, s[once])] @ np.array([n, 1]))
+    undirected = directed.min(axis=1) * n + directed.max(axis=1)
+    # an edge of one triangle only is a boundary edge; its directed key is
+    # found by binary search (np.isin on millions of keys sorts both arrays
+    # together, ten times slower)
+    pairs, count = unique_edges(triangles, n)  # in increasing order of key
+    single = pairs[count == 1] @ np.array([n, 1])
+    boundary = np.sort(directed[_member(undirected, single)] @ np.array([n, 1]))
     forward = edges[:, 0] * n + edges[:, 1]
     flip = ~_member(forward, boundary)
     edges = edges.copy()
