@@ -285,7 +285,11 @@ def test_cleaning_in_parts_reports_as_if_the_whole_mesh_was_cleaned(meshes, k):
     assert len(cleaned.points) - len(gmsh_mesh.points) == (
         c.boundary_splits + c.boundary_edge_splits
     )
-    # the nodes of the cuts did not move: the Gmsh mesh's are all still there
+    # the coast's nodes never move; the cuts' were held in the parts and are
+    # smoothed once the parts are joined, so some of them move
+    kept = {tuple(xy) for xy in cleaned.points.tolist()}
+    coast = gmsh_mesh.points[np.unique(gmsh_mesh.boundary_edges)]
+    assert all(tuple(xy) in kept for xy in coast.tolist())
     if report.cuts:
         on_cut = (
             shapely.distance(
@@ -294,9 +298,8 @@ def test_cleaning_in_parts_reports_as_if_the_whole_mesh_was_cleaned(meshes, k):
             )
             < 1e-6
         )
-        kept = {tuple(xy) for xy in cleaned.points.tolist()}
-        assert on_cut.sum() > 10
-        assert all(tuple(xy) in kept for xy in gmsh_mesh.points[on_cut].tolist())
+        stayed = [tuple(xy) in kept for xy in gmsh_mesh.points[on_cut].tolist()]
+        assert on_cut.sum() > 10 and not all(stayed)
 
 
 @settings(deadline=None, max_examples=40)

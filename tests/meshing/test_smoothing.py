@@ -12,6 +12,7 @@ from scipy.spatial import Delaunay
 
 from coastmesh.errors import ConfigError
 from coastmesh.meshing import SmoothingReport, mesh_quality, smooth_mesh
+from coastmesh.meshing.planar import radius_ratios
 from coastmesh.meshing.smoothing import (
     _angle_gradient,
     boundary_nodes,
@@ -36,6 +37,18 @@ def _min_angle(xy, t):
     if min(angles) <= 0:
         return -1.0
     return math.degrees(min(angles))
+
+
+def _radius_ratio(xy, t):
+    """Twice the inscribed over the circumscribed radius of triangle t."""
+    a, b, c = (xy[v] for v in t)
+    sides = math.dist(a, b), math.dist(b, c), math.dist(c, a)
+    area = abs((b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])) / 2
+    if area == 0:
+        return 0.0
+    r_in = area / (sum(sides) / 2)
+    r_circ = sides[0] * sides[1] * sides[2] / (4 * area)
+    return 2 * r_in / r_circ
 
 
 def _gradient_at(xy, t, v):
@@ -94,6 +107,8 @@ def smooth_reference(xy, triangles, fixed, iterations, method, good_angle):
     while free and sweeps < iterations:
         sweeps += 1
         old = [_min_angle(xy, t) for t in tris]
+        old_ratio = [_radius_ratio(xy, t) for t in tris]
+        least_ratio = min(old_ratio)  # the mesh's worst, a floor for every move
         worst = {v: min(old[k] for k in star[v]) for v in free}
         nodes = [v for v in free if worst[v] < good_angle]
         if not nodes:
@@ -120,6 +135,7 @@ def smooth_reference(xy, triangles, fixed, iterations, method, good_angle):
                 and any(
                     _min_angle(trial, tris[k]) <= 0
                     or _min_angle(trial, tris[k]) < min(old[k], floor[v])
+                    or _radius_ratio(trial, tris[k]) < min(old_ratio[k], least_ratio)
                     for k in star[v]
                 )
             ]
@@ -148,11 +164,13 @@ def random_mesh(seed: int, n: int, clusters: int):
     return xy, tri[np.abs(area) > 1e-6]
 
 
-def _unchanged_or_better(before, after):
-    """Minimum angle and 1st percentile did not fall; nothing turned over."""
+def _unchanged_or_better(before, after, ratios=None):
+    """Minimum angle, 1st percentile and worst radius ratio did not fall."""
     assert after.min() > 0
     assert after.min() >= before.min() - 1e-9
     assert np.percentile(after, 1) >= np.percentile(before, 1) - 1e-9
+    if ratios is not None:
+        assert ratios[1].min() >= ratios[0].min() - 1e-12
 
 
 @settings(deadline=None, max_examples=60)
@@ -175,7 +193,8 @@ def test_matches_reference(seed, n, clusters, method, good_angle, iterations):
     np.testing.assert_allclose(got, expected, rtol=0, atol=1e-9)
     assert sweeps == expected_sweeps
     np.testing.assert_array_equal(got[fixed], xy[fixed])  # exactly
-    _unchanged_or_better(min_angles(xy, tri), min_angles(got, tri))
+    ratios = (radius_ratios(xy[tri]), radius_ratios(got[tri]))
+    _unchanged_or_better(min_angles(xy, tri), min_angles(got, tri), ratios)
 
 
 @settings(deadline=None, max_examples=40)
@@ -196,7 +215,8 @@ def test_guarantees(seed, n, clusters, extra_fixed, method):
     np.testing.assert_array_equal(xy, before)  # the input is not changed
     np.testing.assert_array_equal(got[fixed], xy[fixed])
     assert 0 <= sweeps <= 6
-    _unchanged_or_better(min_angles(xy, tri), min_angles(got, tri))
+    ratios = (radius_ratios(xy[tri]), radius_ratios(got[tri]))
+    _unchanged_or_better(min_angles(xy, tri), min_angles(got, tri), ratios)
 
 
 def test_angle_gradient_matches_finite_differences():

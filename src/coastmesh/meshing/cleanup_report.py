@@ -174,7 +174,9 @@ class PartCleanup:
     seconds: float
 
 
-def combine(parts: Sequence[PartCleanup], after: dict) -> CleanupReport:
+def combine(
+    parts: Sequence[PartCleanup], after: dict, *, seam_moved: int = 0
+) -> CleanupReport:
     """Return the report of a mesh cleaned in parts.
 
     Parameters
@@ -182,6 +184,11 @@ def combine(parts: Sequence[PartCleanup], after: dict) -> CleanupReport:
     parts : sequence of PartCleanup
     after : dict
         :func:`stats` of the merged, cleaned mesh.
+    seam_moved : int
+        Nodes moved when the cuts were smoothed after the parts were joined
+        (:func:`~coastmesh.meshing.seams.smooth_seams`); they count in
+        ``smoothed_nodes`` too (a node moved in its part and again there
+        counts twice).
 
     Returns
     -------
@@ -221,6 +228,7 @@ def combine(parts: Sequence[PartCleanup], after: dict) -> CleanupReport:
     return CleanupReport(
         **{f"{name}_before": value for name, value in before.items()},
         **{f"{name}_after": value for name, value in after.items()},
-        **{name: sum(getattr(r, name) for r in reports) for name in counts},
+        **{name: sum(getattr(r, name) for r in reports) for name in counts[:-1]},
+        smoothed_nodes=sum(r.smoothed_nodes for r in reports) + seam_moved,
         accepted=accepted,
     )

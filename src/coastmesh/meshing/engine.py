@@ -33,6 +33,7 @@ from coastmesh.meshing.projection import (
     sample_size,
     to_map_units,
 )
+from coastmesh.meshing.seams import smooth_seams
 from coastmesh.meshing.session import (
     ALGORITHMS,
 )
@@ -277,15 +278,7 @@ def mesh_in_parts(
         results = (runner or serial_runner)(mesh_part, tasks)
     else:
         results = [mesh_part(tasks[0])]
-    arrays = merge_parts(results)
-    points, triangles, edges, edge_ids = canonical_order(*arrays)
-    cleaned = None
-    if cleanup is not None:  # the "after" numbers, measured on the whole mesh
-        on_boundary = np.zeros(len(points), dtype=bool)
-        on_boundary[edges.ravel()] = True
-        after = stats(points, triangles, on_boundary, cleanup.min_angle)
-        cleaned = combine([r.cleanup for r in results], after)
-        logger.info("cleanup: %s", cleaned.summary())
+    points, triangles, edges, edge_ids, cleaned = _joined(results, cleanup)
     step(3)
     target = sample_size(size, points)
     points = project_points(points, mesh_crs, output_crs, what="mesh nodes")
@@ -334,6 +327,28 @@ def mesh_in_parts(
         cleaned,
     )
     return mesh, report
+
+
+def _joined(results: list, cleanup: CleanupOptions | None) -> tuple:
+    """Join the parts; smooth the cuts; points, triangles, edges, ids, report."""
+    points, triangles, edges, edge_ids = merge_parts(results)
+    moved = 0
+    if cleanup is not None and cleanup.smooth and len(results) > 1:
+        # the cuts' nodes (numbered first) were held in the parts: smooth them
+        seam = np.arange(max(int(r.shared.max()) + 1 for r in results))
+        points, moved = smooth_seams(points, triangles, edges, seam)
+    points, triangles, edges, edge_ids = canonical_order(
+        points, triangles, edges, edge_ids
+    )
+    if cleanup is None:
+        return points, triangles, edges, edge_ids, None
+    # the "after" numbers, measured on the whole mesh
+    on_boundary = np.zeros(len(points), dtype=bool)
+    on_boundary[edges.ravel()] = True
+    after = stats(points, triangles, on_boundary, cleanup.min_angle)
+    cleaned = combine([r.cleanup for r in results], after, seam_moved=moved)
+    logger.info("cleanup: %s", cleaned.summary())
+    return points, triangles, edges, edge_ids, cleaned
 
 
 def _check_args(domain: Any, size: Any, algorithm: str, seed: Any, parts: Any) -> None:

@@ -1,7 +1,9 @@
 """Measures of triangles in a plane, for the cleanup's local decisions.
 
 Each takes triangles as (k, 3, 2) coordinates in a conformal plane (where the
-cleanup works); :mod:`coastmesh.meshing.quality` measures on the Earth instead.
+cleanup works), or nodes and their (M, 3) indices (:func:`sin_min_angles`, for
+the smoothing's sweeps); :mod:`coastmesh.meshing.quality` measures on the Earth
+instead.
 """
 
 from __future__ import annotations
@@ -9,7 +11,13 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["radius_ratios", "signed_areas", "smallest_r_in", "triangle_angles"]
+__all__ = [
+    "radius_ratios",
+    "signed_areas",
+    "sin_min_angles",
+    "smallest_r_in",
+    "triangle_angles",
+]
 
 
 def triangle_angles(xy: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -74,3 +82,28 @@ def radius_ratios(xy: ArrayLike) -> NDArray[np.float64]:
     sides = np.linalg.norm(xy - np.roll(xy, -1, axis=1), axis=2)
     area = signed_areas(xy)
     return 16 * area**2 / np.maximum(sides.sum(axis=1) * sides.prod(axis=1), 1e-300)
+
+
+def sin_min_angles(
+    xy: NDArray[np.float64], triangles: NDArray[np.int64]
+) -> NDArray[np.float64]:
+    """Return the sine of each triangle's minimum angle, negative if inverted.
+
+    ``2 A c / (a b c)``, with ``c`` the shortest side; ``xy`` (N, 2) nodes,
+    ``triangles`` (M, 3) their indices, counter-clockwise.
+
+    Examples
+    --------
+    >>> xy = np.array([[0, 0], [1, 0], [0, 1.0]])
+    >>> sin_min_angles(xy, np.array([[0, 1, 2], [0, 2, 1]])).round(6).tolist()
+    [0.707107, -0.707107]
+    """
+    p0, p1, p2 = (xy[triangles[:, i]] for i in range(3))
+    d1, d2, d3 = p1 - p0, p2 - p0, p2 - p1
+    area2 = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+    a, b, c = np.hypot(*d1.T), np.hypot(*d2.T), np.hypot(*d3.T)
+    product = a * b * c
+    shortest = np.minimum(np.minimum(a, b), c)
+    return np.divide(
+        area2 * shortest, product, out=np.zeros_like(area2), where=product > 0
+    )
