@@ -62,3 +62,39 @@ def test_an_unreachable_scheduler_is_a_clear_error_within_the_timeout():
     ):
         pass
     assert time.perf_counter() - started < 15
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    """Two Dask worker processes whose nannies restart them when they die.
+
+    A task that kills its worker is retried elsewhere until it has killed
+    ``allowed-failures`` + 1 workers (here 2, to keep the test short).
+    """
+    import dask
+    from distributed import LocalCluster
+
+    with (
+        dask.config.set({"distributed.scheduler.allowed-failures": 1}),
+        LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as local,
+    ):
+        yield local.scheduler_address
+
+
+def test_a_dask_worker_that_dies_has_its_task_run_again(cluster, tmp_path):
+    marker = str(tmp_path / "died")
+    with open_runner(1, cluster) as run:
+        assert run(_die_once, [marker, marker, marker]) == ["ok"] * 3
+    assert Path(marker).exists()  # a worker did die
+
+
+def test_a_task_that_kills_every_dask_worker_it_meets_is_named(cluster):
+    with (
+        open_runner(1, cluster) as run,
+        pytest.raises(MeshingError, match=r"task [12] of 2: the Dask workers running"),
+    ):
+        run(_die, [0, 1])
+    with open_runner(1, cluster) as run:  # the nannies brought the workers back
+        assert run(_square, [2, 3]) == [4, 9]
