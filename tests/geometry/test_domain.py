@@ -7,10 +7,18 @@ import json
 import numpy as np
 import pytest
 import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from pyproj import CRS
 
 from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError, InputDataError
-from coastmesh.geometry.domain import OpenBoundary, build_domain
+from coastmesh.geometry.domain import (
+    OpenBoundary,
+    build_domain,
+    polygon_areas,
+    smaller_than,
+)
 from coastmesh.geometry.rhumb import Loxodrome
 
 
@@ -117,3 +125,29 @@ def test_real_orkney_closed_by_loxodromes():
     assert sum(len(s.coords) - 1 for s in domain.segments) == sum(
         len(r.coords) - 1 for r in [domain.polygon.exterior, *domain.polygon.interiors]
     )
+
+
+@settings(deadline=None, max_examples=30)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    lat=st.floats(-85, 85),
+    limit=st.sampled_from([1e4, 1e6, 1e8]),
+    crs=st.sampled_from(["EPSG:4326", "EPSG:4258", "EPSG:32630"]),
+)
+def test_smaller_than_is_the_one_by_one_comparison(seed, lat, limit, crs):
+    """Many islands near the limit, some wide ones: the same answer as areas."""
+    rng = np.random.default_rng(seed)
+    n = 200
+    lon0 = rng.uniform(-180, 170, n)
+    lat0 = np.clip(lat + rng.normal(0, 2, n), -89, 88)
+    side = np.sqrt(limit) * rng.uniform(0.7, 1.4, n) / 111e3  # degrees, near it
+    side[:5] = rng.uniform(5, 20, 5)  # and some wider than 10 degrees
+    width = side * rng.uniform(0.5, 2, n)
+    if crs == "EPSG:32630":  # planar areas in metres: the same sides in metres
+        lon0, lat0 = 5e5 + lon0 * 1e3, 5e6 + lat0 * 1e3
+        side, width = side * 111e3, width * 111e3
+    boxes = shapely.box(lon0, lat0, lon0 + width, lat0 + side)
+    expected = polygon_areas(boxes, CRS(crs)) < limit
+    got = smaller_than(boxes, CRS(crs), limit)
+    np.testing.assert_array_equal(got, expected)
+    assert 0 < expected.sum() < n

@@ -42,10 +42,10 @@ from coastmesh.geometry import (
     densify_long_edges,
     great_circle,
     land_polygons,
-    polygon_areas,
     reproject,
     reproject_points,
     simplify_shorelines,
+    smaller_than,
     stitch_shorelines,
 )
 from coastmesh.io import read_features
@@ -187,7 +187,7 @@ def build_shoreline_set(
         }
     land = shapely.get_parts(land)
     land = land[shapely.get_type_id(land) == shapely.GeometryType.POLYGON]
-    small = polygon_areas(land, crs) < min_area
+    small = smaller_than(land, crs, min_area)
     land, lakes = fill_lakes(land[~small], crs, min_area)
     report = ShorelineSetReport(
         kind=s.label,
@@ -230,7 +230,7 @@ def fill_lakes(
     for k in holed:
         polygon = land[k]
         lakes = np.array([shapely.Polygon(r) for r in polygon.interiors], dtype=object)
-        keep = polygon_areas(lakes, crs) >= min_area
+        keep = ~smaller_than(lakes, crs, min_area)
         if not keep.all():
             filled += int((~keep).sum())
             kept = [r for r, k_ in zip(polygon.interiors, keep, strict=True) if k_]

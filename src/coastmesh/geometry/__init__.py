@@ -17,6 +17,7 @@ from coastmesh.geometry.domain import (
     OpenBoundary,
     build_domain,
     polygon_areas,
+    smaller_than,
 )
 from coastmesh.geometry.earth import (
     EARTH_RADIUS,
@@ -66,6 +67,7 @@ __all__ = [
     "reproject",
     "reproject_points",
     "simplify_shorelines",
+    "smaller_than",
     "stitch_shorelines",
     "transformer",
     "valid_polygons",

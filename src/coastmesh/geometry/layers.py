@@ -166,13 +166,16 @@ def densify_long_edges(geoms: NDArray[np.object_]) -> NDArray[np.object_]:
         ``geoms`` itself when no edge is that long, else a copy with the long edges
         split.
     """
-    rings = shapely.get_rings(shapely.get_parts(geoms[~shapely.is_missing(geoms)]))
+    # every edge of every ring at once: (x, y) with the ring of each vertex
+    present = np.flatnonzero(~shapely.is_missing(geoms))
+    parts, part_geom = shapely.get_parts(geoms[present], return_index=True)
+    rings, ring_part = shapely.get_rings(parts, return_index=True)
     if len(rings) == 0:
         return geoms
-    steps = np.concatenate(
-        [np.hypot(*np.diff(shapely.get_coordinates(r), axis=0).T) for r in rings]
-    )
-    steps = steps[steps > 0]
+    xy, ring_of = shapely.get_coordinates(rings, return_index=True)
+    inside = ring_of[1:] == ring_of[:-1]  # the two ends in one ring
+    every = np.hypot(*np.diff(xy, axis=0).T)[inside]
+    steps = every[every > 0]
     if len(steps) == 0:
         return geoms
     spacing = float(np.median(steps))
@@ -192,25 +195,17 @@ def densify_long_edges(geoms: NDArray[np.object_]) -> NDArray[np.object_]:
                 pieces.append(xy[k + 1 : k + 2])
         return np.concatenate(pieces)
 
+    edge_geom = present[part_geom[ring_part[ring_of[1:][inside]]]]
+    long = np.unique(edge_geom[every > limit])  # the features to rebuild
     out = geoms.copy()
-    split = 0
-    for index, geom in enumerate(geoms):
-        if geom is None or shapely.is_empty(geom):
-            continue
-        parts = shapely.get_parts(geom)
-        longest = max(
-            np.hypot(*np.diff(shapely.get_coordinates(r), axis=0).T).max(initial=0.0)
-            for r in shapely.get_rings(parts)
-        )
-        if longest <= limit:
-            continue
+    for index in long.tolist():
         rebuilt = []
-        for part in parts:
+        for part in shapely.get_parts(geoms[index]):
             shell = densify(shapely.get_coordinates(part.exterior))
             holes = [densify(shapely.get_coordinates(r)) for r in part.interiors]
             rebuilt.append(shapely.Polygon(shell, holes))
         out[index] = rebuilt[0] if len(rebuilt) == 1 else shapely.MultiPolygon(rebuilt)
-        split += 1
+    split = len(long)
     logger.info(
         "%d shoreline features have edges over %g x the median spacing (clipped "
         "data boxes); those edges get vertices at the median spacing before PCA",
