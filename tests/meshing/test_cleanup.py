@@ -257,9 +257,13 @@ def test_real_mesh_stays_valid(tmp_path):
     # no flip raises a node above the limit
     assert report.max_valence_after <= max(7, report.max_valence_before)
     # never worse than Gmsh's mesh, in the conformal plane and on the Earth
-    assert report.accepted == "cleaned" and report.smoothed_nodes > 0
+    # (the full pass would fix one more, at a radius ratio of 0.17 for 0.29)
+    assert report.accepted == "cleaned_partly" and report.smoothed_nodes > 0
     assert report.min_angle_after >= report.min_angle_before
     assert report.min_angle_p1_after >= report.min_angle_p1_before
+    assert report.radius_ratio_after >= min(report.radius_ratio_before, 0.5)
+    before, after = mesh_quality(mesh).radius_ratio, mesh_quality(clean).radius_ratio
+    assert after.min >= before.min - 1e-6  # on the Earth too
     before, after = mesh_quality(mesh).min_angle, mesh_quality(clean).min_angle
     assert after.min >= before.min - 1e-6 and after.p1 >= before.p1 - 1e-6
     _check_valid(mesh, clean)

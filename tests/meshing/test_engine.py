@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import json
+import signal
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -274,3 +276,19 @@ def test_orkney_mesh_in_utm_returned_in_lon_lat(orkney):
     ratio = np.hypot(*(q - p).T) / sample_size(grid, 0.5 * (p + q))
     assert 0.7 < np.median(ratio) < 1.4
     assert 3000 < len(mesh.points) < 8000
+
+
+@pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="Linux only")
+def test_a_gmsh_session_leaves_broken_pipes_to_python():
+    """Gmsh resets SIGPIPE to 'end the process'; the session puts Python's back."""
+    from coastmesh.meshing.session import gmsh_session
+
+    def ignored() -> bool:
+        status = Path("/proc/self/status").read_text().splitlines()
+        mask = next(line for line in status if line.startswith("SigIgn"))
+        return bool(int(mask.split()[1], 16) >> (signal.SIGPIPE - 1) & 1)
+
+    assert ignored()  # Python ignores it: a write to a closed pipe raises
+    with gmsh_session():
+        assert ignored()
+    assert ignored()

@@ -16,7 +16,10 @@
 - **Smoothing** (:func:`~coastmesh.meshing.smoothing.smooth_points`) of the nodes
   of the worst 5% of triangles and any with an angle below 35 degrees, then
   **acceptance**: the minimum angle, and the 1st percentile of the triangles'
-  minimum angles, must be no lower than the input's; if not, the passes run
+  minimum angles, must be no lower than the input's, nor the worst radius ratio
+  lower than the input's or 0.5 (on the Pentland Firth, the full pass fixed one
+  more all-boundary triangle than the next attempt, but left a radius ratio of
+  0.17 for Gmsh's 0.29 and two more slivers); if not, the passes run
   again with only the boundary fixes and valence flips that keep the input's
   smallest angle and smallest radius ratio, then with only the fixes that keep
   its 1st percentile; then the input is smoothed
@@ -95,7 +98,7 @@ def clean_mesh(
         The same boundary edges and ids; new nodes (from splits) appended, with
         point data averaged from their neighbours; moved nodes keep theirs. Its
         minimum angle and 1st percentile of minimum angles are no lower than
-        the input's.
+        the input's, its worst radius ratio no lower than the input's or 0.5.
     report : CleanupReport
 
     Examples

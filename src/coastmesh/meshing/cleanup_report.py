@@ -145,9 +145,21 @@ def stats(
     }
 
 
+#: A worst radius ratio the cleanup may lower to, if the input's is higher: the
+#: fan of twelve 30-degree triangles (radius ratio 0.8) needs one near 0.6 to
+#: lose four of its edges, and elements above this are no trouble to a model
+RADIUS_RATIO_GOOD = 0.5
+
+
 def no_worse(after: dict[str, float], before: dict[str, float]) -> bool:
-    """Whether the minimum angle and its 1st percentile did not fall."""
-    return all(after[k] >= before[k] for k in ("min_angle", "min_angle_p1"))
+    """Whether the worst angle, 1st percentile and radius ratio held up.
+
+    The radius ratio may fall, but not below :data:`RADIUS_RATIO_GOOD`.
+    """
+    least = min(before["radius_ratio"], RADIUS_RATIO_GOOD)
+    return after["radius_ratio"] >= least and all(
+        after[k] >= before[k] for k in ("min_angle", "min_angle_p1")
+    )
 
 
 @dataclass(frozen=True, slots=True)

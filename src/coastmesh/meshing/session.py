@@ -9,6 +9,7 @@ the same options, so a part meshed anywhere is meshed the same way.
 from __future__ import annotations
 
 import logging
+import signal
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -56,7 +57,13 @@ def gmsh_session() -> Iterator[Any]:
                 "Gmsh is already initialised in this process by other code; "
                 "coastmesh needs it to itself"
             )
+        pipe = signal.getsignal(signal.SIGPIPE) if hasattr(signal, "SIGPIPE") else None
         gmsh.initialize(readConfigFiles=False, run=False, interruptible=False)
+        if pipe is not None and threading.current_thread() is threading.main_thread():
+            # Gmsh resets SIGPIPE to its default (end the process) behind
+            # Python's back: a worker of ours that died would then kill this
+            # process when it wrote to its pipe, instead of raising
+            signal.signal(signal.SIGPIPE, pipe)
         try:
             gmsh.option.setNumber("General.Terminal", 0)
             gmsh.logger.start()
