@@ -51,6 +51,7 @@ from coastmesh.meshing import (
     mesh_quality,
 )
 from coastmesh.meshing.engine import mesh_in_parts
+from coastmesh.meshing.session import release_memory
 from coastmesh.meshing.tasks import Runner
 from coastmesh.sizing.domain import (
     BathymetrySize,
@@ -198,6 +199,7 @@ def _build(
         if c.enabled
         else None
     )
+    release_memory()  # what the shoreline sets and slots freed, before the workers
     with timed("meshing") as progress:
         mesh, parts = mesh_in_parts(
             domain,
