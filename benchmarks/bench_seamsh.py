@@ -112,7 +112,19 @@ _GMSH_DONE = re.compile(
 )
 
 # The seamsh side, run in seamsh's venv: argv[1] is the work folder.
-SEAMSH_SCRIPT = r"""
+# Both child scripts read their own peak memory this way.
+PEAK_RSS = r"""
+def peak_rss():
+    # VmHWM: this process's own peak since exec (ru_maxrss would keep the
+    # parent's resident memory at the fork)
+    for line in Path("/proc/self/status").read_text().splitlines():
+        if line.startswith("VmHWM:"):
+            return int(line.split()[1]) * 1024
+    raise RuntimeError("no VmHWM in /proc/self/status")
+"""
+
+SEAMSH_SCRIPT = (
+    r"""
 import json, re, sys, time, warnings
 from importlib.metadata import version
 from pathlib import Path
@@ -127,14 +139,9 @@ import seamsh
 import seamsh.gmsh
 
 work = Path(sys.argv[1])
-def peak_rss():
-    # VmHWM: this process's own peak since exec (ru_maxrss would keep the
-    # parent's resident memory at the fork)
-    for line in Path("/proc/self/status").read_text().splitlines():
-        if line.startswith("VmHWM:"):
-            return int(line.split()[1]) * 1024
-    raise RuntimeError("no VmHWM in /proc/self/status")
-
+"""
+    + PEAK_RSS
+    + r"""
 
 inputs = json.loads((work / "inputs.json").read_text())
 grid = np.load(work / "size.npz")
@@ -213,10 +220,12 @@ out = {
 }
 (work / f"{name}.json").write_text(json.dumps(out))
 """
+)
 
 # coastmesh again, alone in a child process (--isolated): argv[1] is the work
 # folder, with the domain and size grid pickled by the parent.
-COASTMESH_SCRIPT = r"""
+COASTMESH_SCRIPT = (
+    r"""
 import json, logging, pickle, sys, time, warnings
 from pathlib import Path
 
@@ -226,14 +235,9 @@ import psutil
 from coastmesh.meshing import generate_mesh
 
 work = Path(sys.argv[1])
-def peak_rss():
-    # VmHWM: this process's own peak since exec (ru_maxrss would keep the
-    # parent's resident memory at the fork)
-    for line in Path("/proc/self/status").read_text().splitlines():
-        if line.startswith("VmHWM:"):
-            return int(line.split()[1]) * 1024
-    raise RuntimeError("no VmHWM in /proc/self/status")
-
+"""
+    + PEAK_RSS
+    + r"""
 
 args = pickle.loads((work / "coastmesh.pkl").read_bytes())
 lines = []
@@ -275,6 +279,7 @@ out = {
 }
 (work / "coastmesh.json").write_text(json.dumps(out))
 """
+)
 
 
 def triangle_shapes(
