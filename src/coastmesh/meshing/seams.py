@@ -17,7 +17,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from coastmesh.meshing import smoothing
-from coastmesh.meshing.planar import sin_min_angles
 
 __all__ = ["smooth_seams"]
 
@@ -72,8 +71,7 @@ def smooth_seams(
     fixed |= on_boundary[nodes]
     xy = points[nodes]
     # the nodes of the worst 5% move, as in the parts' own smoothing
-    angles = np.degrees(np.arcsin(np.clip(sin_min_angles(xy, local), -1.0, 1.0)))
-    good = max(35.0, smoothing.percentile(angles, 5))
+    good = max(35.0, smoothing.percentile(smoothing.min_angles(xy, local), 5))
     new = smoothing.smooth_points(xy, local, fixed, good_angle=good)[0]
     changed = (new != xy).any(axis=1)
     points[nodes[changed]] = new[changed]
