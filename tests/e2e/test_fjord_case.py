@@ -74,11 +74,14 @@ def test_channel_spanning_triangles_are_warned_of_with_their_places(fjord):
 def test_sharp_corners_are_counted_and_avoidable_ones_warned_of(fjord):
     result, _, messages = fjord
     corners = result.report.quality.corners
-    assert corners.avoidable >= 1 and corners.sharp >= corners.avoidable
+    assert corners.sharp >= 1 and corners.sharp >= corners.avoidable
     assert all(c.angle < 45.0 for c in corners.sharpest)
-    warned = [m for m in messages if "open boundaries meet the coast" in m]
-    assert len(warned) == 1 and f"at {corners.avoidable} places" in warned[0]
-    assert "move the end of the open boundary" in warned[0]
+    # the fjord heads and skerries force them; the open boundaries meet the coast
+    # at wide angles, so none is avoidable and there is nothing to warn of
+    # (tests/meshing/test_corners.py has the warning)
+    assert all(c.kinds == ("shoreline", "shoreline") for c in corners.sharpest)
+    assert corners.avoidable == 0
+    assert not [m for m in messages if "open boundaries meet the coast" in m]
 
 
 def test_the_time_step_and_courant_numbers_are_reported_where_they_occur(fjord):

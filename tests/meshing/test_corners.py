@@ -15,6 +15,8 @@ from reference_measures import (
     delaunay_meshes,
 )
 
+from coastmesh.case.advice import warn_avoidable_corners
+from coastmesh.errors import CoastmeshWarning
 from coastmesh.meshing import boundary_angles, generate_mesh, mesh_quality
 from coastmesh.meshing.corners import MAX_LISTED_CORNERS, SHARP_ANGLE
 from coastmesh.meshing.quality import triangle_quality
@@ -147,6 +149,17 @@ def test_sharp_corners_of_a_wedge(wedge_mesh):
     assert data["corners"]["sharpest"][0]["kinds"] == ["shoreline", "shoreline"]
     assert data["corners"]["sharpest"][1]["avoidable"] is True
     assert data["radius_ratio_away_from_corners"]["below_0_25"] == 0
+
+
+def test_the_avoidable_corner_is_warned_of_with_its_place(wedge_mesh):
+    mesh, _ = wedge_mesh
+    quality = mesh_quality(mesh)
+    with pytest.warns(CoastmeshWarning) as caught:
+        warn_avoidable_corners(quality, mesh)
+    message = str(caught[0].message)
+    assert "open boundaries meet the coast at under 45 deg at 1 places" in message
+    assert "(coast/sea at 40.0 deg (-2.8277, 58.6402))" in message  # 20 deg: forced
+    assert "move the end of the open boundary" in message
 
 
 def test_wedge_tip_in_a_fan():

@@ -25,7 +25,7 @@ from pyproj import CRS
 from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.geometry.earth import reproject
 from coastmesh.sizing.bathymetry import BathymetrySize, bathymetry_size
-from coastmesh.sizing.channel import ChannelReport, channel_polygons, slots
+from coastmesh.sizing.channel import ChannelReport, channel_polygons, over_land, slots
 from coastmesh.sizing.field import Gradation, size_field
 from coastmesh.sizing.gradation import DEFAULT_RATE, limit_gradation
 from coastmesh.sizing.terms import (
@@ -396,7 +396,7 @@ def _channel_term(
     width, inside = domain_width(
         domain, x, y, mesh_crs, max_width=channels.elements_across * h_max
     )
-    term = np.maximum(width / channels.elements_across, h_min)
+    term = over_land(np.maximum(width / channels.elements_across, h_min), width > 0)
     limited = inside & (term < values)
     values = np.minimum(values, term)
     report, labels = channel_report_of(
