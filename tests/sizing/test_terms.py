@@ -65,6 +65,12 @@ def test_the_channel_term_is_on_by_default_and_puts_elements_across():
     assert _at(on, 10_000, 23_000) == 100.0
     # in the open bay the term changes nothing
     assert _at(default, 10_000, 8_000) == _at(off, 10_000, 8_000)
+    # land takes the term of the nearest water: beside the bay (3 km from its
+    # shore, 4.7 km from the inlet) the bay's, graded from the inlet, beside the
+    # inlet the inlet's size (land once took h_min = 100 m everywhere, and Gmsh
+    # meshed every coast near h_min)
+    assert _at(default, 5_000, 23_000) > 900.0
+    assert _at(default, 9_500, 23_000) <= 200.0 < _at(off, 9_500, 23_000)
 
 
 def test_the_channel_report_counts_narrow_channels_and_gives_their_place():
