@@ -9,6 +9,9 @@
 ``etopo1_0.1deg_nwshelf.nc``        the same grid as GEBCO-style NetCDF (lat ascending)
 ``etopo1_0.1deg_orkney_wide.tif``   ETOPO1 0.1 degree, Scotland/Orkney (lon -8..2,
                                     lat 56..61), 51 x 101 cells
+``world_gshhg_l.zip``               GSHHG low resolution, whole world, with Antarctica
+``world_gshhg_i.zip``               GSHHG intermediate resolution, whole world
+``etopo1_0.5deg_world.tif``         ETOPO1 bedrock relief, whole world, 0.5 degree
 ==================================  ===================================================
 
 Sources and licences are in ``coastmesh/data/README.md``.
