@@ -23,6 +23,7 @@ from coastmesh.errors import CoastmeshWarning, MeshingError
 from coastmesh.meshing.boundary import check_boundary, resample_rings
 from coastmesh.meshing.cleanup_report import CleanupOptions, combine, stats
 from coastmesh.meshing.curves import boundary_nodes
+from coastmesh.meshing.globe import SphereSizeGrid
 from coastmesh.meshing.junctions import join_cuts
 from coastmesh.meshing.parts import MIN_PART_TRIANGLES, auto_parts, cut_lines
 from coastmesh.meshing.parts_report import PartsReport
@@ -281,8 +282,10 @@ def mesh_in_parts(
     points, triangles, edges, edge_ids, cleaned = _joined(results, cleanup)
     step(3)
     target = sample_size(size, points)
-    points = project_points(points, mesh_crs, output_crs, what="mesh nodes")
+    # oriented in the plane: conformal, so it is the orientation on the Earth,
+    # and a triangle across the antimeridian has no sign in lon/lat
     triangles = _orient(points, triangles)
+    points = project_points(points, mesh_crs, output_crs, what="mesh nodes")
     edges, edge_ids = _check_edges(triangles, edges, edge_ids)
     step(total)
     logger.info(
@@ -355,8 +358,10 @@ def _check_args(domain: Any, size: Any, algorithm: str, seed: Any, parts: Any) -
     """Refuse arguments of the wrong type or value (see :func:`generate_mesh`)."""
     if not isinstance(domain, Domain):
         raise TypeError(f"domain is a {type(domain).__name__}, expected Domain")
-    if not isinstance(size, SizeGrid):
-        raise TypeError(f"size is a {type(size).__name__}, expected SizeGrid")
+    if not isinstance(size, SizeGrid | SphereSizeGrid):
+        raise TypeError(
+            f"size is a {type(size).__name__}, expected SizeGrid or SphereSizeGrid"
+        )
     if algorithm not in ALGORITHMS:
         raise ValueError(
             f"algorithm is {algorithm!r}; pick one of {sorted(ALGORITHMS)}"
@@ -373,7 +378,7 @@ def _cut(
     pieces: list, water: shapely.Polygon, size: SizeGrid, parts: int | str
 ) -> tuple[list, list[NDArray[np.float64]], int]:
     """Cut the water into parts: the pieces joined to the cuts, chords, aim."""
-    if parts == 1:
+    if parts == 1 or isinstance(size, SphereSizeGrid):  # the globe: in one part
         return pieces, [], 1
     wanted = auto_parts(water, size) if parts == "auto" else int(parts)
     if wanted == 1:

@@ -77,6 +77,9 @@ def _cells(
     polygon: shapely.Polygon, grid: SizeGrid
 ) -> tuple[NDArray, NDArray, NDArray]:
     """Grid nodes in the water and the expected triangles each stands for."""
+    if not isinstance(grid, SizeGrid):  # a SphereSizeGrid: areas on the sphere
+        x, y, weight = grid.cells(polygon)
+        return x, y, _DENSITY * weight
     gx, gy = np.meshgrid(grid.x, grid.y)
     inside = shapely.contains_xy(polygon, gx, gy)
     cell = abs(grid.x[1] - grid.x[0]) * abs(grid.y[1] - grid.y[0])

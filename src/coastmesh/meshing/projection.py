@@ -160,6 +160,8 @@ def sample_size(grid: SizeGrid, xy: NDArray[np.float64]) -> NDArray[np.float64]:
     >>> sample_size(g, np.array([[5.0, 5.0], [50.0, -5.0]])).tolist()
     [2.0, 3.0]
     """
+    if not isinstance(grid, SizeGrid):  # a SphereSizeGrid: lon/lat, wraps round
+        return grid.sample(xy)
     xy = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
     x = np.clip(xy[:, 0], grid.x[0], grid.x[-1])
     y = np.clip(xy[:, 1], grid.y[0], grid.y[-1])
@@ -249,6 +251,8 @@ def to_map_units(size: SizeGrid, mesh_crs: CRS) -> SizeGrid:
         The same nodes with values ``size.values * k``, k the point scale factor
         (:func:`scale_factor`).
     """
+    if not isinstance(size, SizeGrid):  # a SphereSizeGrid scales as it samples
+        return size.in_map_units()
     gx, gy = np.meshgrid(size.x, size.y)
     k = scale_factor(gx, gy, mesh_crs)
     logger.info(

@@ -125,8 +125,14 @@ def set_options(gmsh: Any, *, threads: int, seed: int, algorithm: str) -> None:
 def add_size_view(gmsh: Any, size: SizeGrid, bounds: tuple[float, ...]) -> None:
     """Make the size grid, padded to ``bounds``, Gmsh's background mesh size."""
     view = gmsh.view.add("size")
-    data = grid_view_data(size, bounds)
-    gmsh.view.addListData(view, "SQ", len(data) // 16, data)
+    if isinstance(size, SizeGrid):
+        data = grid_view_data(size, bounds)
+        gmsh.view.addListData(view, "SQ", len(data) // 16, data)
+    else:  # a SphereSizeGrid: its cells, moved into the plane
+        for kind, data in size.view_data().items():
+            per = 16 if kind == "SQ" else 12
+            if len(data):
+                gmsh.view.addListData(view, kind, len(data) // per, data)
     field = gmsh.model.mesh.field.add("PostView")
     gmsh.model.mesh.field.setNumber(field, "ViewTag", view)
     gmsh.model.mesh.field.setAsBackgroundMesh(field)
@@ -176,6 +182,8 @@ def crop_grid(grid: SizeGrid, bounds: tuple[float, ...], margin: int = 2) -> Siz
     >>> c.x.tolist(), c.y.tolist()
     ([2.0, 3.0, 4.0, 5.0, 6.0, 7.0], [0.0, 1.0, 2.0, 3.0])
     """
+    if not isinstance(grid, SizeGrid):  # a SphereSizeGrid is kept whole
+        return grid
     x0, y0, x1, y1 = bounds
     i0 = max(int(np.searchsorted(grid.x, x0, side="right")) - 1 - margin, 0)
     i1 = min(int(np.searchsorted(grid.x, x1, side="left")) + 1 + margin, len(grid.x))
