@@ -133,7 +133,7 @@ def test_built_in_formats():
     assert formats["msh2"].extensions == (".msh",)
     assert formats["msh4"].extensions == (".msh",)
     assert formats["gpkg"].extensions == (".gpkg",)
-    assert formats["msh2"].options == ("binary",)
+    assert formats["msh2"].options == ("binary", "sphere_xyz", "radius")
     assert formats["gpkg"].options == ("metadata",)
     formats.clear()  # a copy: the registry keeps its entries
     assert "msh2" in mesh_formats()

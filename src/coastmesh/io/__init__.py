@@ -10,6 +10,8 @@
 :func:`mesh_formats`     the mesh formats, by name, with their readers and writers
 :func:`write_domain`     :class:`~coastmesh.types.Domain` -> GeoPackage
 :func:`write_report`     a report -> JSON (``to_dict()``) and text (``summary()``)
+:func:`check_on_sphere`  a lon/lat mesh's triangles rebuilt and measured on the
+                         sphere (:mod:`coastmesh.io.sphere`, global meshes)
 =======================  ========================================================
 
 The submodules are imported on first use, so reading vectors does not import
@@ -45,16 +47,19 @@ if TYPE_CHECKING:
     from coastmesh.io.msh import read_msh, write_msh
     from coastmesh.io.raster import raster_transform, read_raster, write_raster
     from coastmesh.io.report import write_report
+    from coastmesh.io.sphere import SphereCheck, check_on_sphere
     from coastmesh.io.vector import read_features, write_features
 
 __all__ = [
     "AtomicOutputs",
     "MeshFormat",
+    "SphereCheck",
     "atomic_directory",
     "atomic_write",
     "check_bbox",
     "check_directory",
     "check_input",
+    "check_on_sphere",
     "check_output",
     "format_for_path",
     "mesh_format",
@@ -103,6 +108,8 @@ _HOME = {
     "write_mesh": "coastmesh.io._registry",
     "write_domain": "coastmesh.io.domain_gpkg",
     "write_report": "coastmesh.io.report",
+    "SphereCheck": "coastmesh.io.sphere",
+    "check_on_sphere": "coastmesh.io.sphere",
 }
 
 

@@ -23,6 +23,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 
+from coastmesh.geometry.earth import EARTH_RADIUS
 from coastmesh.io._mesh_format import MeshFormat
 from coastmesh.io._registry import register_mesh_format
 from coastmesh.io.adcirc import read_fort14_mesh, write_fort14, write_gr3
@@ -46,8 +47,18 @@ def _msh_writer(version: str) -> Callable[..., None]:
         *,
         overwrite: bool = False,
         binary: bool = False,
+        sphere_xyz: bool = False,
+        radius: float = EARTH_RADIUS,
     ) -> None:
-        write_msh(path, mesh, version=version, binary=binary, overwrite=overwrite)
+        write_msh(
+            path,
+            mesh,
+            version=version,
+            binary=binary,
+            overwrite=overwrite,
+            sphere_xyz=sphere_xyz,
+            radius=radius,
+        )
 
     write.__name__ = write.__qualname__ = f"write_msh{version[0]}"
     return write

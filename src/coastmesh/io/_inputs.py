@@ -12,6 +12,7 @@ from pyproj import CRS
 from pyproj.exceptions import CRSError
 
 from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.io.sphere import lonlat_to_xyz, misdrawn_triangles, solid_angles
 from coastmesh.types import Mesh
 
 __all__ = [
@@ -194,7 +195,10 @@ def mesh_from_file(path: str | os.PathLike[str], *args: Any, **kwargs: Any) -> M
 
 
 def counter_clockwise(
-    points: NDArray[np.float64], triangles: NDArray[np.int64]
+    points: NDArray[np.float64],
+    triangles: NDArray[np.int64],
+    *,
+    sphere: bool = False,
 ) -> NDArray[np.int64]:
     """Return the triangles, those that run clockwise turned counter-clockwise.
 
@@ -204,6 +208,12 @@ def counter_clockwise(
         Node coordinates.
     triangles : ndarray of shape (M, 3)
         Node indices.
+    sphere : bool, default False
+        The points are longitude, latitude in degrees: a triangle that crosses
+        the antimeridian or has a node at a pole
+        (:func:`~coastmesh.io.sphere.misdrawn_triangles`) is turned by which way
+        it runs seen from outside the sphere, not in the lon/lat plane (where a
+        counter-clockwise one crossing the antimeridian looks clockwise).
 
     Returns
     -------
@@ -215,6 +225,9 @@ def counter_clockwise(
     >>> points = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]])
     >>> counter_clockwise(points, np.array([[0, 2, 1], [0, 1, 2]])).tolist()
     [[0, 1, 2], [0, 1, 2]]
+    >>> points = np.array([[179.0, 0.0], [-179.0, 0.0], [179.5, 1.0]])
+    >>> counter_clockwise(points, np.array([[0, 1, 2]]), sphere=True).tolist()
+    [[0, 1, 2]]
     """
     a, b, c = (points[triangles[:, k]] for k in range(3))
     cross = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (c[:, 0] - a[:, 0]) * (
@@ -222,5 +235,9 @@ def counter_clockwise(
     )
     out = np.array(triangles, dtype=np.int64)
     flip = cross < 0
+    if sphere and len(out):
+        misdrawn = misdrawn_triangles(points, out)
+        xyz = lonlat_to_xyz(points)
+        flip[misdrawn] = solid_angles(xyz, out[misdrawn]) < 0
     out[flip] = out[flip][:, [0, 2, 1]]
     return out

@@ -60,7 +60,7 @@ class MeshFormat:
     >>> from coastmesh.io import mesh_format
     >>> fmt = mesh_format("msh4")
     >>> fmt.extensions, fmt.options, fmt.read_options, fmt.mode
-    (('.msh',), ('binary',), (), 'read and write')
+    (('.msh',), ('binary', 'sphere_xyz', 'radius'), (), 'read and write')
     """
 
     name: str

@@ -17,6 +17,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from coastmesh.errors import CoastmeshWarning, ConfigError, FormatError
+from coastmesh.io.sphere import (
+    on_sphere,
+    sphere_boundary_rings,
+    sphere_boundary_strings,
+)
 from coastmesh.meshing.topology import (
     BoundaryRing,
     BoundaryString,
@@ -195,7 +200,9 @@ def mesh_boundary_rings(mesh: Mesh, name: str) -> list[BoundaryRing]:
     """Return the mesh's boundary rings; errors name the output file ``name``.
 
     The rings of :func:`~coastmesh.meshing.topology.boundary_rings`, with the
-    parameters and errors of :func:`mesh_boundary_strings`.
+    parameters and errors of :func:`mesh_boundary_strings`; for a mesh on the
+    sphere (:func:`~coastmesh.io.sphere.on_sphere`), those of
+    :func:`~coastmesh.io.sphere.sphere_boundary_rings`.
 
     Examples
     --------
@@ -204,7 +211,8 @@ def mesh_boundary_rings(mesh: Mesh, name: str) -> list[BoundaryRing]:
     >>> [ring.nodes.tolist() for ring in mesh_boundary_rings(m, "m.slf")]
     [[0, 1, 2]]
     """
-    return _named(boundary_rings, mesh, name)
+    order = sphere_boundary_rings if on_sphere(mesh) else boundary_rings
+    return _named(order, mesh, name)
 
 
 def mesh_boundary_strings(mesh: Mesh, name: str) -> list[BoundaryString]:
@@ -220,7 +228,9 @@ def mesh_boundary_strings(mesh: Mesh, name: str) -> list[BoundaryString]:
     Returns
     -------
     list of BoundaryString
-        As :func:`~coastmesh.meshing.topology.boundary_strings` splits them.
+        As :func:`~coastmesh.meshing.topology.boundary_strings` splits them; for
+        a mesh on the sphere (:func:`~coastmesh.io.sphere.on_sphere`), as
+        :func:`~coastmesh.io.sphere.sphere_boundary_strings` does.
 
     Raises
     ------
@@ -234,7 +244,8 @@ def mesh_boundary_strings(mesh: Mesh, name: str) -> list[BoundaryString]:
     >>> [s.nodes.tolist() for s in mesh_boundary_strings(m, "fort.14")]
     [[0, 1, 2], [2, 0]]
     """
-    return _named(boundary_strings, mesh, name)
+    order = sphere_boundary_strings if on_sphere(mesh) else boundary_strings
+    return _named(order, mesh, name)
 
 
 def point_values(key: str, values: Any, n: int, name: str) -> NDArray[Any]:

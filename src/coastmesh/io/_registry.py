@@ -267,9 +267,9 @@ def write_mesh(
     overwrite : bool, default False
         Whether an existing file may be replaced.
     **options
-        Options of the format's writer: ``binary`` for ``msh2`` and ``msh4``,
-        ``metadata`` (mapping of str to str) for ``gpkg``, ``positive`` for the
-        model formats, ...
+        Options of the format's writer: ``binary``, ``sphere_xyz`` and
+        ``radius`` for ``msh2`` and ``msh4``, ``metadata`` (mapping of str to
+        str) for ``gpkg``, ``positive`` for the model formats, ...
 
     Raises
     ------

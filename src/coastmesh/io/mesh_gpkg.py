@@ -15,6 +15,10 @@ layer           geometry            fields
 The layers are written into one staged file (:func:`coastmesh.io.domain_gpkg.
 write_layers`); reading matches the corners of triangles and boundary lines to the
 nodes by their exact coordinates, which the GeoPackage stores as float64.
+
+A global mesh (:func:`coastmesh.io.sphere.on_sphere`) has MultiPolygon triangles
+and MultiLineString boundary edges instead, those that cross the antimeridian cut
+in two as RFC 7946 (section 3.1.9) asks (:mod:`coastmesh.io._dateline`).
 """
 
 from __future__ import annotations
@@ -30,8 +34,15 @@ from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.errors import InputDataError
+from coastmesh.io._dateline import (
+    cut_edges,
+    cut_triangles,
+    edge_nodes,
+    triangle_nodes,
+)
 from coastmesh.io._inputs import check_input, mesh_from_file, resolve_crs
 from coastmesh.io._model import check_mesh
+from coastmesh.io.sphere import on_sphere
 from coastmesh.types import Features, Mesh
 
 __all__ = ["MESH_LAYERS", "read_mesh_gpkg", "write_mesh_gpkg"]
@@ -69,6 +80,17 @@ def write_mesh_gpkg(
     OutputExistsError
         If ``path`` exists and ``overwrite`` is false.
 
+    Notes
+    -----
+    A global mesh (:func:`~coastmesh.io.sphere.on_sphere`: lon/lat, with
+    triangles across the antimeridian) keeps its nodes in [-180, 180); each
+    triangle is a MultiPolygon and each boundary edge a MultiLineString, one
+    part, or two for those that cross the antimeridian, cut at longitude 180
+    (RFC 7946, section 3.1.9, as GDAL's ``-wrapdateline`` does). A triangle
+    around a pole is the cap between its edges and the pole. The cut points
+    are not nodes; :func:`read_mesh_gpkg` rebuilds each triangle from the
+    corners that are.
+
     Examples
     --------
     >>> import tempfile, pathlib, pyogrio
@@ -105,6 +127,10 @@ def read_mesh_gpkg(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
         kinds from ``physical_id``, ``name`` and ``kind``; every numeric field of
         ``nodes`` but ``id`` as point data (``depth`` in metres, positive down);
         the CRS of the ``triangles`` layer; ``surface_id`` 1 (not stored).
+        Triangles and edges cut at the antimeridian (multi-part features) are
+        rebuilt from the corners that are nodes (longitude 180 is the node at
+        -180, latitude +-90 the node at that pole), each triangle turned to
+        run counter-clockwise on the sphere.
 
     Raises
     ------
@@ -142,12 +168,21 @@ def read_mesh_gpkg(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
     }
     meta, polygons, fields = _read_layer(name, "triangles")
     stored = CRS.from_user_input(meta["crs"]) if meta.get("crs") else None
-    corners = _corners(polygons, 4, name, "triangles")[:, :3]
-    triangles = _by_id(_node_index(nodes, corners, name, "triangles"), fields, name)
+    if _plain(polygons, shapely.Polygon):
+        corners = _corners(polygons, 4, name, "triangles")[:, :3]
+        found = _node_index(nodes, corners, name, "triangles")
+    else:
+        _node_index(nodes, np.empty((0, 1, 2)), name, "triangles")  # distinct nodes
+        geographic = resolve_crs(stored, crs, name)
+        sphere = geographic is not None and bool(geographic.is_geographic)
+        found = triangle_nodes(nodes, polygons, name, "triangles", sphere=sphere)
+    triangles = _by_id(found, fields, name)
     _, lines, fields = _read_layer(name, "boundaries")
-    ends = _node_index(
-        nodes, _corners(lines, 2, name, "boundaries"), name, "boundaries"
-    )
+    if _plain(lines, shapely.LineString):
+        corners = _corners(lines, 2, name, "boundaries")
+        ends = _node_index(nodes, corners, name, "boundaries")
+    else:
+        ends = edge_nodes(nodes, lines, name, "boundaries")
     if "physical_id" not in fields:
         raise InputDataError("no field 'physical_id'", path=name, layer="boundaries")
     ids = fields["physical_id"].astype(np.int64)
@@ -173,16 +208,21 @@ def _mesh_layers(mesh: Mesh) -> dict[str, Features]:
     """Build the GeoPackage layers of a mesh: nodes, triangles, boundary edges."""
     triangles = mesh.triangles
     edges = mesh.boundary_edges
-    if len(triangles):
-        corners = mesh.points[triangles]  # (M, 3, 2)
-        polygons = shapely.polygons(np.concatenate([corners, corners[:, :1]], axis=1))
+    if on_sphere(mesh):
+        polygons = cut_triangles(mesh.points, triangles)
+        lines = cut_edges(mesh.points, edges)
     else:
-        polygons = np.empty(0, dtype=object)
-    lines = (
-        shapely.linestrings(mesh.points[edges])
-        if len(edges)
-        else np.empty(0, dtype=object)
-    )
+        corners = mesh.points[triangles]  # (M, 3, 2)
+        polygons = (
+            shapely.polygons(np.concatenate([corners, corners[:, :1]], axis=1))
+            if len(triangles)
+            else np.empty(0, dtype=object)
+        )
+        lines = (
+            shapely.linestrings(mesh.points[edges])
+            if len(edges)
+            else np.empty(0, dtype=object)
+        )
     labels = {
         key: np.array([table.get(int(i), "") for i in mesh.boundary_ids], dtype=object)
         for key, table in (("name", mesh.boundary_names), ("kind", mesh.boundary_kinds))
@@ -236,6 +276,11 @@ def _by_id(
             f"the ids are not 0..{len(ids) - 1}, each once", path=path, layer=layer
         )
     return values[order]
+
+
+def _plain(geometry: NDArray[np.object_], kind: type) -> bool:
+    """Whether every feature is a single ``kind`` (not cut at the antimeridian)."""
+    return bool((shapely.get_type_id(geometry) == shapely.get_type_id(kind())).all())
 
 
 def _corners(

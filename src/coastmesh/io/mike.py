@@ -44,6 +44,7 @@ from coastmesh.io._model import (
     require_kinds,
 )
 from coastmesh.io._table import TextLines, put_lines, write_table
+from coastmesh.io.sphere import crossing_triangles, on_sphere
 from coastmesh.meshing.topology import unique_edges
 from coastmesh.types import Mesh
 
@@ -104,8 +105,9 @@ def write_mike_mesh(
     FormatError
         If a boundary id has no kind, the boundary edges do not form simple rings,
         the depth is not one finite number per node, the CRS has no ESRI WKT 1
-        form (give ``crs_wkt``), or a land boundary between two open boundaries
-        is a single edge (node codes cannot mark it as land).
+        form (give ``crs_wkt``), a land boundary between two open boundaries
+        is a single edge (node codes cannot mark it as land), or a lon/lat mesh
+        has triangles that cross the antimeridian (a global mesh).
     ConfigError
         If ``positive`` is invalid.
     OutputExistsError
@@ -131,6 +133,11 @@ def write_mike_mesh(
     boundary edge is checked to decode to the code it should have; a land
     boundary of a single edge between two open ones cannot, and is an error.
 
+    A global mesh (:func:`~coastmesh.io.sphere.on_sphere`: lon/lat, with
+    triangles across the antimeridian) is refused: DHI documents no way for a
+    ``.mesh`` file to hold an element across the antimeridian, and MIKE's own
+    mesh tools work in the lon/lat plane, where such an element spans the map.
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -150,6 +157,13 @@ def write_mike_mesh(
     """
     check_mesh(mesh)
     name = os.fspath(path)
+    if on_sphere(mesh):
+        count = int(crossing_triangles(mesh.points, mesh.triangles).sum())
+        raise FormatError(
+            f"{name}: {count} triangles cross the antimeridian (longitude span over "
+            "180 degrees), which the MIKE .mesh format cannot hold; write a global "
+            "mesh as fort14, gr3 or ugrid"
+        )
     z = node_depth(mesh, name, positive=positive, label="z", stacklevel=3)
     projection = _projection(mesh, name, crs_wkt)
     kinds = require_kinds(mesh, name)
@@ -272,7 +286,9 @@ def read_mike_mesh(
     if corners.size and (corners.min() < 0 or corners.max() >= count):
         raise lines.error("ID N1 N2 N3", f"node numbers must be in 1..{count}")
     points = table[:, 1:3]
-    triangles = counter_clockwise(points, corners)
+    found = resolve_crs(_header_crs(projection), crs, lines.path)
+    sphere = found is not None and bool(found.is_geographic)
+    triangles = counter_clockwise(points, corners, sphere=sphere)
     edges, ids = _boundary_codes(triangles, table[:, 4].astype(np.int64), lines.path)
     z = table[:, 3]
     return mesh_from_file(
@@ -282,7 +298,7 @@ def read_mike_mesh(
         edges,
         ids,
         1,
-        resolve_crs(_header_crs(projection), crs, lines.path),
+        found,
         {"depth": -z if positive == "up" else z},
         {},
         {int(i): "shoreline" if i == LAND_CODE else "open" for i in np.unique(ids)},

@@ -11,20 +11,35 @@ Boundary edges are written as
 line elements with their physical id, triangles with the surface id: Fluidity and
 Thetis read msh 2.2 with these physical line ids. Each physical id gets its own
 geometrical entity, so the ids survive in version 4.1 (kept in ``$Entities``).
+
+With ``sphere_xyz``, the nodes are written as Cartesian x, y, z on a sphere (a
+2-D mesh immersed in 3-D, as Fluidity and Firedrake/Thetis read global meshes),
+and :func:`read_msh` reads such a file back as longitude, latitude.
 """
 
 from __future__ import annotations
 
 import logging
+import math
 import os
+import warnings
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
+from pyproj import CRS
 
-from coastmesh.errors import FormatError
+from coastmesh.errors import CoastmeshWarning, ConfigError, FormatError
+from coastmesh.geometry.earth import EARTH_RADIUS, reproject_points
 from coastmesh.io._atomic import atomic_write
 from coastmesh.io._inputs import check_input, mesh_from_file, resolve_crs
 from coastmesh.io._meshio import flat_points, read_with_meshio, split_cells
+from coastmesh.io.sphere import (
+    crossing_triangles,
+    lonlat_to_xyz,
+    on_sphere,
+    xyz_to_lonlat,
+)
 from coastmesh.types import Mesh
 
 __all__ = ["MSH_VERSIONS", "read_msh", "write_msh"]
@@ -32,6 +47,10 @@ __all__ = ["MSH_VERSIONS", "read_msh", "write_msh"]
 logger = logging.getLogger(__name__)
 
 MSH_VERSIONS = ("2.2", "4.1")
+
+#: nodes whose distances from the centre agree to this, relatively, are read as
+#: a mesh on a sphere (written with ``sphere_xyz``)
+SPHERE_TOLERANCE = 1e-9
 
 
 def write_msh(
@@ -41,6 +60,8 @@ def write_msh(
     version: str = "2.2",
     binary: bool = False,
     overwrite: bool = False,
+    sphere_xyz: bool = False,
+    radius: float = EARTH_RADIUS,
 ) -> None:
     """Write a mesh to a Gmsh ``.msh`` file, with physical ids.
 
@@ -56,17 +77,38 @@ def write_msh(
         Write binary instead of ASCII.
     overwrite : bool, default False
         Whether an existing file may be replaced.
+    sphere_xyz : bool, default False
+        Write the nodes as Cartesian x, y, z in metres on the sphere of
+        ``radius`` centred at 0 (z towards the North Pole, x towards longitude
+        0), for models that run on the sphere (Fluidity, Firedrake/Thetis); the
+        mesh's CRS must be known (a projected mesh is taken to longitude,
+        latitude first). The triangles run counter-clockwise seen from outside
+        the sphere, the outward normal.
+    radius : float, default :data:`~coastmesh.geometry.EARTH_RADIUS`
+        The sphere's radius in metres, with ``sphere_xyz``: by default the mean
+        Earth radius, 6 371 008.8 m, on which coastmesh measures sizes.
 
     Raises
     ------
     FormatError
-        If ``version`` is not one of :data:`MSH_VERSIONS`.
+        If ``version`` is not one of :data:`MSH_VERSIONS`, or ``sphere_xyz`` is
+        asked for a mesh with no CRS.
+    ConfigError
+        If ``radius`` is not a finite number > 0.
     OutputExistsError
         If ``path`` exists and ``overwrite`` is false.
 
+    Warns
+    -----
+    CoastmeshWarning
+        If, without ``sphere_xyz``, some triangles cross the antimeridian (a
+        global lon/lat mesh, :func:`~coastmesh.io.sphere.on_sphere`): they span
+        the whole lon/lat plane.
+
     Notes
     -----
-    Nodes are written with z = 0. Line elements are grouped by physical id, one
+    Nodes are written with z = 0 (x, y in the mesh CRS), or on the sphere with
+    ``sphere_xyz``. Line elements are grouped by physical id, one
     geometrical entity per id (entities 1, 2, ... in increasing id order); the
     triangles are surface entity 1. In version 4.1 each node belongs to the first
     curve entity that holds it, or to the surface.
@@ -80,21 +122,35 @@ def write_msh(
     >>> write_msh(path, m)
     >>> read_msh(path).boundary_ids.tolist(), read_msh(path).surface_id
     ([1, 1, 2], 7)
+
+    On the sphere, and back as longitude, latitude:
+
+    >>> g = Mesh([[0, 0], [90, 0], [0, 90]], [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]],
+    ...          [1, 1, 1], 1, "EPSG:4326")
+    >>> write_msh(path, g, sphere_xyz=True, radius=2.0, overwrite=True)
+    >>> words = path.read_text().split("$Nodes")[1].split()[1:13]
+    >>> [[round(float(v), 12) for v in words[k + 1 : k + 4]] for k in (0, 4, 8)]
+    [[2.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 2.0]]
+    >>> back = read_msh(path)
+    >>> back.points.round(12).tolist(), back.crs.to_epsg()
+    ([[0.0, 0.0], [90.0, 0.0], [0.0, 90.0]], 4326)
     """
     import meshio.gmsh
 
+    name = os.fspath(path)
     if version not in MSH_VERSIONS:
         raise FormatError(
-            f"{os.fspath(path)}: msh version {version!r} is not supported; pick one "
+            f"{name}: msh version {version!r} is not supported; pick one "
             f"of {', '.join(MSH_VERSIONS)}"
         )
+    nodes = _nodes(mesh, name, sphere_xyz=sphere_xyz, radius=radius)
     if version == "2.2" and not binary:
         with atomic_write(path, overwrite=overwrite) as tmp, open(tmp, "wb") as fh:
-            _write_ascii_22(fh, mesh)
+            _write_ascii_22(fh, mesh, nodes)
     else:
         # meshio 5.3 cannot read back the physical names it writes into msh 4.1,
         # so 4.1 files carry the ids only
-        out = _to_meshio(meshio, mesh, names=version == "2.2")
+        out = _to_meshio(meshio, mesh, nodes, names=version == "2.2")
         with atomic_write(path, overwrite=overwrite) as tmp:
             meshio.gmsh.write(tmp, out, fmt_version=version, binary=binary)
     logger.debug(
@@ -116,12 +172,16 @@ def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
     path : str or path-like
         The file; msh 2.2 or 4.1, ASCII or binary.
     crs : pyproj.CRS or CRS-like, optional
-        The CRS of the coordinates, which msh does not store.
+        The CRS of the coordinates, which msh does not store. For nodes on a
+        sphere, a geographic CRS (by default EPSG:4326).
 
     Returns
     -------
     Mesh
-        Points (x, y), triangles, boundary edges (line elements) with their
+        Points (x, y), or longitude, latitude in degrees for nodes on a sphere
+        centred at 0 (a file written with ``sphere_xyz``: every node at the
+        same distance from 0, to :data:`SPHERE_TOLERANCE`; the radius is not
+        kept), triangles, boundary edges (line elements) with their
         physical ids (grouped by id, as written), and the triangles' physical id as
         ``surface_id``. Physical names ``kind:name`` (as :func:`write_msh` writes
         them) give ``boundary_names`` and ``boundary_kinds``; other names give
@@ -134,10 +194,11 @@ def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
     InputDataError
         If ``path`` does not exist.
     FormatError
-        If the file cannot be read, is not a flat triangle mesh, lacks physical
-        ids, or its triangles carry more than one physical id.
+        If the file cannot be read, is not a flat triangle mesh or a mesh on a
+        sphere, lacks physical ids, or its triangles carry more than one
+        physical id.
     ConfigError
-        If ``crs`` is not a CRS.
+        If ``crs`` is not a CRS, or is not geographic for nodes on a sphere.
 
     Examples
     --------
@@ -147,7 +208,7 @@ def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
 
     name = check_input(path)
     data = read_with_meshio(meshio.gmsh.read, name, "msh")
-    points = flat_points(data, name)
+    points, crs = _read_points(data, name, crs)
     physical = data.cell_data.get("gmsh:physical")
     if physical is None:
         raise FormatError(f"{name}: no physical ids; expected tagged elements")
@@ -177,7 +238,61 @@ def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
 _BLOCK = 100_000
 
 
-def _write_ascii_22(fh: Any, mesh: Mesh) -> None:
+def _nodes(
+    mesh: Mesh, name: str, *, sphere_xyz: bool, radius: float
+) -> NDArray[np.float64]:
+    """Return the (N, 3) node coordinates to write: z = 0, or on the sphere."""
+    if not sphere_xyz:
+        if on_sphere(mesh):
+            count = int(crossing_triangles(mesh.points, mesh.triangles).sum())
+            warnings.warn(
+                f"{name}: {count} triangles cross the antimeridian and span the "
+                "whole lon/lat plane in a flat msh file; write it with "
+                "sphere_xyz=True for a model that runs on the sphere",
+                CoastmeshWarning,
+                stacklevel=3,
+            )
+        return np.column_stack([mesh.points, np.zeros(len(mesh.points))])
+    if isinstance(radius, bool) or not isinstance(radius, int | float):
+        radius = math.nan
+    if not (math.isfinite(radius) and radius > 0):
+        raise ConfigError(
+            f"{name}: radius={radius!r}; expected the sphere's radius in metres, "
+            "a finite number > 0"
+        )
+    if mesh.crs is None:
+        raise FormatError(
+            f"{name}: sphere_xyz needs the mesh's CRS to place the nodes on the "
+            "sphere; the mesh has none (give crs= when reading it)"
+        )
+    lonlat = mesh.points
+    if not mesh.crs.is_geographic:
+        lonlat = reproject_points(lonlat, mesh.crs, CRS.from_epsg(4326))
+    return lonlat_to_xyz(lonlat, float(radius))
+
+
+def _read_points(data: Any, name: str, crs: Any) -> tuple[NDArray[np.float64], Any]:
+    """Return the points read, as lon/lat (and their CRS) if they are on a sphere."""
+    xyz = np.asarray(data.points, dtype=np.float64)
+    if xyz.shape[1] < 3 or not np.any(xyz[:, 2] != 0):
+        return flat_points(data, name), crs
+    distance = np.linalg.norm(xyz, axis=1)
+    if distance.min() <= 0 or np.ptp(distance) > SPHERE_TOLERANCE * distance.max():
+        raise FormatError(
+            f"{name}: nodes have z != 0 and are not on a sphere centred at 0 "
+            f"(distances {distance.min():.9g} to {distance.max():.9g}); expected a "
+            "flat 2D mesh or one written with sphere_xyz"
+        )
+    geographic = CRS.from_epsg(4326) if crs is None else resolve_crs(None, crs, name)
+    if geographic is None or not geographic.is_geographic:
+        raise ConfigError(
+            f"{name}: the nodes are on a sphere and are read as longitude, latitude; "
+            f"crs={crs!r} is not a geographic CRS"
+        )
+    return xyz_to_lonlat(xyz), geographic
+
+
+def _write_ascii_22(fh: Any, mesh: Mesh, nodes: NDArray[np.float64]) -> None:
     """Write msh 2.2 ASCII: the bytes meshio writes for :func:`_to_meshio`'s mesh."""
     fh.write(b"$MeshFormat\n2.2 0 8\n$EndMeshFormat\n")
     names = sorted(
@@ -191,8 +306,7 @@ def _write_ascii_22(fh: Any, mesh: Mesh) -> None:
     n = len(mesh.points)
     fh.write(f"$Nodes\n{n}\n".encode())
     number = np.arange(1, n + 1)
-    zero = np.zeros(n)
-    _write_rows(fh, "%d %.16e %.16e %.16e\n", number, *mesh.points.T, zero)
+    _write_rows(fh, "%d %.16e %.16e %.16e\n", number, *nodes.T)
     fh.write(b"$EndNodes\n")
     ids = np.unique(mesh.boundary_ids)
     count = len(mesh.boundary_edges) + len(mesh.triangles)
@@ -223,8 +337,19 @@ def _write_rows(fh: Any, row: str, *columns: Any) -> None:
         fh.write(((row * (stop - start)) % tuple(flat)).encode())
 
 
-def _to_meshio(meshio: Any, mesh: Mesh, *, names: bool = True) -> Any:
-    """Build a meshio Mesh with physical and geometrical tags (and entities)."""
+def _to_meshio(
+    meshio: Any,
+    mesh: Mesh,
+    coordinates: NDArray[np.float64] | None = None,
+    *,
+    names: bool = True,
+) -> Any:
+    """Build a meshio Mesh with physical and geometrical tags (and entities).
+
+    ``coordinates`` are the (N, 3) nodes to write; by default x, y and z = 0.
+    """
+    if coordinates is None:
+        coordinates = np.column_stack([mesh.points, np.zeros(len(mesh.points))])
     ids = np.unique(mesh.boundary_ids)
     cells, physical, geometrical = [], [], []
     dim_tags = np.tile(np.array([2, 1], dtype=np.int64), (len(mesh.points), 1))
@@ -259,9 +384,8 @@ def _to_meshio(meshio: Any, mesh: Mesh, *, names: bool = True) -> Any:
     cells.append(meshio.CellBlock("triangle", mesh.triangles.astype(np.uint64)))
     physical.append(np.full(len(mesh.triangles), mesh.surface_id, dtype=np.int32))
     geometrical.append(np.ones(len(mesh.triangles), dtype=np.int32))
-    points = np.column_stack([mesh.points, np.zeros(len(mesh.points))])
     return meshio.Mesh(
-        points,
+        coordinates,
         cells,
         point_data={"gmsh:dim_tags": dim_tags},
         cell_data={"gmsh:physical": physical, "gmsh:geometrical": geometrical},

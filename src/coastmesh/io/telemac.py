@@ -50,6 +50,7 @@ from coastmesh.io._model import (
     node_depth,
     require_kinds,
 )
+from coastmesh.io.sphere import crossing_triangles, misdrawn_triangles, on_sphere
 from coastmesh.meshing.topology import BoundaryRing
 from coastmesh.types import Mesh
 
@@ -119,8 +120,9 @@ def write_selafin(
     Warns
     -----
     CoastmeshWarning
-        If the mesh has no depth (``BOTTOM`` is then 0 everywhere), or a triangle
-        has no area left once the coordinates are rounded to single precision.
+        If the mesh has no depth (``BOTTOM`` is then 0 everywhere), a triangle
+        has no area left once the coordinates are rounded to single precision,
+        or triangles cross the antimeridian (a global mesh; see Notes).
 
     Notes
     -----
@@ -129,6 +131,14 @@ def write_selafin(
     degrees the steering file must say ``SPHERICAL COORDINATES = YES`` and
     ``GEOGRAPHIC SYSTEM = 1`` (WGS84 longitude/latitude in real degrees).
     Single precision keeps about 7 digits: 0.5 m at a UTM northing of 6500 km.
+
+    A global mesh (:func:`~coastmesh.io.sphere.on_sphere`) is written as the
+    ADCIRC and SCHISM writers write it: longitudes in [-180, 180), every
+    triangle counter-clockwise on the sphere, the ``.cli`` rings ordered on the
+    sphere. Telemac releases turn longitude, latitude into Mercator metres when
+    they read the mesh (``read_mesh_coord.f``), where a triangle across the
+    antimeridian spans the map; support for global meshes is planned (Telemac
+    issue 985), hence the warning.
 
     The ``.cli`` lists the boundary nodes ring by ring, as
     :func:`~coastmesh.meshing.topology.boundary_rings` orders them: the exterior
@@ -186,6 +196,7 @@ def write_selafin(
     x = mesh.points[:, 0].astype(np.float32)
     y = mesh.points[:, 1].astype(np.float32)
     _check_single_precision(mesh, x, y, name)
+    _warn_crossing(mesh, name)
     ipobo = np.zeros(len(mesh.points), dtype=">i4")
     ipobo[order] = np.arange(1, len(order) + 1)
     with AtomicOutputs(overwrite=overwrite) as outputs:
@@ -324,11 +335,33 @@ def _check_land_runs(
     )
 
 
+def _warn_crossing(mesh: Mesh, name: str) -> None:
+    """Warn that Telemac releases cannot run triangles across the antimeridian."""
+    if not on_sphere(mesh):
+        return
+    count = int(crossing_triangles(mesh.points, mesh.triangles).sum())
+    warnings.warn(
+        f"{name}: {count} triangles cross the antimeridian; they are written as "
+        "ADCIRC and SCHISM take them (longitude in [-180, 180), counter-clockwise "
+        "on the sphere), but Telemac releases project longitude, latitude to "
+        "Mercator (read_mesh_coord.f), where these triangles span the map: only a "
+        "Telemac with global-mesh support can run this mesh",
+        CoastmeshWarning,
+        stacklevel=3,
+    )
+
+
 def _check_single_precision(
     mesh: Mesh, x: NDArray[np.float32], y: NDArray[np.float32], name: str
 ) -> None:
-    """Warn if rounding to float32 leaves triangles with no or negative area."""
+    """Warn if rounding to float32 leaves triangles with no or negative area.
+
+    In a mesh on the sphere, the triangles across the antimeridian or at a pole
+    are left out: the lon/lat plane does not draw them as they are.
+    """
     tri = mesh.triangles
+    if on_sphere(mesh):
+        tri = tri[~misdrawn_triangles(mesh.points, tri)]
     bad = 0
     first = -1
     for start in range(0, len(tri), _CHUNK):

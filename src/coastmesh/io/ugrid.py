@@ -91,6 +91,14 @@ def write_ugrid(
     - one node variable per ``mesh.point_data`` entry; ``depth`` in metres with
       ``positive = "down"``.
 
+    A global mesh (:func:`~coastmesh.io.sphere.on_sphere`) is written the same
+    way: nodes keep their longitude in [-180, 180), and a face that crosses the
+    antimeridian lists its nodes counter-clockwise seen from outside the
+    sphere, as UGRID asks of every face ("anticlockwise", viewed from above).
+    Its edges are the shorter great-circle arcs between its nodes (the reading
+    ugrid-conventions issue #40 settles on), which is how spherical readers such
+    as UXarray rebuild it; planar readers draw it across the map.
+
     Examples
     --------
     >>> import tempfile, pathlib, xarray as xr

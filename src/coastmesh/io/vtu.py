@@ -56,6 +56,10 @@ def write_vtu(
     ``mesh.point_data`` entry is point data (``depth`` positive down, as stored).
     The file is binary, zlib-compressed.
 
+    A global lon/lat mesh is written as it is: ParaView draws the triangles that
+    cross the antimeridian across the whole plane (read back, they are the
+    same triangles).
+
     Examples
     --------
     >>> import tempfile, pathlib, meshio.vtu

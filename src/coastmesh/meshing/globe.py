@@ -23,7 +23,6 @@ fast within one cell, which the grid spacing controls.
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -98,7 +97,7 @@ class SphereSizeGrid:
 
     def in_map_units(self) -> SphereSizeGrid:
         """Return the same field, sampled in plane lengths."""
-        return dataclasses.replace(self, map_units=True)
+        return SphereSizeGrid(self.grid, self.pole, map_units=True)
 
     def lonlat(self, xy: NDArray[np.float64]) -> NDArray[np.float64]:
         """Return the longitude and latitude of points of the plane."""

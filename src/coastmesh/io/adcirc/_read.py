@@ -136,9 +136,10 @@ def read_fort14_mesh(
     -------
     Mesh
         Nodes and triangles in file order (a clockwise triangle is turned
-        counter-clockwise); ``point_data["depth"]`` in metres, positive down;
-        boundary edges from the node lists, with ids, names and kinds (see
-        Notes); ``surface_id`` 1.
+        counter-clockwise; in a geographic CRS, a triangle that crosses the
+        antimeridian is turned by how it runs on the sphere);
+        ``point_data["depth"]`` in metres, positive down; boundary edges from
+        the node lists, with ids, names and kinds (see Notes); ``surface_id`` 1.
 
     Raises
     ------
@@ -215,14 +216,16 @@ def read_fort14_mesh(
     edge_ids = [np.full(len(e), pid) for e, pid in zip(edges, ids, strict=True)]
     match = _TITLE_CRS.match(grid["title"])
     stored = CRS.from_epsg(int(match.group(1))) if match else None
+    found = resolve_crs(stored, crs, name)
+    sphere = found is not None and bool(found.is_geographic)
     return mesh_from_file(
         name,
         grid["xy"],
-        counter_clockwise(grid["xy"], grid["elements"] - 1),
+        counter_clockwise(grid["xy"], grid["elements"] - 1, sphere=sphere),
         np.concatenate(edges) if edges else np.empty((0, 2), np.int64),
         np.concatenate(edge_ids) if edge_ids else np.empty(0, np.int64),
         1,
-        resolve_crs(stored, crs, name),
+        found,
         {"depth": grid["depth"] if positive == "down" else -grid["depth"]},
         names,
         kinds,

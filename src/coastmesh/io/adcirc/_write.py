@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import logging
 import os
+import warnings
 from collections.abc import Iterator
 
 import numpy as np
 from numpy.typing import NDArray
 
-from coastmesh.errors import ConfigError
+from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.io._atomic import atomic_write
 from coastmesh.io._model import (
     check_mesh,
@@ -23,6 +24,7 @@ from coastmesh.io._model import (
     require_kinds,
 )
 from coastmesh.io._table import put_lines, write_table
+from coastmesh.io.sphere import on_sphere, pole_triangles
 from coastmesh.meshing.topology import BoundaryString
 from coastmesh.types import Mesh
 
@@ -54,7 +56,10 @@ def write_fort14(
         (``"open"`` or ``"shoreline"``). Depth is ``mesh.point_data["depth"]``
         (metres, positive down); without it every node gets depth 0, with a
         warning. Coordinates are written as they are (longitude, latitude in
-        degrees for a geographic CRS, which ADCIRC runs with ``ICS=2``).
+        degrees for a geographic CRS, which ADCIRC runs with ``ICS`` 2 or 20 to
+        24). In a global mesh, the elements that cross the antimeridian are
+        written as every element is, counter-clockwise on the sphere (see
+        Notes).
     overwrite : bool, default False
         Whether an existing file may be replaced.
     positive : {"down", "up"}, default "down"
@@ -77,7 +82,8 @@ def write_fort14(
     Warns
     -----
     CoastmeshWarning
-        If the mesh has no ``depth`` point data (zeros are written).
+        If the mesh has no ``depth`` point data (zeros are written), or a pole
+        lies inside a triangle of a global mesh (ADCIRC then needs a rotation).
 
     Notes
     -----
@@ -92,6 +98,14 @@ def write_fort14(
     (land on the right), counter-clockwise around the exterior and clockwise
     around islands, as the ADCIRC manual asks (``NBVV``). A header comment after
     each segment's counts names its boundary id and name.
+
+    A global mesh (:func:`~coastmesh.io.sphere.on_sphere`) keeps its longitudes
+    in [-180, 180): ADCIRC finds each element that crosses the antimeridian by
+    its negative Jacobian in the lon/lat plane and moves its lone node by 360
+    degrees (``CAL_ELXV_SPCOOR`` in ``mesh.F``, ADCIRC v55), so the elements
+    must run counter-clockwise on the sphere, as they do here. Its boundary is
+    ordered on the sphere (:func:`~coastmesh.io.sphere.sphere_boundary_rings`):
+    the exterior is the ring around the largest land, the other rings islands.
 
     Examples
     --------
@@ -163,6 +177,12 @@ def write_gr3(
     their end nodes. Counts carry SCHISM's comments (``= Number of open
     boundaries``, ...), which SCHISM and ADCIRC both skip.
 
+    A global mesh is written as :func:`write_fort14` writes it: longitudes in
+    [-180, 180), every element counter-clockwise on the sphere, the boundary
+    ordered on the sphere. SCHISM reads it as ``hgrid.ll`` (and ``hgrid.gr3``)
+    with ``ics = 2`` (``param.nml``), in degrees, and works in a local frame
+    on the sphere, so elements across the antimeridian need nothing more.
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -196,6 +216,8 @@ def _write_grid(
     line = _title(mesh, title)
     kinds = require_kinds(mesh, name)
     open_segments, land_segments = _segments(mesh, name, kinds, flavour)
+    if flavour == "fort14":
+        _warn_poles(mesh, name)
     n, m = len(mesh.points), len(mesh.triangles)
     with atomic_write(path, overwrite=overwrite) as tmp, open(tmp, "wb") as handle:
         put_lines(handle, line, f"{m} {n}")
@@ -236,6 +258,28 @@ def _write_grid(
         len(open_segments),
         len(land_segments),
     )
+
+
+def _warn_poles(mesh: Mesh, name: str) -> None:
+    """Warn if a pole lies inside a triangle: ADCIRC must rotate it onto land."""
+    if not on_sphere(mesh):
+        return
+    poles = pole_triangles(mesh.points, mesh.triangles)
+    count = int(np.count_nonzero(poles))
+    if count:
+        which = " and ".join(
+            label
+            for sign, label in ((1, "North"), (-1, "South"))
+            if (poles == sign).any()
+        )
+        warnings.warn(
+            f"{name}: the {which} Pole lies inside the mesh ({count} triangle(s) "
+            "around it); ADCIRC's spherical equations are singular there: run with "
+            "a negative ICS (-20 to -24) and a fort.rotm that rotates the poles "
+            "onto land",
+            CoastmeshWarning,
+            stacklevel=4,
+        )
 
 
 def _segments(
