@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 import shapely
+from conftest import synthetic_world
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from pyproj import Geod, Proj
@@ -187,3 +188,55 @@ def test_a_world_without_antarctica_is_refused(world_low):
 def test_a_projected_layer_is_refused(world_low):
     with pytest.raises(InputDataError, match="longitude and latitude"):
         world_ocean(world_low.geometry, "EPSG:3857")
+
+
+# --- closing narrow water -------------------------------------------------------
+
+
+def _disc(lon: float, lat: float, radius_km: float) -> shapely.Polygon:
+    az = np.linspace(0.0, 360.0, 180, endpoint=False)
+    x, y, _ = SPHERE.fwd(
+        np.full(az.size, lon),
+        np.full(az.size, lat),
+        az,
+        np.full(az.size, radius_km * 1e3),
+    )
+    return shapely.Polygon(np.column_stack([x, y])[::-1])
+
+
+def _pair(lon: float, lat: float, gap_km: float) -> list[shapely.Polygon]:
+    """Two 100 km discs with ``gap_km`` of sea between them, along a meridian."""
+    _, north_lat, _ = SPHERE.fwd(lon, lat, 0.0, (100.0 + gap_km / 2) * 1e3)
+    _, south_lat, _ = SPHERE.fwd(lon, lat, 180.0, (100.0 + gap_km / 2) * 1e3)
+    return [_disc(lon, north_lat, 100.0), _disc(lon, south_lat, 100.0)]
+
+
+def test_narrow_water_is_closed_at_its_width_on_the_earth_anywhere():
+    # a strait 6 km wide near the plane's centre (k = 1.07) and one far out
+    # (60 S: k = 15); a thin spit of land, 4 km wide, on a third island
+    spit = shapely.union_all(
+        [_disc(-130.0, 10.0, 150.0), shapely.box(-128.6, 9.98, -124.0, 10.02)]
+    )
+    extra = [*_pair(-140.0, 60.0, 6.0), *_pair(-120.0, -60.0, 6.0), spit]
+    land = [*synthetic_world(), *extra]
+    kept = world_ocean(land, "EPSG:4326", close=2e3)
+    closed = world_ocean(land, "EPSG:4326", close=12e3)
+    rings = {
+        "north": _pair(-140.0, 60.0, 6.0)[0],
+        "south": _pair(-120.0, -60.0, 6.0)[0],
+    }
+
+    def holes_near(ocean, polygon) -> int:
+        where = reproject(polygon.centroid.buffer(3.0), "EPSG:4326", ocean.crs)
+        return sum(
+            shapely.Polygon(r).intersects(where) for r in ocean.polygon.interiors
+        )
+
+    for name, disc in rings.items():
+        assert holes_near(kept, disc) == 2, name  # two islands
+        assert holes_near(closed, disc) == 1, name  # one, the strait closed
+    # the spit: 4 km wide, gone at 12 km, kept at 2 km
+    spit_tip = reproject(shapely.Point(-124.5, 10.0), "EPSG:4326", kept.crs)
+    assert not kept.polygon.contains(spit_tip)
+    assert closed.polygon.contains(spit_tip)
+    assert closed.closed >= 2 and kept.closed == 0  # the two pairs at least

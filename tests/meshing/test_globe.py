@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pytest
 import shapely
+from conftest import synthetic_world
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from pyproj import Geod, Transformer
@@ -112,40 +113,6 @@ def test_the_cells_weigh_the_sphere():
 
 
 # --- a whole world, meshed --------------------------------------------------
-
-
-def _cap(lon: float, lat: float, radius_km: float, n: int = 240) -> np.ndarray:
-    """A geodesic circle on the sphere, longitudes continuous round it."""
-    az = np.linspace(0.0, 360.0, n, endpoint=False)
-    x, y, _ = SPHERE.fwd(
-        np.full(n, lon), np.full(n, lat), az, np.full(n, radius_km * 1e3)
-    )
-    x = np.unwrap(np.asarray(x), period=360.0)
-    return np.column_stack([x, y])[::-1]  # counter-clockwise
-
-
-def synthetic_world() -> list[shapely.Polygon]:
-    """Antarctica as GSHHG stores it, a continent split at the antimeridian, two
-    more continents: a world ocean bounded by 4 land masses, in GSHHG's form."""
-    lon = np.linspace(0.0, 180.0, 91)
-    coast = np.column_stack([lon, -70.0 + 3.0 * np.sin(np.radians(2 * lon))])
-    east = shapely.Polygon([*coast, (180.0, -90.0), (0.0, -90.0)])
-    west = shapely.transform(east, lambda xy: xy - [180.0, 0.0])
-    pacific = shapely.Polygon(_cap(180.0, 15.0, 2500.0))
-    halves = [
-        pacific.intersection(shapely.box(0.0, -90.0, 180.0, 90.0)),
-        shapely.transform(
-            pacific.intersection(shapely.box(180.0, -90.0, 360.0, 90.0)),
-            lambda xy: xy - [360.0, 0.0],
-        ),
-    ]
-    return [
-        east,
-        west,
-        *halves,
-        shapely.Polygon(_cap(10.0, 45.0, 3000.0)),
-        shapely.Polygon(_cap(-80.0, 0.0, 2000.0)),
-    ]
 
 
 @pytest.fixture(scope="module")

@@ -30,6 +30,7 @@ latitude are taken as spherical coordinates, as they are there.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -44,6 +45,7 @@ from coastmesh.geometry.layers import valid_polygons
 
 __all__ = [
     "WorldOcean",
+    "close_narrow_water",
     "join_dateline",
     "plane_crs",
     "polar_ring",
@@ -221,7 +223,10 @@ class WorldOcean:
         Pieces split at the antimeridian that were joined to their other half.
     enclosed : int
         Pieces of water enclosed by land and cut off from the ocean (lagoons
-        closed by the shoreline data), left out.
+        closed by the shoreline data, or water cut off by the closing), left out.
+    closed : int
+        Land polygons merged with a neighbour across water narrower than
+        ``close`` (:func:`close_narrow_water`).
     """
 
     polygon: shapely.Polygon
@@ -230,10 +235,15 @@ class WorldOcean:
     islands: int
     joined: int
     enclosed: int
+    closed: int = 0
 
 
 def world_ocean(
-    land: ArrayLike, crs: CRS | str = "EPSG:4326", *, pole=(0.0, -90.0)
+    land: ArrayLike,
+    crs: CRS | str = "EPSG:4326",
+    *,
+    pole=(0.0, -90.0),
+    close: float | None = None,
 ) -> WorldOcean:
     """Build the world ocean from a world shoreline layer.
 
@@ -246,6 +256,10 @@ def world_ocean(
         A geographic CRS.
     pole : (lon, lat)
         The projection's singular point; it must lie on land.
+    close : float, optional
+        Close water narrower than this (metres on the Earth) between pieces of
+        land, and inlets narrower than this (:func:`close_narrow_water`): a
+        mesh of that size could not resolve them.
 
     Raises
     ------
@@ -307,6 +321,13 @@ def world_ocean(
             if i != polar
         ]
     )
+    closed = 0
+    if close is not None and close > 0:
+        # the polar land as a frame round the ocean, so it closes with the rest
+        frame = shapely.box(*shapely.buffer(outer, outer.length / 100).bounds)
+        land = np.concatenate([[frame.difference(outer)], islands])
+        land, closed = close_narrow_water(land, plane, pole, close)
+        outer, islands = frame.difference(land[0]), land[1:]
     ocean = shapely.get_parts(outer.difference(shapely.union_all(islands)))
     if len(ocean) == 0:
         raise InputDataError("the world shorelines leave no ocean")
@@ -321,7 +342,83 @@ def world_ocean(
         islands=len(ocean[0].interiors),
         joined=before - len(parts),
         enclosed=len(ocean) - 1,
+        closed=closed,
     )
+
+
+def close_narrow_water(
+    land: NDArray[np.object_], crs: CRS, pole: tuple[float, float], width: float
+) -> tuple[NDArray[np.object_], int]:
+    """Close water narrower than ``width`` between and within land polygons.
+
+    A morphological closing (buffer out by ``width / 2``, then back in) in the
+    stereographic plane, where a length on the Earth is ``k`` times longer.
+    ``k = 1 + r^2 / 4R^2`` depends only on the distance ``r`` from the plane's
+    centre, so the plane is cut into rings (annuli) over which ``k`` changes by
+    at most 20 %: each ring's land, with a margin, is closed at that ring's
+    scale and cut back to the ring. The width closed is ``width`` to within
+    that 20 %, anywhere on the Earth.
+
+    Parameters
+    ----------
+    land : ndarray of shapely polygons
+        Land in the plane ``crs``; the first may be a frame round the ocean (the
+        polar land), which stays first.
+    crs : pyproj.CRS
+        The plane (:func:`plane_crs` of ``pole``).
+    pole : (lon, lat)
+    width : float
+        Metres on the Earth.
+
+    Returns
+    -------
+    land : ndarray of shapely geometries
+        The land after the closing: the frame's part first (when it was given),
+        then the rest.
+    merged : int
+        Land polygons that became one with another.
+    """
+    del crs, pole  # k depends only on r in every stereographic plane
+    land = np.asarray(land, dtype=object)
+    frame = land[0]
+    radius = 2.0 * EARTH_RADIUS
+    outer = float(np.hypot(*np.abs(np.asarray(frame.bounds)).reshape(2, 2)).max())
+    edges = [0.0]
+    while edges[-1] < outer:  # k(r1) / k(r0) <= 1.2
+        r0 = edges[-1]
+        k0 = 1.0 + (r0 / radius) ** 2
+        edges.append(max(radius * math.sqrt(max(1.2 * k0 - 1.0, 0.0)), r0 + 1.0))
+    union = shapely.union_all(land)
+    pieces = []
+    for r0, r1 in itertools.pairwise(edges):
+        half = 0.5 * width * (1.0 + (r1 / radius) ** 2)  # the ring's largest k
+        ring = _annulus(r0, r1)
+        near = union.intersection(_annulus(max(r0 - 3 * half, 0.0), r1 + 3 * half))
+        if near.is_empty:
+            continue
+        closed = near.buffer(half, quad_segs=4).buffer(-half, quad_segs=4)
+        # and land narrower than width (spits, thin peninsulas) opened up
+        closed = closed.buffer(-half, quad_segs=4).buffer(half, quad_segs=4)
+        pieces.append(closed.intersection(ring))
+    # the rings' seams (circles: parallels of latitude) can leave spikes of no
+    # width where two rings closed differently; a closing and an opening by
+    # a metre takes them away
+    closed = shapely.union_all(pieces).buffer(1.0).buffer(-2.0).buffer(1.0)
+    parts = shapely.get_parts(closed)
+    parts = parts[shapely.get_type_id(parts) == shapely.GeometryType.POLYGON]
+    # the frame's part first
+    first = np.argmax(shapely.area(parts))
+    parts = np.concatenate([parts[first : first + 1], np.delete(parts, first)])
+    merged = max(len(land) - len(parts), 0)
+    return parts, merged
+
+
+def _annulus(r0: float, r1: float) -> shapely.Geometry:
+    """Return the ring between radii ``r0`` and ``r1`` about the plane's centre."""
+    outer = shapely.Point(0.0, 0.0).buffer(r1, quad_segs=256)
+    if r0 <= 0.0:
+        return outer
+    return outer.difference(shapely.Point(0.0, 0.0).buffer(r0, quad_segs=256))
 
 
 def _check_cover(geoms: NDArray[np.object_]) -> None:
