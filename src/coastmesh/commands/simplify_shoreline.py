@@ -117,11 +117,11 @@ def simplify_shoreline_file(
     features = read_features(src, layer=layer, bbox=box)
     features = with_crs(features, assigned)
     try:
-        check_coordinates(features.geometry)
-    except InputDataError as exc:
-        raise locate(exc, features) from exc
-    _check_shoreline_types(features)
-    try:
+        _check_shoreline_types(features)
+    except InputDataError:
+        _check_coordinates(features)  # a bad coordinate is named first
+        raise
+    try:  # checks every coordinate as it flattens the layer; on every core
         geometry, report = simplify_shorelines(
             features.geometry, window, modes, progress=progress
         )
@@ -153,6 +153,13 @@ def simplify_shoreline_file(
             plotting.save_figure(figure, outputs.stage(plot))
     logger.info("wrote %s", listed(dst, plot))
     return report
+
+
+def _check_coordinates(features: Features) -> None:
+    try:
+        check_coordinates(features.geometry)
+    except InputDataError as exc:
+        raise locate(exc, features) from exc
 
 
 def _check_shoreline_types(features: Features) -> None:
