@@ -24,7 +24,6 @@ import contextlib
 import dataclasses
 import logging
 import os
-import sys
 import time
 from collections.abc import Iterator
 from typing import Any
@@ -36,12 +35,13 @@ from coastmesh.case.advice import warn_avoidable_corners, warn_spanning
 from coastmesh.case.config import CaseConfig, StudyCase
 from coastmesh.case.depths import depth_raster, node_depths, relieve
 from coastmesh.case.executor import open_runner
+from coastmesh.case.finish import finish_case, peak_memory_mb
+from coastmesh.case.globe import build_global
 from coastmesh.case.inputs import (
     build_case_domain,
     build_shoreline_set,
     read_shorelines,
 )
-from coastmesh.case.report import CaseReport, MeshReport
 from coastmesh.case.result import CaseResult
 from coastmesh.errors import ConfigError
 from coastmesh.io import read_raster
@@ -153,6 +153,11 @@ def _build(
             yield progress
         timings[label] = round(time.perf_counter() - t0, 3)
 
+    if config.domain.kind == "global":
+        return build_global(
+            config, timed, timings, threads, runner,
+            after=_after_meshing, finish=finish_case, cleanup=_cleanup(config),
+        )  # fmt: skip
     with timed("reading shorelines"):
         features, crs = read_shorelines(config)
     sets, set_reports = {}, {}
@@ -193,12 +198,7 @@ def _build(
         sized = dataclasses.replace(sized, report=report)
     size = sized.field
     output_crs = CRS.from_user_input(config.mesh.output_crs or crs)
-    c = config.cleanup
-    cleanup = (
-        CleanupOptions(c.boundary_triangles, c.max_valence, c.min_angle, c.smooth)
-        if c.enabled
-        else None
-    )
+    cleanup = _cleanup(config)
     release_memory()  # what the shoreline sets and slots freed, before the workers
     with timed("meshing") as progress:
         mesh, parts = mesh_in_parts(
@@ -218,41 +218,17 @@ def _build(
     if parts.parts > 1:
         logger.info("parts: %s", parts.summary())
     mesh, after = _after_meshing(config, mesh, timed, sized, parts.cleanup)
-    from coastmesh import __version__
+    return finish_case(
+        config, mesh, inputs, sized, parts, after, timings, started,
+        crs=crs, mesh_crs=mesh_crs, output_crs=output_crs, set_reports=set_reports,
+    )  # fmt: skip
 
-    report = CaseReport(
-        case=config.name,
-        source=None if config.source is None else str(config.source),
-        coastmesh_version=__version__,
-        crs=crs.to_string(),
-        mesh_crs=mesh_crs.to_wkt()
-        if mesh_crs.to_epsg() is None
-        else mesh_crs.to_string(),
-        output_crs=output_crs.to_string(),
-        shoreline_sets=set_reports,
-        stitch=inputs.stitch_report,
-        domain=inputs.domain_report,
-        size_field=sized.report,
-        mesh=MeshReport.of(mesh),
-        seconds=timings,
-        peak_memory_mb=peak_memory_mb(),
-        parts=parts,
-        **after,
-    )
-    result = CaseResult(
-        config=config,
-        mesh=mesh,
-        domain=domain,
-        size=size,
-        report=report,
-        regions=tuple(inputs.regions),
-        open_boundaries=tuple(inputs.open_boundaries),
-        crs=crs,
-        seconds=time.perf_counter() - started,
-        channel_width=sized.width,
-    )
-    logger.info("%s", result.summary())
-    return result
+
+def _cleanup(config: CaseConfig) -> CleanupOptions | None:
+    c = config.cleanup
+    if not c.enabled:
+        return None
+    return CleanupOptions(c.boundary_triangles, c.max_valence, c.min_angle, c.smooth)
 
 
 def worker_count(workers: int | None) -> int:
@@ -288,20 +264,6 @@ def as_case(case: Any) -> CaseConfig | StudyCase:
         f"case is a {type(case).__name__}; expected a CaseConfig, the path of a "
         "case file, or its TOML text"
     )
-
-
-def peak_memory_mb() -> float | None:
-    """Return the peak resident memory of this process, MB; None if unknown.
-
-    The ``resource`` module is Unix-only: on Windows the peak is not measured.
-    """
-    try:
-        import resource
-    except ImportError:
-        return None
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
-    # Linux reports KiB, macOS bytes
-    return round(peak / (1024 * 1024 if sys.platform == "darwin" else 1024), 1)
 
 
 def _size_field(

@@ -93,6 +93,15 @@ def dump_case(case: CaseConfig) -> str:
                 "seed": case.domain.seed,
                 "seam_tolerance": _metres(case.domain.seam_tolerance),
                 "surface_id": case.domain.surface_id,
+                **(
+                    {
+                        "kind": "global",
+                        "pole": case.domain.pole,
+                        "close": _metres(case.domain.close),
+                    }
+                    if case.domain.kind == "global"
+                    else {}
+                ),
             }
         ),
         "open_boundaries": [_dump_boundary(b) for b in case.boundaries],

@@ -244,16 +244,22 @@ def build_case_domain(
     crs: CRS,
     *,
     closed: NDArray[np.object_] | None = None,
+    lonlat: CRS | None = None,
 ) -> DomainInputs:
     """Stitch the sets by region, draw the open boundaries, build the domain.
 
     ``closed``: polygons of water to take out of the domain as land (narrow
     channels closed by the channel term); their edges take the shoreline set
-    of the region they lie in.
+    of the region they lie in. ``lonlat``: the CRS the case's region boxes,
+    polygons and seed are given in, when it is not ``crs`` (a global case,
+    built in the stereographic plane).
     """
     regions: dict[str, list[shapely.Geometry]] = {}
     for k, r in enumerate(config.regions):
-        regions.setdefault(r.set, []).append(_region_geometry(r, k, crs, config))
+        region = _region_geometry(r, k, crs, config)
+        if lonlat is not None and r.path is None:  # a box or polygon in lon/lat
+            region = reproject(shapely.segmentize(region, 0.1), lonlat, crs)
+        regions.setdefault(r.set, []).append(region)
     ordered = list(dict.fromkeys(r.set for r in config.regions))
     ordered.append(config.background_set.name)
     ids = {s.name: s.physical_id for s in config.sets}
@@ -283,7 +289,7 @@ def build_case_domain(
             land,
             walls,
             crs=crs,
-            seed=config.domain.seed,
+            seed=_seed(config, crs, lonlat),
             min_area=config.shorelines.min_area,
             surface_id=config.domain.surface_id,
             shorelines=tagged,
@@ -300,6 +306,14 @@ def build_case_domain(
         )
     logger.info("domain: %s; %s", report.summary(), stitch_report.summary())
     return DomainInputs(domain, report, stitch_report, tagged, walls)
+
+
+def _seed(config: CaseConfig, crs: CRS, lonlat: CRS | None) -> Any:
+    seed = config.domain.seed
+    if seed is None or lonlat is None:
+        return seed
+    point = reproject(shapely.Point(seed), lonlat, crs)
+    return (point.x, point.y)
 
 
 def _region_geometry(

@@ -179,6 +179,7 @@ def parse_case(text: str, source: str | os.PathLike[str]) -> CaseConfig | StudyC
                 "figures",
                 "quality",
                 "detail",
+                "sphere_xyz",
             )
         ),
         "bathymetry": _node_depth(root.table("bathymetry"), path_of)
@@ -304,9 +305,10 @@ def _boundary(t: Table, path_of: PathOf) -> BoundaryConfig:
 
 
 def _domain(t: Table) -> dict[str, Any]:
-    fields = t.pick("seed", "surface_id")
-    if t.has("seam_tolerance"):
-        fields["seam_tolerance"] = t.get("seam_tolerance", _LENGTH)
+    fields = t.pick("seed", "surface_id", "kind", "pole")
+    for name in ("seam_tolerance", "close"):
+        if t.has(name):
+            fields[name] = t.get(name, _LENGTH)
     t.done()
     return fields
 

@@ -298,6 +298,8 @@ def _write_models(result: CaseResult, folder: Path, outputs: OutputConfig) -> li
         options = {}
         if outputs.positive and fmt_name in outputs.positive:
             options["positive"] = outputs.positive[fmt_name]
+        if outputs.sphere_xyz and fmt_name in ("msh2", "msh4"):
+            options["sphere_xyz"] = True
         write_mesh(folder / filename, result.mesh, format=fmt_name, **options)
         files.append(filename)
         if fmt_name == "selafin":  # the boundary-conditions file written with it

@@ -7,6 +7,7 @@
 :mod:`.rhumb`             loxodromes and great circles for open boundaries
 :mod:`.domain`            the sea polygon and its tagged boundary
 :mod:`.earth`             reprojection, earth-centred coordinates, lengths
+:mod:`.world`             the world ocean in a stereographic plane
 ========================  =====================================================
 """
 
@@ -43,6 +44,16 @@ from coastmesh.geometry.rhumb import (
 )
 from coastmesh.geometry.shoreline import ShorelineReport, simplify_shorelines
 from coastmesh.geometry.stitch import ShorelineSet, StitchReport, stitch_shorelines
+from coastmesh.geometry.world import (
+    WorldLand,
+    WorldOcean,
+    close_narrow_water,
+    join_dateline,
+    plane_crs,
+    polar_ring,
+    world_land,
+    world_ocean,
+)
 
 __all__ = [
     "EARTH_RADIUS",
@@ -53,16 +64,22 @@ __all__ = [
     "ShorelineReport",
     "ShorelineSet",
     "StitchReport",
+    "WorldLand",
+    "WorldOcean",
     "arc_lengths",
     "blend_loxodromes",
     "build_domain",
     "check_coordinates",
+    "close_narrow_water",
     "densify_long_edges",
     "earth_centred",
     "great_circle",
+    "join_dateline",
     "land_polygons",
     "metres_per_unit",
     "paper_bearing",
+    "plane_crs",
+    "polar_ring",
     "polygon_areas",
     "reproject",
     "reproject_points",
@@ -71,4 +88,6 @@ __all__ = [
     "stitch_shorelines",
     "transformer",
     "valid_polygons",
+    "world_land",
+    "world_ocean",
 ]

@@ -44,23 +44,22 @@ from coastmesh.geometry.earth import EARTH_RADIUS, reproject
 from coastmesh.geometry.layers import valid_polygons
 
 __all__ = [
+    "WorldLand",
     "WorldOcean",
     "close_narrow_water",
     "join_dateline",
     "plane_crs",
     "polar_ring",
     "scale_factor",
+    "world_land",
     "world_ocean",
 ]
 
 #: Latitudes within this of -90 are the South Pole (degrees).
 _POLE_TOLERANCE = 1e-6
 
-#: A world layer must span at least this much longitude (degrees).
-_MIN_LON_SPAN = 300.0
-
-#: Longest edge, degrees, before the land goes into the plane.
-_STEP = 0.25
+_MIN_LON_SPAN = 300.0  #: a world layer spans at least this much longitude (deg)
+_STEP = 0.25  #: longest edge (deg) before the land goes into the plane
 
 
 def plane_crs(pole: tuple[float, float] = (0.0, -90.0)) -> CRS:
@@ -268,6 +267,167 @@ def world_ocean(
         300 degrees of longitude), ``pole`` is in the sea, or the ocean is not
         one valid polygon.
     """
+    world = world_land(land, crs, pole=pole)
+    outer, islands, plane = world.shell, world.islands, world.crs
+    closed = 0
+    if close is not None and close > 0:
+        # the polar land as a frame round the ocean, so it closes with the rest
+        frame = shapely.box(*shapely.buffer(outer, outer.length / 100).bounds)
+        land = np.concatenate([[frame.difference(outer)], islands])
+        land, closed = close_narrow_water(
+            land, plane, pole, close, within=1.05 * world.reach
+        )
+        outer, islands = frame.difference(land[0]), land[1:]
+    ocean = shapely.get_parts(outer.difference(shapely.union_all(islands)))
+    if len(ocean) == 0:
+        raise InputDataError("the world shorelines leave no ocean")
+    ocean = ocean[np.argsort(-shapely.area(ocean), kind="stable")]
+    if not ocean[0].is_valid:
+        reason = shapely.is_valid_reason(ocean[0])
+        raise InputDataError(f"the world ocean is not a valid polygon: {reason}")
+    return WorldOcean(
+        polygon=ocean[0],
+        crs=plane,
+        pole=(float(pole[0]), float(pole[1])),
+        islands=len(ocean[0].interiors),
+        joined=world.joined,
+        enclosed=len(ocean) - 1,
+        closed=closed,
+    )
+
+
+def close_narrow_water(
+    land: NDArray[np.object_],
+    crs: CRS,
+    pole: tuple[float, float],
+    width: float,
+    *,
+    within: float | None = None,
+) -> tuple[NDArray[np.object_], int]:
+    """Close water narrower than ``width`` between and within land polygons.
+
+    A morphological closing (buffer out by ``width / 2``, then back in) in the
+    stereographic plane, where a length on the Earth is ``k`` times longer.
+    ``k = 1 + r^2 / 4R^2`` depends only on the distance ``r`` from the plane's
+    centre, so the plane is cut into rings (annuli) over which ``k`` changes by
+    at most 20 %: each ring's land, with a margin, is closed at that ring's
+    scale and cut back to the ring. The width closed is ``width`` to within
+    that 20 %, anywhere on the Earth.
+
+    Parameters
+    ----------
+    land : ndarray of shapely polygons
+        Land in the plane ``crs``; the first may be a frame round the ocean (the
+        polar land), which stays first.
+    crs : pyproj.CRS
+        The plane (:func:`plane_crs` of ``pole``).
+    pole : (lon, lat)
+    width : float
+        Metres on the Earth.
+    within : float, optional
+        Only within this distance of the plane's centre (metres in the plane):
+        land beyond it (the far side of a frame round the ocean) is kept as it
+        is, however thin.
+
+    Returns
+    -------
+    land : ndarray of shapely geometries
+        The land after the closing: the frame's part first (when it was given),
+        then the rest.
+    merged : int
+        Land polygons that became one with another.
+    """
+    del crs, pole  # k depends only on r in every stereographic plane
+    land = np.asarray(land, dtype=object)
+    radius = 2.0 * EARTH_RADIUS
+    corners = np.abs(np.asarray(shapely.total_bounds(land))).reshape(2, 2)
+    outer = float(np.hypot(*corners.max(axis=0)))
+    if within is not None:
+        outer = min(outer, within)
+    edges = [0.0]
+    while edges[-1] < outer:  # k(r1) / k(r0) <= 1.2
+        r0 = edges[-1]
+        k0 = 1.0 + (r0 / radius) ** 2
+        edges.append(max(radius * math.sqrt(max(1.2 * k0 - 1.0, 0.0)), r0 + 1.0))
+    union = shapely.union_all(land)
+    pieces = []
+    for r0, r1 in itertools.pairwise(edges):
+        half = 0.5 * width * (1.0 + (r1 / radius) ** 2)  # the ring's largest k
+        ring = _annulus(r0, r1)
+        near = union.intersection(_annulus(max(r0 - 3 * half, 0.0), r1 + 3 * half))
+        if near.is_empty:
+            continue
+        closed = near.buffer(half, quad_segs=4).buffer(-half, quad_segs=4)
+        # and land narrower than width (spits, thin peninsulas) opened up
+        closed = closed.buffer(-half, quad_segs=4).buffer(half, quad_segs=4)
+        pieces.append(closed.intersection(ring))
+    if within is not None:  # the land beyond, as it is
+        pieces.append(union.difference(_annulus(0.0, edges[-1])))
+    # the rings' seams (circles: parallels of latitude) can leave spikes of no
+    # width where two rings closed differently; a closing and an opening by
+    # a metre takes them away
+    closed = shapely.union_all(pieces).buffer(1.0).buffer(-2.0).buffer(1.0)
+    parts = shapely.get_parts(closed)
+    parts = parts[shapely.get_type_id(parts) == shapely.GeometryType.POLYGON]
+    # the frame's part first
+    first = np.argmax(shapely.area(parts))
+    parts = np.concatenate([parts[first : first + 1], np.delete(parts, first)])
+    merged = max(len(land) - len(parts), 0)
+    return parts, merged
+
+
+def _annulus(r0: float, r1: float) -> shapely.Geometry:
+    """Return the ring between radii ``r0`` and ``r1`` about the plane's centre."""
+    outer = shapely.Point(0.0, 0.0).buffer(r1, quad_segs=256)
+    if r0 <= 0.0:
+        return outer
+    return outer.difference(shapely.Point(0.0, 0.0).buffer(r0, quad_segs=256))
+
+
+@dataclass(frozen=True, slots=True)
+class WorldLand:
+    """World land in the stereographic plane, ready for shoreline sets.
+
+    Attributes
+    ----------
+    shell : shapely.Polygon
+        The inside of the polar land's coast in the plane: the ocean and every
+        other piece of land (Antarctica is what lies outside it).
+    islands : ndarray of shapely polygons
+        Every other piece of land, in the plane.
+    crs : pyproj.CRS
+        The plane.
+    pole : (lon, lat)
+    joined : int
+        Pieces split at the antimeridian joined to their other half.
+    """
+
+    shell: shapely.Polygon
+    islands: NDArray[np.object_]
+    crs: CRS
+    pole: tuple[float, float]
+    joined: int
+
+    @property
+    def reach(self) -> float:
+        """The ocean's farthest distance from the plane's centre, metres."""
+        xy = shapely.get_coordinates(self.shell.exterior)
+        return float(np.hypot(xy[:, 0], xy[:, 1]).max())
+
+    def frame(self, shell: shapely.Polygon | None = None) -> shapely.Polygon:
+        """Return the polar land as a polygon: a wide box less ``shell``."""
+        shell = self.shell if shell is None else shell
+        box = shapely.box(*shapely.buffer(shell, shell.length / 100).bounds)
+        return box.difference(shell)
+
+
+def world_land(
+    land: ArrayLike, crs: CRS | str = "EPSG:4326", *, pole=(0.0, -90.0)
+) -> WorldLand:
+    """Put a world shoreline layer in the plane: joined, the polar land a shell.
+
+    Takes and checks what :func:`world_ocean` takes; see there.
+    """
     crs = CRS.from_user_input(crs)
     if not crs.is_geographic:
         raise InputDataError(
@@ -321,104 +481,9 @@ def world_ocean(
             if i != polar
         ]
     )
-    closed = 0
-    if close is not None and close > 0:
-        # the polar land as a frame round the ocean, so it closes with the rest
-        frame = shapely.box(*shapely.buffer(outer, outer.length / 100).bounds)
-        land = np.concatenate([[frame.difference(outer)], islands])
-        land, closed = close_narrow_water(land, plane, pole, close)
-        outer, islands = frame.difference(land[0]), land[1:]
-    ocean = shapely.get_parts(outer.difference(shapely.union_all(islands)))
-    if len(ocean) == 0:
-        raise InputDataError("the world shorelines leave no ocean")
-    ocean = ocean[np.argsort(-shapely.area(ocean), kind="stable")]
-    if not ocean[0].is_valid:
-        reason = shapely.is_valid_reason(ocean[0])
-        raise InputDataError(f"the world ocean is not a valid polygon: {reason}")
-    return WorldOcean(
-        polygon=ocean[0],
-        crs=plane,
-        pole=(float(pole[0]), float(pole[1])),
-        islands=len(ocean[0].interiors),
-        joined=before - len(parts),
-        enclosed=len(ocean) - 1,
-        closed=closed,
+    return WorldLand(
+        outer, islands, plane, (float(pole[0]), float(pole[1])), before - len(parts)
     )
-
-
-def close_narrow_water(
-    land: NDArray[np.object_], crs: CRS, pole: tuple[float, float], width: float
-) -> tuple[NDArray[np.object_], int]:
-    """Close water narrower than ``width`` between and within land polygons.
-
-    A morphological closing (buffer out by ``width / 2``, then back in) in the
-    stereographic plane, where a length on the Earth is ``k`` times longer.
-    ``k = 1 + r^2 / 4R^2`` depends only on the distance ``r`` from the plane's
-    centre, so the plane is cut into rings (annuli) over which ``k`` changes by
-    at most 20 %: each ring's land, with a margin, is closed at that ring's
-    scale and cut back to the ring. The width closed is ``width`` to within
-    that 20 %, anywhere on the Earth.
-
-    Parameters
-    ----------
-    land : ndarray of shapely polygons
-        Land in the plane ``crs``; the first may be a frame round the ocean (the
-        polar land), which stays first.
-    crs : pyproj.CRS
-        The plane (:func:`plane_crs` of ``pole``).
-    pole : (lon, lat)
-    width : float
-        Metres on the Earth.
-
-    Returns
-    -------
-    land : ndarray of shapely geometries
-        The land after the closing: the frame's part first (when it was given),
-        then the rest.
-    merged : int
-        Land polygons that became one with another.
-    """
-    del crs, pole  # k depends only on r in every stereographic plane
-    land = np.asarray(land, dtype=object)
-    frame = land[0]
-    radius = 2.0 * EARTH_RADIUS
-    outer = float(np.hypot(*np.abs(np.asarray(frame.bounds)).reshape(2, 2)).max())
-    edges = [0.0]
-    while edges[-1] < outer:  # k(r1) / k(r0) <= 1.2
-        r0 = edges[-1]
-        k0 = 1.0 + (r0 / radius) ** 2
-        edges.append(max(radius * math.sqrt(max(1.2 * k0 - 1.0, 0.0)), r0 + 1.0))
-    union = shapely.union_all(land)
-    pieces = []
-    for r0, r1 in itertools.pairwise(edges):
-        half = 0.5 * width * (1.0 + (r1 / radius) ** 2)  # the ring's largest k
-        ring = _annulus(r0, r1)
-        near = union.intersection(_annulus(max(r0 - 3 * half, 0.0), r1 + 3 * half))
-        if near.is_empty:
-            continue
-        closed = near.buffer(half, quad_segs=4).buffer(-half, quad_segs=4)
-        # and land narrower than width (spits, thin peninsulas) opened up
-        closed = closed.buffer(-half, quad_segs=4).buffer(half, quad_segs=4)
-        pieces.append(closed.intersection(ring))
-    # the rings' seams (circles: parallels of latitude) can leave spikes of no
-    # width where two rings closed differently; a closing and an opening by
-    # a metre takes them away
-    closed = shapely.union_all(pieces).buffer(1.0).buffer(-2.0).buffer(1.0)
-    parts = shapely.get_parts(closed)
-    parts = parts[shapely.get_type_id(parts) == shapely.GeometryType.POLYGON]
-    # the frame's part first
-    first = np.argmax(shapely.area(parts))
-    parts = np.concatenate([parts[first : first + 1], np.delete(parts, first)])
-    merged = max(len(land) - len(parts), 0)
-    return parts, merged
-
-
-def _annulus(r0: float, r1: float) -> shapely.Geometry:
-    """Return the ring between radii ``r0`` and ``r1`` about the plane's centre."""
-    outer = shapely.Point(0.0, 0.0).buffer(r1, quad_segs=256)
-    if r0 <= 0.0:
-        return outer
-    return outer.difference(shapely.Point(0.0, 0.0).buffer(r0, quad_segs=256))
 
 
 def _check_cover(geoms: NDArray[np.object_]) -> None:

@@ -29,13 +29,14 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 from numpy.typing import NDArray
-from pyproj import CRS
+from pyproj import CRS, Transformer
+from scipy.spatial import cKDTree
 
 from coastmesh.geometry.earth import EARTH_RADIUS, transformer
 from coastmesh.geometry.world import plane_crs, scale_factor
-from coastmesh.types import SizeGrid
+from coastmesh.types import Mesh, SizeGrid
 
-__all__ = ["SphereSizeGrid"]
+__all__ = ["SphereSizeGrid", "empty_pole", "local_plane"]
 
 _LONLAT = CRS.from_epsg(4326)
 
@@ -183,3 +184,45 @@ class SphereSizeGrid:
         dlat = math.radians(float(y[1] - y[0]))
         area = EARTH_RADIUS**2 * dlon * dlat * np.cos(np.radians(glat))
         return px[inside], py[inside], area[inside] / v[:, :-1][inside] ** 2
+
+
+def local_plane(mesh: Mesh) -> Transformer | None:
+    """Return the map to a conformal plane (angles there are angles on the Earth).
+
+    None for a projected (or planar) mesh: its own plane is used.
+    """
+    if mesh.crs is None or mesh.crs.is_projected:
+        return None
+    if np.ptp(mesh.points[:, 0]) > 180.0:  # round the world: away from every node
+        return transformer(mesh.crs, plane_crs(empty_pole(mesh.points)))
+    lon, lat = np.median(mesh.points, axis=0)
+    plane = CRS.from_proj4(
+        f"+proj=sterea +lat_0={lat} +lon_0={lon} +k=1 +datum=WGS84 +units=m"
+    )
+    return transformer(mesh.crs, plane)
+
+
+def empty_pole(lonlat: NDArray[np.float64]) -> tuple[float, float]:
+    """Return a point far from every node, for a plane's singular point.
+
+    The South or North Pole, or the antipode of the nodes' mean direction:
+    whichever is farthest from a node.
+
+    Examples
+    --------
+    >>> nodes = np.array([[0.0, 0.0], [120.0, 10.0], [-120.0, -10.0], [0, 80]])
+    >>> empty_pole(nodes)
+    (0.0, -90.0)
+    """
+    lon, lat = np.radians(np.asarray(lonlat, dtype=np.float64)).T
+    xyz = np.column_stack(
+        [np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)]
+    )
+    mean = -xyz.mean(axis=0)
+    mean = mean / np.linalg.norm(mean) if np.linalg.norm(mean) > 0 else [0, 0, -1]
+    candidates = np.array([[0.0, 0.0, -1.0], [0.0, 0.0, 1.0], mean])
+    gap, _ = cKDTree(xyz).query(candidates)
+    x, y, z = candidates[int(np.argmax(gap))]
+    pole_lat = float(np.degrees(np.arcsin(np.clip(z, -1.0, 1.0))))
+    pole_lon = float(np.degrees(np.arctan2(y, x))) if abs(z) < 1.0 else 0.0
+    return (pole_lon + 0.0, pole_lat)

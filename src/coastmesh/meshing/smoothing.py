@@ -34,11 +34,11 @@ from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
-from pyproj import CRS, Transformer
+from pyproj import Transformer
 from scipy import sparse
 
 from coastmesh.errors import ConfigError
-from coastmesh.geometry.earth import transformer
+from coastmesh.meshing.globe import local_plane
 from coastmesh.meshing.planar import radius_ratios, sin_min_angles
 from coastmesh.meshing.topology import unique_edges
 from coastmesh.types import Mesh, Report
@@ -318,20 +318,6 @@ def mesh_with(mesh: Mesh, **fields: object) -> Mesh:
     """Return a copy of ``mesh`` with ``fields`` changed (and checked again)."""
     values = {f.name: getattr(mesh, f.name) for f in dataclasses.fields(mesh)}
     return Mesh(**(values | fields))
-
-
-def local_plane(mesh: Mesh) -> Transformer | None:
-    """Return the map to a conformal plane (angles there are angles on the Earth).
-
-    None for a projected (or planar) mesh: its own plane is used.
-    """
-    if mesh.crs is None or mesh.crs.is_projected:
-        return None
-    lon, lat = np.median(mesh.points, axis=0)
-    plane = CRS.from_proj4(
-        f"+proj=sterea +lat_0={lat} +lon_0={lon} +k=1 +datum=WGS84 +units=m"
-    )
-    return transformer(mesh.crs, plane)
 
 
 def plane_points(

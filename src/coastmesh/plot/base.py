@@ -41,6 +41,27 @@ __all__ = [
 _DETAIL_FRACTION = 1 / 8
 
 
+def across_dateline(
+    xy: NDArray[np.float64], cells: NDArray[np.int64], crs: Any
+) -> NDArray[np.bool_]:
+    """Return which cells (edges or triangles) cross the antimeridian.
+
+    In longitude and latitude such a cell spans over 180 degrees and would be
+    drawn across the whole map; the figures leave it out. Never for a
+    projected CRS.
+
+    Examples
+    --------
+    >>> xy = np.array([[179.0, 0.0], [-179.0, 0.0], [170.0, 0.0]])
+    >>> across_dateline(xy, np.array([[0, 1], [0, 2]]), "EPSG:4326").tolist()
+    [True, False]
+    """
+    if crs is None or not CRS.from_user_input(crs).is_geographic or len(cells) == 0:
+        return np.zeros(len(cells), dtype=bool)
+    lon = xy[:, 0][cells]
+    return (lon.max(axis=1) - lon.min(axis=1)) > 180.0
+
+
 def save_figure(
     figure: Figure,
     path: str | os.PathLike[str],

@@ -14,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from coastmesh.geometry import reproject_points
-from coastmesh.plot.base import geographic_axes
+from coastmesh.plot.base import across_dateline, geographic_axes
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -271,11 +271,13 @@ def _draw_mesh(
     from matplotlib.collections import LineCollection
 
     if 0 < len(triangles) <= MAX_DRAWN_TRIANGLES:
-        ax.triplot(xy[:, 0], xy[:, 1], triangles, color="0.55", lw=0.2)
+        shown = triangles[~across_dateline(xy, triangles, mesh.crs)]
+        ax.triplot(xy[:, 0], xy[:, 1], shown, color="0.55", lw=0.2)
+    keep = ~across_dateline(xy, mesh.boundary_edges, mesh.crs)
     ax.add_collection(
         LineCollection(
-            xy[mesh.boundary_edges],
-            colors=[colours[int(i)] for i in mesh.boundary_ids],
+            xy[mesh.boundary_edges[keep]],
+            colors=[colours[int(i)] for i in mesh.boundary_ids[keep]],
             linewidths=linewidth,
         )
     )

@@ -18,7 +18,7 @@ from coastmesh.meshing import (
     triangle_quality,
 )
 from coastmesh.meshing.quality_report import EDGE_RATIO_RANGE
-from coastmesh.plot.base import geographic_axes
+from coastmesh.plot.base import across_dateline, geographic_axes
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -151,6 +151,7 @@ def depth_figure(mesh: Mesh, *, title: str | None = None) -> Figure:
     x, y = mesh.points[:, 0], mesh.points[:, 1]
     finite = np.isfinite(depth)
     mask = ~finite[mesh.triangles].all(axis=1)
+    mask |= across_dateline(mesh.points, mesh.triangles, mesh.crs)
     triangulation = Triangulation(
         x, y, mesh.triangles, mask=mask if mask.any() else None
     )
@@ -254,8 +255,9 @@ def _element_map(
 
     shown = np.isfinite(values) & (values > 0)
     x, y = mesh.points[:, 0], mesh.points[:, 1]
+    hidden = ~shown | across_dateline(mesh.points, mesh.triangles, mesh.crs)
     triangulation = Triangulation(
-        x, y, mesh.triangles, mask=None if shown.all() else ~shown
+        x, y, mesh.triangles, mask=hidden if hidden.any() else None
     )
     low, high = (
         (float(values[shown].min()), float(values[shown].max()))

@@ -47,6 +47,7 @@ from coastmesh.sizing.domain import (
 from coastmesh.sizing.field import Gradation, size_field
 from coastmesh.sizing.gradation import DEFAULT_RATE, gradation_size, limit_gradation
 from coastmesh.sizing.raster import interpolate_bilinear, raster_grid
+from coastmesh.sizing.sphere import limit_gradation_sphere, sphere_size_field
 from coastmesh.sizing.terms import (
     ChannelSize,
     CourantReport,
@@ -79,11 +80,13 @@ __all__ = [
     "gradation_size",
     "interpolate_bilinear",
     "limit_gradation",
+    "limit_gradation_sphere",
     "local_width",
     "raster_grid",
     "size_field",
     "size_field_with_report",
     "slope_size",
+    "sphere_size_field",
     "to_metres",
     "wavelength_size",
 ]

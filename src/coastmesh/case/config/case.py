@@ -181,9 +181,32 @@ def _text(value: Any, key: str) -> str:
     return value
 
 
+def _check_global(case: dict[str, Any], label: str) -> None:
+    """Refuse what a global case cannot take: open boundaries, some terms."""
+    if case["boundaries"]:
+        names = [b.name for b in case["boundaries"]]
+        raise ConfigError(
+            f'{label}: [domain] kind = "global" meshes the whole ocean, which has '
+            f"no open boundary; remove the [[open_boundaries]] ({names}). Cutting "
+            "off a sea with an open boundary is not available yet in global cases"
+        )
+    size = case["size"]
+    if size.courant is not None:
+        raise ConfigError(
+            f"{label}: [mesh_size.courant] is not available in a global case yet"
+        )
+    if size.bathymetry is not None and size.bathymetry.per_slope is not None:
+        raise ConfigError(
+            f"{label}: mesh_size.bathymetry.per_slope: the slope term is not "
+            "available in a global case; use per_wavelength"
+        )
+
+
 def _cross_check(case: dict[str, Any], label: str) -> None:
     """Names and ids across tables: sets, regions, boundaries, gradations."""
     sets, regions, boundaries = case["sets"], case["regions"], case["boundaries"]
+    if case["domain"].kind == "global":
+        _check_global(case, label)
     set_names = [s.name for s in sets]
     for k, r in enumerate(regions):
         if r.set not in set_names:

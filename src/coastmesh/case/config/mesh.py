@@ -214,6 +214,9 @@ class OutputConfig:
         report.
     detail : (minx, miny, maxx, maxy), optional
         A detail box for a Mercator mesh figure.
+    sphere_xyz : bool
+        Write ``msh2``/``msh4`` nodes as Cartesian x, y, z on the sphere (for
+        Fluidity and Thetis meshes of the globe), with the same physical ids.
     """
 
     formats: tuple[str, ...] = ("msh2",)
@@ -223,6 +226,7 @@ class OutputConfig:
     figures: bool = True
     quality: bool = True
     detail: tuple[float, float, float, float] | None = None
+    sphere_xyz: bool = False
 
     def _checked(self, c: Check) -> OutputConfig:
         return OutputConfig(
@@ -233,6 +237,7 @@ class OutputConfig:
             figures=c(schema.boolean, self.figures, "figures"),
             quality=c(schema.boolean, self.quality, "quality"),
             detail=c.optional(schema.box, self.detail, "detail"),
+            sphere_xyz=c(schema.boolean, self.sphere_xyz, "sphere_xyz"),
         )
 
 

@@ -138,11 +138,25 @@ class DomainConfig:
         Slivers narrower than twice this at region seams are closed (metres).
     surface_id : int
         The physical id of the triangles.
+    kind : {"regional", "global"}
+        ``"global"``: the whole world ocean bounded by a world shoreline layer,
+        with no open boundary, meshed through the stereographic plane whose
+        singular point is ``pole``.
+    pole : (lon, lat)
+        Global cases: the projection's singular point, on land (default the
+        South Pole).
+    close : float or str, optional
+        Global cases: water narrower than this between or within land, and land
+        narrower than it, is closed (metres on the Earth); default the smallest
+        gradation ``h_min``, so the coast can be resolved.
     """
 
     seed: tuple[float, float] | None = None
     seam_tolerance: float = 50.0
     surface_id: int = 1
+    kind: str = "regional"
+    pole: tuple[float, float] = (0.0, -90.0)
+    close: float | None = None
 
     def _checked(self, c: Check) -> DomainConfig:
         return DomainConfig(
@@ -151,4 +165,7 @@ class DomainConfig:
                 schema.length(positive=False), self.seam_tolerance, "seam_tolerance"
             ),
             surface_id=c(schema.integer(1), self.surface_id, "surface_id"),
+            kind=c(schema.choice(("regional", "global")), self.kind, "kind"),
+            pole=c(schema.point, self.pole, "pole"),
+            close=c.optional(schema.length(), self.close, "close"),
         )

@@ -1,0 +1,165 @@
+"""A global case end to end: the whole ocean from the bundled low-resolution
+world layer, coarse (about 20,000 triangles in about 30 s)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from coastmesh.case import run_case
+from coastmesh.data import path as data_path
+from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.io import read_mesh
+
+CASE = """
+[case]
+name = "world_coarse"
+
+[shorelines]
+path = "{world}"
+min_area = "5000 km2"
+
+[shoreline_sets.world]
+id = 10
+
+[shoreline_sets.shelf]
+id = 11
+window = 50
+modes = 2
+
+[[regions]]
+set = "shelf"
+box = [-16.0, 48.0, 26.0, 70.0]
+
+[domain]
+kind = "global"
+close = "150 km"
+
+[mesh_size]
+h_max = "600 km"
+cell = "2 deg"
+rate = 0.5
+
+[[mesh_size.gradations]]
+lines = ["world"]
+h_min = "150 km"
+d_grade = "2000 km"
+
+[[mesh_size.gradations]]
+lines = ["shelf"]
+h_min = "150 km"
+d_grade = "1000 km"
+
+[mesh_size.bathymetry]
+path = "{etopo}"
+per_wavelength = 20
+min_depth = "10 m"
+
+[bathymetry]
+path = "{etopo}"
+min_depth = "10 m"
+
+[output]
+formats = ["gr3", "msh2", "ugrid"]
+sphere_xyz = true
+"""
+
+
+def _case(tmp_path, text: str = CASE):
+    path = tmp_path / "world.toml"
+    path.write_text(
+        text.format(
+            world=data_path("world_gshhg_l.zip"),
+            etopo=data_path("etopo1_0.5deg_world.tif"),
+        )
+    )
+    return path
+
+
+@pytest.fixture(scope="module")
+def world(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("global")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = run_case(_case(folder), output=folder / "out")
+    return result, folder / "out"
+
+
+def _xyz(lonlat):
+    lon, lat = np.radians(lonlat).T
+    return np.column_stack(
+        [np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)]
+    )
+
+
+def test_the_world_ocean_is_one_mesh_on_the_sphere(world):
+    result, _ = world
+    mesh = result.mesh
+    assert mesh.crs.is_geographic and 5_000 < len(mesh.triangles) < 60_000
+    # shorelines only, both sets on the boundary; no open boundary
+    assert set(mesh.boundary_kinds.values()) == {"shoreline"}
+    assert set(np.unique(mesh.boundary_ids)) == {10, 11}
+    p = _xyz(mesh.points)
+    a, b, c = (p[mesh.triangles[:, k]] for k in range(3))
+    normal = np.cross(b - a, c - a)
+    assert ((normal * (a + b + c)).sum(axis=1) > 0).all()  # outward, every one
+    crossing = np.ptp(mesh.points[mesh.triangles, 0], axis=1) > 180
+    assert crossing.sum() > 10
+    # the ocean is about 70 % of the sphere
+    area = 0.5 * np.linalg.norm(normal, axis=1).sum()
+    assert 0.6 < area / (4 * math.pi) < 0.75
+    # the quality report measures on the Earth: no sign of the wrap
+    q = result.report.quality
+    assert q.min_angle.p1 >= 30.0
+    assert q.min_angle.below_20 <= 1e-3 * q.triangles  # at forced corners
+
+
+def test_the_shelf_is_its_own_set_and_sizes_follow_the_field(world):
+    result, _ = world
+    mesh = result.mesh
+    edges = mesh.boundary_edges[mesh.boundary_ids == 11]
+    lon, lat = mesh.points[edges[:, 0]].T
+    assert (lon > -17).all() and (lon < 27).all() and (lat > 47).all()
+    assert result.report.size_field.min_m == pytest.approx(150e3, rel=1e-6)
+
+
+def test_the_files_read_back_on_the_sphere(world):
+    _, out = world
+    for name in ("world_coarse.gr3", "world_coarse.nc", "world_coarse.msh"):
+        assert (out / name).stat().st_size > 10_000
+    back = read_mesh(out / "world_coarse.msh")  # x, y, z on the sphere
+    assert back.crs.to_epsg() == 4326
+    assert len(back.triangles) > 5_000
+    lines = (out / "world_coarse.msh").read_text().splitlines()
+    first = lines.index("$Nodes") + 2
+    xyz = np.array(
+        [[float(v) for v in line.split()[1:]] for line in lines[first:][:50]]
+    )
+    assert np.allclose(np.linalg.norm(xyz, axis=1), 6_371_008.8)
+
+
+def test_open_boundaries_in_a_global_case_say_what_to_do(tmp_path):
+    text = (
+        CASE
+        + """
+[[open_boundaries]]
+name = "gibraltar"
+id = 2
+kind = "loxodrome"
+start = [-5.6, 36.2]
+end = [-5.4, 35.8]
+"""
+    )
+    with pytest.raises(ConfigError, match="no open boundary; remove the"):
+        run_case(_case(tmp_path, text), output=tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_regional_layer_is_refused_with_its_name(tmp_path):
+    text = CASE.replace("{world}", str(data_path("orkney_gshhg_f.geojson")))
+    with pytest.raises(InputDataError, match=r"orkney_gshhg_f.*both hemispheres"):
+        run_case(_case(tmp_path, text), output=tmp_path / "out")
+    assert not (tmp_path / "out").exists()
