@@ -38,6 +38,7 @@ from coastmesh.case.executor import open_runner
 from coastmesh.case.finish import finish_case, peak_memory_mb
 from coastmesh.case.globe import build_global
 from coastmesh.case.inputs import (
+    bathymetry_terms,
     build_case_domain,
     build_shoreline_set,
     read_shorelines,
@@ -54,7 +55,6 @@ from coastmesh.meshing.engine import mesh_in_parts
 from coastmesh.meshing.session import release_memory
 from coastmesh.meshing.tasks import Runner
 from coastmesh.sizing.domain import (
-    BathymetrySize,
     BoundaryGradation,
     SizeField,
     domain_slots,
@@ -290,17 +290,7 @@ def _size_field(
             cell=size.cell,
             channels=ChannelSize(size.channels.elements_across, "close"),
         )
-    bathymetry = None
-    if size.bathymetry is not None:
-        b = size.bathymetry
-        bathymetry = BathymetrySize(
-            read_raster(b.path),
-            positive=b.positive,
-            per_wavelength=b.per_wavelength,
-            period=b.period,
-            per_slope=b.per_slope,
-            min_depth=b.min_depth,
-        )
+    bathymetry = None if size.bathymetry is None else bathymetry_terms(size.bathymetry)
     channels = None
     if size.channels.enabled:
         # with "close", build_case has closed them already, and warns of any

@@ -35,6 +35,7 @@ from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig
 from coastmesh.case.inputs import (
+    bathymetry_terms,
     build_case_domain,
     build_shoreline_set,
     read_shorelines,
@@ -43,11 +44,9 @@ from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry import simplify_shorelines
 from coastmesh.geometry.earth import METRES_PER_DEGREE, reproject
 from coastmesh.geometry.world import close_narrow_water, world_land
-from coastmesh.io import read_raster
 from coastmesh.meshing.engine import mesh_in_parts
 from coastmesh.meshing.globe import SphereSizeGrid
 from coastmesh.meshing.session import release_memory
-from coastmesh.sizing import BathymetrySize
 from coastmesh.sizing.domain import SizeField, SizeFieldReport
 from coastmesh.sizing.field import Gradation
 from coastmesh.sizing.sphere import sphere_size_field
@@ -185,16 +184,7 @@ def _size_field(config: CaseConfig, domain: Any, plane: CRS, lonlat: CRS) -> Siz
         gradations.append(
             Gradation(np.array(lines, dtype=object), g.h_min, g.d_hold, g.d_grade)
         )
-    bathymetry = None
-    if size.bathymetry is not None:
-        b = size.bathymetry
-        bathymetry = BathymetrySize(
-            read_raster(b.path),
-            positive=b.positive,
-            per_wavelength=b.per_wavelength,
-            period=b.period,
-            min_depth=b.min_depth,
-        )
+    bathymetry = None if size.bathymetry is None else bathymetry_terms(size.bathymetry)
     cell = DEFAULT_CELL_DEG if size.cell is None else size.cell / METRES_PER_DEGREE
     south = reproject(domain.polygon.exterior, plane, lonlat).bounds[1]
     h_min = size.h_min

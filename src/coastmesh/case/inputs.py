@@ -308,6 +308,21 @@ def build_case_domain(
     return DomainInputs(domain, report, stitch_report, tagged, walls)
 
 
+def bathymetry_terms(b: Any) -> Any:
+    """``[mesh_size.bathymetry]`` as :class:`~coastmesh.sizing.BathymetrySize`."""
+    from coastmesh.io import read_raster
+    from coastmesh.sizing import BathymetrySize
+
+    return BathymetrySize(
+        read_raster(b.path),
+        positive=b.positive,
+        per_wavelength=b.per_wavelength,
+        period=b.period,
+        per_slope=b.per_slope,
+        min_depth=b.min_depth,
+    )
+
+
 def _seed(config: CaseConfig, crs: CRS, lonlat: CRS | None) -> Any:
     seed = config.domain.seed
     if seed is None or lonlat is None:

@@ -26,7 +26,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import FormatError
 from coastmesh.geometry.earth import EARTH_RADIUS
-from coastmesh.meshing.topology import BoundaryRing, BoundaryString, boundary_rings
+from coastmesh.meshing.topology import (
+    BoundaryRing,
+    BoundaryString,
+    boundary_rings,
+    rings_to_strings,
+)
 from coastmesh.types import Mesh
 
 __all__ = [
@@ -401,23 +406,7 @@ def sphere_boundary_strings(mesh: Mesh) -> list[BoundaryString]:
     >>> [(s.physical_id, s.nodes.tolist()) for s in sphere_boundary_strings(m)]
     [(2, [0, 1]), (1, [1, 3, 2, 0])]
     """
-    strings = []
-    for r, ring in enumerate(sphere_boundary_rings(mesh)):
-        changes = np.flatnonzero(ring.ids != np.roll(ring.ids, 1))
-        if len(changes) == 0:
-            strings.append(
-                BoundaryString(ring.nodes, int(ring.ids[0]), r, True, ring.exterior)
-            )
-            continue
-        k = len(ring.nodes)
-        for a, b in zip(changes, np.append(changes[1:], changes[0] + k), strict=True):
-            idx = np.arange(a, b + 1) % k
-            strings.append(
-                BoundaryString(
-                    ring.nodes[idx], int(ring.ids[a]), r, False, ring.exterior
-                )
-            )
-    return strings
+    return rings_to_strings(sphere_boundary_rings(mesh))
 
 
 def _tangent_proxy(mesh: Mesh, xyz: NDArray[np.float64]) -> Mesh:

@@ -168,8 +168,13 @@ def boundary_strings(mesh: Mesh) -> list[BoundaryString]:
     >>> [(s.physical_id, s.nodes.tolist()) for s in boundary_strings(m)]
     [(2, [0, 1]), (1, [1, 2, 3, 0])]
     """
+    return rings_to_strings(boundary_rings(mesh))
+
+
+def rings_to_strings(rings: list[BoundaryRing]) -> list[BoundaryString]:
+    """Split boundary rings into strings of one physical id each, in order."""
     strings = []
-    for r, ring in enumerate(boundary_rings(mesh)):
+    for r, ring in enumerate(rings):
         changes = np.flatnonzero(ring.ids != np.roll(ring.ids, 1))
         if len(changes) == 0:
             strings.append(
