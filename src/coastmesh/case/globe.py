@@ -61,8 +61,6 @@ logger = logging.getLogger(__name__)
 #: view, 128 bytes a cell: 0.1 degrees would be 800 MB.
 DEFAULT_CELL_DEG = 0.25
 
-_LONLAT = CRS.from_epsg(4326)
-
 
 def build_global(
     config: CaseConfig,
@@ -87,6 +85,12 @@ def build_global(
         raise ConfigError(
             f"{config.label}: a global case takes its shorelines in longitude and "
             f"latitude; [case] crs or the file gives {crs.name!r}"
+        )
+    output_crs = CRS.from_user_input(config.mesh.output_crs or crs)
+    if not output_crs.is_geographic:
+        raise ConfigError(
+            f"{config.label}: mesh.output_crs = {output_crs.name!r}: a global mesh is "
+            "written in longitude and latitude"
         )
     with timed("the world in the plane"):
         try:
@@ -130,12 +134,6 @@ def build_global(
     domain = inputs.domain
     with timed("size field"):
         sized = _size_field(config, domain, plane, crs)
-    output_crs = CRS.from_user_input(config.mesh.output_crs or crs)
-    if not output_crs.is_geographic:
-        raise ConfigError(
-            f"{config.label}: mesh.output_crs = {output_crs.name!r}: a global mesh is "
-            "written in longitude and latitude"
-        )
     release_memory()
     with timed("meshing") as progress:
         mesh, parts = mesh_in_parts(
