@@ -65,6 +65,7 @@ min_depth = "10 m"
 [output]
 formats = ["gr3", "msh2", "ugrid"]
 sphere_xyz = true
+detail = [-16.0, 48.0, 26.0, 70.0]
 """
 
 
@@ -130,6 +131,8 @@ def test_the_files_read_back_on_the_sphere(world):
     _, out = world
     for name in ("world_coarse.gr3", "world_coarse.nc", "world_coarse.msh"):
         assert (out / name).stat().st_size > 10_000
+    for name in ("globe", "mesh", "mesh_mercator", "depth"):
+        assert (out / "figures" / f"{name}.png").stat().st_size > 20_000
     back = read_mesh(out / "world_coarse.msh")  # x, y, z on the sphere
     assert back.crs.to_epsg() == 4326
     assert len(back.triangles) > 5_000

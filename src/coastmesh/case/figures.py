@@ -81,6 +81,18 @@ def figure_jobs(result: CaseResult, outputs: OutputConfig) -> list[Job]:
                 },
             ),
         ]
+    if result.config.domain.kind == "global":
+        box = outputs.detail
+        # the detail box (a region of interest) low in the view, else the Atlantic
+        centre = (
+            (0.0, 30.0)
+            if box is None
+            else ((box[0] + box[2]) / 2, max((box[1] + box[3]) / 2 - 20.0, -60.0))
+        )
+        jobs.append(
+            ("globe", "globe_figure", (mesh,), {"centre": centre, "names": names,
+                                                "title": name})
+        )  # fmt: skip
     if outputs.detail is not None:
         jobs.append(
             (

@@ -27,6 +27,7 @@ functions build a whole :class:`matplotlib.figure.Figure` without pyplot, for
 from __future__ import annotations
 
 from coastmesh.plot.base import save_figure
+from coastmesh.plot.globe import globe_figure
 from coastmesh.plot.mesh import (
     channel_figure,
     domain_figure,
@@ -47,6 +48,7 @@ __all__ = [
     "channel_figure",
     "depth_figure",
     "domain_figure",
+    "globe_figure",
     "mercator_figure",
     "mesh_figure",
     "parts_figure",
