@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -44,7 +44,7 @@ def globe_figure(
     >>> len(globe_figure(m, centre=(180.0, 0.0)).axes)
     1
     """
-    from matplotlib.collections import LineCollection, PolyCollection
+    from matplotlib.collections import LineCollection
     from matplotlib.figure import Figure
     from matplotlib.patches import Circle
 
@@ -62,7 +62,7 @@ def globe_figure(
     ax.add_patch(Circle((0, 0), radius, facecolor="0.85", edgecolor="0.3", lw=0.8))
     visible = mesh.triangles[seen[mesh.triangles].all(axis=1)]
     # the sea: the mesh's triangles, filled; land is what they leave grey
-    ax.add_collection(PolyCollection(xy[visible], facecolors="#dbe9f6", lw=0))
+    _fill(ax, xy, visible, radius)
     if 0 < len(visible) <= MAX_VISIBLE_TRIANGLES:
         pairs, _ = unique_edges(visible, len(xy))
         ax.add_collection(LineCollection(xy[pairs], colors="0.45", linewidths=0.08))
@@ -84,3 +84,42 @@ def globe_figure(
     shown = f"{len(mesh.triangles):,} triangles, seen from ({lon0:g}, {lat0:g})"
     ax.set_title(f"{title}: {shown}" if title else shown, fontsize=10)
     return figure
+
+
+#: Pixels across the sea mask of a large mesh.
+_PIXELS = 1200
+
+
+def _fill(ax: Any, xy: np.ndarray, triangles: np.ndarray, radius: float) -> None:
+    """Fill the triangles: as polygons when few, else as a mask image.
+
+    Half a million polygons take matplotlib a minute to draw; the mask (each
+    pixel's triangle found by matplotlib's trapezoid map) takes seconds.
+    """
+    from matplotlib.collections import PolyCollection
+    from matplotlib.colors import ListedColormap
+    from matplotlib.tri import Triangulation
+
+    sea = "#dbe9f6"
+    if len(triangles) <= 50_000:
+        ax.add_collection(PolyCollection(xy[triangles], facecolors=sea, lw=0))
+        return
+    used = np.unique(triangles)
+    local = np.full(len(xy), -1)
+    local[used] = np.arange(len(used))
+    try:
+        finder = Triangulation(*xy[used].T, local[triangles]).get_trifinder()
+        axis = np.linspace(-radius, radius, _PIXELS)
+        gx, gy = np.meshgrid(axis, axis)
+        inside = finder(gx, gy) >= 0
+    except (RuntimeError, ValueError):  # a triangulation the finder refuses
+        ax.add_collection(PolyCollection(xy[triangles], facecolors=sea, lw=0))
+        return
+    ax.imshow(
+        np.where(inside, 1.0, np.nan),
+        extent=(-radius, radius, -radius, radius),
+        origin="lower",
+        cmap=ListedColormap([sea]),
+        interpolation="nearest",
+        zorder=1,
+    )
