@@ -10,13 +10,13 @@ import shapely
 from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 from reference import simplify_contour_dense, simplify_contour_reference
+from test_line import _well_posed
 
 from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.io import read_features
 from coastmesh.pca import (
     batch,
-    contour_modes,
     line,
     simplify_contour,
     simplify_contours,
@@ -26,17 +26,6 @@ from coastmesh.pca import (
 
 def _walk(rng, n: int) -> np.ndarray:
     return np.cumsum(rng.standard_normal((n, 2)), axis=0) + [5.0, 60.0]
-
-
-def _well_posed(xy, window, modes, closed) -> bool:
-    """The leading-mode projection is unique: a clear gap after mode ``modes``."""
-    if modes == window:
-        return True
-    for dim in range(2):
-        lam = contour_modes(xy[:, dim], window, closed=closed)
-        if lam[modes - 1] - lam[modes] < 1e-6 * max(lam[0], 1e-300):
-            return False
-    return True
 
 
 @pytest.fixture(params=["batches", "small batches and long contours"])

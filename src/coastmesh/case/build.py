@@ -156,7 +156,7 @@ def _build(
     if config.domain.kind == "global":
         return build_global(
             config, timed, timings, threads, runner,
-            after=_after_meshing, finish=finish_case, cleanup=_cleanup(config),
+            after=_after_meshing, cleanup=_cleanup(config),
         )  # fmt: skip
     with timed("reading shorelines"):
         features, crs = read_shorelines(config)

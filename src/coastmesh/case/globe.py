@@ -34,6 +34,7 @@ import shapely
 from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig
+from coastmesh.case.finish import finish_case
 from coastmesh.case.inputs import (
     bathymetry_terms,
     build_case_domain,
@@ -70,13 +71,12 @@ def build_global(
     runner: Any,
     *,
     after: Callable[..., tuple[Any, dict[str, Any]]],
-    finish: Callable[..., Any],
     cleanup: Any,
 ) -> Any:
     """Build a global case (see the module docstring); return its CaseResult.
 
-    ``timed`` times a stage into ``timings``; ``after`` and ``finish`` are the
-    regional build's steps after meshing.
+    ``timed`` times a stage into ``timings``; ``after`` is the regional build's
+    step after meshing (depths, time step, quality).
     """
     started = time.perf_counter()
     with timed("reading shorelines"):
@@ -124,7 +124,7 @@ def build_global(
                 land = np.concatenate([[world.frame(_shell(world.shell, s))], land])
             if close:
                 land, merged = close_narrow_water(
-                    land, plane, world.pole, close, within=1.05 * world.reach
+                    land, close, within=1.05 * world.reach
                 )
                 logger.info("%s: %d polygons joined across water under %g m",
                             s.name, merged, close)  # fmt: skip
@@ -151,7 +151,7 @@ def build_global(
             progress=progress,
         )
     mesh, measured = after(config, mesh, timed, sized, parts.cleanup)
-    return finish(
+    return finish_case(
         config, mesh, inputs, sized, parts, measured, timings, started,
         crs=crs, mesh_crs=plane, output_crs=output_crs, set_reports=set_reports,
     )  # fmt: skip

@@ -274,9 +274,7 @@ def world_ocean(
         # the polar land as a frame round the ocean, so it closes with the rest
         frame = shapely.box(*shapely.buffer(outer, outer.length / 100).bounds)
         land = np.concatenate([[frame.difference(outer)], islands])
-        land, closed = close_narrow_water(
-            land, plane, pole, close, within=1.05 * world.reach
-        )
+        land, closed = close_narrow_water(land, close, within=1.05 * world.reach)
         outer, islands = frame.difference(land[0]), land[1:]
     ocean = shapely.get_parts(outer.difference(shapely.union_all(islands)))
     if len(ocean) == 0:
@@ -298,8 +296,6 @@ def world_ocean(
 
 def close_narrow_water(
     land: NDArray[np.object_],
-    crs: CRS,
-    pole: tuple[float, float],
     width: float,
     *,
     within: float | None = None,
@@ -317,11 +313,8 @@ def close_narrow_water(
     Parameters
     ----------
     land : ndarray of shapely polygons
-        Land in the plane ``crs``; the first may be a frame round the ocean (the
-        polar land), which stays first.
-    crs : pyproj.CRS
-        The plane (:func:`plane_crs` of ``pole``).
-    pole : (lon, lat)
+        Land in a stereographic plane of :func:`plane_crs` (any pole): the
+        scale there depends only on the distance from the plane's centre.
     width : float
         Metres on the Earth.
     within : float, optional
@@ -337,7 +330,7 @@ def close_narrow_water(
     merged : int
         Land polygons that became one with another.
     """
-    del crs, pole  # k depends only on r in every stereographic plane
+    # k depends only on r in every stereographic plane: no CRS or pole needed
     land = np.asarray(land, dtype=object)
     radius = 2.0 * EARTH_RADIUS
     corners = np.abs(np.asarray(shapely.total_bounds(land))).reshape(2, 2)

@@ -11,7 +11,7 @@ from scipy.spatial import cKDTree
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import EARTH_RADIUS, earth_centred, metres_per_unit
 
-__all__ = ["distance_to_lines"]
+__all__ = ["distance_to_lines", "nearest_arcs"]
 
 # A projected CRS's scale error is a few per mille in conformal projections: the
 # densifying step allows 2 % more ground per CRS unit than the unit says.
@@ -96,11 +96,31 @@ def distance_to_lines(
         widest *= _PROJECTED_MARGIN
     step = resolution / widest
     vertices = shapely.get_coordinates(shapely.segmentize(geoms, step))
-    tree = cKDTree(earth_centred(vertices, crs, name="line vertices"))
     gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
     nodes = earth_centred(
         np.column_stack([gx.ravel(), gy.ravel()]), crs, name="grid nodes"
     )
+    arc = nearest_arcs(
+        earth_centred(vertices, crs, name="line vertices"),
+        nodes,
+        resolution=resolution,
+        max_distance=max_distance,
+    )
+    return arc.reshape(gx.shape)
+
+
+def nearest_arcs(
+    vertices: NDArray[np.float64],
+    nodes: NDArray[np.float64],
+    *,
+    resolution: float,
+    max_distance: float | None = None,
+) -> NDArray[np.float64]:
+    """Arc length (metres) from each earth-centred node to its nearest vertex.
+
+    ``inf`` beyond ``max_distance`` (the k-d tree stops searching there).
+    """
+    tree = cKDTree(vertices)
     bound = np.inf
     if max_distance is not None:
         # the chord of an arc of length s is 2 R sin(s / 2R) <= s
@@ -109,4 +129,4 @@ def distance_to_lines(
     chord, _ = tree.query(nodes, workers=-1, distance_upper_bound=bound)
     arc = 2 * EARTH_RADIUS * np.arcsin(np.minimum(chord / (2 * EARTH_RADIUS), 1.0))
     arc[np.isinf(chord)] = np.inf
-    return arc.reshape(gx.shape)
+    return arc

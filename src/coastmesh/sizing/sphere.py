@@ -23,12 +23,11 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS
-from scipy.spatial import cKDTree
 
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import EARTH_RADIUS, earth_centred
 from coastmesh.sizing.bathymetry import BathymetrySize, depth_on_grid, wavelength_size
-from coastmesh.sizing.distance import distance_to_lines
+from coastmesh.sizing.distance import distance_to_lines, nearest_arcs
 from coastmesh.sizing.field import Gradation
 from coastmesh.sizing.gradation import gradation_size
 
@@ -181,15 +180,13 @@ def _distance(
     geoms = geoms[~(shapely.is_missing(geoms) | shapely.is_empty(geoms))]
     geoms = shapely.boundary(geoms)
     vertices = shapely.get_coordinates(shapely.segmentize(geoms, resolution))
-    xyz = earth_centred(vertices, crs, name="line vertices")
-    tree = cKDTree(xyz)
     glon, glat = np.meshgrid(lon, lat)
-    nodes = earth_centred(np.column_stack([glon.ravel(), glat.ravel()]), _LONLAT)
-    half = min(max_distance / (2 * EARTH_RADIUS), np.pi / 2)
-    bound = 2 * EARTH_RADIUS * np.sin(half) * (1 + 1e-9) + resolution
-    chord, _ = tree.query(nodes, workers=-1, distance_upper_bound=bound)
-    arc = 2 * EARTH_RADIUS * np.arcsin(np.minimum(chord / (2 * EARTH_RADIUS), 1.0))
-    arc[np.isinf(chord)] = np.inf
+    arc = nearest_arcs(
+        earth_centred(vertices, crs, name="line vertices"),
+        earth_centred(np.column_stack([glon.ravel(), glat.ravel()]), _LONLAT),
+        resolution=resolution,
+        max_distance=max_distance,
+    )
     return arc.reshape(glon.shape)
 
 
