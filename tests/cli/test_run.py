@@ -115,3 +115,20 @@ def test_missing_data_file_names_it(run_cli, case_file, tmp_path):
 def test_missing_case_file(run_cli, tmp_path):
     result = run_cli("run", tmp_path / "nope.toml")
     assert result.exit_code == 2 and "no such case file" in result.output
+
+
+def test_python_dash_m_returns_the_exit_code(tmp_path):
+    """``python -m coastmesh`` exits non-zero on bad input, as the script does."""
+    import subprocess
+    import sys
+
+    missing = tmp_path / "missing.toml"
+    done = subprocess.run(
+        [sys.executable, "-m", "coastmesh", "run", str(missing)],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert done.returncode == 2  # a missing case file is a bad argument
+    assert "missing.toml: no such case file" in done.stderr
+    assert not (tmp_path / "out").exists()

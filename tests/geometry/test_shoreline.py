@@ -189,3 +189,19 @@ def test_nothing_in_nothing_out():
         out, report = simplify_shorelines(geoms, 10, 1)
         assert len(out) == len(geoms) and shapely.is_missing(out).all()
         assert report.points_out == 0
+
+
+def test_valid_polygons_flattens_collections_inside_collections():
+    """A repair can return a collection holding a multipolygon: no land is lost."""
+    import shapely
+
+    from coastmesh.geometry.layers import valid_polygons
+
+    nested = shapely.GeometryCollection(
+        [
+            shapely.MultiPolygon([shapely.box(0, 0, 1, 1), shapely.box(2, 0, 3, 1)]),
+            shapely.LineString([(0, 5), (1, 5)]),
+        ]
+    )
+    parts = valid_polygons([nested, shapely.box(5, 5, 6, 6)])
+    assert [p.bounds for p in parts] == [(0, 0, 1, 1), (2, 0, 3, 1), (5, 5, 6, 6)]

@@ -42,7 +42,7 @@ def etopo():
 
 
 def test_bilinear_matches_scipy(orkney_mesh, etopo):
-    depth, report = depth_at_nodes(orkney_mesh, etopo)
+    depth, report = depth_at_nodes(orkney_mesh, etopo, outside="nearest")
     r = etopo.sortby("y")
     interp = RegularGridInterpolator(
         (r.y.values, r.x.values), r.values, bounds_error=False, fill_value=np.nan
@@ -52,15 +52,16 @@ def test_bilinear_matches_scipy(orkney_mesh, etopo):
     inside = np.isfinite(expected)
     assert inside.sum() > 100 and (~inside).sum() > 10  # some nodes lie west of -8.05
     np.testing.assert_allclose(depth[inside], expected[inside], atol=1e-9)
-    assert report.nearest == int((~inside).sum())
+    assert report.nearest + report.snapped == int((~inside).sum())
+    assert report.snapped > 0 and report.nearest > 0  # within a cell, and beyond
     data = report.to_dict()
     assert data["nodes"] == len(depth) and data["method"] == "bilinear"
     assert data["min"] == depth.min() and data["max"] == depth.max()
-    assert f"{report.nearest:,} nodes outside the raster" in report.summary()
+    assert f"{report.nearest:,} outside every source" in report.summary()
 
 
 def test_outside_nodes_take_the_nearest_valid_cell(orkney_mesh, etopo):
-    depth, _ = depth_at_nodes(orkney_mesh, etopo)
+    depth, _ = depth_at_nodes(orkney_mesh, etopo, outside="nearest")
     r = etopo.sortby("y")
     lon, lat = orkney_mesh.points.T
     outside = lon < r.x.values[0]
@@ -75,10 +76,10 @@ def test_outside_nodes_take_the_nearest_valid_cell(orkney_mesh, etopo):
 def test_nodata_cells_are_avoided(orkney_mesh, etopo):
     holed = etopo.copy()
     holed.values[20:30, 10:25] = np.nan
-    depth, report = depth_at_nodes(orkney_mesh, holed)
+    depth, report = depth_at_nodes(orkney_mesh, holed, outside="nearest")
     assert np.isfinite(depth).all()
-    _, clean_report = depth_at_nodes(orkney_mesh, etopo)
-    assert report.nearest > clean_report.nearest
+    _, clean_report = depth_at_nodes(orkney_mesh, etopo, outside="nearest")
+    assert report.nearest + report.snapped > clean_report.nearest + clean_report.snapped
 
 
 def test_mean_method_averages_cells_like_a_loop(orkney_mesh):
@@ -111,12 +112,17 @@ def test_mean_method_averages_cells_like_a_loop(orkney_mesh):
 
 
 def test_min_depth_and_sign(orkney_mesh, etopo):
-    depth, _ = depth_at_nodes(orkney_mesh, etopo)
-    floored, report = depth_at_nodes(orkney_mesh, etopo, min_depth=150.0)
+    depth, _ = depth_at_nodes(orkney_mesh, etopo, outside="nearest")
+    floored, report = depth_at_nodes(
+        orkney_mesh, etopo, min_depth=150.0, outside="nearest"
+    )
     assert floored.min() == 150.0
     assert report.below_min_depth == int((depth < 150).sum()) > 0
     down, _ = depth_at_nodes(
-        orkney_mesh, -etopo.assign_attrs(etopo.attrs), positive="down"
+        orkney_mesh,
+        -etopo.assign_attrs(etopo.attrs),
+        positive="down",
+        outside="nearest",
     )
     np.testing.assert_allclose(down, depth)
 
@@ -169,5 +175,80 @@ def test_errors():
         depth_at_nodes(m, r)
     with pytest.raises(ConfigError, match="method = 'cubic'"):
         depth_at_nodes(m, r, method="cubic")
+    with pytest.raises(ConfigError, match="outside = 'far'"):
+        depth_at_nodes(m, r, outside="far")
+    with pytest.raises(ConfigError, match="land = 'dry'"):
+        depth_at_nodes(m, r, land="dry")
+    with pytest.raises(ConfigError, match="give min_depth"):
+        depth_at_nodes(m, r, land="smooth", land_distance=100.0)
+    with pytest.raises(ConfigError, match="land_distance = None"):
+        depth_at_nodes(m, r, land="smooth", min_depth=2.0)
     with pytest.raises(ConfigError, match="max_slope = -1"):
         limit_slope(m, np.zeros(3), -1)
+
+
+def _grid_mesh(lon0, lon1, lat0, lat1, n=40):
+    """A triangulated lon/lat box: its west side is coast (id 1), the rest sea."""
+    from scipy.spatial import Delaunay
+
+    gx, gy = np.meshgrid(np.linspace(lon0, lon1, n), np.linspace(lat0, lat1, n))
+    pts = np.column_stack([gx.ravel(), gy.ravel()])
+    tri = Delaunay(pts).simplices
+    idx = np.arange(n * n).reshape(n, n)
+    west = np.stack([idx[1:, 0], idx[:-1, 0]], 1)
+    rest = np.concatenate(
+        [
+            np.stack([idx[0, :-1], idx[0, 1:]], 1),
+            np.stack([idx[:-1, -1], idx[1:, -1]], 1),
+            np.stack([idx[-1, 1:], idx[-1, :-1]], 1),
+        ]
+    )
+    edges = np.concatenate([west, rest])
+    ids = np.r_[np.ones(len(west), int), np.full(len(rest), 2)]
+    return Mesh(
+        pts, tri, edges, ids, 1, "EPSG:4326",
+        boundary_kinds={1: "shoreline", 2: "open"},
+    )  # fmt: skip
+
+
+def test_land_nodes_take_the_nearest_wet_cell(etopo):
+    mesh = _grid_mesh(-3.4, -2.6, 58.7, 59.2)  # over mainland Orkney
+    plain, report = depth_at_nodes(mesh, etopo)
+    land = plain <= 0
+    assert report.land == int(land.sum()) > 20
+    sea, report = depth_at_nodes(mesh, etopo, land="nearest_sea")
+    assert report.land_treatment == "nearest_sea"
+    np.testing.assert_array_equal(sea[~land], plain[~land])
+    r = etopo.sortby("y")
+    gx, gy = np.meshgrid(r.x.values, r.y.values)
+    wet = r.values.ravel() < 0
+    lon, lat = mesh.points.T
+    for k in np.flatnonzero(land)[:15]:  # brute force: geodesic to every wet cell
+        _, _, d = GEOD.inv(
+            np.full(wet.sum(), lon[k]),
+            np.full(wet.sum(), lat[k]),
+            gx.ravel()[wet],
+            gy.ravel()[wet],
+        )
+        assert sea[k] == pytest.approx(-r.values.ravel()[wet][np.argmin(d)])
+    assert (sea > 0).all()
+
+
+def test_smooth_land_tapers_to_min_depth_at_the_coast(etopo):
+    from coastmesh.geometry.earth import earth_centred
+
+    mesh = _grid_mesh(-3.4, -2.6, 58.7, 59.2)
+    sea, _ = depth_at_nodes(mesh, etopo, land="nearest_sea")
+    width = 10e3
+    smooth, report = depth_at_nodes(
+        mesh, etopo, land="smooth", land_distance=width, min_depth=2.0
+    )
+    xyz = earth_centred(mesh.points, mesh.crs)
+    coast = np.unique(mesh.boundary_edges[mesh.boundary_ids == 1])
+    d = np.linalg.norm(xyz[:, None, :] - xyz[None, coast, :], axis=2).min(axis=1)
+    expected = np.where(
+        (d < width) & (sea > 2.0), 2.0 + (sea - 2.0) * d / width, np.maximum(sea, 2.0)
+    )
+    np.testing.assert_allclose(smooth, expected, rtol=1e-12)
+    assert smooth[coast].max() == 2.0
+    assert report.tapered == int(((d < width) & (sea > 2.0)).sum()) > 50

@@ -41,11 +41,12 @@ from coastmesh.case.inputs import (
     bathymetry_terms,
     build_case_domain,
     build_shoreline_set,
+    depth_stack,
     read_shorelines,
 )
 from coastmesh.case.result import CaseResult
+from coastmesh.case.sources import check_rasters
 from coastmesh.errors import ConfigError
-from coastmesh.io import read_raster
 from coastmesh.meshing import (
     CleanupOptions,
     default_mesh_crs,
@@ -153,6 +154,7 @@ def _build(
             yield progress
         timings[label] = round(time.perf_counter() - t0, 3)
 
+    check_rasters(config)  # a bad raster fails now, not after the meshing
     if config.domain.kind == "global":
         return build_global(
             config, timed, timings, threads, runner,
@@ -290,7 +292,9 @@ def _size_field(
             cell=size.cell,
             channels=ChannelSize(size.channels.elements_across, "close"),
         )
-    bathymetry = None if size.bathymetry is None else bathymetry_terms(size.bathymetry)
+    bathymetry = None
+    if size.bathymetry is not None:
+        bathymetry = bathymetry_terms(size.bathymetry, domain)
     channels = None
     if size.channels.enabled:
         # with "close", build_case has closed them already, and warns of any
@@ -301,7 +305,9 @@ def _size_field(
         source = size.bathymetry or config.bathymetry
         min_depth = getattr(source, "min_depth", None)
         courant = CourantSize(
-            bathymetry.raster if bathymetry is not None else read_raster(source.path),
+            bathymetry.raster
+            if bathymetry is not None
+            else depth_stack(source, domain),
             dt=size.courant.dt,
             positive=source.positive,
             courant_max=size.courant.courant_max,
@@ -413,7 +419,7 @@ def _after_meshing(
     c = config.cleanup
     if config.bathymetry is not None:
         with timed("depth at the nodes") as progress:
-            raster = depth_raster(config, progress)
+            raster = depth_raster(config, mesh, progress)
             mesh, after["depth"] = node_depths(config, mesh, raster, progress)
         if c.enabled and c.time_step:
             with timed("time step") as progress:

@@ -1,7 +1,7 @@
 """Depth at the mesh nodes, from ``[bathymetry]``, and the time-step relief.
 
-The raster is read (and PCA-simplified, if asked) once; after the relief the
-nodes are sampled again from that same raster.
+The sources are read (and PCA-simplified, if asked) once, over the mesh's box;
+after the relief the nodes are sampled again from the same sources.
 """
 
 from __future__ import annotations
@@ -10,8 +10,10 @@ import logging
 from typing import Any
 
 from coastmesh.case.config import CaseConfig
-from coastmesh.io import read_raster
+from coastmesh.case.config.sources import stack_of
+from coastmesh.case.sources import read_sources
 from coastmesh.meshing import depth_at_nodes, relieve_time_step
+from coastmesh.meshing.depth import node_sources
 from coastmesh.types import Mesh, Progress
 
 __all__ = ["depth_raster", "node_depths", "relieve"]
@@ -38,17 +40,32 @@ def relieve(
     return relieved, report, depth
 
 
-def depth_raster(config: CaseConfig, progress: Progress) -> Any:
-    """Return the ``[bathymetry]`` raster, read (and PCA-simplified if asked)."""
+def depth_raster(config: CaseConfig, mesh: Mesh, progress: Progress) -> Any:
+    """Return the ``[bathymetry]`` sources around ``mesh`` as a DepthSources stack.
+
+    Each raster is read only over the mesh's box (widened by its blend), and
+    PCA-simplified there if asked.
+    """
     b = config.bathymetry
-    raster = read_raster(b.path)
-    progress(0, 2)
+    sources = read_sources(stack_of(b), mesh.points, mesh.crs, progress)
     if b.window is not None:
         from coastmesh.pca import simplify_raster
+        from coastmesh.sizing import DepthSource, DepthSources
 
-        raster = raster.copy(data=simplify_raster(raster.values, b.window, b.modes))
-    progress(1, 2)
-    return raster
+        sources = DepthSources(
+            [
+                DepthSource(
+                    s.raster.copy(
+                        data=simplify_raster(s.raster.values, b.window, b.modes)
+                    ),
+                    s.positive,
+                    s.blend,
+                    s.name,
+                )
+                for s in sources.sources
+            ]
+        )
+    return sources
 
 
 def node_depths(
@@ -63,7 +80,12 @@ def node_depths(
         method=b.method,
         min_depth=b.min_depth,
         max_slope=b.max_slope,
+        outside=b.outside,
+        land=b.land,
+        land_distance=b.land_distance,
     )
     progress(2, 2)
     logger.info("%s", report.summary())
-    return mesh.with_point_data(depth=depth), report
+    source = node_sources(mesh, raster) if len(raster) > 1 else None
+    extra = {} if source is None else {"depth_source": source}
+    return mesh.with_point_data(depth=depth, **extra), report

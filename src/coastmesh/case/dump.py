@@ -70,6 +70,15 @@ def dump_case(case: CaseConfig) -> str:
                 "bbox": case.shorelines.bbox,
                 "crs": case.shorelines.crs,
                 "min_area": f"{case.shorelines.min_area!r} m2",
+                **(
+                    {
+                        "raster": _path(case.shorelines.raster),
+                        "level": _metres(case.shorelines.level),
+                        "positive": case.shorelines.positive,
+                    }
+                    if case.shorelines.raster is not None
+                    else {}
+                ),
             }
         ),
         "shoreline_sets": {
@@ -114,7 +123,13 @@ def dump_case(case: CaseConfig) -> str:
     if case.bathymetry is not None:
         b = case.bathymetry
         data["bathymetry"] = _clean(
-            _fields(b) | {"path": _path(b.path), "min_depth": _metres(b.min_depth)}
+            _fields(b)
+            | {
+                "path": _path(b.path),
+                "min_depth": _metres(b.min_depth),
+                "land_distance": _metres(b.land_distance),
+                "sources": [_dump_source(s) for s in b.sources],
+            }
         )
     data = {key: value for key, value in data.items() if value not in ([], {})}
     return tomli_w.dumps(data)
@@ -176,6 +191,7 @@ def _dump_size(size: SizeConfig) -> dict[str, Any]:
             _fields(b)
             | {
                 "path": _path(b.path),
+                "sources": [_dump_source(s) for s in b.sources],
                 "period": f"{b.period!r} s",
                 "min_depth": _metres(b.min_depth),
             }
@@ -188,6 +204,13 @@ def _dump_size(size: SizeConfig) -> dict[str, Any]:
             _fields(co) | {"dt": f"{co.dt!r} s", "velocity": f"{co.velocity!r} m/s"}
         )
     return _clean(out)
+
+
+def _dump_source(s: Any) -> dict[str, Any]:
+    return _clean(
+        _fields(s)
+        | {"path": _path(s.path), "region": _path(s.region), "blend": _metres(s.blend)}
+    )
 
 
 def _fields(part: Any) -> dict[str, Any]:

@@ -1,6 +1,7 @@
 """The first stages of a case: shorelines, shoreline sets, open boundaries, domain.
 
-1. read the shoreline file (clip to ``bbox``; fill in a missing CRS);
+1. read the shoreline file (clip to ``bbox``; fill in a missing CRS), or contour
+   the land from a raster (:mod:`~coastmesh.case.dem_shorelines`);
 2. build each shoreline set: full resolution, or a PCA reconstruction
    (:func:`~coastmesh.geometry.simplify_shorelines`, after
    :func:`~coastmesh.geometry.densify_long_edges`); drop land polygons and fill
@@ -29,6 +30,7 @@ from coastmesh.case.config import (
     RegionConfig,
     ShorelineSetConfig,
 )
+from coastmesh.case.dem_shorelines import read_raster_land
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry import (
     DomainReport,
@@ -119,6 +121,9 @@ class DomainInputs:
 def read_shorelines(config: CaseConfig) -> tuple[Features, CRS]:
     """Read the land polygons of ``[shorelines]``, in the case CRS.
 
+    With ``raster``, the land is contoured from the raster instead
+    (:func:`~coastmesh.case.dem_shorelines.read_raster_land`).
+
     Returns
     -------
     features : Features
@@ -127,6 +132,11 @@ def read_shorelines(config: CaseConfig) -> tuple[Features, CRS]:
         The case CRS: ``[case] crs``, else the file's.
     """
     s = config.shorelines
+    if s.raster is not None:
+        features = read_raster_land(config)
+        crs = CRS.from_user_input(config.crs) if config.crs else features.crs
+        geometry = reproject(features.geometry, features.crs, crs)
+        return Features(geometry, crs, {}, features.fids, features.path), crs
     features = read_features(s.path, layer=s.layer, bbox=s.bbox)
     if features.crs is None:
         if s.crs is None:
@@ -308,19 +318,42 @@ def build_case_domain(
     return DomainInputs(domain, report, stitch_report, tagged, walls)
 
 
-def bathymetry_terms(b: Any) -> Any:
-    """``[mesh_size.bathymetry]`` as :class:`~coastmesh.sizing.BathymetrySize`."""
-    from coastmesh.io import read_raster
+def bathymetry_terms(b: Any, domain: Any = None) -> Any:
+    """``[mesh_size.bathymetry]`` as :class:`~coastmesh.sizing.BathymetrySize`.
+
+    With ``domain``, the sources are read over its box only (a stack); without
+    (the world grid), the one raster whole.
+    """
     from coastmesh.sizing import BathymetrySize
 
     return BathymetrySize(
-        read_raster(b.path),
+        depth_stack(b, domain),
         positive=b.positive,
         per_wavelength=b.per_wavelength,
         period=b.period,
         per_slope=b.per_slope,
         min_depth=b.min_depth,
     )
+
+
+def depth_stack(b: Any, domain: Any = None) -> Any:
+    """Read the rasters of a ``[bathymetry]``-like part over ``domain``'s box.
+
+    Without ``domain`` (the world), the single raster is read whole.
+    """
+    from coastmesh.case.config.sources import stack_of
+    from coastmesh.case.sources import read_sources
+    from coastmesh.io import read_raster
+
+    if domain is None:
+        if b.sources:
+            raise ConfigError(
+                "mesh_size.bathymetry.sources: a global case takes one raster for "
+                "its size terms; give path"
+            )
+        return read_raster(b.path)
+    ring = shapely.segmentize(domain.polygon.exterior, domain.polygon.length / 400)
+    return read_sources(stack_of(b), shapely.get_coordinates(ring), domain.crs)
 
 
 def _seed(config: CaseConfig, crs: CRS, lonlat: CRS | None) -> Any:

@@ -31,6 +31,7 @@ from coastmesh.case.config import (
     ChannelConfig,
     CleanupConfig,
     CourantConfig,
+    DepthSourceConfig,
     DomainConfig,
     GradationConfig,
     LoxodromeConfig,
@@ -213,10 +214,14 @@ def _done(t: Table, *names: str) -> dict[str, Any]:
 
 
 def _shorelines(t: Table, path_of: PathOf) -> ShorelinesConfig:
+    contour = [k for k in ("level", "positive") if t.has(k)]
+    if contour and not t.has("raster"):
+        raise t.error(contour[0], "is for a raster shoreline (raster = PATH)")
     config = ShorelinesConfig(
-        path=t.get("path", path_of),
+        path=t.get("path", path_of, None),
         min_area=t.get("min_area", schema.area_with_unit, 0.0),
-        **t.pick("layer", "bbox", "crs"),
+        raster=t.get("raster", path_of, None),
+        **t.pick("layer", "bbox", "crs", "level", "positive"),
     )
     t.done()
     return config
@@ -332,7 +337,8 @@ def _size(t: Table, path_of: PathOf) -> SizeConfig:
         if b.has("period"):
             extra["period"] = b.get("period", schema.duration_with_unit)
         bathymetry = BathymetryConfig(
-            path=b.get("path", path_of),
+            path=b.get("path", path_of, None),
+            sources=_sources(b, path_of),
             **extra,
             **_done(b, "positive", "per_wavelength", "per_slope"),
         )
@@ -365,9 +371,30 @@ def _size(t: Table, path_of: PathOf) -> SizeConfig:
 
 
 def _node_depth(t: Table, path_of: PathOf) -> NodeDepthConfig:
-    extra = {"min_depth": t.get("min_depth", _LENGTH)} if t.has("min_depth") else {}
+    extra = {k: t.get(k, _LENGTH) for k in ("min_depth", "land_distance") if t.has(k)}
     return NodeDepthConfig(
-        path=t.get("path", path_of),
+        path=t.get("path", path_of, None),
+        sources=_sources(t, path_of),
         **extra,
-        **_done(t, "positive", "method", "max_slope", "window", "modes"),
+        **_done(
+            t, "positive", "method", "max_slope", "window", "modes", "outside", "land"
+        ),
     )
+
+
+def _sources(t: Table, path_of: PathOf) -> tuple[DepthSourceConfig, ...]:
+    """Return ``[[...sources]]``: a stack of rasters, in the file's order."""
+    sources = []
+    for s in t.tables("sources"):
+        extra = {"blend": s.get("blend", _LENGTH)} if s.has("blend") else {}
+        if s.has("region"):
+            extra["region"] = s.get("region", path_of)
+        sources.append(
+            DepthSourceConfig(
+                path=s.get("path", path_of),
+                **extra,
+                **_done(s, "positive", "bbox", "priority"),
+            )
+        )
+        s.done()
+    return tuple(sources)

@@ -36,14 +36,45 @@ def _ids(ctx: click.Context, param: click.Parameter, value: str | None):
     "--bathymetry",
     type=click.Path(dir_okay=False, path_type=Path),
     metavar="RASTER",
-    help="Interpolate this raster (any GDAL raster) onto the nodes as depth.",
+    multiple=True,
+    help="Interpolate this raster (any GDAL raster, any CRS) onto the nodes as "
+    "depth. Repeat for several, highest priority first.",
 )
 @click.option(
     "--raster-positive",
     type=click.Choice(["up", "down"]),
-    default="up",
+    multiple=True,
+    help="Sign of the raster: up (default) for elevations (GEBCO, ETOPO), down "
+    "for depths. Once for all rasters, or once per --bathymetry.",
+)
+@click.option(
+    "--blend",
+    type=click.FloatRange(min=0),
+    multiple=True,
+    metavar="M",
+    help="Metres inside a raster's data edge over which it blends into the next "
+    "(default 0). Once for all, or once per --bathymetry.",
+)
+@click.option(
+    "--outside",
+    type=click.Choice(["error", "nearest"]),
+    default="error",
     show_default=True,
-    help="Sign of the raster: up for elevations (GEBCO, ETOPO), down for depths.",
+    help="Nodes beyond every raster: an error, or the nearest valid cell.",
+)
+@click.option(
+    "--land",
+    type=click.Choice(["min_depth", "nearest_sea", "smooth"]),
+    default="min_depth",
+    show_default=True,
+    help="Nodes the rasters put on land: the depth floor, the nearest wet cell, "
+    "or that and a taper to --min-depth over --land-distance from the coast.",
+)
+@click.option(
+    "--land-distance",
+    type=click.FloatRange(min=0, min_open=True),
+    metavar="M",
+    help="Width of the coastal taper of --land smooth, metres.",
 )
 @click.option(
     "--method",
@@ -83,8 +114,12 @@ def convert(
     src: Path,
     dst: Path,
     fmt: str | None,
-    bathymetry: Path | None,
-    raster_positive: str,
+    bathymetry: tuple[Path, ...],
+    raster_positive: tuple[str, ...],
+    blend: tuple[float, ...],
+    outside: str,
+    land: str,
+    land_distance: float | None,
     method: str,
     min_depth: float | None,
     max_slope: float | None,
@@ -108,6 +143,8 @@ def convert(
     \b
     Example:
       coastmesh convert out/case/case.msh fort.14 --bathymetry gebco.nc --min-depth 5
+      coastmesh convert case.msh case.nc --bathymetry survey.tif --raster-positive \\
+        down --blend 2000 --bathymetry gebco.nc --raster-positive up --min-depth 5
     """  # noqa: D301 (\b keeps click from rewrapping the lists)
     from coastmesh.commands.convert import convert_mesh
 
@@ -117,8 +154,12 @@ def convert(
         format=fmt,
         crs=crs,
         open_ids=open_ids,
-        bathymetry=bathymetry,
-        raster_positive=raster_positive,
+        bathymetry=bathymetry or None,
+        raster_positive=raster_positive or "up",
+        blend=blend or 0.0,
+        outside=outside,
+        land=land,
+        land_distance=land_distance,
         method=method,
         min_depth=min_depth,
         max_slope=max_slope,

@@ -73,11 +73,15 @@ def convert_mesh(
     format: str | None = None,
     crs: CRS | str | None = None,
     open_ids: Sequence[int] | None = None,
-    bathymetry: str | os.PathLike[str] | None = None,
-    raster_positive: str = "up",
+    bathymetry: str | os.PathLike[str] | Sequence[str | os.PathLike[str]] | None = None,
+    raster_positive: str | Sequence[str] = "up",
     method: str = "bilinear",
     min_depth: float | None = None,
     max_slope: float | None = None,
+    blend: float | Sequence[float] = 0.0,
+    outside: str = "error",
+    land: str = "min_depth",
+    land_distance: float | None = None,
     positive: str | None = None,
     overwrite: bool = False,
 ) -> ConvertResult:
@@ -100,12 +104,17 @@ def convert_mesh(
         The boundary ids that are open (sea) boundaries; the others are land.
         Default: the kinds the file stores (msh physical names ``open:NAME``,
         fort.14/gr3 open and land lists, UGRID, GeoPackage, MIKE codes).
-    bathymetry : path, optional
-        A raster (any GDAL raster) to interpolate onto the nodes.
-    raster_positive : {"up", "down"}
-        The raster's sign (elevations are ``"up"``).
-    method, min_depth, max_slope
-        As in :func:`coastmesh.meshing.depth.depth_at_nodes`.
+    bathymetry : path or sequence of paths, optional
+        Rasters (any GDAL raster, any CRS) to interpolate onto the nodes, highest
+        priority first; each is read only over the mesh's box.
+    raster_positive : {"up", "down"} or a sequence of them
+        The rasters' sign (elevations are ``"up"``): one for all, or one each.
+    blend : float or sequence of float
+        Metres over which each raster blends into the next (one for all, or
+        one each).
+    method, min_depth, max_slope, outside, land, land_distance
+        As in :func:`coastmesh.meshing.depth.depth_at_nodes`; ``outside``
+        defaults to an error for nodes beyond every raster.
     positive : {"up", "down"}, optional
         The sign written, for formats that take one; default: the format's own.
     overwrite : bool
@@ -157,18 +166,21 @@ def convert_mesh(
         mesh = _with_kinds(mesh, open_ids, os.fspath(src))
     depth_report = None
     if bathymetry is not None:
-        from coastmesh.io import read_raster
-        from coastmesh.meshing.depth import depth_at_nodes
+        from coastmesh.meshing.depth import depth_at_nodes, node_sources
 
+        stack = _stack(bathymetry, raster_positive, blend, mesh)
         depth, depth_report = depth_at_nodes(
             mesh,
-            read_raster(bathymetry),
-            positive=raster_positive,
+            stack,
             method=method,
             min_depth=min_depth,
             max_slope=max_slope,
+            outside=outside,
+            land=land,
+            land_distance=land_distance,
         )
-        mesh = mesh.with_point_data(depth=depth)
+        extra = {"depth_source": node_sources(mesh, stack)} if len(stack) > 1 else {}
+        mesh = mesh.with_point_data(depth=depth, **extra)
     options: dict[str, Any] = {}
     if positive is not None:
         if fmt.options is not None and "positive" not in fmt.options:
@@ -187,6 +199,35 @@ def convert_mesh(
     )
     logger.info("%s", result.summary())
     return result
+
+
+def _stack(paths: Any, positive: Any, blend: Any, mesh: Mesh) -> Any:
+    """Read the rasters over the mesh's box as a DepthSources stack."""
+    from coastmesh.case.config.sources import DepthSourceConfig
+    from coastmesh.case.sources import read_sources
+
+    paths = [paths] if isinstance(paths, str | os.PathLike) else list(paths)
+    signs = _each(positive, len(paths), "raster_positive")
+    blends = _each(blend, len(paths), "blend")
+    configs = [
+        DepthSourceConfig(os.fspath(p), s, blend=float(b))
+        for p, s, b in zip(paths, signs, blends, strict=True)
+    ]
+    return read_sources(configs, mesh.points, mesh.crs)
+
+
+def _each(value: Any, n: int, name: str) -> list[Any]:
+    """One value for all rasters, or one each."""
+    if isinstance(value, str) or not isinstance(value, Sequence):
+        return [value] * n
+    if len(value) == 1:
+        return list(value) * n
+    if len(value) != n:
+        raise ConfigError(
+            f"{name}: {len(value)} values for {n} bathymetry rasters; give one "
+            "for all or one each"
+        )
+    return list(value)
 
 
 def _with_kinds(mesh: Mesh, open_ids: Sequence[int], source: str) -> Mesh:

@@ -3,6 +3,7 @@
 ========================  =====================================================
 :mod:`.shoreline`         PCA approximation of whole shoreline layers
 :mod:`.layers`            checks, repairs and densifying of shoreline layers
+:mod:`.dem`               land polygons contoured from an elevation grid
 :mod:`.stitch`            one land geometry from shoreline sets by region
 :mod:`.rhumb`             loxodromes and great circles for open boundaries
 :mod:`.domain`            the sea polygon and its tagged boundary
@@ -13,6 +14,7 @@
 
 from __future__ import annotations
 
+from coastmesh.geometry.dem import land_from_grid
 from coastmesh.geometry.domain import (
     DomainReport,
     OpenBoundary,
@@ -75,6 +77,7 @@ __all__ = [
     "earth_centred",
     "great_circle",
     "join_dateline",
+    "land_from_grid",
     "land_polygons",
     "metres_per_unit",
     "paper_bearing",

@@ -98,7 +98,17 @@ def valid_polygons(geometries: ArrayLike) -> NDArray[np.object_]:
         geoms = geoms.copy()
         geoms[invalid] = shapely.make_valid(geoms[invalid])
     parts = shapely.get_parts(geoms)
+    if (shapely.get_type_id(parts) >= shapely.GeometryType.MULTIPOINT).any():
+        # a repair can give a collection that holds a multipolygon: flatten fully
+        parts = np.array([p for g in parts for p in _flat(g)], dtype=object)
     return parts[shapely.get_type_id(parts) == shapely.GeometryType.POLYGON]
+
+
+def _flat(geometry: shapely.Geometry) -> list[shapely.Geometry]:
+    """Return the single parts of a geometry, collections inside collections too."""
+    if shapely.get_type_id(geometry) < shapely.GeometryType.MULTIPOINT:
+        return [geometry]
+    return [p for g in shapely.get_parts(geometry) for p in _flat(g)]
 
 
 def land_polygons(features: Features, *, purpose: str = "land") -> Features:

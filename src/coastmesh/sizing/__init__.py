@@ -20,6 +20,8 @@
 :func:`wavelength_size`            elements per tidal wavelength
 :func:`slope_size`                 elements per bathymetric slope
 :func:`depth_on_grid`              a raster's depth on a size grid
+:class:`DepthSources`              several rasters in priority order, blended
+:class:`DepthSource`               one raster of such a stack
 :func:`raster_grid`                a raster's axes (ascending) and values
 :func:`to_metres`                  ``"10 km"``, ``"0.02 deg"`` to metres
 =================================  ===========================================
@@ -47,6 +49,7 @@ from coastmesh.sizing.domain import (
 from coastmesh.sizing.field import Gradation, size_field
 from coastmesh.sizing.gradation import DEFAULT_RATE, gradation_size, limit_gradation
 from coastmesh.sizing.raster import interpolate_bilinear, raster_grid
+from coastmesh.sizing.sources import DepthSource, DepthSources, SourceSample
 from coastmesh.sizing.sphere import limit_gradation_sphere, sphere_size_field
 from coastmesh.sizing.terms import (
     ChannelSize,
@@ -67,10 +70,13 @@ __all__ = [
     "ChannelSize",
     "CourantReport",
     "CourantSize",
+    "DepthSource",
+    "DepthSources",
     "Gradation",
     "NarrowChannel",
     "SizeField",
     "SizeFieldReport",
+    "SourceSample",
     "courant_bounds",
     "depth_on_grid",
     "distance_to_lines",

@@ -12,6 +12,7 @@ from pyproj import CRS
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import reproject_points
 from coastmesh.sizing.raster import interpolate_bilinear, raster_grid
+from coastmesh.sizing.sources import DepthSources
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -33,7 +34,7 @@ GRAVITY = 9.80665
 
 
 def depth_on_grid(
-    raster: xr.DataArray,
+    raster: xr.DataArray | DepthSources,
     x: ArrayLike,
     y: ArrayLike,
     *,
@@ -44,9 +45,11 @@ def depth_on_grid(
 
     Parameters
     ----------
-    raster : xarray.DataArray
+    raster : xarray.DataArray or DepthSources
         Dims ``("y", "x")`` with 1-D cell-centre coordinates and a ``crs`` attr
-        (WKT), as :func:`coastmesh.io.read_raster` returns; NaN = missing.
+        (WKT), as :func:`coastmesh.io.read_raster` returns; NaN = missing. Or a
+        stack of rasters (:class:`~coastmesh.sizing.DepthSources`), which
+        carries its own signs.
     x, y : array_like of shape (nx,), (ny,)
         Node coordinates of the grid in ``crs``.
     crs : pyproj.CRS or str
@@ -78,9 +81,11 @@ def depth_on_grid(
     """
     if positive not in ("up", "down"):
         raise ConfigError(f"positive = {positive!r}: use 'up' or 'down'")
-    rx, ry, values, raster_crs = raster_grid(raster)
     gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
     nodes = np.column_stack([gx.ravel(), gy.ravel()])
+    if isinstance(raster, DepthSources):
+        return raster.sample(nodes, crs).depth.reshape(gx.shape)
+    rx, ry, values, raster_crs = raster_grid(raster)
     px, py = reproject_points(nodes, crs, raster_crs).T
     z = interpolate_bilinear(rx, ry, values, px, py).reshape(gx.shape)
     return -z if positive == "up" else z
@@ -183,7 +188,7 @@ class BathymetrySize:
 
     Parameters
     ----------
-    raster : xarray.DataArray
+    raster : xarray.DataArray or DepthSources
         As :func:`coastmesh.io.read_raster` returns (dims ``("y", "x")``, a
         ``crs`` attr, NaN for nodata).
     positive : {"up", "down"}
@@ -198,7 +203,7 @@ class BathymetrySize:
         Depth floor of both terms, metres.
     """
 
-    raster: xr.DataArray
+    raster: xr.DataArray | DepthSources
     positive: str = "up"
     per_wavelength: float | None = None
     period: float = M2_PERIOD

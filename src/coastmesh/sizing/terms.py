@@ -30,6 +30,7 @@ from coastmesh.sizing.channel import (
     narrow_channels,
     water_mask,
 )
+from coastmesh.sizing.sources import DepthSources
 from coastmesh.types import Domain, Report
 
 if TYPE_CHECKING:
@@ -92,7 +93,7 @@ class CourantSize:
 
     Parameters
     ----------
-    raster : xarray.DataArray
+    raster : xarray.DataArray or DepthSources
         Bathymetry, as :func:`coastmesh.io.read_raster` returns it.
     dt : float
         The model's time step, seconds.
@@ -110,7 +111,7 @@ class CourantSize:
         Depths below this (and land) are taken as this, metres.
     """
 
-    raster: xr.DataArray
+    raster: xr.DataArray | DepthSources
     dt: float
     positive: str = "up"
     courant_max: float | None = 0.5

@@ -45,6 +45,7 @@ from coastmesh.case.config.sizes import (
     GradationConfig,
     SizeConfig,
 )
+from coastmesh.case.config.sources import DepthSourceConfig
 
 __all__ = [
     "BOUNDARY_KINDS",
@@ -56,6 +57,7 @@ __all__ = [
     "ChannelConfig",
     "CleanupConfig",
     "CourantConfig",
+    "DepthSourceConfig",
     "DomainConfig",
     "GradationConfig",
     "LoxodromeConfig",

@@ -9,6 +9,7 @@ from typing import Any
 
 from coastmesh.case import schema
 from coastmesh.case.config._check import Check
+from coastmesh.case.config.sources import DepthSourceConfig, check_sources
 from coastmesh.errors import ConfigError
 
 __all__ = [
@@ -28,10 +29,21 @@ class NodeDepthConfig:
 
     Attributes
     ----------
-    path : path
-        Any raster GDAL reads.
+    path : path, optional
+        One raster GDAL reads; or ``sources``.
     positive : {"up", "down"}
-        The raster's sign.
+        The raster's sign (with ``path``).
+    sources : tuple of DepthSourceConfig
+        ``[[bathymetry.sources]]``: several rasters, highest priority first;
+        with ``path``, the one source it makes.
+    outside : {"error", "nearest"}
+        Nodes more than a cell diagonal beyond every source's data: an error,
+        or the nearest valid cell and a warning.
+    land : {"min_depth", "nearest_sea", "smooth"}
+        Nodes where the rasters say land (depth <= 0 m); see
+        :data:`coastmesh.meshing.depth.LAND_TREATMENTS`.
+    land_distance : float or str, optional
+        Width of the coastal taper of ``land = "smooth"`` (metres).
     method : {"bilinear", "mean"}
         See :func:`coastmesh.meshing.depth.depth_at_nodes`.
     min_depth : float or str, optional
@@ -42,16 +54,24 @@ class NodeDepthConfig:
         PCA of the raster first (both or neither).
     """
 
-    path: Path
+    path: Path | None = None
     positive: str = "up"
     method: str = "bilinear"
     min_depth: float | None = None
     max_slope: float | None = None
     window: int | None = None
     modes: int | None = None
+    sources: tuple[DepthSourceConfig, ...] = ()
+    outside: str = "error"
+    land: str = "min_depth"
+    land_distance: float | None = None
 
     def _checked(self, c: Check) -> NodeDepthConfig:
-        from coastmesh.meshing.depth import DEPTH_METHODS
+        from coastmesh.meshing.depth import (
+            DEPTH_METHODS,
+            LAND_TREATMENTS,
+            OUTSIDE_RULES,
+        )
 
         window = c.optional(schema.integer(2), self.window, "window")
         modes = c.optional(schema.integer(1), self.modes, "modes")
@@ -61,13 +81,26 @@ class NodeDepthConfig:
             )
         if window is not None and modes > window**2:
             raise c.error("modes", f"= {modes} is more than window**2")
+        positive = c(schema.choice(_UP_DOWN), self.positive, "positive")
+        path, sources = check_sources(c, self.path, positive, self.sources)
+        land = c(schema.choice(LAND_TREATMENTS), self.land, "land")
+        min_depth = c.optional(schema.length(signed=True), self.min_depth, "min_depth")
+        land_distance = c.optional(schema.length(), self.land_distance, "land_distance")
+        if land == "smooth" and (min_depth is None or land_distance is None):
+            raise c.error(
+                "land",
+                "= 'smooth' tapers the depth to min_depth at the coast over "
+                "land_distance: give both",
+            )
         return NodeDepthConfig(
-            path=c(schema.path, self.path, "path"),
-            positive=c(schema.choice(_UP_DOWN), self.positive, "positive"),
+            path=path,
+            positive=positive,
+            sources=sources,
+            outside=c(schema.choice(OUTSIDE_RULES), self.outside, "outside"),
+            land=land,
+            land_distance=land_distance,
             method=c(schema.choice(DEPTH_METHODS), self.method, "method"),
-            min_depth=c.optional(
-                schema.length(signed=True), self.min_depth, "min_depth"
-            ),
+            min_depth=min_depth,
             max_slope=c.optional(schema.positive, self.max_slope, "max_slope"),
             window=window,
             modes=modes,

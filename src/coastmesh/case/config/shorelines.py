@@ -4,45 +4,87 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from coastmesh.case import schema
 from coastmesh.case.config._check import Check
+from coastmesh.errors import ConfigError
 
 __all__ = ["DomainConfig", "RegionConfig", "ShorelineSetConfig", "ShorelinesConfig"]
 
 
 @dataclass(frozen=True, slots=True)
 class ShorelinesConfig:
-    """``[shorelines]``: the shoreline file (land polygons, e.g. GSHHG).
+    """``[shorelines]``: the land, from a vector file or an elevation raster.
 
     Attributes
     ----------
-    path : path
-        Any vector file GDAL reads.
+    path : path, optional
+        Any vector file GDAL reads, of land polygons (e.g. GSHHG level 1).
     layer : str, optional
-        The layer, if the file has several.
+        The layer, if the file has several (vector files only).
     bbox : (minx, miny, maxx, maxy), optional
-        Clip to this box first, in the file's CRS.
+        Clip to this box first (read only this window of a raster), in the
+        file's CRS.
     crs : str, optional
         The file's CRS, if it declares none.
     min_area : float or str
         Islands and lakes smaller than this (m², or e.g. ``"0.5 km2"``) are dropped.
+    raster : path, optional
+        Instead of ``path`` (exactly one of the two): any raster GDAL reads, of
+        elevations or depths; the land is where the height is above ``level``
+        (:func:`~coastmesh.geometry.land_from_grid`).
+    level : float or str
+        Rasters: the height of the coast above the raster's datum, positive up
+        whatever ``positive`` is (metres, or e.g. ``"-0.5 m"``); default 0.
+    positive : {"up", "down"}
+        Rasters: the raster's sign, ``"up"`` for elevations (GEBCO, ETOPO),
+        ``"down"`` for depths.
     """
 
-    path: Path
+    path: Path | None = None
     layer: str | None = None
     bbox: tuple[float, float, float, float] | None = None
     crs: str | None = None
     min_area: float = 0.0
+    raster: Path | None = None
+    level: float = 0.0
+    positive: str = "up"
 
     def _checked(self, c: Check) -> ShorelinesConfig:
+        if (self.path is None) == (self.raster is None):
+            given = "both are given" if self.path is not None else "neither is given"
+            raise c.error(
+                "path",
+                f"give exactly one of {c.key('path')} (a vector file of land "
+                f"polygons) and {c.key('raster')} (an elevation raster); {given}",
+            )
+        if self.raster is not None and self.layer is not None:
+            raise c.error(
+                "layer", f"= {self.layer!r}: a raster has no layers (layer is for path)"
+            )
         return ShorelinesConfig(
-            path=c(schema.path, self.path, "path"),
+            path=c.optional(schema.path, self.path, "path"),
             layer=c.optional(schema.string, self.layer, "layer"),
             bbox=c.optional(schema.box, self.bbox, "bbox"),
             crs=c.optional(schema.crs, self.crs, "crs"),
             min_area=c(schema.area, self.min_area, "min_area"),
+            raster=c.optional(schema.path, self.raster, "raster"),
+            level=c(_height, self.level, "level"),
+            positive=c(schema.choice(("up", "down")), self.positive, "positive"),
         )
+
+
+def _height(value: Any, key: str) -> float:
+    """Convert a height (metres, or a string in m or km), of either sign."""
+    if not (isinstance(value, str) and value.strip().endswith("deg")):
+        try:
+            return schema.length(signed=True)(value, key)
+        except ConfigError:
+            pass
+    raise ConfigError(
+        f"{key} = {value!r}: expected a height in metres, e.g. 0, -1.5 or '-1.5 m'"
+    )
 
 
 @dataclass(frozen=True, slots=True)

@@ -8,6 +8,7 @@ from typing import Any
 
 from coastmesh.case import schema
 from coastmesh.case.config._check import Check, check_part, sequence
+from coastmesh.case.config.sources import DepthSourceConfig, check_sources
 from coastmesh.sizing.bathymetry import M2_PERIOD
 from coastmesh.sizing.gradation import DEFAULT_RATE
 
@@ -60,10 +61,13 @@ class BathymetryConfig:
 
     Attributes
     ----------
-    path : path
-        Any raster GDAL reads.
+    path : path, optional
+        One raster GDAL reads; or ``sources``.
     positive : {"up", "down"}
         The raster's sign: ``"up"`` for elevations (GEBCO, ETOPO).
+    sources : tuple of DepthSourceConfig
+        ``[[mesh_size.bathymetry.sources]]``: several rasters, highest priority
+        first; with ``path``, the one source it makes.
     per_wavelength : float, optional
         Elements per tidal wavelength.
     period : float or str
@@ -74,19 +78,23 @@ class BathymetryConfig:
         Depth floor of both terms (metres).
     """
 
-    path: Path
+    path: Path | None = None
     positive: str = "up"
     per_wavelength: float | None = None
     period: float = M2_PERIOD
     per_slope: float | None = None
     min_depth: float = 1.0
+    sources: tuple[DepthSourceConfig, ...] = ()
 
     def _checked(self, c: Check) -> BathymetryConfig:
         if self.per_wavelength is None and self.per_slope is None:
             raise c.error("per_wavelength", "give per_wavelength and/or per_slope")
+        positive = c(schema.choice(_UP_DOWN), self.positive, "positive")
+        path, sources = check_sources(c, self.path, positive, self.sources)
         return BathymetryConfig(
-            path=c(schema.path, self.path, "path"),
-            positive=c(schema.choice(_UP_DOWN), self.positive, "positive"),
+            path=path,
+            positive=positive,
+            sources=sources,
             per_wavelength=c.optional(
                 schema.positive, self.per_wavelength, "per_wavelength"
             ),
