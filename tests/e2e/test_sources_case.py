@@ -120,6 +120,7 @@ def test_stack_gives_each_node_its_source(stacked_run):
     assert survey_nodes > 500 and etopo_nodes > 500
     assert survey_nodes + etopo_nodes == report["nodes"] == result.nodes
     assert report["blended"] > 50 and report["nearest"] == 0
+    assert (out / "figures" / "depth_sources.png").stat().st_size > 10_000
     with netCDF4.Dataset(out / "pentland_firth.nc") as nc:
         names = {v.name: v for v in nc.variables.values()}
         source = next(v for k, v in names.items() if k.endswith("depth_source"))[:]

@@ -70,6 +70,18 @@ def figure_jobs(result: CaseResult, outputs: OutputConfig) -> list[Job]:
         courant = result.config.size.courant
         jobs += [
             ("depth", "depth_figure", (mesh,), {"title": f"{name}: depth"}),
+            *(
+                [
+                    (
+                        "depth_sources",
+                        "depth_source_figure",
+                        (mesh, result.report.depth.sources),
+                        {"title": f"{name}: bathymetry source of each node"},
+                    )
+                ]
+                if "depth_source" in mesh.point_data and result.report.depth
+                else []
+            ),
             (
                 "time_step",
                 "time_step_figure",

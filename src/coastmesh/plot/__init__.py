@@ -13,6 +13,7 @@
 :func:`channel_figure`             the width of the water, narrow channels
 :func:`quality_figure`             histograms of angles, ratios, edge sizes
 :func:`depth_figure`               depth at the nodes
+:func:`depth_source_figure`        which bathymetry source each node took
 :func:`time_step_figure`           stable time step and Courant number per element
 :func:`save_figure`                save a figure atomically
 =================================  ============================================
@@ -42,11 +43,17 @@ from coastmesh.plot.pca import (
     raster_figure,
     shoreline_figure,
 )
-from coastmesh.plot.quality import depth_figure, quality_figure, time_step_figure
+from coastmesh.plot.quality import (
+    depth_figure,
+    depth_source_figure,
+    quality_figure,
+    time_step_figure,
+)
 
 __all__ = [
     "channel_figure",
     "depth_figure",
+    "depth_source_figure",
     "domain_figure",
     "globe_figure",
     "mercator_figure",

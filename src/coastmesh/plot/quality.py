@@ -6,6 +6,7 @@ without pyplot; save them with :func:`coastmesh.plot.save_figure`.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -27,7 +28,12 @@ if TYPE_CHECKING:
 
     from coastmesh.types import Mesh
 
-__all__ = ["depth_figure", "quality_figure", "time_step_figure"]
+__all__ = [
+    "depth_figure",
+    "depth_source_figure",
+    "quality_figure",
+    "time_step_figure",
+]
 
 _BINS = 90
 
@@ -176,6 +182,78 @@ def depth_figure(mesh: Mesh, *, title: str | None = None) -> Figure:
     ax.ticklabel_format(useOffset=False)
     span = f"{low:,.1f} to {high:,.1f} m" if finite.any() else "no finite values"
     ax.set_title(f"{title or 'depth'}: {span}")
+    return figure
+
+
+def depth_source_figure(
+    mesh: Mesh, names: Sequence[str], *, title: str | None = None
+) -> Figure:
+    """Draw which bathymetry source each node took its depth from.
+
+    Parameters
+    ----------
+    mesh : coastmesh.meshing.Mesh
+        With ``point_data["depth_source"]``: the index of each node's source in
+        ``names`` (-1 for none).
+    names : sequence of str
+        The sources, in priority order (``report.sources``).
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One map; each triangle coloured by the source of its first node's
+        highest-priority source, with a legend of node counts.
+
+    Examples
+    --------
+    >>> from coastmesh.types import Mesh
+    >>> m = Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]],
+    ...          [1, 1, 1], 1, "EPSG:4326", {"depth_source": [0, 1, 1]})
+    >>> len(depth_source_figure(m, ["survey", "gebco"]).axes)
+    1
+    """
+    from matplotlib.colors import ListedColormap
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
+    from matplotlib.tri import Triangulation
+
+    source = np.asarray(mesh.point_data.get("depth_source", ()), dtype=np.int64)
+    if source.shape != (len(mesh.points),):
+        raise ValueError(
+            "mesh.point_data['depth_source'] must hold one source index per node "
+            f"(it has {sorted(mesh.point_data)})"
+        )
+    # a triangle shows the best (lowest-index) source among its nodes
+    shown = np.where(source < 0, len(names), source)[mesh.triangles].min(axis=1)
+    mask = across_dateline(mesh.points, mesh.triangles, mesh.crs)
+    x, y = mesh.points[:, 0], mesh.points[:, 1]
+    tri = Triangulation(x, y, mesh.triangles, mask=mask if mask.any() else None)
+    figure = Figure(figsize=(9, 8), layout="constrained")
+    ax = figure.add_subplot()
+    colours = [f"C{k % 10}" for k in range(len(names))] + ["0.6"]
+    ax.tripcolor(
+        tri,
+        facecolors=shown.astype(float),
+        cmap=ListedColormap(colours),
+        vmin=-0.5,
+        vmax=len(names) + 0.5,
+        edgecolors="none",
+    )
+    labels = [*(str(n).replace("\\", "/").rsplit("/", 1)[-1] for n in names)]
+    labels.append("none (nearest cell)")
+    handles = [
+        Patch(color=colours[k], label=f"{labels[k]}: {int((source == k).sum()):,}")
+        for k in range(len(names))
+    ]
+    if (source < 0).any():
+        handles.append(Patch(color=colours[-1], label=labels[-1]))
+    ax.legend(handles=handles, loc="upper left", fontsize="small", title="nodes")
+    _frame(ax, mesh.points)
+    geographic_axes(ax, mesh.crs, _bounds(mesh.points))
+    ax.ticklabel_format(useOffset=False)
+    ax.set_title(title or "bathymetry source of each node")
     return figure
 
 
