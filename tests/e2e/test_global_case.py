@@ -144,21 +144,64 @@ def test_the_files_read_back_on_the_sphere(world):
     assert np.allclose(np.linalg.norm(xyz, axis=1), 6_371_008.8)
 
 
-def test_open_boundaries_in_a_global_case_say_what_to_do(tmp_path):
-    text = (
-        CASE
-        + """
-[[open_boundaries]]
-name = "gibraltar"
+CUT = """
+[[cuts]]
+name = "gulf"
 id = 2
-kind = "loxodrome"
-start = [-5.6, 36.2]
-end = [-5.4, 35.8]
+kind = "great_circle"
+start = [-81.5, 27.5]              # in Florida
+end = [-89.0, 20.0]                # in Yucatan
 """
-    )
-    with pytest.raises(ConfigError, match="no open boundary; remove the"):
+
+
+def test_a_cut_takes_a_sea_off_with_an_open_boundary(world, tmp_path):
+    """The Gulf of Mexico cut off by a line Florida - Yucatan (at this coarse
+    closing, Cuba is narrower than 150 km and not there): the ocean is meshed
+    less the Gulf, and the cut is an open boundary with its id."""
+    whole = world[0].mesh
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = run_case(_case(tmp_path, CASE + CUT), output=tmp_path / "out")
+    mesh = read_mesh(tmp_path / "out" / "world_coarse.gr3")
+    assert _nearest_km(whole, -90.0, 25.0) < 200 < _nearest_km(mesh, -90.0, 25.0)
+    cut = mesh.boundary_edges[mesh.boundary_ids == 2]
+    assert len(cut) >= 2 and mesh.boundary_kinds[2] == "open"
+    assert result.report.domain.segments["gulf"] > 100  # the line, before meshing
+    # the cut's nodes lie on the line Florida - Yucatan (a geodesic on the
+    # ellipsoid: within 130 m of the sphere's great circle)
+    ends = _xyz(np.array([[-81.5, 27.5], [-89.0, 20.0]]))
+    normal = np.cross(ends[0], ends[1])
+    normal /= np.linalg.norm(normal)
+    on = _xyz(mesh.points[np.unique(cut)])
+    assert np.abs(on @ normal).max() < 2e-5
+    # the ocean lost the Gulf of Mexico: about 1.6 M km2
+    lost = _area(whole) - _area(mesh)
+    assert 1.0e12 < lost < 2.0e12
+
+
+def _nearest_km(mesh, lon0, lat0) -> float:
+    """The distance from (lon0, lat0) to the nearest node, km (sphere)."""
+    chord = np.linalg.norm(_xyz(mesh.points) - _xyz(np.array([[lon0, lat0]])), axis=1)
+    return float(2 * np.arcsin(chord.min() / 2) * 6371.0088)
+
+
+def _area(mesh) -> float:
+    """The mesh's area on the sphere, m2 (spherical triangles, l'Huilier)."""
+    xyz = _xyz(mesh.points)[mesh.triangles]
+    a, b, c = xyz[:, 0], xyz[:, 1], xyz[:, 2]
+    triple = np.abs(np.einsum("ij,ij->i", a, np.cross(b, c)))
+    denom = 1 + (a * b).sum(1) + (b * c).sum(1) + (c * a).sum(1)
+    return float((2 * np.arctan2(triple, denom)).sum() * 6_371_008.8**2)
+
+
+def test_open_boundaries_in_a_global_case_say_what_to_do(tmp_path):
+    text = CASE + CUT.replace("[[cuts]]", "[[open_boundaries]]")
+    with pytest.raises(ConfigError, match=r"give the line as \[\[cuts\]\]"):
         run_case(_case(tmp_path, text), output=tmp_path / "out")
     assert not (tmp_path / "out").exists()
+    regional = CASE.replace('kind = "global"\n', "") + CUT
+    with pytest.raises(ConfigError, match=r"\[\[cuts\]\] are for global cases"):
+        run_case(_case(tmp_path, regional), output=tmp_path / "out")
 
 
 def test_a_regional_layer_is_refused_with_its_name(tmp_path):

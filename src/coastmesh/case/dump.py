@@ -113,7 +113,9 @@ def dump_case(case: CaseConfig) -> str:
                 ),
             }
         ),
-        "open_boundaries": [_dump_boundary(b) for b in case.boundaries],
+        "cuts" if case.domain.kind == "global" else "open_boundaries": [
+            _dump_boundary(b) for b in case.boundaries
+        ],
         "mesh_size": _dump_size(case.size),
         "mesh": _clean(_fields(case.mesh)),
         "output": _clean(_fields(case.outputs)),

@@ -155,9 +155,7 @@ def parse_case(text: str, source: str | os.PathLike[str]) -> CaseConfig | StudyC
         "sets": _sets(root.table("shoreline_sets", required=True)),
         "regions": tuple(_region(t, path_of) for t in root.tables("regions")),
         "domain": DomainConfig(**_domain(root.table("domain"))),
-        "boundaries": tuple(
-            _boundary(t, path_of) for t in root.tables("open_boundaries")
-        ),
+        "boundaries": _boundaries(root, path_of, label),
         "size": _size(root.table("mesh_size", required=True), path_of),
         "mesh": MeshConfig(
             **_done(
@@ -204,6 +202,28 @@ def parse_case(text: str, source: str | os.PathLike[str]) -> CaseConfig | StudyC
     return CaseConfig(
         name=name, output=output, crs=crs, source=source, text=text, **parts
     )
+
+
+def _boundaries(root: Table, path_of: PathOf, label: str) -> tuple[BoundaryConfig, ...]:
+    """``[[open_boundaries]]``, or in a global case ``[[cuts]]`` (the same keys)."""
+    domain = root.data.get("domain", {})
+    is_global = isinstance(domain, dict) and domain.get("kind") == "global"
+    walls, cuts = root.tables("open_boundaries"), root.tables("cuts")
+    if is_global and walls:
+        names = [t.data.get("name") for t in walls]
+        raise ConfigError(
+            f"{label}: [[open_boundaries]] {names}: a global case meshes the whole "
+            "ocean, which has no open boundary. To cut a sea off the ocean with an "
+            "open boundary (the Mediterranean at Gibraltar, say), give the line as "
+            "[[cuts]], with the keys of [[open_boundaries]], and put [domain] seed "
+            "in the ocean you keep"
+        )
+    if cuts and not is_global:
+        raise ConfigError(
+            f'{label}: [[cuts]] are for global cases ([domain] kind = "global"); '
+            "a regional case gives its open boundaries as [[open_boundaries]]"
+        )
+    return tuple(_boundary(t, path_of) for t in (cuts if is_global else walls))
 
 
 def _done(t: Table, *names: str) -> dict[str, Any]:

@@ -49,6 +49,8 @@ class CaseConfig:
         The first region that holds a place picks its set.
     domain : DomainConfig
     boundaries : sequence of BoundaryConfig
+        ``[[open_boundaries]]``; in a global case, ``[[cuts]]``: open
+        boundaries that cut seas off the world ocean.
     mesh : MeshConfig
     outputs : OutputConfig
     bathymetry : NodeDepthConfig, optional
@@ -132,7 +134,7 @@ class CaseConfig:
             "regions": check_parts(self.regions, RegionConfig, c, "regions"),
             "domain": check_part(self.domain, DomainConfig, c, "domain"),
             "boundaries": check_parts(
-                self.boundaries, BoundaryConfig, c, "open_boundaries"
+                self.boundaries, BoundaryConfig, c, _boundary_key(self.domain)
             ),
             "size": check_part(self.size, SizeConfig, c, "mesh_size"),
             "mesh": check_part(self.mesh, MeshConfig, c, "mesh"),
@@ -181,15 +183,16 @@ def _text(value: Any, key: str) -> str:
     return value
 
 
+def _boundary_key(domain: Any) -> str:
+    """Return the table of open boundaries: ``cuts`` in a global case."""
+    return "cuts" if getattr(domain, "kind", None) == "global" else "open_boundaries"
+
+
 def _check_global(case: dict[str, Any], label: str) -> None:
-    """Refuse what a global case cannot take: open boundaries, some terms."""
-    if case["boundaries"]:
-        names = [b.name for b in case["boundaries"]]
-        raise ConfigError(
-            f'{label}: [domain] kind = "global" meshes the whole ocean, which has '
-            f"no open boundary; remove the [[open_boundaries]] ({names}). Cutting "
-            "off a sea with an open boundary is not available yet in global cases"
-        )
+    """Refuse what a global case cannot take: some size terms.
+
+    Its ``boundaries`` are the ``[[cuts]]``: lines that cut seas off the ocean.
+    """
     size = case["size"]
     if size.courant is not None:
         raise ConfigError(
@@ -225,7 +228,7 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
     names: set[str] = set()
     items = [("shoreline_sets", s.name, s.physical_id) for s in sets]
     items += [
-        (f"open_boundaries[{k}]", b.name, b.physical_id)
+        (f"{_boundary_key(case['domain'])}[{k}]", b.name, b.physical_id)
         for k, b in enumerate(boundaries)
     ]
     for where, name, physical_id in items:
