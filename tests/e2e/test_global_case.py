@@ -209,3 +209,20 @@ def test_a_regional_layer_is_refused_with_its_name(tmp_path):
     with pytest.raises(InputDataError, match=r"orkney_gshhg_f.*both hemispheres"):
         run_case(_case(tmp_path, text), output=tmp_path / "out")
     assert not (tmp_path / "out").exists()
+
+
+def test_the_domain_file_holds_the_cut_where_the_domain_is(tmp_path):
+    """domain.gpkg: the untrimmed cut in the domain's CRS (the plane), not lon/lat."""
+    import pyogrio.raw
+    import shapely
+    from pyproj import CRS
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = run_case(_case(tmp_path, CASE + CUT), output=tmp_path / "out")
+    path = tmp_path / "out" / "domain.gpkg"
+    meta, _, wkb, _ = pyogrio.raw.read(path, layer="open_boundaries_untrimmed")
+    meta_d, _, wkb_d, _ = pyogrio.raw.read(path, layer="domain")
+    assert CRS.from_user_input(meta["crs"]) == CRS.from_user_input(meta_d["crs"])
+    cut, domain = shapely.from_wkb(wkb)[0], shapely.from_wkb(wkb_d)[0]
+    assert cut.intersects(domain) and result.domain.crs.is_projected

@@ -309,7 +309,9 @@ def _write_models(result: CaseResult, folder: Path, outputs: OutputConfig) -> li
 
 def _write_domain(path: Path, result: CaseResult) -> None:
     """Write the domain GeoPackage, with the untrimmed boundaries and the regions."""
-    walls, crs = result.open_boundaries, result.crs
+    # the walls and regions are where the domain was built (the stereographic
+    # plane of a global case)
+    walls, crs = result.open_boundaries, result.domain.crs
     extra = {}
     if walls:
         extra["open_boundaries_untrimmed"] = _layer(
