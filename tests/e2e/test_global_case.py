@@ -7,7 +7,10 @@ import math
 import warnings
 
 import numpy as np
+import pyogrio.raw
 import pytest
+import shapely
+from pyproj import CRS
 
 from coastmesh.case import run_case
 from coastmesh.data import path as data_path
@@ -177,6 +180,12 @@ def test_a_cut_takes_a_sea_off_with_an_open_boundary(world, tmp_path):
     # the ocean lost the Gulf of Mexico: about 1.6 M km2
     lost = _area(whole) - _area(mesh)
     assert 1.0e12 < lost < 2.0e12
+    # domain.gpkg holds the untrimmed cut where the domain is (the plane)
+    path = tmp_path / "out" / "domain.gpkg"
+    meta, _, wkb, _ = pyogrio.raw.read(path, layer="open_boundaries_untrimmed")
+    meta_d, _, wkb_d, _ = pyogrio.raw.read(path, layer="domain")
+    assert CRS.from_user_input(meta["crs"]) == CRS.from_user_input(meta_d["crs"])
+    assert shapely.from_wkb(wkb)[0].intersects(shapely.from_wkb(wkb_d)[0])
 
 
 def _nearest_km(mesh, lon0, lat0) -> float:
@@ -209,20 +218,3 @@ def test_a_regional_layer_is_refused_with_its_name(tmp_path):
     with pytest.raises(InputDataError, match=r"orkney_gshhg_f.*both hemispheres"):
         run_case(_case(tmp_path, text), output=tmp_path / "out")
     assert not (tmp_path / "out").exists()
-
-
-def test_the_domain_file_holds_the_cut_where_the_domain_is(tmp_path):
-    """domain.gpkg: the untrimmed cut in the domain's CRS (the plane), not lon/lat."""
-    import pyogrio.raw
-    import shapely
-    from pyproj import CRS
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        result = run_case(_case(tmp_path, CASE + CUT), output=tmp_path / "out")
-    path = tmp_path / "out" / "domain.gpkg"
-    meta, _, wkb, _ = pyogrio.raw.read(path, layer="open_boundaries_untrimmed")
-    meta_d, _, wkb_d, _ = pyogrio.raw.read(path, layer="domain")
-    assert CRS.from_user_input(meta["crs"]) == CRS.from_user_input(meta_d["crs"])
-    cut, domain = shapely.from_wkb(wkb)[0], shapely.from_wkb(wkb_d)[0]
-    assert cut.intersects(domain) and result.domain.crs.is_projected
