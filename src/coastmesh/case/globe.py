@@ -40,10 +40,11 @@ from coastmesh.case.inputs import (
     build_case_domain,
     build_shoreline_set,
     read_shorelines,
+    region_geometry,
 )
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry import simplify_shorelines
-from coastmesh.geometry.earth import METRES_PER_DEGREE, reproject
+from coastmesh.geometry.earth import EARTH_RADIUS, METRES_PER_DEGREE, reproject
 from coastmesh.geometry.world import close_narrow_water, world_land
 from coastmesh.meshing.engine import mesh_in_parts
 from coastmesh.meshing.globe import SphereSizeGrid
@@ -123,8 +124,8 @@ def build_global(
             if s.name == background:
                 land = np.concatenate([[world.frame(_shell(world.shell, s))], land])
             if close:
-                land, merged = close_narrow_water(
-                    land, close, within=1.05 * world.reach
+                land, merged = _close(
+                    land, close, 1.05 * world.reach, _zone(config, s, plane, crs)
                 )
                 logger.info("%s: %d polygons joined across water under %g m",
                             s.name, merged, close)  # fmt: skip
@@ -155,6 +156,38 @@ def build_global(
         config, mesh, inputs, sized, parts, measured, timings, started,
         crs=crs, mesh_crs=plane, output_crs=output_crs, set_reports=set_reports,
     )  # fmt: skip
+
+
+def _zone(config: CaseConfig, s: Any, plane: CRS, lonlat: CRS) -> Any:
+    """Return where a set is used (its regions, in the plane); None: everywhere."""
+    if s.name == config.background_set.name:
+        return None
+    zones = []
+    for k, r in enumerate(config.regions):
+        if r.set == s.name:
+            region = region_geometry(r, k, plane, config)
+            if r.path is None:  # a box or polygon in lon/lat
+                region = reproject(shapely.segmentize(region, 0.1), lonlat, plane)
+            zones.append(region)
+    return shapely.union_all(zones) if zones else None
+
+
+def _close(land: Any, width: float, reach: float, zone: Any) -> tuple[Any, int]:
+    """Close narrow water, only near ``zone`` (a region set's regions) if given.
+
+    A set made for regions is used only there: its land farther than a margin
+    of a few closing widths (at the plane's scale there) is kept as it is.
+    """
+    if zone is None:
+        return close_narrow_water(land, width, within=reach)
+    far = float(np.hypot(*np.abs(np.reshape(zone.bounds, (2, 2))).max(axis=0)))
+    scale = 1.0 + (far / (2.0 * EARTH_RADIUS)) ** 2  # the plane's k there
+    near = zone.buffer(4.0 * width * scale)
+    inside = shapely.intersection(land, near)
+    inside = inside[~shapely.is_empty(inside)]
+    outside = shapely.difference(land, near)
+    closed, merged = close_narrow_water(inside, width, within=reach)
+    return np.concatenate([closed, outside[~shapely.is_empty(outside)]]), merged
 
 
 def _shell(shell: shapely.Polygon, s: Any) -> shapely.Polygon:

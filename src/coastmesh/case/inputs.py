@@ -56,10 +56,13 @@ from coastmesh.types import Domain, Features, Progress, Report
 __all__ = [
     "DomainInputs",
     "ShorelineSetReport",
+    "bathymetry_terms",
     "build_case_domain",
     "build_shoreline_set",
+    "depth_stack",
     "fill_lakes",
     "read_shorelines",
+    "region_geometry",
 ]
 
 logger = logging.getLogger(__name__)
@@ -266,7 +269,7 @@ def build_case_domain(
     """
     regions: dict[str, list[shapely.Geometry]] = {}
     for k, r in enumerate(config.regions):
-        region = _region_geometry(r, k, crs, config)
+        region = region_geometry(r, k, crs, config)
         if lonlat is not None and r.path is None:  # a box or polygon in lon/lat
             region = reproject(shapely.segmentize(region, 0.1), lonlat, crs)
         regions.setdefault(r.set, []).append(region)
@@ -364,9 +367,10 @@ def _seed(config: CaseConfig, crs: CRS, lonlat: CRS | None) -> Any:
     return (point.x, point.y)
 
 
-def _region_geometry(
+def region_geometry(
     r: RegionConfig, k: int, crs: CRS, config: CaseConfig
 ) -> shapely.Geometry:
+    """Return ``[[regions]]`` entry ``k`` as a geometry (a file's in ``crs``)."""
     if r.box is not None:
         return shapely.box(*r.box)
     if r.polygon is not None:
