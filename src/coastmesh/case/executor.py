@@ -34,7 +34,7 @@ from typing import Any
 from coastmesh.errors import ConfigError, MeshingError
 from coastmesh.meshing.tasks import Runner, serial_runner
 
-__all__ = ["SCHEDULER_TIMEOUT", "open_runner"]
+__all__ = ["SCHEDULER_TIMEOUT", "connect_scheduler", "open_runner"]
 
 logger = logging.getLogger(__name__)
 
@@ -150,13 +150,42 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
     return run
 
 
-def _connect(address: str, timeout: float) -> Any:
+def connect_scheduler(
+    address: str, *, timeout: float | None = None, work: str = "mesh"
+) -> Any:
+    """Return a :class:`distributed.Client` of a scheduler that has a worker.
+
+    Parameters
+    ----------
+    address : str
+        The scheduler's address, e.g. ``"tcp://10.0.0.5:8786"``.
+    timeout : float, optional
+        Seconds to wait for the scheduler and for at least one worker; default
+        :data:`SCHEDULER_TIMEOUT`.
+    work : str, default "mesh"
+        What the caller does, for the advice in the error message.
+
+    Returns
+    -------
+    distributed.Client
+        Not set as the default client; close it when done.
+
+    Raises
+    ------
+    ConfigError
+        If the scheduler cannot be reached, or has no workers, within
+        ``timeout`` seconds.
+    """
+    return _connect(address, timeout or SCHEDULER_TIMEOUT, work)
+
+
+def _connect(address: str, timeout: float, work: str = "mesh") -> Any:
     """Connect to a Dask scheduler that has at least one worker."""
     from distributed import Client
 
     advice = (
         "start one with `dask scheduler` and workers with `dask worker ADDRESS "
-        "--nthreads 1`, or leave the scheduler out to mesh on this machine"
+        f"--nthreads 1`, or leave the scheduler out to {work} on this machine"
     )
     try:
         client = Client(address, timeout=f"{timeout}s", set_as_default=False)

@@ -41,6 +41,33 @@ __all__ = ["simplify_raster"]
 @bbox_option
 @crs_option
 @plot_option
+@click.option(
+    "-w",
+    "--workers",
+    type=click.IntRange(min=1),
+    default=None,
+    metavar="N",
+    help="Threads to compute the chunks of a GeoTIFF output on (default: all "
+    "cores). The output is the same for any number.",
+)
+@click.option(
+    "--scheduler",
+    metavar="ADDRESS",
+    default=None,
+    help="Compute the chunks as tasks on this Dask cluster (e.g. "
+    "tcp://10.0.0.5:8786), whose workers read IN at the same path. Start one "
+    "with `dask scheduler` and `dask worker ADDRESS`.",
+)
+@click.option(
+    "--memory",
+    "memory_mb",
+    type=click.FloatRange(min=16),
+    default=768,
+    show_default=True,
+    metavar="MB",
+    help="Working memory of each worker thread, in megabytes: sets the size of "
+    "the chunks a GeoTIFF output is streamed in.",
+)
 @overwrite_option
 @click.pass_context
 @translate_errors
@@ -54,6 +81,9 @@ def simplify_raster(
     bbox: tuple[float, float, float, float] | None,
     crs: object,
     plot: Path | None,
+    workers: int | None,
+    scheduler: str | None,
+    memory_mb: float,
     overwrite: bool,
 ) -> None:
     """Approximate the raster IN by PCA; write OUT.
@@ -63,6 +93,10 @@ def simplify_raster(
     overlapping windows of --window cells holding it; cells that no full window
     of valid cells covers keep their value, and nodata stays nodata. OUT (.tif or
     .nc) keeps the georeferencing, CRS, data type and nodata value.
+
+    A GeoTIFF OUT is streamed: IN is read, computed and written in chunks, on
+    all cores or a Dask cluster, in bounded memory (about --memory per worker),
+    so a raster of any size works. A NetCDF OUT is computed in memory.
 
     \b
     Example:
@@ -89,6 +123,9 @@ def simplify_raster(
             overwrite=overwrite,
             plot=plot,
             progress=progress,
+            workers=workers,
+            scheduler=scheduler,
+            memory_mb=memory_mb,
         )
     if not quiet:
         written = f"{dst}" + (f" and {plot}" if plot is not None else "")

@@ -8,7 +8,6 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -25,11 +24,8 @@ from coastmesh.commands._common import (
 )
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.io import AtomicOutputs, check_bbox, raster_driver
-from coastmesh.pca import check_modes, check_window_2d, simplify_raster
+from coastmesh.pca import check_modes, check_window_2d, check_workers, simplify_raster
 from coastmesh.types import Progress, Report
-
-if TYPE_CHECKING:
-    import xarray as xr
 
 __all__ = ["RasterReport", "raster_report", "simplify_raster_file"]
 
@@ -47,8 +43,18 @@ def simplify_raster_file(
     overwrite: bool = False,
     plot: PathLike | None = None,
     progress: Progress | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    memory_mb: float | None = None,
+    stream: bool | None = None,
 ) -> RasterReport:
     """Approximate a raster from the leading PCA modes of its windows and write it.
+
+    A GeoTIFF output is streamed: the raster is read, computed and written in
+    chunks, as Dask tasks on local threads or on a cluster, so memory stays
+    bounded whatever its size (:mod:`coastmesh.commands.raster_stream`).
+    A NetCDF output is computed in memory. Both give the same result, to
+    rounding (1e-9).
 
     Parameters
     ----------
@@ -71,6 +77,18 @@ def simplify_raster_file(
         Also draw the input, the result and their difference side by side.
     progress : callable, optional
         Called as ``progress(done, total)``.
+    workers : int, optional
+        Threads to compute the chunks on; default all the cores. The result
+        does not depend on it, bit for bit.
+    scheduler : str, optional
+        A Dask scheduler's address (``"tcp://host:8786"``): the chunks are
+        tasks on its cluster, whose workers must see ``src`` at the same path.
+    memory_mb : float, optional
+        Working memory of each worker thread, in megabytes (default 768): it
+        sets the size of the chunks, and changes the result only by rounding.
+    stream : bool, optional
+        Whether to stream; default: for a GeoTIFF output. NetCDF is written
+        in memory only.
 
     Returns
     -------
@@ -95,19 +113,37 @@ def simplify_raster_file(
     modes = check_modes(modes, wy * wx)
     box = None if bbox is None else check_bbox(bbox)
     assigned = parse_crs(crs)
-    raster_driver(dst)
+    workers = check_workers(workers)
+    geotiff = raster_driver(dst) == "GTiff"
+    if (stream or scheduler is not None) and not geotiff:
+        raise ConfigError(
+            f"{dst}: only a GeoTIFF output is streamed (and computed on a Dask "
+            "scheduler); use a .tif name"
+        )
+    if memory_mb is not None and not memory_mb > 0:
+        raise ConfigError(f"memory = {memory_mb} MB: must be > 0")
     check_outputs(dst, plot, overwrite=overwrite)
+    if geotiff and stream is not False:
+        return _stream_file(
+            src,
+            dst,
+            window=(wy, wx),
+            modes=modes,
+            bbox=box,
+            crs=assigned,
+            overwrite=overwrite,
+            plot=plot,
+            progress=progress,
+            workers=workers,
+            scheduler=scheduler,
+            memory_mb=memory_mb,
+            start=start,
+        )
 
     original = read_raster(src, bbox=box)
-    original.attrs["crs"] = _raster_crs(original, assigned, src)
+    original.attrs["crs"] = _raster_crs(original.attrs.get("crs"), assigned, src)
     values = original.values
-    ny, nx = values.shape
-    if ny < wy or nx < wx:
-        where = " (after bbox)" if box is not None else ""
-        raise ConfigError(
-            f"window = {wy} x {wx} cells: larger than the raster {src}{where}, "
-            f"which has {ny} x {nx} cells"
-        )
+    _check_size(values.shape, (wy, wx), src, box)
     if np.isinf(values).any():
         row, col = np.argwhere(np.isinf(values))[0]
         raise InputDataError(
@@ -139,9 +175,102 @@ def simplify_raster_file(
     return report
 
 
-def _raster_crs(raster: xr.DataArray, crs: CRS | None, src: PathLike) -> str:
+def _stream_file(
+    src: PathLike,
+    dst: PathLike,
+    *,
+    window: tuple[int, int],
+    modes: int,
+    bbox: tuple[float, float, float, float] | None,
+    crs: CRS | None,
+    overwrite: bool,
+    plot: PathLike | None,
+    progress: Progress | None,
+    workers: int,
+    scheduler: str | None,
+    memory_mb: float | None,
+    start: float,
+) -> RasterReport:
+    """:func:`simplify_raster_file` for a GeoTIFF output: streamed, on Dask."""
+    from coastmesh.commands.raster_chunks import MEMORY_MB, plan_chunks
+    from coastmesh.commands.raster_stream import open_client, stream_raster
+    from coastmesh.io import open_raster_source, read_decimated
+
+    wy, wx = window
+    source = open_raster_source(src, bbox=bbox)
+    stored_crs = _raster_crs(source.crs, crs, src)
+    _check_size(source.shape, window, src, bbox)
+    with open_client(workers, scheduler) as client:  # before any output exists
+        with AtomicOutputs(overwrite=overwrite) as outputs:
+            staged = outputs.stage(dst)
+            totals = stream_raster(
+                source,
+                staged,
+                window=window,
+                modes=modes,
+                client=client,
+                crs=stored_crs,
+                notes=_notes(source.units, src, window, modes),
+                plan=plan_chunks(
+                    source.shape, window, memory_mb=memory_mb or MEMORY_MB
+                ),
+                threads=workers,
+                progress=progress,
+            )
+            if plot is not None:
+                from coastmesh import plot as plotting
+
+                result = open_raster_source(staged)
+                figure = plotting.raster_figure(
+                    read_decimated(source),
+                    read_decimated(result),
+                    title=f"{Path(src).name}: window {wy} x {wx} cells, "
+                    f"{modes_label(modes)}",
+                )
+                plotting.save_figure(figure, outputs.stage(plot))
+    logger.info("wrote %s", listed(dst, plot))
+    ny, nx = source.shape
+    valid = ny * nx - totals.cells_missing
+    report = RasterReport(
+        rows=ny,
+        columns=nx,
+        cells_missing=totals.cells_missing,
+        cells_covered=totals.cells_covered,
+        cells_changed=totals.cells_changed,
+        rms_change=float(np.sqrt(totals.square_change / valid)) if valid else 0.0,
+        max_change=totals.max_change,
+        seconds=time.perf_counter() - start,
+    )
+    logger.info("raster: %s (%d chunks)", report.summary(), totals.chunks)
+    return report
+
+
+def _check_size(
+    shape: tuple[int, int], window: tuple[int, int], src: PathLike, bbox: object
+) -> None:
+    (ny, nx), (wy, wx) = shape, window
+    if ny < wy or nx < wx:
+        where = " (after bbox)" if bbox is not None else ""
+        raise ConfigError(
+            f"window = {wy} x {wx} cells: larger than the raster {src}{where}, "
+            f"which has {ny} x {nx} cells"
+        )
+
+
+def _notes(
+    units: str | None, src: PathLike, window: tuple[int, int], modes: int
+) -> dict[str, str]:
+    notes = {"units": units} if units else {}
+    notes.update(
+        provenance(
+            "simplify-raster", src, window=f"{window[0]}x{window[1]}", modes=modes
+        )
+    )
+    return notes
+
+
+def _raster_crs(declared: str | None, crs: CRS | None, src: PathLike) -> str:
     """Return the raster's CRS as stored (WKT): its own, else ``crs``."""
-    declared = raster.attrs.get("crs")
     check_crs(
         None if declared is None else CRS.from_user_input(declared), crs, "raster", src
     )

@@ -5,6 +5,9 @@
 :func:`write_features`   :class:`~coastmesh.types.Features` -> vector file
 :func:`read_raster`      raster band -> :class:`xarray.DataArray` (``y``, ``x``)
 :func:`write_raster`     :class:`xarray.DataArray` -> GeoTIFF or NetCDF
+:func:`read_cells`       a window of a raster that :func:`open_raster_source`
+                         described (:mod:`coastmesh.io.raster_stream`)
+:class:`RasterWriter`    a GeoTIFF written a window at a time
 :func:`read_mesh`        msh, fort.14, gr3, UGRID, ... -> :class:`~coastmesh.types.Mesh`
 :func:`write_mesh`       :class:`~coastmesh.types.Mesh` -> msh, fort.14, UGRID, ...
 :func:`mesh_formats`     the mesh formats, by name, with their readers and writers
@@ -46,6 +49,14 @@ if TYPE_CHECKING:
     from coastmesh.io.domain_gpkg import write_domain
     from coastmesh.io.msh import read_msh, write_msh
     from coastmesh.io.raster import raster_transform, read_raster, write_raster
+    from coastmesh.io.raster_stream import (
+        RasterSource,
+        RasterWriter,
+        encode_cells,
+        open_raster_source,
+        read_cells,
+        read_decimated,
+    )
     from coastmesh.io.report import write_report
     from coastmesh.io.sphere import SphereCheck, check_on_sphere
     from coastmesh.io.vector import read_features, write_features
@@ -53,6 +64,8 @@ if TYPE_CHECKING:
 __all__ = [
     "AtomicOutputs",
     "MeshFormat",
+    "RasterSource",
+    "RasterWriter",
     "SphereCheck",
     "atomic_directory",
     "atomic_write",
@@ -61,12 +74,16 @@ __all__ = [
     "check_input",
     "check_on_sphere",
     "check_output",
+    "encode_cells",
     "format_for_path",
     "mesh_format",
     "mesh_formats",
+    "open_raster_source",
     "plot_format",
     "raster_driver",
     "raster_transform",
+    "read_cells",
+    "read_decimated",
     "read_features",
     "read_mesh",
     "read_msh",
@@ -97,6 +114,12 @@ _HOME = {
     "raster_transform": "coastmesh.io.raster",
     "read_raster": "coastmesh.io.raster",
     "write_raster": "coastmesh.io.raster",
+    "RasterSource": "coastmesh.io.raster_stream",
+    "RasterWriter": "coastmesh.io.raster_stream",
+    "encode_cells": "coastmesh.io.raster_stream",
+    "open_raster_source": "coastmesh.io.raster_stream",
+    "read_cells": "coastmesh.io.raster_stream",
+    "read_decimated": "coastmesh.io.raster_stream",
     "read_msh": "coastmesh.io.msh",
     "write_msh": "coastmesh.io.msh",
     "MeshFormat": "coastmesh.io._mesh_format",

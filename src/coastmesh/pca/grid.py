@@ -28,7 +28,9 @@ offsets are 2-D correlations, one FFT each:
 Windows with no valid cell contribute nothing; windows with some valid cells that
 are not partitions (they overlap the grid's edge or a missing cell) are few, and
 both sums subtract them explicitly. The grid is processed in strips of rows in two
-passes (covariance, then reconstruction), so working memory stays bounded. Cost:
+passes (covariance, then reconstruction), so working memory stays bounded
+(:mod:`coastmesh.pca.chunks` runs each pass on one chunk at a time, for grids
+read from a file by parallel tasks). Cost:
 ``O(N log N)`` for ``N`` cells plus ``O(L r)`` per partial window, against
 ``O(N L^2)`` for the literal method.
 """
@@ -141,18 +143,7 @@ def simplify_raster(
             b = only
         else:
             b = Block(np.asarray(values[lo:hi], dtype=np.float64), shift, wy, wx)
-        total, cover = _block_sums(b, u)
-        block = b.block
-        rows = slice(r0 - lo, r1 - lo)
-        total, cover, block = total[rows], cover[rows], block[rows]
-        if (cover > 0).all():  # the usual case: every cell is covered
-            strip = total / cover
-            strip += shift
-        else:
-            covered = cover > 0
-            strip = block.copy()
-            strip[covered] = total[covered] / cover[covered] + shift
-        out[r0:r1] = strip
+        out[r0:r1] = _rebuild_rows(b, u, shift, slice(r0 - lo, r1 - lo))[0]
         report(step, steps)
     return out
 
@@ -312,6 +303,23 @@ def _difference_path(wy: int, wx: int) -> NDArray[np.float64]:
             path[a, n_x + np.arange(iy) * wx] = 1.0
             path[a, iy * (wx - 1) + np.arange(ix)] = 1.0
     return path
+
+
+def _rebuild_rows(b: Block, u, shift: float, part: slice | tuple[slice, slice]):
+    """Pass 2 on a block: the approximated cells ``part`` and their partition counts.
+
+    Cells that no partition covers keep their value; ``shift`` is added back.
+    """
+    total, cover = _block_sums(b, u)
+    total, cover, block = total[part], cover[part], b.block[part]
+    if (cover > 0).all():  # the usual case: every cell is covered
+        strip = total / cover
+        strip += shift
+    else:
+        covered = cover > 0
+        strip = block.copy()
+        strip[covered] = total[covered] / cover[covered] + shift
+    return strip, cover
 
 
 def _block_sums(b: Block, u):
