@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import xarray as xr
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from coastmesh.errors import ConfigError, InputDataError
@@ -92,7 +92,7 @@ def _ref_sample(stack, sign, blends, px, py):
             cells = _ref_edge_cells(raster)
             xyz = earth_centred([c[:2] for c in cells], crs)
             d = np.min(np.linalg.norm(xyz - p, axis=1))
-            t = min(max((d - delta) / (blend - delta), 0.0), 1.0)
+            t = min(max((d - delta) / max(blend - delta, 1e-6), 0.0), 1.0)
             w = t * t * (3 - 2 * t)
         depth = z if np.isnan(depth) else w * z + (1 - w) * depth
         if w > 0:
@@ -138,8 +138,16 @@ def _stack(rasters, signs, blends):
     )
 
 
+def _edge_case():
+    """A point on a cell-centre line whose cells beyond the line are missing."""
+    a = _grid([[-164.6, 17.5], [-0.8, np.nan]], 0.0, 55.775, 0.05)
+    b = _grid([[-195.9, 3.3], [-48.3, -17.6]], 0.0, 55.725, 0.1)
+    return [a, b], [-1.0, -1.0], [0.0, 0.0], np.array([[0.0, 55.8125], [0.0, 55.775]])
+
+
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(stacks())
+@example(_edge_case())
 def test_stack_matches_the_literal_reference(case):
     rasters, signs, blends, points = case
     try:

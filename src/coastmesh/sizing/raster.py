@@ -14,7 +14,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS
-from scipy.interpolate import RegularGridInterpolator
 
 from coastmesh.errors import ConfigError
 
@@ -108,8 +107,10 @@ def interpolate_bilinear(
     Returns
     -------
     ndarray of the shape of ``px``
-        NaN outside the cell centres, next to a missing cell, and everywhere
-        when the grid has fewer than two cells along an axis.
+        NaN outside the cell centres, where a corner with a weight is missing,
+        and everywhere when the grid has fewer than two cells along an axis.
+        A point on the line between two valid cells has their value even when
+        the cells beyond the line are missing.
 
     Examples
     --------
@@ -117,13 +118,36 @@ def interpolate_bilinear(
     >>> interpolate_bilinear(np.array([0.0, 1.0]), np.array([0.0, 1.0]), grid,
     ...                      [0.5, 2.0], [0.5, 0.5]).tolist()
     [15.0, nan]
+    >>> holed = np.array([[0.0, 10.0], [20.0, np.nan]])
+    >>> interpolate_bilinear(np.array([0.0, 1.0]), np.array([0.0, 1.0]), holed,
+    ...                      [0.5, 0.5], [0.0, 0.5]).tolist()
+    [5.0, nan]
     """
+    # By hand, not scipy's RegularGridInterpolator: that returns NaN at a point
+    # on a cell-centre line next to a missing cell (NaN times a zero weight),
+    # where the value is defined; here only corners with a weight count.
     px, py = np.broadcast_arrays(
         np.asarray(px, dtype=np.float64), np.asarray(py, dtype=np.float64)
     )
     if len(x) < 2 or len(y) < 2:
         return np.full(px.shape, np.nan)
-    interpolate = RegularGridInterpolator(
-        (y, x), values, method="linear", bounds_error=False, fill_value=np.nan
-    )
-    return interpolate(np.column_stack([py.ravel(), px.ravel()])).reshape(px.shape)
+    qx, qy = px.ravel(), py.ravel()
+    with np.errstate(invalid="ignore"):
+        bad = ~((qx >= x[0]) & (qx <= x[-1]) & (qy >= y[0]) & (qy <= y[-1]))
+    i = np.clip(np.searchsorted(x, qx, side="right") - 1, 0, len(x) - 2)
+    j = np.clip(np.searchsorted(y, qy, side="right") - 1, 0, len(y) - 2)
+    tx = (qx - x[i]) / (x[i + 1] - x[i])
+    ty = (qy - y[j]) / (y[j + 1] - y[j])
+    out = np.zeros(len(qx))
+    for dj, di, weight in (
+        (0, 0, (1.0 - tx) * (1.0 - ty)),
+        (0, 1, tx * (1.0 - ty)),
+        (1, 0, (1.0 - tx) * ty),
+        (1, 1, tx * ty),
+    ):
+        corner = values[j + dj, i + di]
+        used = weight > 0
+        bad |= used & np.isnan(corner)
+        out += np.where(used, corner * weight, 0.0)
+    out[bad] = np.nan
+    return out.reshape(px.shape)

@@ -166,6 +166,8 @@ class _Prepared:
                 "smaller blend"
             )
         self.blend = max(self.blend, self.delta) if self.blend > 0 else 0.0
+        #: the ramp's width; a blend under half a cell is a step at the half cell
+        self.ramp = max(self.blend - self.delta, 1e-6)
         self._trees: dict[str, tuple[cKDTree, NDArray[np.float64]] | None] = {}
         self._sums: tuple[NDArray, NDArray] | None = None
 
@@ -320,7 +322,7 @@ class DepthSources:
                 if xyz is None:
                     xyz = _earth(pts, crs)
                 d = _distance(prep.tree("valid"), xyz[ok[under]], prep.blend)
-                t = np.clip((d - prep.delta) / (prep.blend - prep.delta), 0.0, 1.0)
+                t = np.clip((d - prep.delta) / prep.ramp, 0.0, 1.0)
                 w[under] = t * t * (3.0 - 2.0 * t)
             mixed = z[ok] * w
             mixed[under] += (1.0 - w[under]) * below[under]
