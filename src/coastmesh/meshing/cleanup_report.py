@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from coastmesh.errors import ConfigError
 from coastmesh.meshing import smoothing
-from coastmesh.meshing.planar import radius_ratios
+from coastmesh.meshing.planar import sines_and_ratios
 from coastmesh.types import Report
 
 __all__ = ["CleanupOptions", "CleanupReport", "PartCleanup", "combine", "stats"]
@@ -131,10 +131,11 @@ def stats(
 
     ``fixed`` nodes (the nodes of cuts in a part) are left out of the valence.
     """
-    angles = smoothing.min_angles(xy, tri)
+    sines, ratios = sines_and_ratios(xy, tri)
+    angles = np.degrees(np.arcsin(np.clip(sines, -1.0, 1.0)))  # as min_angles
     valence = np.bincount(tri.ravel(), minlength=len(xy))
     inner = ~on_boundary if fixed is None else ~(on_boundary | fixed)
-    ratios = radius_ratios(xy[tri]) if len(tri) else np.ones(1)
+    ratios = ratios if len(tri) else np.ones(1)
     return {
         "boundary_triangles": int(on_boundary[tri].all(axis=1).sum()),
         "max_valence": int(valence[inner].max(initial=0)),

@@ -107,3 +107,33 @@ def sin_min_angles(
     return np.divide(
         area2 * shortest, product, out=np.zeros_like(area2), where=product > 0
     )
+
+
+def sines_and_ratios(
+    xy: NDArray[np.float64], triangles: NDArray[np.int64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Return :func:`sin_min_angles` and :func:`radius_ratios` at once.
+
+    The same numbers, bit for bit, from one gather of the corners (the
+    smoothing's guard needs both, many times over).
+
+    Examples
+    --------
+    >>> xy = np.array([[0, 0], [4, 0], [0, 3.0]])
+    >>> [v.round(6).tolist() for v in sines_and_ratios(xy, np.array([[0, 1, 2]]))]
+    [[0.6], [0.8]]
+    """
+    p0, p1, p2 = (xy[triangles[:, i]] for i in range(3))
+    d1, d2, d3 = p1 - p0, p2 - p0, p2 - p1
+    area2 = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+    a, b, c = np.hypot(*d1.T), np.hypot(*d2.T), np.hypot(*d3.T)
+    product = a * b * c
+    shortest = np.minimum(np.minimum(a, b), c)
+    sine = np.divide(
+        area2 * shortest, product, out=np.zeros_like(area2), where=product > 0
+    )
+    # the sides as radius_ratios measures them (a square root, not hypot)
+    s0, s1, s2 = (np.sqrt(d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1]) for d in (d1, d3, d2))
+    area = 0.5 * area2
+    ratio = 16 * area**2 / np.maximum((s0 + s1 + s2) * (s0 * s1 * s2), 1e-300)
+    return sine, ratio

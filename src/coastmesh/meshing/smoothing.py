@@ -39,7 +39,7 @@ from scipy import sparse
 
 from coastmesh.errors import ConfigError
 from coastmesh.meshing.globe import local_plane
-from coastmesh.meshing.planar import radius_ratios, sin_min_angles
+from coastmesh.meshing.planar import sin_min_angles, sines_and_ratios
 from coastmesh.meshing.topology import unique_edges
 from coastmesh.types import Mesh, Report
 
@@ -248,30 +248,36 @@ def smooth_points(
     if not 0 < good_angle <= 90:
         raise ConfigError(f"good_angle = {good_angle}: must be in (0, 90] degrees")
     stars = _Stars(triangles, len(xy))
-    free = np.flatnonzero(~fixed & (stars.count > 0))
-    free_tri, free_starts = stars.gather(free)
+    free = ~fixed & (stars.count > 0)
     limit = np.sin(np.radians(good_angle))
     xy = xy.copy()
     sweeps = 0
-    while len(free) and sweeps < iterations:
+    quality, ratio = sines_and_ratios(xy, triangles)
+    while free.any() and sweeps < iterations:
         sweeps += 1
-        quality = sin_min_angles(xy, triangles)
-        ratio = radius_ratios(xy[triangles])
-        worst = np.minimum.reduceat(quality[free_tri], free_starts)
-        bad = worst < limit
-        if not bad.any():
+        # the free nodes of a triangle below the limit, in increasing order
+        bad = np.zeros(len(xy), dtype=bool)
+        bad[triangles[quality < limit].ravel()] = True
+        nodes = np.flatnonzero(bad & free)
+        if not len(nodes):
             break
-        nodes = free[bad]
+        tri, starts = stars.gather(nodes)
+        worst = np.minimum.reduceat(quality[tri], starts)
         step = _first_steps(xy, triangles, stars, nodes, quality, method)
         # floors: the star's minimum, and the value just above the 1st percentile
         upper = min(int(np.ceil(0.01 * (len(quality) - 1))) + 1, len(quality) - 1)
-        floor = np.maximum(worst[bad], np.partition(quality, upper)[upper])
+        floor = np.maximum(worst, np.partition(quality, upper)[upper])
         trial, moved = _guarded(
             xy, triangles, stars, nodes, step, (quality, ratio), (floor, ratio.min())
         )
         if not moved.any():
             break
         xy = trial
+        # only the triangles at a node that moved change
+        touched = np.zeros(len(triangles), dtype=bool)
+        touched[stars.gather(nodes[moved])[0]] = True
+        touched = np.flatnonzero(touched)
+        quality[touched], ratio[touched] = sines_and_ratios(xy, triangles[touched])
     return xy, sweeps
 
 
@@ -456,16 +462,22 @@ def _guarded(
     row = np.full(len(xy), -1)
     row[nodes] = np.arange(len(nodes))
     check = np.arange(len(nodes))
+    position = np.empty(len(triangles), dtype=np.int64)  # in the triangles checked
     while True:
         check = check[level[check] < last]
         if len(check) == 0:
             break
         tri, starts = stars.gather(nodes[check])
         count = stars.count[nodes[check]]
-        after = sin_min_angles(trial, triangles[tri])
+        # each triangle once (most are in the stars of two or three nodes)
+        seen = np.zeros(len(triangles), dtype=bool)
+        seen[tri] = True
+        once = np.flatnonzero(seen)
+        position[once] = np.arange(len(once))
+        at = position[tri]
+        after, ratio = (v[at] for v in sines_and_ratios(trial, triangles[once]))
         bound = np.minimum(before[0][tri], np.repeat(floor[0][check], count))
         ok = (after >= bound) & (after > 0)
-        ratio = radius_ratios(trial[triangles[tri]])
         ok &= ratio >= np.minimum(before[1][tri], floor[1])
         failed = check[~np.logical_and.reduceat(ok, starts)]
         if len(failed) == 0:
@@ -473,7 +485,9 @@ def _guarded(
         level[failed] += 1
         changed = nodes[failed]
         trial[changed] = xy[changed] + fractions[level[failed], None] * step[failed]
-        # the moving nodes that share a triangle with one that changed
-        near = row[np.unique(triangles[stars.gather(nodes[failed])[0]])]
-        check = near[near >= 0]
+        # the moving nodes that share a triangle with one that changed, in order
+        near = row[triangles[stars.gather(changed)[0]].ravel()]
+        again = np.zeros(len(nodes), dtype=bool)
+        again[near[near >= 0]] = True
+        check = np.flatnonzero(again)
     return trial, level < last
