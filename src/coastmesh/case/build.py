@@ -181,7 +181,7 @@ def _build(
     inputs, closed, slots = _close_water(config, sets, crs, inputs, mesh_crs, timed)
     domain = inputs.domain
     with timed("size field") as progress:
-        sized = _size_field(config, domain, mesh_crs, progress)
+        sized = _size_field(config, domain, mesh_crs, progress, runner=runner)
     if slots:
         channels = dataclasses.replace(sized.report.channels, slots=slots)
         sized = dataclasses.replace(
@@ -275,12 +275,14 @@ def _size_field(
     progress: Progress | None,
     *,
     channels_only: bool = False,
+    runner: Runner | None = None,
 ) -> SizeField:
     """``[mesh_size]`` as :func:`coastmesh.sizing.size_field_with_report` takes it.
 
     The Courant term takes its depths from ``[mesh_size.bathymetry]``, else from
     ``[bathymetry]``. ``channels_only``: the channel term alone, on the same
-    grid and floor (to find the narrow channels to close).
+    grid and floor (to find the narrow channels to close). ``runner``: where
+    the distance terms run, in bands (:mod:`coastmesh.sizing.tiles`).
     """
     size = config.size
     if channels_only:
@@ -330,6 +332,7 @@ def _size_field(
         channels=channels,
         courant=courant,
         progress=progress,
+        runner=runner,
     )
 
 

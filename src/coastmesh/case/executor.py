@@ -147,6 +147,7 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
             todo = broken
         return [results[i] for i in range(len(items))]
 
+    run.workers = workers  # type: ignore[attr-defined]
     return run
 
 
@@ -240,4 +241,6 @@ def _dask_runner(client: Any) -> Runner:
             client.cancel(list(futures.values()))
         return [results[i] for i in range(len(items))]
 
+    threads = [w.get("nthreads", 1) for w in client.scheduler_info()["workers"].values()]
+    run.workers = max(sum(threads), 1)  # type: ignore[attr-defined]
     return run

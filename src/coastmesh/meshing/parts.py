@@ -325,26 +325,56 @@ def _edges_across(
         xy = a + t[:, None] * (b - a)
         h = sample_size(grid, xy)
         edges = float(length * np.mean(1.0 / h))
-        s = length * np.minimum(t, 1.0 - t)
-        need = np.sin(np.radians(_MIN_CROSSING)) * np.minimum(s, 2.0 * h)
-        _, gap = coast[0].query_nearest(
-            shapely.points(xy[1:-1]), return_distance=True, all_matches=False
-        )
-        near_end = False
-        if coast[1] is not None:
-            _, to_end = coast[1].query_nearest(
-                shapely.points([a, b]), return_distance=True, all_matches=False
-            )
-            near_end = bool((to_end < 0.5 * h_ends).any())
-        if coast[2]:  # two cuts meeting a third within h leave a sliver of it
-            joints = np.asarray(coast[2])
-            gaps = np.hypot(*(joints[None, :, :] - np.stack([a, b])[:, None, :]).T)
-            near_end = near_end or bool((gaps.T.min(axis=1) < h_ends).any())
-        if coast[3]:  # earlier cuts count as coast: no thin strip between cuts
-            earlier = shapely.multilinestrings(coast[3])
-            gap = np.minimum(gap, shapely.distance(earlier, shapely.points(xy[1:-1])))
-        # within two target edges of its ends the coast's own roughness (below
-        # the size: the resampled boundary has two points per edge) is noise
-        tight = (gap < 0.999 * need[1:-1]) & (s[1:-1] >= 2.0 * h[1:-1])
-        score += edges + (_PENALTY if edges < 2.0 or near_end or tight.any() else 0)
+        score += edges
+        if (
+            edges < 2.0
+            or _near_ends(coast, a, b, h_ends)
+            or _tight(coast, xy, h, t, length)
+        ):
+            # a penalised line is never cut along (any clean one beats it, and
+            # with none the region is not cut): its other chords do not matter
+            return score + _PENALTY, chords
     return score, chords
+
+
+def _near_ends(coast: tuple, a: NDArray, b: NDArray, h_ends: NDArray) -> bool:
+    """Whether a chord ends within half an edge of a curve's end, or an edge of a cut's."""
+    if coast[1] is not None:
+        _, to_end = coast[1].query_nearest(
+            shapely.points([a, b]), return_distance=True, all_matches=False
+        )
+        if (to_end < 0.5 * h_ends).any():
+            return True
+    if coast[2]:  # two cuts meeting a third within h leave a sliver of it
+        joints = np.asarray(coast[2])
+        gaps = np.hypot(*(joints[None, :, :] - np.stack([a, b])[:, None, :]).T)
+        return bool((gaps.T.min(axis=1) < h_ends).any())
+    return False
+
+
+def _tight(coast: tuple, xy: NDArray, h: NDArray, t: NDArray, length: float) -> bool:
+    """Whether a chord comes nearer the coast or a cut than ``sin(35 deg) min(s, 2 h)``.
+
+    Only points at ``s >= 2 h`` from the nearer end count: within two target
+    edges of its ends the coast's own roughness (below the size: the resampled
+    boundary has two points per edge) is noise. The search for the nearest
+    edge stops at the largest distance that could fail.
+    """
+    s = length * np.minimum(t, 1.0 - t)
+    need = np.sin(np.radians(_MIN_CROSSING)) * np.minimum(s, 2.0 * h)
+    far = (s >= 2.0 * h)[1:-1]
+    points, limit = xy[1:-1][far], 0.999 * need[1:-1][far]
+    if not len(points):
+        return False
+    found, gap = coast[0].query_nearest(
+        shapely.points(points),
+        max_distance=float(limit.max()),
+        return_distance=True,
+        all_matches=False,
+    )
+    if (gap < limit[found[0]]).any():
+        return True
+    if coast[3]:  # earlier cuts count as coast: no thin strip between cuts
+        earlier = shapely.multilinestrings(coast[3])
+        return bool((shapely.distance(earlier, shapely.points(points)) < limit).any())
+    return False

@@ -21,9 +21,9 @@ import itertools
 import os
 import socket
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, TypeVar
+from typing import Any
 
 import numpy as np
 import shapely
@@ -44,7 +44,7 @@ from coastmesh.meshing.session import (
 )
 from coastmesh.meshing.smoothing import min_angles
 from coastmesh.meshing.surfaces import Faces
-from coastmesh.types import Mesh, SizeGrid
+from coastmesh.types import Mesh, Runner, SizeGrid, serial_runner
 
 __all__ = [
     "PartMesh",
@@ -58,15 +58,6 @@ __all__ = [
     "serial_runner",
 ]
 
-T = TypeVar("T")
-R = TypeVar("R")
-#: Runs ``fn`` on every item and returns the results in the items' order.
-Runner = Callable[[Callable[[T], R], Sequence[T]], list[R]]
-
-
-def serial_runner(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
-    """Run the tasks one after the other in this process."""
-    return [fn(item) for item in items]
 
 
 @dataclass(frozen=True, slots=True)

@@ -11,7 +11,7 @@ from scipy.spatial import cKDTree
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import EARTH_RADIUS, earth_centred, metres_per_unit
 
-__all__ = ["distance_to_lines", "nearest_arcs"]
+__all__ = ["chord_bound", "distance_to_lines", "line_vertices", "nearest_arcs"]
 
 # A projected CRS's scale error is a few per mille in conformal projections: the
 # densifying step allows 2 % more ground per CRS unit than the unit says.
@@ -75,9 +75,25 @@ def distance_to_lines(
     >>> round(d[0, 0]), round(d[1, 0] / 1000)
     (0, 111)
     """
+    crs = CRS.from_user_input(crs)
+    vertices = line_vertices(lines, crs, resolution)
+    gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
+    nodes = earth_centred(
+        np.column_stack([gx.ravel(), gy.ravel()]), crs, name="grid nodes"
+    )
+    arc = nearest_arcs(
+        vertices, nodes, resolution=resolution, max_distance=max_distance
+    )
+    return arc.reshape(gx.shape)
+
+
+def line_vertices(lines: ArrayLike, crs: CRS, resolution: float) -> NDArray[np.float64]:
+    """Return the lines' vertices, densified to ``resolution``, earth-centred.
+
+    Polygons count by their rings. See :func:`distance_to_lines`.
+    """
     if not resolution > 0:
         raise ConfigError(f"resolution = {resolution}: must be > 0 metres")
-    crs = CRS.from_user_input(crs)
     geoms = np.asarray(lines, dtype=object).ravel()
     geoms = geoms[~(shapely.is_missing(geoms) | shapely.is_empty(geoms))]
     if len(geoms) == 0:
@@ -96,17 +112,19 @@ def distance_to_lines(
         widest *= _PROJECTED_MARGIN
     step = resolution / widest
     vertices = shapely.get_coordinates(shapely.segmentize(geoms, step))
-    gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
-    nodes = earth_centred(
-        np.column_stack([gx.ravel(), gy.ravel()]), crs, name="grid nodes"
-    )
-    arc = nearest_arcs(
-        earth_centred(vertices, crs, name="line vertices"),
-        nodes,
-        resolution=resolution,
-        max_distance=max_distance,
-    )
-    return arc.reshape(gx.shape)
+    return earth_centred(vertices, crs, name="line vertices")
+
+
+def chord_bound(max_distance: float | None, resolution: float) -> float:
+    """Return the chord beyond which :func:`nearest_arcs` stops searching.
+
+    The chord of an arc of length ``s`` is ``2 R sin(s / 2R) <= s``; ``inf``
+    without ``max_distance``.
+    """
+    if max_distance is None:
+        return np.inf
+    half = min(max_distance / (2 * EARTH_RADIUS), np.pi / 2)
+    return 2 * EARTH_RADIUS * np.sin(half) * (1 + 1e-9) + resolution
 
 
 def nearest_arcs(
@@ -121,11 +139,7 @@ def nearest_arcs(
     ``inf`` beyond ``max_distance`` (the k-d tree stops searching there).
     """
     tree = cKDTree(vertices)
-    bound = np.inf
-    if max_distance is not None:
-        # the chord of an arc of length s is 2 R sin(s / 2R) <= s
-        half = min(max_distance / (2 * EARTH_RADIUS), np.pi / 2)
-        bound = 2 * EARTH_RADIUS * np.sin(half) * (1 + 1e-9) + resolution
+    bound = chord_bound(max_distance, resolution)
     chord, _ = tree.query(nodes, workers=-1, distance_upper_bound=bound)
     arc = 2 * EARTH_RADIUS * np.arcsin(np.minimum(chord / (2 * EARTH_RADIUS), 1.0))
     arc[np.isinf(chord)] = np.inf

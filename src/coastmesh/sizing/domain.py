@@ -25,9 +25,10 @@ from pyproj import CRS
 from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.geometry.earth import reproject
 from coastmesh.sizing.bathymetry import BathymetrySize, bathymetry_size
-from coastmesh.sizing.channel import ChannelReport, channel_polygons, over_land, slots
+from coastmesh.sizing.channel import ChannelReport, channel_polygons, over_land
 from coastmesh.sizing.field import Gradation, size_field
 from coastmesh.sizing.gradation import DEFAULT_RATE, limit_gradation
+from coastmesh.sizing.slots import domain_slots, off_open_boundaries
 from coastmesh.sizing.terms import (
     ChannelSize,
     CourantReport,
@@ -36,10 +37,9 @@ from coastmesh.sizing.terms import (
     channel_report_of,
     domain_inside,
     domain_width,
-    projected,
     warn_narrow,
 )
-from coastmesh.types import Domain, Progress, Report
+from coastmesh.types import Domain, Progress, Report, Runner
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -50,7 +50,7 @@ __all__ = [
     "SizeField",
     "SizeFieldReport",
     "domain_size_field",
-    "domain_slots",
+    "domain_slots",  # from coastmesh.sizing.slots, where it lives
     "size_field_with_report",
 ]
 
@@ -161,6 +161,7 @@ def domain_size_field(
     channels: ChannelSize | None = DEFAULT_CHANNELS,
     courant: CourantSize | None = None,
     progress: Progress | None = None,
+    runner: Runner | None = None,
 ) -> xr.DataArray:
     """Compute the target element size over a domain, on a grid in ``mesh_crs``.
 
@@ -194,6 +195,9 @@ def domain_size_field(
         The Courant window at a model time step.
     progress : callable, optional
         Called as ``progress(done, 3)``.
+    runner : Runner, optional
+        Where the gradations' distances run, in bands of rows
+        (:mod:`coastmesh.sizing.tiles`); default here. The field is the same.
 
     Returns
     -------
@@ -255,6 +259,7 @@ def domain_size_field(
         channels=channels,
         courant=courant,
         progress=progress,
+        runner=runner,
     ).field
 
 
@@ -298,6 +303,7 @@ def size_field_with_report(
     channels: ChannelSize | None = DEFAULT_CHANNELS,
     courant: CourantSize | None = None,
     progress: Progress | None = None,
+    runner: Runner | None = None,
 ) -> SizeField:
     """:func:`domain_size_field`, with the report of every term.
 
@@ -328,6 +334,7 @@ def size_field_with_report(
         crs=mesh_crs,
         h_max=h_max,
         cell=cell,
+        runner=runner,
     )
     _report(progress, 1)
     x, y = field.x.values, field.y.values
@@ -421,40 +428,10 @@ def _channel_term(
         grown = shapely.make_valid(grown)
         narrow = np.concatenate([narrow, reproject(grown, mesh_crs, domain.crs)])
     if len(narrow):
-        narrow = _off_open_boundaries(narrow, domain)
+        narrow = off_open_boundaries(narrow, domain)
     if report.narrow_channels and channels.narrow == "keep":
         warn_narrow(report)
     return values, report, narrow, inside, width
-
-
-def domain_slots(
-    domain: Domain, mesh_crs: CRS | str, width: float
-) -> NDArray[np.object_]:
-    """Return the slots of the domain's water narrower than ``width``, as land.
-
-    :func:`~coastmesh.sizing.channel.slots` of the domain (in ``mesh_crs``,
-    metres), grown by ``width / 10`` so that they overlap the land, in the
-    domain's CRS; none that touches an open boundary (it must still cross the
-    coast there to close the domain). :func:`coastmesh.build_case` closes the
-    slots narrower than half of ``h_min`` whatever ``narrow`` says: no element
-    fits in them, and their tips make the worst elements of a mesh.
-    """
-    mesh_crs = CRS.from_user_input(mesh_crs)
-    thin = slots(projected(domain, [domain.polygon], mesh_crs)[0], width)
-    if not len(thin):
-        return thin
-    grown = reproject(shapely.buffer(thin, width / 10), mesh_crs, domain.crs)
-    return _off_open_boundaries(grown, domain)
-
-
-def _off_open_boundaries(
-    polygons: NDArray[np.object_], domain: Domain
-) -> NDArray[np.object_]:
-    """Drop the polygons that touch an open boundary of the domain."""
-    opened = [shapely.LineString(s.coords) for s in domain.segments if s.kind == "open"]
-    if not opened or not len(polygons):
-        return polygons
-    return polygons[~shapely.intersects(polygons, shapely.union_all(opened))]
 
 
 def _extent(bounds: tuple[float, ...]) -> float:

@@ -6,13 +6,13 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-import shapely
 from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.errors import ConfigError
-from coastmesh.sizing.distance import distance_to_lines
-from coastmesh.sizing.gradation import gradation_size, limit_gradation
+from coastmesh.sizing.gradation import limit_gradation
+from coastmesh.sizing.tiles import graded_sizes
+from coastmesh.types import Runner
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -53,6 +53,7 @@ def size_field(
     h_max: float,
     cell: float,
     rate: float | None = None,
+    runner: Runner | None = None,
 ) -> xr.DataArray:
     """Target edge length on a regular grid covering ``bounds``.
 
@@ -70,6 +71,9 @@ def size_field(
         Grid spacing, metres (> 0).
     rate : float, optional
         Gradation limit: the size grows by at most ``rate`` metres per metre.
+    runner : Runner, optional
+        Where the distance terms run, in bands of rows
+        (:mod:`coastmesh.sizing.tiles`); default here. The field is the same.
 
     Returns
     -------
@@ -101,28 +105,14 @@ def size_field(
     ny = int(np.ceil((maxy - miny) / cell)) + 1
     x = minx + cell * np.arange(nx)
     y = miny + cell * np.arange(ny)
-    size = np.full((ny, nx), float(h_max))
     for g in gradations:
         if g.h_min > h_max:
             raise ConfigError(
                 f"gradation {g.name!r}: h_min = {g.h_min} > h_max = {h_max}"
             )
-        lines = np.asarray(g.lines, dtype=object)
-        if len(lines) == 0 or shapely.is_empty(lines).all():
-            continue
-        distance = distance_to_lines(
-            lines,
-            x,
-            y,
-            crs=crs,
-            resolution=cell / 4,
-            max_distance=g.d_hold + g.d_grade,
-        )
-        np.minimum(
-            size,
-            gradation_size(distance, g.h_min, h_max, g.d_hold, g.d_grade),
-            out=size,
-        )
+    size = graded_sizes(
+        x, y, gradations, crs=crs, h_max=h_max, resolution=cell / 4, runner=runner
+    )
     if rate is not None:
         size = limit_gradation(size, (cell, cell), rate)
     history = f"coastmesh size_field: {len(gradations)} gradations, h_max={h_max} m"

@@ -9,6 +9,8 @@
 :data:`Progress`           ``progress(done, total)`` callbacks of long work
 :data:`StageFactory`       ``stage(label)``: a context manager per run stage
 :func:`quiet_stage`        the :data:`StageFactory` that shows nothing
+:data:`Runner`             ``runner(fn, items)``: where independent tasks run
+:func:`serial_runner`      the :data:`Runner` that runs them here, in order
 :class:`Report`            base of every report: ``to_dict()`` and ``summary()``
 =========================  ===================================================
 
@@ -19,7 +21,8 @@ files: the readers in :mod:`coastmesh.io` return these types.
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any, TypeVar
 
 from coastmesh.types.domain import SEGMENT_KINDS, BoundarySegment, Domain
 from coastmesh.types.features import Features
@@ -34,9 +37,12 @@ __all__ = [
     "Mesh",
     "Progress",
     "Report",
+    "Runner",
     "SizeGrid",
     "StageFactory",
     "quiet_stage",
+    "runner_workers",
+    "serial_runner",
 ]
 
 #: A callback of long work: ``progress(done, total)``, in any units.
@@ -56,3 +62,29 @@ def quiet_stage(label: str) -> Iterator[Progress]:
     ...     progress(1, 2)
     """
     yield lambda done, total: None
+
+
+T = TypeVar("T")
+R = TypeVar("R")
+#: Runs ``fn`` on every item and returns the results in the items' order,
+#: wherever it runs them (:func:`coastmesh.case.executor.open_runner`: here, a
+#: local process pool or a Dask cluster). A runner may carry ``workers``, the
+#: number of tasks it runs at once, for work that splits as finely as it likes.
+Runner = Callable[[Callable[[T], R], Sequence[T]], list[R]]
+
+
+def serial_runner(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
+    """Run the tasks one after the other in this process.
+
+    Examples
+    --------
+    >>> serial_runner(abs, [-1, 2])
+    [1, 2]
+    """
+    return [fn(item) for item in items]
+
+
+def runner_workers(runner: Any) -> int:
+    """Return how many tasks ``runner`` runs at once (1 unless it says more)."""
+    workers = getattr(runner, "workers", 1)
+    return workers if isinstance(workers, int) and workers >= 1 else 1
