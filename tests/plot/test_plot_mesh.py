@@ -28,8 +28,36 @@ def test_domain_figure_colours_each_id():
     )
     (ax,) = domain_figure(domain, title="square").axes
     assert _legend(ax) == ["1: coast", "2: south"]
-    (lines,) = ax.collections
+    water, lines = ax.collections  # the water, one path, under the boundary
+    assert water.get_zorder() < lines.get_zorder()
     assert len({tuple(c) for c in lines.get_colors()}) == 2
+
+
+def test_domain_figure_leaves_the_islands_out_of_the_water():
+    outer = shapely.box(0, 0, 1000, 1000).exterior.coords
+    hole = shapely.box(400, 400, 600, 600).exterior.coords  # either turning way
+    domain = Domain(
+        shapely.Polygon(outer, [hole]),
+        (
+            BoundarySegment(list(outer), "shoreline", "coast", 1),
+            BoundarySegment(list(hole), "shoreline", "rock", 3),
+        ),
+        crs="EPSG:32630",
+    )
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    figure = domain_figure(domain)
+    canvas = FigureCanvasAgg(figure)
+    canvas.draw()
+    pixels = np.asarray(canvas.buffer_rgba())
+    (ax,) = figure.axes
+
+    def colour(x, y):
+        px, py = ax.transData.transform((x, y))
+        return tuple(pixels[int(pixels.shape[0] - py), int(px), :3])
+
+    assert colour(500, 500) == (255, 255, 255)  # the island: not water
+    assert colour(200, 200) == (0xDB, 0xE9, 0xF6)  # water
 
 
 def test_mesh_figure_names_ids_from_the_mesh(mesh_with_islands):

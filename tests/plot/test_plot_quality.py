@@ -103,3 +103,29 @@ def test_time_step_figure_builds_and_saves(lonlat_mesh, mesh_with_islands, tmp_p
     assert (tmp_path / "both.png").stat().st_size > 1000
     with pytest.raises(ValueError, match="no 'depth'"):
         time_step_figure(lonlat_mesh)
+
+
+def test_time_step_figure_of_a_large_mesh_shades_each_node_by_its_worst(
+    lonlat_mesh, monkeypatch, tmp_path
+):
+    import coastmesh.plot.quality as quality
+
+    lon = lonlat_mesh.points[:, 0]
+    mesh = lonlat_mesh.with_point_data(depth=2000 * (lon - lon.min()) + 5)
+    steps = element_time_steps(mesh, dt=2.0)
+    monkeypatch.setattr(quality, "FLAT_TRIANGLES", len(mesh.triangles) - 1)
+    figure = time_step_figure(mesh, dt=2.0)
+    ax, ax2 = (a for a in figure.axes if a.get_xlabel().startswith("longitude"))
+    for axes, key, worst in ((ax, "dt", np.minimum), (ax2, "courant", np.maximum)):
+        image = axes.collections[0]
+        assert (
+            image.get_shading() == "gouraud" if hasattr(image, "get_shading") else True
+        )
+        at_nodes = image.get_array()
+        want = np.full(len(mesh.points), np.nan)
+        for t, value in zip(mesh.triangles, steps[key], strict=True):
+            for node in t:  # the literal reduction, one triangle at a time
+                want[node] = value if np.isnan(want[node]) else worst(want[node], value)
+        np.testing.assert_array_equal(at_nodes, want)
+        assert not image.get_in_layout()
+    figure.savefig(tmp_path / "time_step.png")

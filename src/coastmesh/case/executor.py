@@ -241,6 +241,7 @@ def _dask_runner(client: Any) -> Runner:
             client.cancel(list(futures.values()))
         return [results[i] for i in range(len(items))]
 
-    threads = [w.get("nthreads", 1) for w in client.scheduler_info()["workers"].values()]
+    workers = client.scheduler_info()["workers"].values()
+    threads = [w.get("nthreads", 1) for w in workers]
     run.workers = max(sum(threads), 1)  # type: ignore[attr-defined]
     return run

@@ -338,7 +338,7 @@ def _edges_across(
 
 
 def _near_ends(coast: tuple, a: NDArray, b: NDArray, h_ends: NDArray) -> bool:
-    """Whether a chord ends within half an edge of a curve's end, or an edge of a cut's."""
+    """Whether a chord ends near a curve's end (half an edge) or a cut's (an edge)."""
     if coast[1] is not None:
         _, to_end = coast[1].query_nearest(
             shapely.points([a, b]), return_distance=True, all_matches=False

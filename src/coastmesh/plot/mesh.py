@@ -76,17 +76,15 @@ def domain_figure(domain: Domain, *, title: str | None = None) -> Figure:
     >>> ring = [[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]]
     >>> d = Domain(shapely.Polygon(ring),
     ...            (BoundarySegment(ring, "open", "sea", 2),), crs="EPSG:32630")
-    >>> len(domain_figure(d).axes[0].collections)
-    1
+    >>> len(domain_figure(d).axes[0].collections)  # the water, the boundary
+    2
     """
     from matplotlib.collections import LineCollection
     from matplotlib.figure import Figure
 
     figure = Figure(figsize=(9, 8), layout="constrained")
     ax = figure.add_subplot()
-    ax.fill(*domain.polygon.exterior.xy, color="#dbe9f6", zorder=0)
-    for ring in domain.polygon.interiors:
-        ax.fill(*ring.xy, color="white", zorder=0)
+    _fill_water(ax, domain.polygon)
     colours = _palette(s.physical_id for s in domain.segments)
     ax.add_collection(
         LineCollection(
@@ -283,6 +281,29 @@ def _draw_mesh(
     )
 
 
+def _fill_water(ax: Axes, polygon: Any, here: Any = None) -> None:
+    """Fill a polygon, its holes left out, as one path (the caller sets limits).
+
+    One compound path, its holes turning the other way (non-zero winding):
+    ``ax.fill`` per ring measured every vertex for the axis limits, 9 s of the
+    NW-shelf fine domain's 185,000 vertices.
+    """
+    import shapely
+    from matplotlib.collections import PatchCollection
+    from matplotlib.patches import PathPatch
+    from matplotlib.path import Path
+
+    polygon = shapely.orient_polygons(polygon)
+    rings = [polygon.exterior, *polygon.interiors]
+    paths = [
+        Path(np.asarray(r.coords) if here is None else here(r.coords), closed=True)
+        for r in rings
+    ]
+    patch = PathPatch(Path.make_compound_path(*paths))
+    fill = PatchCollection([patch], facecolors="#dbe9f6", edgecolors="none", zorder=0)
+    ax.add_collection(fill, autolim=False)
+
+
 def _frame(ax: Axes, bounds: tuple[float, ...], crs: Any) -> None:
     minx, miny, maxx, maxy = (float(v) for v in bounds)
     padx, pady = 0.02 * (maxx - minx), 0.02 * (maxy - miny)
@@ -402,9 +423,7 @@ def parts_figure(
 
     figure = Figure(figsize=(9, 8), layout="constrained")
     ax = figure.add_subplot()
-    ax.fill(*here(domain.polygon.exterior.coords).T, color="#dbe9f6", zorder=0)
-    for ring in domain.polygon.interiors:
-        ax.fill(*here(ring.coords).T, color="white", zorder=0)
+    _fill_water(ax, domain.polygon, here)
     outline = [here(s.coords) for s in domain.segments]
     ax.add_collection(LineCollection(outline, colors="0.45", linewidths=0.6))
     ax.add_collection(

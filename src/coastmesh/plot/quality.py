@@ -29,6 +29,7 @@ if TYPE_CHECKING:
     from coastmesh.types import Mesh
 
 __all__ = [
+    "FLAT_TRIANGLES",
     "depth_figure",
     "depth_source_figure",
     "quality_figure",
@@ -36,6 +37,8 @@ __all__ = [
 ]
 
 _BINS = 90
+#: Up to this many triangles, the time-step map gives each its flat colour.
+FLAT_TRIANGLES = 500_000
 
 
 def quality_figure(
@@ -285,7 +288,11 @@ def time_step_figure(
         runs at) circled and labelled; with ``dt`` a second map of
         ``dt (sqrt(g d) + u) / h`` with the largest circled. Each map has its
         colour bar. Triangles that limit nothing (dry, or no depth) are blank.
-        See :func:`~coastmesh.meshing.timestep.element_time_steps`.
+        See :func:`~coastmesh.meshing.timestep.element_time_steps`. A mesh of
+        more than :data:`FLAT_TRIANGLES` triangles (most smaller than a pixel)
+        is shaded from its nodes, each the worst value of its triangles:
+        matplotlib draws a flat colour per triangle as one polygon each, 16 s
+        of a 2.9-million-triangle mesh, against about 3 s.
 
     Raises
     ------
@@ -342,12 +349,22 @@ def _element_map(
         if shown.any()
         else (1.0, 10.0)
     )
-    image = ax.tripcolor(
-        triangulation,
-        facecolors=np.where(shown, values, low),
-        cmap=cmap,
-        norm=LogNorm(low, high if high > low else low * 10),
-    )
+    norm = LogNorm(low, high if high > low else low * 10)
+    if len(mesh.triangles) <= FLAT_TRIANGLES:
+        image = ax.tripcolor(
+            triangulation, facecolors=np.where(shown, values, low), cmap=cmap, norm=norm
+        )
+    else:  # each node the worst of its triangles (see time_step_figure)
+        at_nodes = np.full(len(x), np.inf if pick == "min" else -np.inf)
+        worst = np.minimum if pick == "min" else np.maximum
+        worst.at(at_nodes, mesh.triangles[shown].ravel(), np.repeat(values[shown], 3))
+        at_nodes[~np.isfinite(at_nodes)] = low
+        image = ax.tripcolor(
+            triangulation, at_nodes, shading="gouraud", cmap=cmap, norm=norm
+        )
+    # not in the layout: its extent is the axes', and matplotlib would turn a
+    # shaded mesh into one path per triangle to measure it (38 s at 2.9 M)
+    image.set_in_layout(False)
     bar = ax.figure.colorbar(image, ax=ax, label=label)
     plain = FuncFormatter(lambda value, _: f"{value:g}")
     bar.ax.yaxis.set_major_formatter(plain)  # 0.5, 2, 10, not 5e-01, 2x10^0
