@@ -19,6 +19,7 @@ from coastmesh.case.config.sources import DepthSourceConfig
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry.earth import METRES_PER_DEGREE, reproject
 from coastmesh.io.raster_window import raster_extent, read_raster_around
+from coastmesh.sizing.sources import check_blend, no_crs
 from coastmesh.types import Progress
 
 __all__ = ["check_rasters", "read_sources"]
@@ -66,23 +67,14 @@ def check_rasters(config: Any) -> None:
         for c in stack:
             _, wkt, _ = raster_extent(c.path)
             if wkt is None:
-                raise InputDataError(
-                    f"bathymetry source {c.path} has no CRS: give a raster with its "
-                    "coordinate reference system (e.g. a GeoTIFF with EPSG)"
-                )
+                raise no_crs(str(c.path))
             if c.blend > 0:
                 box = _lonlat_box(c)
                 lon0, lat0, lon1, lat1 = box.bounds
                 mid = np.radians(0.5 * (lat0 + lat1))
                 width = (lon1 - lon0) * METRES_PER_DEGREE * np.cos(mid)
                 height = (lat1 - lat0) * METRES_PER_DEGREE
-                if c.blend >= 0.5 * min(width, height):
-                    raise ConfigError(
-                        f"bathymetry source {c.path}: blend = {c.blend / 1e3:g} km "
-                        f"is at least half the source's extent ({width / 1e3:.3g} x "
-                        f"{height / 1e3:.3g} km): no node would take its own depth; "
-                        "use a smaller blend"
-                    )
+                check_blend(str(c.path), c.blend, width, height)
 
 
 def _region(path: Any, raster: Any) -> Any:
@@ -151,5 +143,5 @@ def _lonlat_box(c: DepthSourceConfig) -> Any:
         )
     box = shapely.box(*bounds)
     if wkt is None:
-        raise InputDataError(f"bathymetry source {c.path} has no CRS")
+        raise no_crs(str(c.path))
     return reproject(box.segmentize(box.length / 400), CRS.from_wkt(wkt), "EPSG:4326")

@@ -87,10 +87,29 @@ class DepthSource:
                 f"bathymetry source {label}: blend = {self.blend}: a distance >= 0 m"
             )
         if self.raster.attrs.get("crs") is None:
-            raise InputDataError(
-                f"bathymetry source {label} has no CRS: give a raster with its "
-                "coordinate reference system (e.g. a GeoTIFF with EPSG)"
-            )
+            raise no_crs(label)
+
+
+def no_crs(label: str) -> InputDataError:
+    """Return the error of a source raster with no CRS (checked before meshing too)."""
+    return InputDataError(
+        f"bathymetry source {label} has no CRS: give a raster with its "
+        "coordinate reference system (e.g. a GeoTIFF with EPSG)"
+    )
+
+
+def check_blend(label: str, blend: float, width: float, height: float) -> None:
+    """Raise ConfigError if ``blend`` is at least half the source's extent (metres).
+
+    Then no node would take the source's own depth. Checked before meshing
+    (from the file's bounds) and again on the cells read.
+    """
+    if blend > 0 and blend >= 0.5 * min(width, height):
+        raise ConfigError(
+            f"bathymetry source {label}: blend = {blend / 1e3:g} km is at least "
+            f"half the source's extent ({width / 1e3:.3g} x {height / 1e3:.3g} "
+            "km): no node would take its own depth; use a smaller blend"
+        )
 
 
 @dataclass(frozen=True, slots=True)
@@ -158,13 +177,7 @@ class _Prepared:
         self.delta = 0.5 * max(dx_m, dy_m)
         #: points this close to a valid cell count as covered (one cell diagonal)
         self.tolerance = float(np.hypot(dx_m, dy_m))
-        if self.blend > 0 and self.blend >= 0.5 * min(width, height):
-            raise ConfigError(
-                f"bathymetry source {self.name}: blend = {self.blend / 1e3:g} km is "
-                f"at least half the source's extent ({width / 1e3:.3g} x "
-                f"{height / 1e3:.3g} km): no point would take its own depth; use a "
-                "smaller blend"
-            )
+        check_blend(self.name, self.blend, width, height)
         self.blend = max(self.blend, self.delta) if self.blend > 0 else 0.0
         #: the ramp's width; a blend under half a cell is a step at the half cell
         self.ramp = max(self.blend - self.delta, 1e-6)
