@@ -15,10 +15,8 @@ that quantile of the cost. Among 9 positions within 3 % of cost of it, the cut
 whose water crossing has the fewest target edges (``integral of 1 / h`` along
 it) wins: cuts go where the size is coarse and the water narrow, and keep off
 the fine coast. A cut must be clean where it crosses the water, every time
-it does: if none of the 9 is, 41 positions within 15 % are tried, and the
-clean one nearest the even split wins (on the NW-shelf fine case, 47/53 % of
-the cost rather than 43/57 % for the fewest edges: the larger part is the
-run's critical path), then the same across the shorter side; a region with no clean cut is not cut (fewer
+it does: if none of the 9 is, 41 positions within 15 % are tried, then the
+same across the shorter side; a region with no clean cut is not cut (fewer
 parts, never thin triangles). A crossing makes thin
 triangles when it is under two target edges long, comes nearer the coast or
 an earlier cut than ``sin(35 deg) min(s, 2 h)`` at a distance ``s >= 2 h``
@@ -274,8 +272,6 @@ def _best_cut(
             score, chords = _edges_across(polygon, grid, coast, line)
             if score < best[0]:
                 best = (score, line, chords)
-            if spread == _WIDER and best[0] < _PENALTY:
-                break  # the most even clean cut: the parts' balance sets the speed
     return best
 
 
