@@ -278,3 +278,19 @@ def test_bad_options():
         clean_mesh(m, max_valence=2)
     with pytest.raises(ConfigError, match="min_angle = 70"):
         clean_mesh(m, min_angle=70)
+
+
+def test_a_pass_a_held_triangle_fails_is_not_smoothed():
+    from coastmesh.meshing.cleanup import _cannot_pass
+
+    # a fan around node 4; node 5 makes a thin triangle (0, 1, 5) below the fan
+    xy = np.array([[0, 0], [2, 0], [2, 2], [0, 2], [1, 1], [1, -0.05]], float)
+    tri = np.array([[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4], [0, 5, 1]])
+    before = {"min_angle": 30.0, "min_angle_p1": 40.0, "radius_ratio": 0.6}
+    free = np.array([False, False, False, False, True, True])
+    # the thin triangle has a free node: smoothing may save the pass
+    assert not _cannot_pass(xy, tri, ~free, before)
+    # with node 5 held it cannot: its angle is far below the input's smallest
+    assert _cannot_pass(xy, tri, ~free | (np.arange(6) == 5), before)
+    # a held triangle at the input's figures tells nothing
+    assert not _cannot_pass(xy, tri[:4], np.ones(6, bool), before)

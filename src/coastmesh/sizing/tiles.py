@@ -182,7 +182,7 @@ def graded_sizes(
                 float(resolution),
             )
         )
-    run = serial_runner if count == 1 else runner
+    run = runner if count > 1 and runner is not None else serial_runner
     for task, band_size in zip(tasks, run(graded_band, tasks), strict=True):
         size[task.rows[0] : task.rows[1]] = band_size
     return size
