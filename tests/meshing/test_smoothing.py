@@ -312,3 +312,17 @@ def test_bad_shapes():
         smooth_points(xy, [0, 1, 2], [True] * 3)
     with pytest.raises(ValueError, match="fixed has shape"):
         smooth_points(xy, [[0, 1, 2]], [True] * 2)
+
+
+@settings(max_examples=50, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), scale=st.floats(1e-3, 1e6))
+def test_sines_and_ratios_are_both_measures_bit_for_bit(seed, scale):
+    from coastmesh.meshing.planar import radius_ratios, sin_min_angles, sines_and_ratios
+
+    rng = np.random.default_rng(seed)
+    xy = rng.normal(size=(40, 2)) * scale
+    xy[5] = xy[4]  # a degenerate triangle or two
+    tri = rng.integers(0, 40, size=(200, 3))
+    sine, ratio = sines_and_ratios(xy, tri)
+    assert np.array_equal(sine, sin_min_angles(xy, tri))
+    assert np.array_equal(ratio, radius_ratios(xy[tri]))

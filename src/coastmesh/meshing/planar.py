@@ -98,15 +98,7 @@ def sin_min_angles(
     >>> sin_min_angles(xy, np.array([[0, 1, 2], [0, 2, 1]])).round(6).tolist()
     [0.707107, -0.707107]
     """
-    p0, p1, p2 = (xy[triangles[:, i]] for i in range(3))
-    d1, d2, d3 = p1 - p0, p2 - p0, p2 - p1
-    area2 = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
-    a, b, c = np.hypot(*d1.T), np.hypot(*d2.T), np.hypot(*d3.T)
-    product = a * b * c
-    shortest = np.minimum(np.minimum(a, b), c)
-    return np.divide(
-        area2 * shortest, product, out=np.zeros_like(area2), where=product > 0
-    )
+    return _sines(*_sides(xy, triangles))
 
 
 def sines_and_ratios(
@@ -123,17 +115,27 @@ def sines_and_ratios(
     >>> [v.round(6).tolist() for v in sines_and_ratios(xy, np.array([[0, 1, 2]]))]
     [[0.6], [0.8]]
     """
-    p0, p1, p2 = (xy[triangles[:, i]] for i in range(3))
-    d1, d2, d3 = p1 - p0, p2 - p0, p2 - p1
-    area2 = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
-    a, b, c = np.hypot(*d1.T), np.hypot(*d2.T), np.hypot(*d3.T)
-    product = a * b * c
-    shortest = np.minimum(np.minimum(a, b), c)
-    sine = np.divide(
-        area2 * shortest, product, out=np.zeros_like(area2), where=product > 0
-    )
+    d1, d2, d3, area2 = _sides(xy, triangles)
+    sine = _sines(d1, d2, d3, area2)
     # the sides as radius_ratios measures them (a square root, not hypot)
     s0, s1, s2 = (np.sqrt(d[:, 0] * d[:, 0] + d[:, 1] * d[:, 1]) for d in (d1, d3, d2))
     area = 0.5 * area2
     ratio = 16 * area**2 / np.maximum((s0 + s1 + s2) * (s0 * s1 * s2), 1e-300)
     return sine, ratio
+
+
+def _sides(xy: NDArray[np.float64], triangles: NDArray[np.int64]) -> tuple:
+    """Return the side vectors 0->1, 0->2, 1->2 and twice the signed area."""
+    p0, p1, p2 = (xy[triangles[:, i]] for i in range(3))
+    d1, d2, d3 = p1 - p0, p2 - p0, p2 - p1
+    return d1, d2, d3, d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+
+
+def _sines(d1: NDArray, d2: NDArray, d3: NDArray, area2: NDArray) -> NDArray:
+    """Return ``2 A c / (a b c)``, c the shortest side (0 for a degenerate one)."""
+    a, b, c = np.hypot(*d1.T), np.hypot(*d2.T), np.hypot(*d3.T)
+    product = a * b * c
+    shortest = np.minimum(np.minimum(a, b), c)
+    return np.divide(
+        area2 * shortest, product, out=np.zeros_like(area2), where=product > 0
+    )
