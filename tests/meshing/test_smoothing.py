@@ -84,13 +84,17 @@ def _first_step(xy, tris, star, v, method):
     # the unit gradients of the triangles within 1 degree of the worst, summed
     angles = {k: _min_angle(xy, tris[k]) for k in star[v]}
     gx = gy = 0.0
+    summed = 0
     for k in star[v]:
         if angles[k] > min(angles.values()) + 1.0:
             continue
         g = _gradient_at(xy, tris[k], v)
         gx, gy = gx + g[0] / math.hypot(*g), gy + g[1] / math.hypot(*g)
+        summed += 1
     norm = math.hypot(gx, gy)
-    step = (gx / norm * 0.1 * length, gy / norm * 0.1 * length) if norm else (0, 0)
+    if norm <= 1e-9 * summed:  # gradients that cancel: rounding noise
+        return (0.0, 0.0)
+    step = (gx / norm * 0.1 * length, gy / norm * 0.1 * length)
     return step if math.hypot(*step) > 1e-6 * length else (0.0, 0.0)
 
 
@@ -183,6 +187,8 @@ def _unchanged_or_better(before, after, ratios=None):
     iterations=st.integers(1, 5),
 )
 @example(seed=0, n=40, clusters=3, method="angle", good_angle=35.0, iterations=5)
+# a node at the centre of a symmetric star: its gradients cancel to rounding
+@example(seed=1382, n=32, clusters=1, method="angle", good_angle=25.0, iterations=1)
 @example(seed=1, n=40, clusters=3, method="laplacian", good_angle=90.0, iterations=5)
 def test_matches_reference(seed, n, clusters, method, good_angle, iterations):
     xy, tri = random_mesh(seed, n, clusters)

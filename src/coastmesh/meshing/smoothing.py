@@ -57,6 +57,8 @@ _FRACTIONS = (1.0, 0.5, 0.25, 0.125)
 _ASCENT = 0.1
 #: Triangles this close (degrees) to a node's worst one steer its step too.
 _ACTIVE = 1.0
+#: A sum of unit gradients shorter than this per gradient has no direction.
+_CANCELLED = 1e-9
 
 
 @dataclass(frozen=True, slots=True)
@@ -219,7 +221,8 @@ def smooth_points(
     only nodes next to one that changed are checked again. Angles are compared
     by their sines, ``2 A c / (a b c)`` with c the shortest side. The mean of
     an interior node's neighbours is the mean of the other corners of its
-    triangles (every edge there has two).
+    triangles (every edge there has two). A node whose unit gradients cancel
+    (a sum under 1e-9 per gradient: a symmetric star) does not move.
 
     Examples
     --------
@@ -276,7 +279,6 @@ def smooth_points(
         # only the triangles at a node that moved change
         touched = np.zeros(len(triangles), dtype=bool)
         touched[stars.gather(nodes[moved])[0]] = True
-        touched = np.flatnonzero(touched)
         quality[touched], ratio[touched] = sines_and_ratios(xy, triangles[touched])
     return xy, sweeps
 
@@ -410,7 +412,12 @@ def _first_steps(
         ascent = np.zeros((len(tri), 2))
         ascent[near] = unit / np.maximum(np.hypot(*unit.T), 1e-300)[:, None]
         step = np.add.reduceat(ascent, starts)
-        step *= (_ASCENT * scale / np.maximum(np.hypot(*step.T), 1e-300))[:, None]
+        steering = np.zeros(len(tri))
+        steering[near] = 1.0
+        norm = np.hypot(*step.T)
+        step *= (_ASCENT * scale / np.maximum(norm, 1e-300))[:, None]
+        # unit gradients that cancel leave rounding noise, not a direction
+        step[norm <= _CANCELLED * np.add.reduceat(steering, starts)] = 0.0
     step[np.hypot(*step.T) <= 1e-6 * scale] = 0.0  # too short to count
     return step
 
