@@ -62,7 +62,14 @@ from coastmesh.sizing.domain import (
     size_field_with_report,
 )
 from coastmesh.sizing.terms import ChannelSize, CourantSize, warn_narrow
-from coastmesh.types import Mesh, Progress, SizeGrid, StageFactory, quiet_stage
+from coastmesh.types import (
+    Mesh,
+    Progress,
+    SizeGrid,
+    StageFactory,
+    local_cores,
+    quiet_stage,
+)
 
 __all__ = ["CLOSE_PASSES", "as_case", "build_case", "peak_memory_mb", "worker_count"]
 
@@ -236,8 +243,7 @@ def _cleanup(config: CaseConfig) -> CleanupOptions | None:
 def worker_count(workers: int | None) -> int:
     """``workers``, checked; None is every core this process may use."""
     if workers is None:
-        cores = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else None
-        return len(cores) if cores else os.cpu_count() or 1
+        return local_cores()
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ConfigError(f"workers = {workers!r}: expected an integer >= 1")
     return workers

@@ -33,7 +33,6 @@ from __future__ import annotations
 
 import ctypes
 import functools
-import os
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor, as_completed
 
@@ -46,6 +45,7 @@ from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.pca import line
 from coastmesh.pca.checks import check_modes, check_window, deterministic_start
 from coastmesh.pca.threads import single_threaded_blas
+from coastmesh.types import local_cores
 
 __all__ = ["check_workers", "simplify_contours", "simplify_packed"]
 
@@ -63,9 +63,8 @@ def check_workers(workers: object) -> int:
     >>> check_workers(None) >= 1
     True
     """
-    if workers is None:  # the cores this process may use (all of them off Linux)
-        affinity = getattr(os, "sched_getaffinity", None)
-        return len(affinity(0)) if affinity else os.cpu_count() or 1
+    if workers is None:
+        return local_cores()
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ConfigError(f"workers = {workers!r}: must be a positive integer or None")
     return workers

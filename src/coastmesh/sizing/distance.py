@@ -11,7 +11,13 @@ from scipy.spatial import cKDTree
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import EARTH_RADIUS, earth_centred, metres_per_unit
 
-__all__ = ["chord_bound", "distance_to_lines", "line_vertices", "nearest_arcs"]
+__all__ = [
+    "chord_bound",
+    "distance_to_lines",
+    "grid_nodes",
+    "line_vertices",
+    "nearest_arcs",
+]
 
 # A projected CRS's scale error is a few per mille in conformal projections: the
 # densifying step allows 2 % more ground per CRS unit than the unit says.
@@ -77,14 +83,19 @@ def distance_to_lines(
     """
     crs = CRS.from_user_input(crs)
     vertices = line_vertices(lines, crs, resolution)
-    gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
-    nodes = earth_centred(
-        np.column_stack([gx.ravel(), gy.ravel()]), crs, name="grid nodes"
-    )
+    nodes = grid_nodes(x, y, crs)
     arc = nearest_arcs(
         vertices, nodes, resolution=resolution, max_distance=max_distance
     )
-    return arc.reshape(gx.shape)
+    return arc.reshape(len(y), len(x))
+
+
+def grid_nodes(x: ArrayLike, y: ArrayLike, crs: CRS) -> NDArray[np.float64]:
+    """Return the nodes of the grid ``x`` by ``y`` earth-centred, row by row."""
+    gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
+    return earth_centred(
+        np.column_stack([gx.ravel(), gy.ravel()]), crs, name="grid nodes"
+    )
 
 
 def line_vertices(lines: ArrayLike, crs: CRS, resolution: float) -> NDArray[np.float64]:

@@ -21,7 +21,6 @@ bands. One band is computed here.
 from __future__ import annotations
 
 import itertools
-import os
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -30,10 +29,14 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS
 
-from coastmesh.geometry.earth import earth_centred
-from coastmesh.sizing.distance import chord_bound, line_vertices, nearest_arcs
+from coastmesh.sizing.distance import (
+    chord_bound,
+    grid_nodes,
+    line_vertices,
+    nearest_arcs,
+)
 from coastmesh.sizing.gradation import gradation_size
-from coastmesh.types import runner_workers, serial_runner
+from coastmesh.types import local_cores, runner_workers, serial_runner
 
 if TYPE_CHECKING:
     from coastmesh.sizing.field import Gradation
@@ -148,11 +151,7 @@ def graded_sizes(
     size = np.full((len(y), len(x)), float(h_max))
     if not gradations:
         return size
-    gx, gy = np.meshgrid(x, y)
-    nodes = earth_centred(
-        np.column_stack([gx.ravel(), gy.ravel()]), crs, name="grid nodes"
-    )
-    del gx, gy
+    nodes = grid_nodes(x, y, crs)
     vertices = [line_vertices(g.lines, crs, resolution) for g in gradations]
     bounds = [chord_bound(g.d_hold + g.d_grade, resolution) for g in gradations]
     terms = tuple((g.h_min, g.d_hold, g.d_grade) for g in gradations)
@@ -162,15 +161,7 @@ def graded_sizes(
     tasks = []
     for r0, r1 in itertools.pairwise(edges):
         band = nodes[r0 * len(x) : r1 * len(x)]
-        low, high = band.min(axis=0), band.max(axis=0)
-        near = []
-        for v, bound in zip(vertices, bounds, strict=True):
-            if count == 1:
-                near.append(v)
-                continue
-            pad = bound * (1 + 1e-9) + 1.0  # keeps every vertex within bound
-            inside = ((v >= low - pad) & (v <= high + pad)).all(axis=1)
-            near.append(v[inside])
+        near = vertices if count == 1 else _within_reach(band, vertices, bounds)
         tasks.append(
             BandTask(
                 (int(r0), int(r1)),
@@ -200,9 +191,19 @@ def band_count(runner: Any) -> int:
     over the vertices within reach, about half of them each.
     """
     workers = runner_workers(runner)
-    cores = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else None
-    local = len(cores) if cores else os.cpu_count() or 1
-    return BANDS_PER_WORKER * workers if workers > local else 1
+    return BANDS_PER_WORKER * workers if workers > local_cores() else 1
+
+
+def _within_reach(
+    band: NDArray[np.float64], vertices: list[NDArray], bounds: list[float]
+) -> list[NDArray[np.float64]]:
+    """Per gradation, its vertices in the band's box widened by the search bound."""
+    low, high = band.min(axis=0), band.max(axis=0)
+    near = []
+    for v, bound in zip(vertices, bounds, strict=True):
+        pad = bound * (1 + 1e-9) + 1.0  # keeps every vertex within bound
+        near.append(v[((v >= low - pad) & (v <= high + pad)).all(axis=1)])
+    return near
 
 
 def _has_lines(g: Gradation) -> bool:

@@ -21,6 +21,7 @@ files: the readers in :mod:`coastmesh.io` return these types.
 from __future__ import annotations
 
 import contextlib
+import os
 from collections.abc import Callable, Iterator, Sequence
 from typing import Any, TypeVar
 
@@ -40,6 +41,7 @@ __all__ = [
     "Runner",
     "SizeGrid",
     "StageFactory",
+    "local_cores",
     "quiet_stage",
     "runner_workers",
     "serial_runner",
@@ -82,6 +84,12 @@ def serial_runner(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
     [1, 2]
     """
     return [fn(item) for item in items]
+
+
+def local_cores() -> int:
+    """Return the cores this process may use (all of the machine's off Linux)."""
+    affinity = getattr(os, "sched_getaffinity", None)
+    return len(affinity(0)) if affinity else os.cpu_count() or 1
 
 
 def runner_workers(runner: Any) -> int:
