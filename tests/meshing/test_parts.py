@@ -92,8 +92,8 @@ def test_one_part_has_no_cut_and_auto_grows_in_powers_of_two():
     assert cut_lines(water, _grid(5.0, 0.0), 1) == []
     assert auto_parts(water, _grid(120.0, 0.0)) == 1  # about 7,700 triangles
     fine = SizeGrid(
-        np.arange(0.0, 12001, 50), np.arange(0.0, 8001, 50), np.full((161, 241), 20.0)
-    )  # 554,000 triangles: 13.9 parts
+        np.arange(0.0, 12001, 50), np.arange(0.0, 8001, 50), np.full((161, 241), 10.0)
+    )  # 2,194,000 triangles: 11.0 parts
     assert auto_parts(water, fine) == 8
     with pytest.raises(ValueError, match="parts is 0"):
         cut_lines(water, _grid(5.0, 0.0), 0)

@@ -16,8 +16,12 @@ whose water crossing has the fewest target edges (``integral of 1 / h`` along
 it) wins: cuts go where the size is coarse and the water narrow, and keep off
 the fine coast. A cut must be clean where it crosses the water, every time
 it does: if none of the 9 is, 41 positions within 15 % are tried, then the
-same across the shorter side; a region with no clean cut is not cut (fewer
-parts, never thin triangles). A crossing makes thin
+same across the shorter side, then the same at the oblique angles of
+:data:`_OBLIQUE` (the diagonals first); a region with no clean cut is not cut
+(fewer parts, never thin triangles). The first direction with a clean cut
+wins, so a region cut across x or y is cut as before oblique cuts were
+tried. A region is convex: a box, or a box cut by oblique cuts, and its
+halves are its parts on either side of the cut. A crossing makes thin
 triangles when it is under two target edges long, comes nearer the coast or
 an earlier cut than ``sin(35 deg) min(s, 2 h)`` at a distance ``s >= 2 h``
 from its end (it meets the coast at under 35 degrees, or runs along it; nearer
@@ -52,7 +56,12 @@ _DENSITY = 4.0 / np.sqrt(3.0)
 #: ``parts = "auto"``: the largest power of two at most the expected triangles
 #: over this, from 1 to :data:`MAX_AUTO_PARTS`. It depends on the case only,
 #: never on the machine, so a case gives the same mesh on any number of cores.
-TRIANGLES_PER_PART = 40_000
+#: Every cut leaves a band a few elements wide where Gmsh's triangles are a
+#: little worse; the NW-shelf fine case (3.1 M expected triangles, oblique
+#: cuts) had a 1st-percentile angle of 44.92 deg in one part, 44.41 in 8
+#: wanted parts (14 faces), 44.03 in 16 (32) and 43.70 in 64 (93), so a part
+#: holds about 200,000 (the issue's bound is 1 deg below one part).
+TRIANGLES_PER_PART = 200_000
 MAX_AUTO_PARTS = 64
 #: A region is not cut into parts of fewer expected triangles than this:
 #: ``parts`` is an upper bound. (Forced to 64 parts, the NW-shelf intermediate
@@ -67,6 +76,11 @@ _SPREAD = 0.03
 #: are tried too (a less even split beats a bad triangle).
 _WIDER_CANDIDATES = 41
 _WIDER = 0.15
+#: Where no cut across x or y is clean, cuts whose normals make these angles
+#: (degrees) with the x axis are tried, in this order: the diagonals first.
+#: (On the NW-shelf fine case no cut of either half across x or y is clean,
+#: and 8 wanted parts were 2; with these, 14 faces.)
+_OBLIQUE = (45.0, 135.0, 30.0, 60.0, 120.0, 150.0)
 #: A cut crossing the coast at a smaller angle (degrees), or crossing water
 #: under two target edges wide, is penalised by this many edges.
 _MIN_CROSSING = 35.0
@@ -118,8 +132,8 @@ def auto_parts(polygon: shapely.Polygon, grid: SizeGrid) -> int:
     Examples
     --------
     >>> g = SizeGrid(np.arange(0.0, 100_001, 500), np.arange(0.0, 100_001, 500),
-    ...              np.full((201, 201), 200.0))
-    >>> auto_parts(shapely.box(0, 0, 100_000, 100_000), g)  # 577,350 triangles
+    ...              np.full((201, 201), 100.0))
+    >>> auto_parts(shapely.box(0, 0, 100_000, 100_000), g)  # 2,286,365 triangles
     8
     """
     n = expected_triangles(polygon, grid) / TRIANGLES_PER_PART
@@ -152,7 +166,8 @@ def cut_lines(
     list of shapely.LineString
         ``parts - 1`` segments (fewer where a region holds under twice
         :data:`MIN_PART_TRIANGLES` expected triangles or has no clean cut),
-        each spanning the region it cuts (a box of the recursive bisection);
+        each spanning the region it cuts (a convex region of the recursive
+        bisection);
         later cuts end on earlier ones. A cut may cross the water several
         times: each crossing is a shared curve.
 
@@ -204,41 +219,102 @@ def _bisect(
     parts: int,
     cuts: list[shapely.LineString],
 ) -> None:
-    """Cut ``region`` (a box) and recurse into its two sides."""
+    """Cut ``region`` (convex: a box, or a box cut by oblique cuts) and recurse."""
     if parts < 2 or len(w) < 2 or w.sum() < 2 * MIN_PART_TRIANGLES:
         return  # a part must be many elements across, or its cuts make slivers
     x0, y0, x1, y1 = region.bounds
     # the water in the region only: each level works on less geometry
-    pieces = shapely.get_parts(shapely.clip_by_rect(polygon, x0, y0, x1, y1))
-    pieces = [g for g in pieces if g.geom_type == "Polygon"]
+    clipped = shapely.clip_by_rect(polygon, x0, y0, x1, y1)
+    if not _is_box(region):
+        clipped = shapely.intersection(clipped, region)
+    pieces = [g for g in shapely.get_parts(clipped) if g.geom_type == "Polygon"]
     if not pieces:
         return
     polygon = pieces[0] if len(pieces) == 1 else shapely.MultiPolygon(pieces)
     share = (parts // 2) / parts
     longer_x = (x1 - x0) >= (y1 - y0)  # cut across the longer side first
-    for across_x in (longer_x, not longer_x):
-        along = x if across_x else y
-        score, line, chosen = _best_cut(
-            polygon, grid, coast, region, along, w, share, across_x
+    for direction in _directions(longer_x):
+        score, line, chosen, at = _best_cut(
+            polygon, grid, coast, region, x, y, w, share, direction
         )
         if score < _PENALTY:
             break
     else:
         return  # no clean cut: fewer parts beat thin triangles
     cuts.append(line)
-    at = line.coords[0][0] if across_x else line.coords[0][1]
     coast[2].extend(c for g in chosen for c in np.asarray(g.coords)[[0, -1]])
     coast[3].extend(chosen)
-    low = along < at
-    if across_x:
-        boxes = shapely.box(x0, y0, at, y1), shapely.box(at, y0, x1, y1)
-    else:
-        boxes = shapely.box(x0, y0, x1, at), shapely.box(x0, at, x1, y1)
-    for box, side, n in (
-        (boxes[0], low, parts // 2),
-        (boxes[1], ~low, parts - parts // 2),
-    ):
-        _bisect(polygon, grid, coast, box, x[side], y[side], w[side], n, cuts)
+    low = _along(x, y, direction) < at
+    for below, side, n in ((True, low, parts // 2), (False, ~low, parts - parts // 2)):
+        half = _half(region, direction, at, below=below)
+        _bisect(polygon, grid, coast, half, x[side], y[side], w[side], n, cuts)
+
+
+def _directions(longer_x: bool) -> list[tuple[float, float]]:
+    """Return the normals ``(cos, sin)`` of the cuts to try, in order.
+
+    Across the longer side, then the shorter (exact axes: such a cut of a box
+    leaves boxes), then the oblique :data:`_OBLIQUE` directions.
+    """
+    axes = [(1.0, 0.0), (0.0, 1.0)]
+    oblique = [(np.cos(np.radians(a)), np.sin(np.radians(a))) for a in _OBLIQUE]
+    return (axes if longer_x else axes[::-1]) + oblique
+
+
+def _along(x: NDArray, y: NDArray, direction: tuple[float, float]) -> NDArray:
+    """Coordinates along the normal ``direction``: exactly x or y on the axes."""
+    c, s = direction
+    if s == 0.0:
+        return x
+    if c == 0.0:
+        return y
+    return x * c + y * s
+
+
+def _is_box(region: shapely.Polygon) -> bool:
+    x0, y0, x1, y1 = region.bounds
+    return bool(region.area >= (1 - 1e-12) * (x1 - x0) * (y1 - y0))
+
+
+def _half(
+    region: shapely.Polygon, direction: tuple[float, float], at: float, below: bool
+) -> shapely.Polygon:
+    """Return the part of ``region`` below ``at`` along ``direction`` (or above).
+
+    A box cut along an axis gives the exact box.
+    """
+    c, s = direction
+    x0, y0, x1, y1 = region.bounds
+    if _is_box(region) and (s == 0.0 or c == 0.0):
+        if s == 0.0:
+            return shapely.box(x0, y0, at, y1) if below else shapely.box(at, y0, x1, y1)
+        return shapely.box(x0, y0, x1, at) if below else shapely.box(x0, at, x1, y1)
+    far = 4.0 * max(x1 - x0, y1 - y0) + abs(at)
+    normal, tangent = np.array([c, s]), np.array([-s, c])
+    base = normal * at
+    toward = -normal if below else normal
+    plane = shapely.Polygon(
+        [base - far * tangent, base + far * tangent,
+         base + far * tangent + far * toward, base - far * tangent + far * toward]
+    )  # fmt: skip
+    return shapely.intersection(region, plane)
+
+
+def _line(
+    region: shapely.Polygon, direction: tuple[float, float], at: float
+) -> shapely.LineString:
+    """Return the chord of the convex ``region`` at ``at`` along ``direction``."""
+    c, s = direction
+    x0, y0, x1, y1 = region.bounds
+    if _is_box(region) and s == 0.0:
+        return shapely.LineString([(at, y0), (at, y1)])
+    if _is_box(region) and c == 0.0:
+        return shapely.LineString([(x0, at), (x1, at)])
+    far = 4.0 * max(x1 - x0, y1 - y0) + abs(at)
+    base, tangent = np.array([c, s]) * at, np.array([-s, c])
+    long = shapely.LineString([base - far * tangent, base + far * tangent])
+    chord = shapely.intersection(region, long)
+    return chord if chord.geom_type == "LineString" else shapely.LineString()
 
 
 def _best_cut(
@@ -246,17 +322,21 @@ def _best_cut(
     grid: SizeGrid,
     coast: tuple,
     region: shapely.Polygon,
-    along: NDArray,
+    x: NDArray,
+    y: NDArray,
     w: NDArray,
     share: float,
-    across_x: bool,
-) -> tuple[float, shapely.LineString, list[shapely.LineString]]:
-    """Return the best cut across x (or y): its score, line and crossings."""
-    x0, y0, x1, y1 = region.bounds
-    spacing = abs(float(np.diff(grid.x if across_x else grid.y)[0]))
+    direction: tuple[float, float],
+) -> tuple[float, shapely.LineString, list[shapely.LineString], float]:
+    """Return the best cut normal to ``direction``: score, line, crossings, place."""
+    c, s = direction
+    dx, dy = (abs(float(np.diff(g)[0])) for g in (grid.x, grid.y))
+    spacing = dx if s == 0.0 else dy if c == 0.0 else min(dx, dy)
+    along = _along(x, y, direction)
     order = np.argsort(along, kind="stable")
     cum = np.cumsum(w[order]) / w.sum()
-    best: tuple[float, shapely.LineString, list] = (np.inf, shapely.LineString(), [])
+    turned = _Turned(polygon, direction)
+    best: tuple = (np.inf, shapely.LineString(), [], 0.0)
     for spread, count in ((_SPREAD, _CANDIDATES), (_WIDER, _WIDER_CANDIDATES)):
         if best[0] < _PENALTY:
             break  # a clean cut within the first spread: no need to look wider
@@ -265,14 +345,47 @@ def _best_cut(
             k = min(int(np.searchsorted(cum, q)), len(order) - 1)
             # half a cell past a grid node: no node lies on the cut
             at = float(along[order[k]]) + 0.5 * spacing
-            if across_x:
-                line = shapely.LineString([(at, y0), (at, y1)])
-            else:
-                line = shapely.LineString([(x0, at), (x1, at)])
-            score, chords = _edges_across(polygon, grid, coast, line)
+            line = _line(region, direction, at)
+            if line.is_empty:
+                continue
+            score, chords = _edges_across(grid, coast, turned.chords(line))
             if score < best[0]:
-                best = (score, line, chords)
+                best = (score, line, chords, at)
     return best
+
+
+class _Turned:
+    """The water turned so that cuts normal to ``direction`` run along y.
+
+    :func:`_wet` clips the water to a thin box around an axis-parallel line;
+    an oblique line's box would hold most of the water. Turning the water once
+    per direction keeps every candidate's overlay local.
+    """
+
+    def __init__(self, polygon: Any, direction: tuple[float, float]) -> None:
+        c, s = direction
+        self.axis = s == 0.0 or c == 0.0
+        self.polygon = polygon
+        if not self.axis:
+            self.forward = np.array([[c, -s], [s, c]])  # xy @ forward: along, across
+            self.turned = shapely.transform(polygon, lambda xy: xy @ self.forward)
+
+    def chords(self, line: shapely.LineString) -> list[shapely.LineString]:
+        """Return the crossings of the water by ``line``, in its own coordinates."""
+        if self.axis:
+            wet = _wet(self.polygon, line)
+        else:
+            xy = shapely.get_coordinates(line) @ self.forward
+            xy[:, 0] = xy[:, 0].mean()  # exactly along y, for the thin clip
+            back = self.forward.T
+            wet = shapely.transform(
+                _wet(self.turned, shapely.LineString(xy)), lambda uv: uv @ back
+            )
+        return [
+            g
+            for g in shapely.get_parts(wet)
+            if g.geom_type == "LineString" and not g.is_empty
+        ]
 
 
 def _wet(polygon: Any, line: shapely.LineString) -> Any:
@@ -292,14 +405,11 @@ def _wet(polygon: Any, line: shapely.LineString) -> Any:
 
 
 def _edges_across(
-    polygon: shapely.Polygon,
-    grid: SizeGrid,
-    coast: tuple,
-    line: shapely.LineString,
+    grid: SizeGrid, coast: tuple, chords: list[shapely.LineString]
 ) -> tuple[float, list[shapely.LineString]]:
-    """Return the target edges along ``line`` in the water, plus penalties.
+    """Return the target edges along a cut's crossings (``chords``), plus penalties.
 
-    Each crossing (chord) shorter than two target edges, ending within half a
+    Each crossing shorter than two target edges, ending within half a
     target edge of one of ``coast[1]``'s points or within one of an earlier
     cut's end (``coast[2]``), or coming nearer the coast or an earlier cut
     (``coast[0]``, ``coast[3]``) than ``sin(35 deg) min(s, 2 h)`` at a distance
@@ -307,12 +417,6 @@ def _edges_across(
     along it), adds :data:`_PENALTY`: it would make thin triangles. The
     crossings are returned too.
     """
-    wet = _wet(polygon, line)
-    chords = [
-        g
-        for g in shapely.get_parts(wet)
-        if g.geom_type == "LineString" and not g.is_empty
-    ]
     if not chords:
         return np.inf, []  # cuts nothing: never the best
     score = 0.0
@@ -357,8 +461,8 @@ def _tight(coast: tuple, xy: NDArray, h: NDArray, t: NDArray, length: float) -> 
 
     Only points at ``s >= 2 h`` from the nearer end count: within two target
     edges of its ends the coast's own roughness (below the size: the resampled
-    boundary has two points per edge) is noise. The search for the nearest
-    edge stops at the largest distance that could fail.
+    boundary has two points per edge) is noise. Each point asks the R-tree for
+    coast within its own limit only (``dwithin``), not for its nearest edge.
     """
     s = length * np.minimum(t, 1.0 - t)
     need = np.sin(np.radians(_MIN_CROSSING)) * np.minimum(s, 2.0 * h)
@@ -366,15 +470,10 @@ def _tight(coast: tuple, xy: NDArray, h: NDArray, t: NDArray, length: float) -> 
     points, limit = xy[1:-1][far], 0.999 * need[1:-1][far]
     if not len(points):
         return False
-    found, gap = coast[0].query_nearest(
-        shapely.points(points),
-        max_distance=float(limit.max()),
-        return_distance=True,
-        all_matches=False,
-    )
-    if (gap < limit[found[0]]).any():
+    near = coast[0].query(shapely.points(points), predicate="dwithin", distance=limit)
+    if near.shape[1]:
         return True
     if coast[3]:  # earlier cuts count as coast: no thin strip between cuts
         earlier = shapely.multilinestrings(coast[3])
-        return bool((shapely.distance(earlier, shapely.points(points)) < limit).any())
+        return bool(shapely.dwithin(earlier, shapely.points(points), limit).any())
     return False

@@ -160,7 +160,7 @@ class MeshConfig:
     parts : int or "auto", default "auto"
         Parts of the water meshed alone, at once on as many processes as the
         run has workers, or on a Dask cluster (:mod:`coastmesh.meshing.parts`,
-        :mod:`coastmesh.meshing.tasks`); ``"auto"``: one per 40,000 expected
+        :mod:`coastmesh.meshing.tasks`); ``"auto"``: one per 200,000 expected
         triangles, rounded down to a power of two (1 to 64). It depends on the
         case only, so the mesh is the same on any number of cores or machines.
         1 is one part. The boundary nodes are the same either way, and so,
