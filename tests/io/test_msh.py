@@ -234,3 +234,26 @@ def test_ascii_22_is_the_bytes_meshio_writes(
     write_msh(folder / "ours.msh", m)
     meshio.gmsh.write(folder / "meshio.msh", _to_meshio(meshio, m), "2.2", binary=False)
     assert (folder / "ours.msh").read_bytes() == (folder / "meshio.msh").read_bytes()
+
+
+@settings(deadline=None, max_examples=50)
+@given(
+    rows=st.lists(
+        st.tuples(
+            st.integers(0, 2**40), st.integers(0, 10**6), st.sampled_from([0, 9, 10])
+        ),
+        min_size=1,
+        max_size=60,
+    ),
+    text=st.sampled_from(["%d 2 2 7 1 %d %d\n", "%d %d %d\n", "x%d y%d z%d\n"]),
+)
+def test_integer_rows_are_what_percent_d_writes(rows, text):
+    # the vectorised writer of integer rows against Python's own %d
+    import io
+
+    from coastmesh.io.msh import _write_rows
+
+    columns = [np.array(c, dtype=np.int64) for c in zip(*rows, strict=True)]
+    out = io.BytesIO()
+    _write_rows(out, text, *columns)
+    assert out.getvalue() == "".join(text % r for r in rows).encode()

@@ -306,7 +306,11 @@ def _write_ascii_22(fh: Any, mesh: Mesh, nodes: NDArray[np.float64]) -> None:
     n = len(mesh.points)
     fh.write(f"$Nodes\n{n}\n".encode())
     number = np.arange(1, n + 1)
-    _write_rows(fh, "%d %.16e %.16e %.16e\n", number, *nodes.T)
+    z = nodes[:, 2]
+    if not (z == 0.0).all() or np.signbit(z).any():
+        _write_rows(fh, "%d %.16e %.16e %.16e\n", number, *nodes.T)
+    else:  # a flat mesh: z is the same text on every row
+        _write_rows(fh, f"%d %.16e %.16e {0.0:.16e}\n", number, *nodes[:, :2].T)
     fh.write(b"$EndNodes\n")
     ids = np.unique(mesh.boundary_ids)
     count = len(mesh.boundary_edges) + len(mesh.triangles)
@@ -327,14 +331,60 @@ def _write_rows(fh: Any, row: str, *columns: Any) -> None:
     """Write ``row % values`` for each row of ``columns``, a block at a time.
 
     The ``%`` of a string repeated over a block is one C loop: formatting one
-    row at a time in Python is ten times slower.
+    row at a time in Python is ten times slower. Rows of non-negative integers
+    only are written by :func:`_integer_rows`, 5 times faster again.
     """
     n = len(columns[0])
+    pieces = row.split("%d")
+    if len(pieces) == len(columns) + 1 and "%" not in row.replace("%d", ""):
+        if all(np.issubdtype(np.asarray(c).dtype, np.integer) for c in columns) and all(
+            len(c) == 0 or int(np.min(c)) >= 0 for c in columns
+        ):
+            for start in range(0, n, _BLOCK):
+                stop = min(start + _BLOCK, n)
+                fh.write(_integer_rows(pieces, [c[start:stop] for c in columns]))
+            return
     for start in range(0, n, _BLOCK):
         stop = min(start + _BLOCK, n)
         values = [c[start:stop].tolist() for c in columns]
         flat = [v for r in zip(*values, strict=True) for v in r]
         fh.write(((row * (stop - start)) % tuple(flat)).encode())
+
+
+def _integer_rows(pieces: list[str], columns: list[Any]) -> bytes:
+    """Return the rows ``pieces[0] col0 pieces[1] col1 ... pieces[-1]`` as text.
+
+    Written by hand: numpy has no vectorised integer-to-text. Each number is
+    spelled into a fixed-width block of digits with NUL in front, the rows are
+    laid side by side as one byte matrix, and the NULs are dropped: the bytes
+    ``%d`` gives, for non-negative integers.
+    """
+    rows = len(columns[0])
+    blocks = []
+    for k, piece in enumerate(pieces):
+        if piece:
+            text = np.frombuffer(piece.encode(), dtype=np.uint8)
+            blocks.append(np.broadcast_to(text, (rows, len(text))))
+        if k < len(columns):
+            blocks.append(_digits(np.asarray(columns[k], dtype=np.int64)))
+    table = np.concatenate(blocks, axis=1).ravel()
+    return table[table != 0].tobytes()
+
+
+def _digits(values: NDArray[np.int64]) -> NDArray[np.uint8]:
+    """Return the decimal digits of non-negative ``values``, NUL-padded in front."""
+    top = int(values.max()) if len(values) else 0
+    width = len(str(top))
+    rest = values.astype(np.uint32 if top < 2**32 else np.uint64)
+    out = np.empty((len(values), width), dtype=np.uint8)
+    for k in range(width - 1, -1, -1):
+        rest, digit = np.divmod(rest, 10)
+        out[:, k] = digit
+    lead = np.logical_or.accumulate(out != 0, axis=1)  # from the first digit on
+    lead[:, -1] = True  # 0 is "0"
+    out += 48
+    out[~lead] = 0
+    return out
 
 
 def _to_meshio(
