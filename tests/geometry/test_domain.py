@@ -151,3 +151,25 @@ def test_smaller_than_is_the_one_by_one_comparison(seed, lat, limit, crs):
     got = smaller_than(boxes, CRS(crs), limit)
     np.testing.assert_array_equal(got, expected)
     assert 0 < expected.sum() < n
+
+
+def test_geodesic_areas_are_pyprojs_bit_for_bit():
+    # the rings read with shapely.get_coordinates, not pyproj's ring.xy: the
+    # same sums, on real coasts (the Orkney GSHHG layer) and odd shapes
+    from pyproj import Geod
+
+    features = json.loads(data_path("orkney_gshhg_f.geojson").read_text())["features"]
+    real = [shapely.geometry.shape(f["geometry"]) for f in features]
+    box = shapely.box(-3, 58, -2, 59)
+    odd = [
+        box.difference(shapely.box(-2.8, 58.2, -2.5, 58.5)),  # a hole
+        shapely.MultiPolygon([box, shapely.box(0, 0, 1, 1)]),
+        shapely.Polygon(),
+        shapely.box(-179, -89, 179, 89),
+    ]
+    polygons = np.array([*real, *odd], dtype=object)
+    geod = Geod(ellps="WGS84")
+    literal = [abs(geod.geometry_area_perimeter(p)[0]) for p in polygons]
+    got = polygon_areas(polygons, CRS("EPSG:4326"))
+    assert len(real) > 50
+    assert got.tolist() == literal
