@@ -47,6 +47,7 @@ from coastmesh.case.inputs import (
 from coastmesh.case.result import CaseResult
 from coastmesh.case.sources import check_rasters
 from coastmesh.errors import ConfigError
+from coastmesh.geometry.layers import densify_long_edges
 from coastmesh.meshing import (
     CleanupOptions,
     default_mesh_crs,
@@ -170,11 +171,14 @@ def _build(
     with timed("reading shorelines"):
         features, crs = read_shorelines(config)
     sets, set_reports = {}, {}
+    dense = None  # the coasts with long edges split: the same for every PCA set
     for s in config.sets:
         label = f"shoreline set {s.name!r} ({s.label})"
         with timed(label) as progress:
+            if dense is None and s.window is not None and s.modes is not None:
+                dense = densify_long_edges(features.geometry)
             sets[s.name], set_reports[s.name] = build_shoreline_set(
-                s, features, crs, config.shorelines.min_area, progress
+                s, features, crs, config.shorelines.min_area, progress, dense
             )
         logger.info("%s: %s", label, set_reports[s.name].summary())
     with timed("building the domain"):

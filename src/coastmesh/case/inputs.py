@@ -174,8 +174,12 @@ def build_shoreline_set(
     crs: CRS,
     min_area: float,
     progress: Progress | None = None,
+    densified: NDArray[np.object_] | None = None,
 ) -> tuple[NDArray[np.object_], ShorelineSetReport]:
     """Build one shoreline set: full resolution or PCA, small land dropped.
+
+    ``densified`` is ``densify_long_edges(features.geometry)`` if the caller
+    has it already (it is the same for every PCA set of a case).
 
     Returns
     -------
@@ -188,8 +192,10 @@ def build_shoreline_set(
     if s.window is None or s.modes is None:
         land = features.geometry
     else:
+        if densified is None:
+            densified = densify_long_edges(features.geometry)
         land, done = simplify_shorelines(
-            densify_long_edges(features.geometry), s.window, s.modes, progress=progress
+            densified, s.window, s.modes, progress=progress
         )
         land = land[~shapely.is_missing(land)]
         points_in = done.points_in
