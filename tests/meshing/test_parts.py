@@ -166,6 +166,11 @@ def test_small_regions_are_not_cut():
 def test_parts_give_one_conforming_mesh_with_the_same_boundary(meshes, key):
     one, many = meshes[(1, "serial")], meshes[key]
     many = many[0] if isinstance(many, tuple) else many
+    assert_one_conforming_mesh(one, many, shapely.Polygon(OUTER, [ISLAND]))
+
+
+def assert_one_conforming_mesh(one, many, water):
+    """``many`` (meshed in parts) is one mesh of ``water``, as ``one`` is."""
     _, counts = np.unique(many.points, axis=0, return_counts=True)
     assert (counts == 1).all()  # no duplicate node
     t = many.triangles
@@ -179,7 +184,6 @@ def test_parts_give_one_conforming_mesh_with_the_same_boundary(meshes, key):
     assert set(many.boundary_ids.tolist()) == set(one.boundary_ids.tolist())
     # boundary edges lie on the domain's boundary, none on a cut
     mid = many.points[many.boundary_edges].mean(axis=1)
-    water = shapely.Polygon(OUTER, [ISLAND])
     assert shapely.distance(water.boundary, shapely.points(mid)).max() < 1e-6
     # a cut adds about its length in edges: a few % on a mesh this small
     assert abs(len(many.triangles) - len(one.triangles)) < 0.05 * len(one.triangles)
@@ -310,15 +314,7 @@ def test_cleaning_in_parts_reports_as_if_the_whole_mesh_was_cleaned(meshes, k):
 )
 def test_the_clipped_crossing_is_the_whole_polygons(frac, across_x, seed):
     # a jagged coast with islands: the line's wet part, clipped first or not
-    rng = np.random.default_rng(seed)
-    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
-    r = 5000 * (1 + 0.3 * rng.random(len(t)))
-    shell = np.column_stack([r * np.cos(t), r * np.sin(t)])
-    holes = [
-        c + 300 * np.column_stack([np.cos(t[::20]), np.sin(t[::20])])
-        for c in rng.uniform(-2500, 2500, (5, 2))
-    ]
-    water = shapely.make_valid(shapely.Polygon(shell, holes))
+    water = jagged_water(seed)
     x0, y0, x1, y1 = water.bounds
     if across_x:
         at = x0 + frac * (x1 - x0)
@@ -330,3 +326,16 @@ def test_the_clipped_crossing_is_the_whole_polygons(frac, across_x, seed):
     assert shapely.get_num_geometries(fast) == shapely.get_num_geometries(literal)
     assert fast.length == pytest.approx(literal.length, abs=1e-6)
     assert shapely.hausdorff_distance(fast, literal) < 1e-6
+
+
+def jagged_water(seed):
+    """A jagged coast with five islands, as GEOS makes it valid."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    r = 5000 * (1 + 0.3 * rng.random(len(t)))
+    shell = np.column_stack([r * np.cos(t), r * np.sin(t)])
+    holes = [
+        c + 300 * np.column_stack([np.cos(t[::20]), np.sin(t[::20])])
+        for c in rng.uniform(-2500, 2500, (5, 2))
+    ]
+    return shapely.make_valid(shapely.Polygon(shell, holes))

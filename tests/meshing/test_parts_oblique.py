@@ -13,16 +13,19 @@ import pytest
 import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_parts import (
+    ISLAND,
+    OUTER,
+    _domain,
+    assert_one_conforming_mesh,
+    jagged_water,
+)
 
 from coastmesh.meshing import generate_mesh
 from coastmesh.meshing import parts as parts_module
 from coastmesh.meshing.parts import cut_lines, expected_triangles
-from coastmesh.types import BoundarySegment, Domain, SizeGrid
+from coastmesh.types import SizeGrid
 
-OUTER = np.array([[0, 0], [12000, 0], [12000, 8000], [0, 8000], [0, 0]], float)
-ISLAND = np.array(
-    [[5000, 3000], [5000, 5000], [7000, 5000], [7000, 3000], [5000, 3000]], float
-)
 ANGLES = st.sampled_from(parts_module._OBLIQUE)
 
 
@@ -37,23 +40,10 @@ def _direction(degrees):
     return (np.cos(np.radians(degrees)), np.sin(np.radians(degrees)))
 
 
-def _jagged(seed):
-    """A jagged coast with five islands, as GEOS makes it valid."""
-    rng = np.random.default_rng(seed)
-    t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
-    r = 5000 * (1 + 0.3 * rng.random(len(t)))
-    shell = np.column_stack([r * np.cos(t), r * np.sin(t)])
-    holes = [
-        c + 300 * np.column_stack([np.cos(t[::20]), np.sin(t[::20])])
-        for c in rng.uniform(-2500, 2500, (5, 2))
-    ]
-    return shapely.make_valid(shapely.Polygon(shell, holes))
-
-
 @settings(deadline=None, max_examples=40)
 @given(frac=st.floats(0.02, 0.98), angle=ANGLES, seed=st.integers(0, 2**16))
 def test_crossings_in_the_turned_water_are_the_water_crossings(frac, angle, seed):
-    water = _jagged(seed)
+    water = jagged_water(seed)
     direction = _direction(angle)
     region = shapely.box(*water.bounds)
     along = shapely.get_coordinates(region) @ np.array(direction)
@@ -129,7 +119,7 @@ def _literal_tight(polygon, earlier, xy, h, t, length):
     with_cut=st.booleans(),
 )
 def test_the_tight_check_is_the_literal_one(seed, angle, offset, h, with_cut):
-    water = _jagged(seed)
+    water = jagged_water(seed)
     c, s = np.cos(np.radians(angle)), np.sin(np.radians(angle))
     a = np.array([c, s]) * offset + np.array([-s, c]) * 2500
     b = np.array([c, s]) * offset - np.array([-s, c]) * 2500
@@ -184,17 +174,6 @@ def test_axis_cuts_come_first():
         assert x0 == x1 or y0 == y1
 
 
-def _domain():
-    sides = tuple(
-        BoundarySegment(
-            OUTER[i : i + 2], "open" if i == 1 else "shoreline", f"s{i}", i + 1
-        )
-        for i in range(4)
-    )
-    island = BoundarySegment(ISLAND, "shoreline", "island", 9)
-    return Domain(shapely.Polygon(OUTER, [ISLAND]), (*sides, island), crs="EPSG:32630")
-
-
 def test_oblique_parts_make_one_conforming_mesh(monkeypatch):
     domain = _domain()
     grid = _grid(120.0, 0.1, 200.0)
@@ -205,22 +184,7 @@ def test_oblique_parts_make_one_conforming_mesh(monkeypatch):
     again = generate_mesh(domain, grid, parts=4)
     np.testing.assert_array_equal(many.points, again.points)  # deterministic
     np.testing.assert_array_equal(many.triangles, again.triangles)
-    _, counts = np.unique(many.points, axis=0, return_counts=True)
-    assert (counts == 1).all()  # no duplicate node
-    t = many.triangles
-    edges = np.sort(np.concatenate([t[:, [0, 1]], t[:, [1, 2]], t[:, [2, 0]]]), axis=1)
-    edges, uses = np.unique(edges, axis=0, return_counts=True)
-    assert uses.max() == 2
-    tagged = {tuple(e) for e in np.sort(many.boundary_edges, axis=1)}
-    assert {tuple(e) for e in edges[uses == 1]} == tagged  # no seam on a cut
-    assert set(many.boundary_ids.tolist()) == set(one.boundary_ids.tolist())
-    p = many.points[t]
-    area = 0.5 * (
-        (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
-        - (p[:, 1, 1] - p[:, 0, 1]) * (p[:, 2, 0] - p[:, 0, 0])
-    )
-    assert (area > 0).all()
-    assert area.sum() == pytest.approx(domain.polygon.area, rel=1e-9)
+    assert_one_conforming_mesh(one, many, domain.polygon)
     # the cuts were oblique: interior nodes on a 45-degree line through the water
     cuts = cut_lines(domain.polygon, grid, 4)
     assert cuts
@@ -231,4 +195,3 @@ def test_oblique_parts_make_one_conforming_mesh(monkeypatch):
         shapely.MultiLineString(cuts), shapely.points(many.points)
     )
     assert (on_cut < 1e-6).sum() > 20
-    assert abs(len(many.triangles) - len(one.triangles)) < 0.05 * len(one.triangles)
