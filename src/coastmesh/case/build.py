@@ -175,7 +175,7 @@ def _build(
     for s in config.sets:
         label = f"shoreline set {s.name!r} ({s.label})"
         with timed(label) as progress:
-            if dense is None and s.window is not None and s.modes is not None:
+            if dense is None and s.pca:
                 dense = densify_long_edges(features.geometry)
             sets[s.name], set_reports[s.name] = build_shoreline_set(
                 s, features, crs, config.shorelines.min_area, progress, dense

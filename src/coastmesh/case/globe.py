@@ -192,7 +192,7 @@ def _close(land: Any, width: float, reach: float, zone: Any) -> tuple[Any, int]:
 
 def _shell(shell: shapely.Polygon, s: Any) -> shapely.Polygon:
     """Return the polar coast, with the set's PCA when it has one."""
-    if s.window is None or s.modes is None:
+    if not s.pca:
         return shell
     out, _ = simplify_shorelines([shell], s.window, s.modes)
     parts = shapely.get_parts(out[0]) if out[0] is not None else []

@@ -189,7 +189,7 @@ def build_shoreline_set(
     """
     points_in = int(shapely.get_num_coordinates(features.geometry).sum())
     pca: dict[str, Any] = {}
-    if s.window is None or s.modes is None:
+    if not s.pca:
         land = features.geometry
     else:
         if densified is None:

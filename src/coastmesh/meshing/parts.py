@@ -285,7 +285,7 @@ def _half(
     """
     c, s = direction
     x0, y0, x1, y1 = region.bounds
-    if _is_box(region) and (s == 0.0 or c == 0.0):
+    if (s == 0.0 or c == 0.0) and _is_box(region):
         if s == 0.0:
             return shapely.box(x0, y0, at, y1) if below else shapely.box(at, y0, x1, y1)
         return shapely.box(x0, y0, x1, at) if below else shapely.box(x0, at, x1, y1)
@@ -304,9 +304,9 @@ def _line(
     """Return the chord of the convex ``region`` at ``at`` along ``direction``."""
     c, s = direction
     x0, y0, x1, y1 = region.bounds
-    if _is_box(region) and s == 0.0:
-        return shapely.LineString([(at, y0), (at, y1)])
-    if _is_box(region) and c == 0.0:
+    if (s == 0.0 or c == 0.0) and _is_box(region):
+        if s == 0.0:
+            return shapely.LineString([(at, y0), (at, y1)])
         return shapely.LineString([(x0, at), (x1, at)])
     _, tangent, base, far = _frame(region, direction, at)
     long = shapely.LineString([base - far * tangent, base + far * tangent])

@@ -108,6 +108,11 @@ class ShorelineSetConfig:
     modes: int | None = None
 
     @property
+    def pca(self) -> bool:
+        """Whether the set is a PCA reconstruction (window and modes given)."""
+        return self.window is not None and self.modes is not None
+
+    @property
     def label(self) -> str:
         """Describe the set, e.g. ``"PCA 1 mode / 500 points"``."""
         if self.window is None:
