@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import contextlib
 import warnings
 from pathlib import Path
 
 import pytest
 
+from coastmesh import plot
 from coastmesh.case import figures, parse_case, run_case
 from coastmesh.case.figures import FigureJobs
 
@@ -38,9 +40,81 @@ def test_figures_on_processes_are_the_same_files(tmp_path, monkeypatch):
 
 def test_a_figure_that_fails_on_a_worker_fails_the_write(tmp_path):
     jobs = [("bad", "no_such_figure", (), {}), ("also", "no_such_figure", (), {})]
+    big = figures.POOL_MIN_TRIANGLES
     with (
         pytest.raises(AttributeError, match="no_such_figure"),
-        FigureJobs(jobs, tmp_path, workers=2) as drawn,
+        FigureJobs(2) as drawn,
     ):
-        drawn.files()
+        drawn.start(jobs, big)
+        assert drawn.pool is not None
+        drawn.save(jobs, tmp_path, big)
     assert not list((tmp_path / "figures").iterdir())
+
+
+def test_small_meshes_and_one_worker_draw_here(tmp_path):
+    jobs = [("bad", "no_such_figure", (), {})]
+    for workers, triangles in ((1, 10**9), (2, figures.POOL_MIN_TRIANGLES - 1)):
+        with FigureJobs(workers) as drawn:
+            drawn.start(jobs, triangles)
+            assert drawn.pool is None and not drawn.futures
+            with pytest.raises(AttributeError, match="no_such_figure"):
+                drawn.save(jobs, tmp_path, triangles)  # drawn here: it fails here
+            (tmp_path / "figures").rmdir()
+
+
+def test_each_figure_starts_once_what_it_shows_is_made(tmp_path, monkeypatch):
+    """With a pool, run_case starts the figures as the case is built.
+
+    Those of the domain and size field once the water is meshed; those
+    of the mesh once it has its depths and time step, before its quality is
+    measured; the quality figure after that; none is drawn twice.
+    """
+    monkeypatch.setattr(figures, "POOL_MIN_TRIANGLES", 0)
+    events: list[str] = []
+    start = FigureJobs.start
+
+    def recorded(self, jobs, triangles):
+        events.append("start " + " ".join(sorted(j[0] for j in jobs)))
+        start(self, jobs, triangles)
+
+    monkeypatch.setattr(FigureJobs, "start", recorded)
+    drawn: list[str] = []  # what this process draws (the pool's are spawned)
+    for name in plot.__all__:
+        if name.endswith("_figure"):
+            function = getattr(plot, name)
+            monkeypatch.setattr(
+                plot,
+                name,
+                lambda *a, _f=function, _n=name, **k: drawn.append(_n) or _f(*a, **k),
+            )
+
+    @contextlib.contextmanager
+    def stage(label):
+        events.append(label)
+        yield lambda done, total: None
+
+    text = EXAMPLE.read_text().replace('h_min = "150 m"', 'h_min = "400 m"')
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = run_case(
+            parse_case(text, EXAMPLE), output=tmp_path / "o", workers=2, stage=stage
+        )
+    starts = [e for e in events if e.startswith("start")]
+    assert starts[:3] == [
+        "start channels domain size",
+        "start depth mesh time_step",
+        "start quality",
+    ], events
+    at = events.index
+    assert at("meshing") < at(starts[0]) < at("depth at the nodes")
+    assert at("time step") < at(starts[1]) < at("mesh quality") < at(starts[2])
+    assert at(starts[2]) < at("writing outputs")
+    assert drawn == []  # every figure was drawn on the pool, once
+    pngs = sorted(f for f in result.files if f.startswith("figures/"))
+    assert pngs == [
+        f"figures/{s}.png"
+        for s in sorted(
+            ["channels", "domain", "size", "depth", "mesh", "time_step"]
+            + ["quality"]
+        )
+    ]

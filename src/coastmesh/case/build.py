@@ -31,11 +31,10 @@ from typing import Any
 import numpy as np
 from pyproj import CRS
 
-from coastmesh.case.advice import warn_avoidable_corners, warn_spanning
 from coastmesh.case.config import CaseConfig, StudyCase
-from coastmesh.case.depths import depth_raster, node_depths, relieve
 from coastmesh.case.executor import open_runner
-from coastmesh.case.finish import finish_case, peak_memory_mb
+from coastmesh.case.figures import FigureJobs, setup_jobs
+from coastmesh.case.finish import finish_case, measure_mesh, peak_memory_mb
 from coastmesh.case.globe import build_global
 from coastmesh.case.inputs import (
     bathymetry_terms,
@@ -51,7 +50,6 @@ from coastmesh.geometry.layers import densify_long_edges
 from coastmesh.meshing import (
     CleanupOptions,
     default_mesh_crs,
-    mesh_quality,
 )
 from coastmesh.meshing.engine import mesh_in_parts
 from coastmesh.meshing.session import release_memory
@@ -72,7 +70,14 @@ from coastmesh.types import (
     quiet_stage,
 )
 
-__all__ = ["CLOSE_PASSES", "as_case", "build_case", "peak_memory_mb", "worker_count"]
+__all__ = [
+    "CLOSE_PASSES",
+    "as_case",
+    "build_case",
+    "build_drawing",
+    "peak_memory_mb",
+    "worker_count",
+]
 
 #: Most times narrow channels are closed and the domain built again.
 CLOSE_PASSES = 2
@@ -133,6 +138,25 @@ def build_case(
     processes, which import the main script again: call this from a script
     under ``if __name__ == "__main__":`` (or pass ``workers=1``).
     """
+    return build_drawing(case, stage=stage, workers=workers, scheduler=scheduler)
+
+
+def build_drawing(
+    case: CaseConfig | str | os.PathLike[str],
+    *,
+    stage: StageFactory | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    figures: FigureJobs | None = None,
+) -> CaseResult:
+    """:func:`build_case`, starting each figure on ``figures`` once it can.
+
+    The figures of what the mesh was made from start once the water is
+    meshed, those of the mesh once it has its depths and time step, the
+    quality figure once it is measured (:mod:`coastmesh.case.figures`): with
+    a pool, they are drawn while this process goes on. A global case starts
+    only the mesh's.
+    """
     if workers is not None:
         worker_count(workers)  # checked before any work
     config = as_case(case)
@@ -143,11 +167,16 @@ def build_case(
         )
     threads = worker_count(workers if workers is not None else config.run.workers)
     with open_runner(threads, scheduler or config.run.scheduler) as runner:
-        return _build(config, stage, threads, runner)
+        drawing = figures if config.outputs.figures else None
+        return _build(config, stage, threads, runner, drawing)
 
 
 def _build(
-    config: CaseConfig, stage: StageFactory | None, threads: int, runner: Runner
+    config: CaseConfig,
+    stage: StageFactory | None,
+    threads: int,
+    runner: Runner,
+    figures: FigureJobs | None,
 ) -> CaseResult:
     """Build the case (see :func:`build_case`) with the parts meshed by ``runner``."""
     started = time.perf_counter()
@@ -166,7 +195,7 @@ def _build(
     if config.domain.kind == "global":
         return build_global(
             config, timed, timings, threads, runner,
-            after=_after_meshing, cleanup=_cleanup(config),
+            figures=figures, cleanup=_cleanup(config),
         )  # fmt: skip
     with timed("reading shorelines"):
         features, crs = read_shorelines(config)
@@ -230,11 +259,36 @@ def _build(
         )
     if parts.parts > 1:
         logger.info("parts: %s", parts.summary())
-    mesh, after = _after_meshing(config, mesh, timed, sized, parts.cleanup)
+    _start_setup_figures(figures, config, domain, sized, parts, mesh)
+    mesh, after = measure_mesh(
+        config, mesh, timed, sized, parts.cleanup, figures=figures, domain=domain
+    )
     return finish_case(
         config, mesh, inputs, sized, parts, after, timings, started,
         crs=crs, mesh_crs=mesh_crs, output_crs=output_crs, set_reports=set_reports,
     )  # fmt: skip
+
+
+def _start_setup_figures(
+    figures: FigureJobs | None,
+    config: CaseConfig,
+    domain: Any,
+    sized: SizeField,
+    parts: Any,
+    mesh: Mesh,
+) -> None:
+    """Start the figures of what was meshed: drawn while the mesh is measured."""
+    if figures is not None:
+        jobs = setup_jobs(
+            config.name,
+            domain,
+            sized.field,
+            channel_width=sized.width,
+            channels=sized.report.channels,
+            parts=parts,
+            crs=mesh.crs,
+        )
+        figures.start(jobs, len(mesh.triangles))
 
 
 def _cleanup(config: CaseConfig) -> CleanupOptions | None:
@@ -415,48 +469,3 @@ def _close_channels(
     )
     warn_narrow(closed, closed=True)
     return inputs, closed
-
-
-def _after_meshing(
-    config: CaseConfig,
-    mesh: Mesh,
-    timed: StageFactory,
-    sized: SizeField,
-    cleanup: Any,
-) -> tuple[Mesh, dict[str, Any]]:
-    """Depth at the nodes, time step and quality, as the case asks.
-
-    ``cleanup`` is the report of the cleanup done with the meshing, part by part.
-    """
-    after: dict[str, Any] = {"cleanup": cleanup, "depth": None, "quality": None}
-    c = config.cleanup
-    if config.bathymetry is not None:
-        with timed("depth at the nodes") as progress:
-            raster = depth_raster(config, mesh, progress)
-            mesh, after["depth"] = node_depths(config, mesh, raster, progress)
-        if c.enabled and c.time_step:
-            with timed("time step") as progress:
-                mesh, after["time_step"], depth = relieve(
-                    config, mesh, raster, after["cleanup"], progress
-                )
-            after["depth"] = depth or after["depth"]
-    if config.outputs.quality:
-        courant = config.size.courant
-        with timed("mesh quality"):
-            after["quality"] = mesh_quality(
-                mesh,
-                dt=None if courant is None else courant.dt,
-                velocity=0.0 if courant is None else courant.velocity,
-                courant_max=None if courant is None else courant.courant_max,
-                courant_min=None if courant is None else courant.courant_min,
-            )
-        warn_avoidable_corners(after["quality"], mesh)
-        field = sized.field
-        warn_spanning(
-            after["quality"],
-            mesh,
-            cell=float(abs(field.x[1] - field.x[0])),
-            h_min=sized.report.h_min_m,
-            narrow=config.size.channels.narrow,
-        )
-    return mesh, after

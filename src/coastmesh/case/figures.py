@@ -1,87 +1,132 @@
-"""A case's figures: what to draw, drawn one after the other or on processes.
+"""A case's figures: what to draw, drawn here or on processes, early if it can.
 
 Each figure is a job: the name of a :mod:`coastmesh.plot` function and its
-arguments. With ``workers > 1`` and a mesh of at least
-:data:`POOL_MIN_TRIANGLES` triangles, the jobs are drawn on a pool of that many
-spawned processes (matplotlib draws in one thread: on the NW-shelf fine mesh
-the nine figures take 40 s one after the other), the longest first, while the
-calling process writes the mesh files; the files are the same either way.
+arguments, rendered to PNG bytes (:func:`render`) and saved into
+``figures/`` of the output folder when the case is written. With ``workers >
+1`` and a mesh of at least :data:`POOL_MIN_TRIANGLES` triangles, the jobs are
+drawn on a pool of that many spawned processes (matplotlib draws in one
+thread: on the NW-shelf fine mesh the nine figures take 22 s one after the
+other), the longest first.
+
+:func:`coastmesh.run_case` hands its :class:`FigureJobs` to the build, which
+starts each figure as soon as what it shows is final (:func:`setup_jobs` once
+the water is meshed, :func:`mesh_jobs` once the mesh has its depths and time
+step, :func:`quality_jobs` once it is measured), so the pool draws while this
+process measures the mesh and writes its files. The files are the same
+whatever the number of workers, and whenever each figure was started.
 """
 
 from __future__ import annotations
 
+import io
 import multiprocessing
 from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from coastmesh.case.config import OutputConfig
+from coastmesh.case.config import CaseConfig
 
 if TYPE_CHECKING:
     from coastmesh.case.result import CaseResult
 
-__all__ = ["POOL_MIN_TRIANGLES", "FigureJobs", "figure_jobs"]
+__all__ = [
+    "DPI",
+    "POOL_MIN_TRIANGLES",
+    "FigureJobs",
+    "figure_jobs",
+    "mesh_jobs",
+    "quality_jobs",
+    "render",
+    "setup_jobs",
+]
 
 #: meshes with fewer triangles have their figures drawn in this process:
 #: starting the worker processes (1-2 s each) would cost more than it saves
 POOL_MIN_TRIANGLES = 200_000
+#: the figures' resolution, dots per inch (:func:`coastmesh.plot.save_figure`'s)
+DPI = 150
 #: the figures that draw every triangle first: they take longest
-_SLOW_FIRST = ("time_step", "quality", "domain", "parts", "mesh_mercator")
+_SLOW_FIRST = ("time_step", "quality", "depth", "mesh_mercator", "domain", "parts")
+#: the order of the figures in the case's list of files
+_ORDER = (
+    "domain",
+    "mesh",
+    "size",
+    "channels",
+    "parts",
+    "quality",
+    "depth",
+    "depth_sources",
+    "time_step",
+    "globe",
+    "mesh_mercator",
+)
 
 Job = tuple[str, str, tuple[Any, ...], dict[str, Any]]
 
 
-def figure_jobs(result: CaseResult, outputs: OutputConfig) -> list[Job]:
-    """Return ``(stem, plot function, args, kwargs)`` of each figure to draw."""
-    mesh, name, quality = result.mesh, result.name, result.report.quality
-    names = {s.physical_id: s.name for s in result.domain.segments}
+def setup_jobs(
+    name: str,
+    domain: Any,
+    size: Any,
+    *,
+    channel_width: Any = None,
+    channels: Any = None,
+    parts: Any = None,
+    crs: Any = None,
+) -> list[Job]:
+    """Return the figures of what was meshed: domain, size, channels, parts.
+
+    ``channels`` is the size field's channel report, drawn with
+    ``channel_width``; ``parts`` the parts report, drawn in ``crs`` (the
+    mesh's) when the water was meshed in more than one part.
+    """
     jobs: list[Job] = [
-        ("domain", "domain_figure", (result.domain,), {"title": f"{name}: domain"}),
-        ("mesh", "mesh_figure", (mesh,), {"names": names, "title": name}),
-        ("size", "size_figure", (result.size,), {"title": f"{name}: element size"}),
+        ("domain", "domain_figure", (domain,), {"title": f"{name}: domain"}),
+        ("size", "size_figure", (size,), {"title": f"{name}: element size"}),
     ]
-    if result.channel_width is not None:
+    if channel_width is not None:
         jobs.append(
             (
                 "channels",
                 "channel_figure",
-                (result.channel_width,),
-                {
-                    "report": result.report.size_field.channels,
-                    "title": f"{name}: width of the water",
-                },
+                (channel_width,),
+                {"report": channels, "title": f"{name}: width of the water"},
             )
         )
-    parts = result.report.parts
     if parts is not None and parts.parts > 1:
         title = f"{name}: {parts.summary()}"
         jobs.append(
-            (
-                "parts",
-                "parts_figure",
-                (result.domain, parts),
-                {"crs": mesh.crs, "title": title},
-            )
+            ("parts", "parts_figure", (domain, parts), {"crs": crs, "title": title})
         )
-    if quality is not None:
-        title = f"{name}: element quality"
-        jobs.append(("quality", "quality_figure", (mesh, quality), {"title": title}))
+    return jobs
+
+
+def mesh_jobs(
+    name: str, mesh: Any, domain: Any, config: CaseConfig, depth: Any = None
+) -> list[Job]:
+    """Return the figures of the finished mesh: mesh, depth, time step, globe.
+
+    And the detail figure, with ``[output] detail``. ``depth`` is the depth
+    report (its ``sources`` name the bathymetry of each node).
+    """
+    names = {s.physical_id: s.name for s in domain.segments}
+    jobs: list[Job] = [
+        ("mesh", "mesh_figure", (mesh,), {"names": names, "title": name})
+    ]
     if "depth" in mesh.point_data:
-        courant = result.config.size.courant
-        jobs += [
-            ("depth", "depth_figure", (mesh,), {"title": f"{name}: depth"}),
-            *(
-                [
-                    (
-                        "depth_sources",
-                        "depth_source_figure",
-                        (mesh, result.report.depth.sources),
-                        {"title": f"{name}: bathymetry source of each node"},
-                    )
-                ]
-                if "depth_source" in mesh.point_data and result.report.depth
-                else []
-            ),
+        courant = config.size.courant
+        jobs.append(("depth", "depth_figure", (mesh,), {"title": f"{name}: depth"}))
+        if "depth_source" in mesh.point_data and depth:
+            jobs.append(
+                (
+                    "depth_sources",
+                    "depth_source_figure",
+                    (mesh, depth.sources),
+                    {"title": f"{name}: bathymetry source of each node"},
+                )
+            )
+        jobs.append(
             (
                 "time_step",
                 "time_step_figure",
@@ -91,10 +136,10 @@ def figure_jobs(result: CaseResult, outputs: OutputConfig) -> list[Job]:
                     "velocity": 0.0 if courant is None else courant.velocity,
                     "title": f"{name}: time step",
                 },
-            ),
-        ]
-    if result.config.domain.kind == "global":
-        box = outputs.detail
+            )
+        )
+    box = config.outputs.detail
+    if config.domain.kind == "global":
         # the detail box (a region of interest) low in the view, else the Atlantic
         centre = (
             (0.0, 30.0)
@@ -105,65 +150,106 @@ def figure_jobs(result: CaseResult, outputs: OutputConfig) -> list[Job]:
             ("globe", "globe_figure", (mesh,), {"centre": centre, "names": names,
                                                 "title": name})
         )  # fmt: skip
-    if outputs.detail is not None:
+    if box is not None:
         jobs.append(
             (
                 "mesh_mercator",
                 "mercator_figure",
                 (mesh,),
-                {"detail": outputs.detail, "names": names, "title": name},
+                {"detail": box, "names": names, "title": name},
             )
         )
     return jobs
 
 
-def draw(path: Path, function: str, args: tuple, kwargs: dict[str, Any]) -> None:
-    """Draw one figure with ``coastmesh.plot.<function>`` and save it as ``path``."""
+def quality_jobs(name: str, mesh: Any, quality: Any) -> list[Job]:
+    """Return the figure of the mesh's quality report (none without one)."""
+    if quality is None:
+        return []
+    title = f"{name}: element quality"
+    return [("quality", "quality_figure", (mesh, quality), {"title": title})]
+
+
+def figure_jobs(result: CaseResult) -> list[Job]:
+    """Return ``(stem, plot function, args, kwargs)`` of each figure of a case.
+
+    In the order of the case's list of files.
+    """
+    report = result.report
+    jobs = [
+        *setup_jobs(
+            result.name,
+            result.domain,
+            result.size,
+            channel_width=result.channel_width,
+            channels=report.size_field.channels,
+            parts=report.parts,
+            crs=result.mesh.crs,
+        ),
+        *mesh_jobs(
+            result.name, result.mesh, result.domain, result.config, report.depth
+        ),
+        *quality_jobs(result.name, result.mesh, report.quality),
+    ]
+    return sorted(jobs, key=lambda job: _ORDER.index(job[0]))
+
+
+def render(function: str, args: tuple, kwargs: dict[str, Any]) -> bytes:
+    """Draw one figure with ``coastmesh.plot.<function>``; return it as PNG."""
     from coastmesh import plot
 
-    plot.save_figure(getattr(plot, function)(*args, **kwargs), path)
+    figure = getattr(plot, function)(*args, **kwargs)
+    buffer = io.BytesIO()  # a Figure without pyplot: freed when it goes
+    figure.savefig(buffer, format="png", dpi=DPI)
+    return buffer.getvalue()
 
 
 class FigureJobs:
-    """Draw a case's figures into ``folder/figures``.
+    """Draw a case's figures, on a pool of processes for a large mesh.
 
-    ``with FigureJobs(jobs, folder, workers) as figures: ...`` starts the jobs
-    on a pool when entered (``workers > 1``) and lets the caller work meanwhile;
-    :meth:`files` waits for them (drawing them here if ``workers`` is 1) and
-    returns their names. An error in any job is raised by :meth:`files`.
+    ``with FigureJobs(workers) as figures:`` then :meth:`start` figures as
+    soon as they can be drawn (on the pool, started with the first figure of
+    a mesh of :data:`POOL_MIN_TRIANGLES` or more; with one worker or a small
+    mesh it does nothing) and :meth:`save` them into the output folder:
+    it draws those not started (on the pool, or here), waits for the rest and
+    writes them. An error in any figure is raised by :meth:`save`; leaving the
+    ``with`` block stops the pool.
     """
 
-    def __init__(self, jobs: list[Job], folder: Path, workers: int = 1) -> None:
-        self.jobs, self.folder = jobs, folder / "figures"
-        self.workers = min(int(workers), len(jobs))
+    def __init__(self, workers: int = 1) -> None:
+        self.workers = int(workers)
         self.pool: ProcessPoolExecutor | None = None
-        self.futures: dict[str, Future] = {}
+        self.futures: dict[str, Future[bytes]] = {}
 
     def __enter__(self) -> FigureJobs:
-        if self.jobs:
-            self.folder.mkdir()
-        if self.workers > 1:
+        return self
+
+    def start(self, jobs: list[Job], triangles: int) -> None:
+        """Start drawing ``jobs`` on the pool, for a mesh of ``triangles``."""
+        if self.workers < 2 or triangles < POOL_MIN_TRIANGLES:
+            return
+        if self.pool is None:
             self.pool = ProcessPoolExecutor(
                 self.workers, mp_context=multiprocessing.get_context("spawn")
             )
-            rank = {stem: i for i, stem in enumerate(_SLOW_FIRST)}
-            for stem, function, args, kwargs in sorted(
-                self.jobs, key=lambda job: rank.get(job[0], len(rank))
-            ):
-                path = self.folder / f"{stem}.png"
-                self.futures[stem] = self.pool.submit(
-                    draw, path, function, args, kwargs
-                )
-        return self
+        rank = {stem: i for i, stem in enumerate(_SLOW_FIRST)}
+        for stem, function, args, kwargs in sorted(
+            jobs, key=lambda job: rank.get(job[0], len(rank))
+        ):
+            if stem not in self.futures:
+                self.futures[stem] = self.pool.submit(render, function, args, kwargs)
 
-    def files(self) -> list[str]:
-        """Wait for every figure; return their names, relative to the output."""
-        for stem, function, args, kwargs in self.jobs:
-            if stem in self.futures:
-                self.futures[stem].result()
-            else:
-                draw(self.folder / f"{stem}.png", function, args, kwargs)
-        return [f"figures/{stem}.png" for stem, *_ in self.jobs]
+    def save(self, jobs: list[Job], folder: Path, triangles: int) -> list[str]:
+        """Draw ``jobs`` into ``folder/figures``; return their names, relative."""
+        if not jobs:
+            return []
+        self.start(jobs, triangles)
+        (folder / "figures").mkdir()
+        for stem, function, args, kwargs in jobs:
+            future = self.futures.get(stem)
+            png = render(function, args, kwargs) if future is None else future.result()
+            (folder / "figures" / f"{stem}.png").write_bytes(png)
+        return [f"figures/{stem}.png" for stem, *_ in jobs]
 
     def __exit__(self, *exc: object) -> None:
         if self.pool is not None:

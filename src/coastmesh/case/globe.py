@@ -34,7 +34,8 @@ import shapely
 from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig
-from coastmesh.case.finish import finish_case
+from coastmesh.case.figures import FigureJobs
+from coastmesh.case.finish import finish_case, measure_mesh
 from coastmesh.case.inputs import (
     bathymetry_terms,
     build_case_domain,
@@ -71,13 +72,13 @@ def build_global(
     threads: int,
     runner: Any,
     *,
-    after: Callable[..., tuple[Any, dict[str, Any]]],
+    figures: FigureJobs | None,
     cleanup: Any,
 ) -> Any:
     """Build a global case (see the module docstring); return its CaseResult.
 
-    ``timed`` times a stage into ``timings``; ``after`` is the regional build's
-    step after meshing (depths, time step, quality).
+    ``timed`` times a stage into ``timings``; the mesh's figures start on
+    ``figures`` (:func:`~coastmesh.case.finish.measure_mesh`).
     """
     started = time.perf_counter()
     with timed("reading shorelines"):
@@ -151,7 +152,9 @@ def build_global(
             cleanup=cleanup,
             progress=progress,
         )
-    mesh, measured = after(config, mesh, timed, sized, parts.cleanup)
+    mesh, measured = measure_mesh(
+        config, mesh, timed, sized, parts.cleanup, figures=figures, domain=inputs.domain
+    )
     return finish_case(
         config, mesh, inputs, sized, parts, measured, timings, started,
         crs=crs, mesh_crs=plane, output_crs=output_crs, set_reports=set_reports,

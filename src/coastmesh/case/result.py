@@ -18,7 +18,6 @@ import shapely
 from pyproj import CRS
 
 from coastmesh import __version__
-from coastmesh.case import figures
 from coastmesh.case.config import CaseConfig, OutputConfig
 from coastmesh.case.dump import dump_case
 from coastmesh.case.figures import FigureJobs, figure_jobs
@@ -141,6 +140,7 @@ class CaseResult:
         overwrite: bool = False,
         stage: StageFactory | None = None,
         workers: int = 1,
+        figures: FigureJobs | None = None,
     ) -> CaseResult:
         """Write the mesh formats, domain, size field, reports and figures.
 
@@ -165,6 +165,9 @@ class CaseResult:
             (:mod:`coastmesh.case.figures`; spawned: a script that passes more
             than 1 runs under ``if __name__ == "__main__":``), while this one
             writes the mesh files. The files are the same for any number.
+        figures : FigureJobs, optional
+            Figures already being drawn (:func:`coastmesh.run_case` starts
+            them while the mesh is measured); ``workers`` is then its own.
 
         Returns
         -------
@@ -189,7 +192,7 @@ class CaseResult:
             result.config.outputs,
             overwrite=overwrite,
             stage=stage,
-            workers=workers,
+            figures=figures or FigureJobs(workers),
         )
         return dataclasses.replace(
             result,
@@ -206,7 +209,7 @@ def _write_case(
     *,
     overwrite: bool = False,
     stage: StageFactory | None = None,
-    workers: int = 1,
+    figures: FigureJobs,
 ) -> list[str]:
     """Write every output of a case into ``folder``, atomically.
 
@@ -222,23 +225,23 @@ def _write_case(
         Whether a non-empty ``folder`` may be replaced.
     stage : callable, optional
         ``stage(label)`` returns a context manager, entered once.
-    workers : int, default 1
-        Processes to draw the figures on (:mod:`coastmesh.case.figures`).
+    figures : FigureJobs
+        Draws the figures (:mod:`coastmesh.case.figures`): here, or on a
+        pool while this process writes the mesh files.
 
     Returns
     -------
     list of str
         File names relative to ``folder``, in the order written.
     """
+    jobs = figure_jobs(result) if outputs.figures else []
+    triangles = len(result.mesh.triangles)
     with (
         (stage or quiet_stage)("writing outputs"),
         atomic_directory(folder, overwrite=overwrite) as partial,
-        FigureJobs(
-            figure_jobs(result, outputs) if outputs.figures else [],
-            partial,
-            workers if len(result.mesh.triangles) >= figures.POOL_MIN_TRIANGLES else 1,
-        ) as drawn,
+        figures,
     ):
+        figures.start(jobs, triangles)  # on the pool, while the files are written
         files = _write_models(result, partial, outputs)
         if outputs.domain:
             _write_domain(partial / "domain.gpkg", result)
@@ -252,7 +255,7 @@ def _write_case(
                 partial / "quality.json", quality, summary=partial / "quality.txt"
             )
             files += ["quality.json", "quality.txt"]
-        files += drawn.files()
+        files += figures.save(jobs, partial, triangles)
         write_case_copy(partial, result.config)
         files += ["case.toml", "report.json", "summary.txt"]
         report = dataclasses.replace(result.report, files=tuple(files))

@@ -1,9 +1,10 @@
 """Run a whole case and write its outputs, as ``coastmesh run`` does.
 
 :func:`run_case` is :func:`~coastmesh.case.build.build_case`, then
-:meth:`~coastmesh.case.result.CaseResult.write`. A case with ``[case] kind =
-"shorelines"`` or ``"bathymetry"`` runs one of the paper's PCA studies
-(:mod:`coastmesh.case.studies`) instead.
+:meth:`~coastmesh.case.result.CaseResult.write`, with each figure started as
+soon as what it shows is made (:mod:`coastmesh.case.figures`). A case with
+``[case] kind = "shorelines"`` or ``"bathymetry"`` runs one of the paper's PCA
+studies (:mod:`coastmesh.case.studies`) instead.
 """
 
 from __future__ import annotations
@@ -16,8 +17,9 @@ import time
 from pathlib import Path
 from typing import Any
 
-from coastmesh.case.build import as_case, build_case, worker_count
+from coastmesh.case.build import as_case, build_drawing, worker_count
 from coastmesh.case.config import CaseConfig, StudyCase
+from coastmesh.case.figures import FigureJobs
 from coastmesh.case.result import CaseResult, write_case_copy
 from coastmesh.io import atomic_directory, check_directory
 from coastmesh.types import StageFactory, quiet_stage
@@ -81,10 +83,14 @@ def run_case(
     if isinstance(config, StudyCase):
         return _run_study(config, target, overwrite, stage)
     started = time.perf_counter()
-    result = build_case(config, stage=stage, workers=workers, scheduler=scheduler)
-    # the figures are drawn on local processes, whatever meshed the parts
+    # the figures are drawn on local processes, whatever meshed the parts, and
+    # each starts as soon as what it shows is made
     local = worker_count(workers if workers is not None else config.run.workers)
-    result = result.write(target, overwrite=overwrite, stage=stage, workers=local)
+    with FigureJobs(local) as figures:
+        result = build_drawing(
+            config, stage=stage, workers=workers, scheduler=scheduler, figures=figures
+        )
+        result = result.write(target, overwrite=overwrite, stage=stage, figures=figures)
     result = dataclasses.replace(result, seconds=time.perf_counter() - started)
     logger.info("%s", result.summary())
     return result
