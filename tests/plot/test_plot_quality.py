@@ -129,3 +129,58 @@ def test_time_step_figure_of_a_large_mesh_shades_each_node_by_its_worst(
         np.testing.assert_array_equal(at_nodes, want)
         assert not image.get_in_layout()
     figure.savefig(tmp_path / "time_step.png")
+
+
+@pytest.mark.parametrize("figure_of", ["depth", "time_step"])
+def test_a_mesh_shaded_in_chunks_is_the_same_image(lonlat_mesh, monkeypatch, figure_of):
+    """Gouraud shading in chunks of triangles (for memory) draws the same bytes.
+
+    With a triangle masked out (no depth at a node): each chunk drops its own.
+    """
+    import io
+
+    import coastmesh.plot.base as base
+    import coastmesh.plot.quality as quality
+
+    lon = lonlat_mesh.points[:, 0]
+    depth = 2000 * (lon - lon.min()) + 5
+    depth[lonlat_mesh.triangles[len(lonlat_mesh.triangles) // 2, 0]] = np.nan
+    mesh = lonlat_mesh.with_point_data(depth=depth)
+    monkeypatch.setattr(quality, "FLAT_TRIANGLES", 0)  # shaded from the nodes
+    draw = {"depth": depth_figure, "time_step": time_step_figure}[figure_of]
+
+    def one_collection(ax, triangulation, values, *, in_layout=True, **kwargs):
+        """matplotlib's own call, the reference."""
+        image = ax.tripcolor(triangulation, values, shading="gouraud", **kwargs)
+        image.set_in_layout(in_layout)
+        return image
+
+    images = {}
+    for chunk in (None, 97):
+        with monkeypatch.context() as patch:
+            if chunk is None:
+                patch.setattr(quality, "shaded_mesh", one_collection)
+            else:
+                patch.setattr(base, "SHADED_CHUNK", chunk)
+            figure = draw(mesh)
+        shaded = [c for c in figure.axes[0].collections if c.get_array() is not None]
+        assert len(shaded) == (
+            1 if chunk is None else math.ceil(len(mesh.triangles) / chunk)
+        )
+        buffer = io.BytesIO()
+        figure.savefig(buffer, format="png", dpi=60)
+        images[chunk] = buffer.getvalue()
+    assert images[97] == images[None]
+
+
+def test_shaded_mesh_needs_the_colour_range(lonlat_mesh):
+    from matplotlib.figure import Figure
+    from matplotlib.tri import Triangulation
+
+    from coastmesh.plot.base import shaded_mesh
+
+    m = lonlat_mesh
+    tri = Triangulation(m.points[:, 0], m.points[:, 1], m.triangles)
+    ax = Figure().add_subplot()
+    with pytest.raises(ValueError, match="vmin and vmax, or norm"):
+        shaded_mesh(ax, tri, m.points[:, 0], vmin=0.0)

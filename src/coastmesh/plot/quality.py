@@ -19,7 +19,7 @@ from coastmesh.meshing import (
     triangle_quality,
 )
 from coastmesh.meshing.quality_report import EDGE_RATIO_RANGE
-from coastmesh.plot.base import across_dateline, geographic_axes
+from coastmesh.plot.base import across_dateline, geographic_axes, shaded_mesh
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -171,10 +171,10 @@ def depth_figure(mesh: Mesh, *, title: str | None = None) -> Figure:
         if finite.any()
         else (0.0, 1.0)
     )
-    image = ax.tripcolor(
+    image = shaded_mesh(
+        ax,
         triangulation,
         np.where(finite, depth, low),
-        shading="gouraud",
         cmap="viridis_r",
         vmin=low,
         vmax=high,
@@ -350,21 +350,21 @@ def _element_map(
         else (1.0, 10.0)
     )
     norm = LogNorm(low, high if high > low else low * 10)
+    # not in the layout: its extent is the axes', and matplotlib would turn a
+    # shaded mesh into one path per triangle to measure it (38 s at 2.9 M)
     if len(mesh.triangles) <= FLAT_TRIANGLES:
         image = ax.tripcolor(
             triangulation, facecolors=np.where(shown, values, low), cmap=cmap, norm=norm
         )
+        image.set_in_layout(False)
     else:  # each node the worst of its triangles (see time_step_figure)
         at_nodes = np.full(len(x), np.inf if pick == "min" else -np.inf)
         worst = np.minimum if pick == "min" else np.maximum
         worst.at(at_nodes, mesh.triangles[shown].ravel(), np.repeat(values[shown], 3))
         at_nodes[~np.isfinite(at_nodes)] = low
-        image = ax.tripcolor(
-            triangulation, at_nodes, shading="gouraud", cmap=cmap, norm=norm
+        image = shaded_mesh(
+            ax, triangulation, at_nodes, in_layout=False, cmap=cmap, norm=norm
         )
-    # not in the layout: its extent is the axes', and matplotlib would turn a
-    # shaded mesh into one path per triangle to measure it (38 s at 2.9 M)
-    image.set_in_layout(False)
     bar = ax.figure.colorbar(image, ax=ax, label=label)
     plain = FuncFormatter(lambda value, _: f"{value:g}")
     bar.ax.yaxis.set_major_formatter(plain)  # 0.5, 2, 10, not 5e-01, 2x10^0
