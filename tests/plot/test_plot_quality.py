@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
 import pytest
 
 from coastmesh.geometry import reproject_points
-from coastmesh.meshing import element_time_steps, mesh_quality
+from coastmesh.meshing import element_time_steps, mesh_quality, triangle_quality
 from coastmesh.plot import depth_figure, quality_figure, time_step_figure
 from coastmesh.types import Mesh
 
@@ -184,3 +185,30 @@ def test_shaded_mesh_needs_the_colour_range(lonlat_mesh):
     ax = Figure().add_subplot()
     with pytest.raises(ValueError, match="vmin and vmax, or norm"):
         shaded_mesh(ax, tri, m.points[:, 0], vmin=0.0)
+
+
+def test_the_quality_figure_draws_the_reports_histograms(lonlat_mesh):
+    """The histograms measured with the report are those of the mesh.
+
+    The figure drawn from them is the figure drawn from the mesh measured
+    again (a report without histograms), byte for byte.
+    """
+    import dataclasses
+    import io
+
+    report = mesh_quality(lonlat_mesh)
+    assert set(report.histograms) == {"min_angle", "radius_ratio", "edge_ratio"}
+    images = []
+    for r in (report, dataclasses.replace(report, histograms={})):
+        buffer = io.BytesIO()
+        quality_figure(lonlat_mesh, r, title="t").savefig(buffer, format="png")
+        images.append(buffer.getvalue())
+    assert images[0] == images[1]
+    angles = triangle_quality(lonlat_mesh)["min_angle"]
+    counts, bins = report.histograms["min_angle"]
+    assert bins[0] == 0 and bins[-1] == 60 and len(bins) == 91
+    literal = [  # one triangle at a time; the last bin holds 60 itself
+        sum(1 for a in angles if lo <= a < hi or (k == 89 and a == hi))
+        for k, (lo, hi) in enumerate(itertools.pairwise(bins))
+    ]
+    assert counts.tolist() == literal

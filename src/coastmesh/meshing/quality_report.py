@@ -24,12 +24,15 @@ from coastmesh.types import Report
 
 __all__ = [
     "EDGE_RATIO_RANGE",
+    "HISTOGRAM_BINS",
     "RADIUS_RATIO_TARGET",
     "AngleStats",
     "EdgeRatioStats",
     "QualityReport",
     "RatioStats",
     "ValenceStats",
+    "histogram",
+    "histogram_bins",
 ]
 
 #: Edge length / target size counted as on target.
@@ -234,6 +237,36 @@ class ValenceStats(Report):
         return f"{self.nodes:,} nodes, valence max {self.max}, {self.above_8:,} above 8"
 
 
+#: Bins of each histogram of a quality report (and figure).
+HISTOGRAM_BINS = 90
+
+
+def histogram_bins(key: str, values: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Return the bin edges of ``key``'s histogram of ``values``.
+
+    ``"min_angle"``: 0 to 60 degrees; ``"radius_ratio"``: 0 to 1;
+    ``"edge_ratio"``: geometric, from 0.25 or the smallest value below it to 4
+    or the largest above it.
+    """
+    if key == "min_angle":
+        return np.linspace(0.0, 60.0, HISTOGRAM_BINS + 1)
+    if key == "radius_ratio":
+        return np.linspace(0.0, 1.0, HISTOGRAM_BINS + 1)
+    low = min(float(values.min()), 0.25)
+    high = max(float(values.max()), 4.0)
+    return np.geomspace(low, high, HISTOGRAM_BINS + 1)
+
+
+def histogram(key: str, values: NDArray[np.float64]) -> tuple[NDArray, NDArray]:
+    """Return ``(counts, edges)`` of ``values`` in :func:`histogram_bins`.
+
+    Values outside the bins are counted in the end bins.
+    """
+    bins = histogram_bins(key, values)
+    counts, edges = np.histogram(np.clip(values, bins[0], bins[-1]), bins=bins)
+    return counts, edges
+
+
 @dataclass(frozen=True, slots=True)
 class QualityReport(Report):
     """What :func:`~coastmesh.meshing.quality.mesh_quality` measured.
@@ -274,6 +307,11 @@ class QualityReport(Report):
     channel_spanning_triangles : ndarray of int64, shape (k,)
         Those of them with at most one side on the boundary: they span a
         channel one element wide. Only their number is reported.
+    histograms : dict of str to (counts, bin edges)
+        ``"min_angle"``, ``"radius_ratio"`` and, with a size,
+        ``"edge_ratio"`` (:func:`histogram_bins`), values outside the bins
+        counted in the end bins: what the quality figure draws, so that it
+        need not measure the mesh again. Not in :meth:`to_dict`.
     """
 
     nodes: int
@@ -294,6 +332,9 @@ class QualityReport(Report):
     time_step: TimeStepStats | None
     all_boundary_triangles: NDArray[np.int64] = field(repr=False, compare=False)
     channel_spanning_triangles: NDArray[np.int64] = field(repr=False, compare=False)
+    histograms: dict[str, tuple[NDArray[np.int64], NDArray[np.float64]]] = field(
+        default_factory=dict, repr=False, compare=False
+    )
 
     def to_dict(self) -> dict[str, Any]:
         """Return the report as JSON-ready data, floats to 6 significant digits.

@@ -18,7 +18,7 @@ from coastmesh.meshing import (
     mesh_quality,
     triangle_quality,
 )
-from coastmesh.meshing.quality_report import EDGE_RATIO_RANGE
+from coastmesh.meshing.quality_report import EDGE_RATIO_RANGE, histogram
 from coastmesh.plot.base import across_dateline, geographic_axes, shaded_mesh
 
 if TYPE_CHECKING:
@@ -36,7 +36,6 @@ __all__ = [
     "time_step_figure",
 ]
 
-_BINS = 90
 #: Up to this many triangles, the time-step map gives each its flat colour.
 FLAT_TRIANGLES = 500_000
 
@@ -76,25 +75,34 @@ def quality_figure(
 
     if report is None:
         report = mesh_quality(mesh)
-    shape = triangle_quality(mesh)
-    edges = edge_quality(mesh)
-    panels = 3 if "ratio" in edges else 2
+    drawn = report.histograms
+    if not {"min_angle", "radius_ratio"} <= drawn.keys():  # a report without them
+        shape, edges = triangle_quality(mesh), edge_quality(mesh)
+        drawn = {
+            key: histogram(key, values)
+            for key, values in (
+                ("min_angle", shape["min_angle"]),
+                ("radius_ratio", shape["radius_ratio"]),
+                ("edge_ratio", edges.get("ratio")),
+            )
+            if values is not None
+        }
+    panels = 3 if "edge_ratio" in drawn else 2
     figure = Figure(figsize=(5 * panels, 4), layout="constrained")
     axes = figure.subplots(1, panels, squeeze=False)[0]
     a, r = report.min_angle, report.radius_ratio
-    _histogram(axes[0], shape["min_angle"], np.linspace(0, 60, _BINS + 1), (20, 30))
+    _histogram(axes[0], *drawn["min_angle"], (20, 30))
     axes[0].set_xlabel("minimum angle (degrees)")
     axes[0].set_title(
         f"min {a.min:.1f}, p5 {a.p5:.1f}; {a.below_30:,} below 30", fontsize="medium"
     )
-    _histogram(axes[1], shape["radius_ratio"], np.linspace(0, 1, _BINS + 1), ())
+    _histogram(axes[1], *drawn["radius_ratio"], ())
     axes[1].set_xlabel("radius ratio 2 r_in / r_circ")
     axes[1].set_title(f"min {r.min:.3f}, p5 {r.p5:.3f}", fontsize="medium")
     if panels == 3:
-        ratio = edges["ratio"]
-        low = min(float(ratio.min()), 0.25)
-        high = max(float(ratio.max()), 4.0)
-        _histogram(axes[2], ratio, np.geomspace(low, high, _BINS + 1), EDGE_RATIO_RANGE)
+        counts, bins = drawn["edge_ratio"]
+        low, high = bins[0], bins[-1]
+        _histogram(axes[2], counts, bins, EDGE_RATIO_RANGE)
         axes[2].set_xscale("log")
         ticks = [t for t in 2.0 ** np.arange(-4, 5) if low <= t <= high]
         axes[2].set_xticks(ticks, [f"{t:g}" for t in ticks])
@@ -403,12 +411,11 @@ def _element_map(
 
 def _histogram(
     ax: Axes,
-    values: NDArray[np.float64],
+    counts: NDArray[np.int64],
     bins: NDArray[np.float64],
     marks: tuple[float, ...],
 ) -> None:
-    counts, edges = np.histogram(np.clip(values, bins[0], bins[-1]), bins=bins)
-    ax.stairs(counts, edges, fill=True, color="#4c72b0")
+    ax.stairs(counts, bins, fill=True, color="#4c72b0")
     ax.set_yscale("log")
     for mark in marks:
         ax.axvline(mark, color="#c44e52", linestyle="--", linewidth=1)
