@@ -65,7 +65,7 @@ def test_small_meshes_and_one_worker_draw_here(tmp_path):
 def test_each_figure_starts_once_what_it_shows_is_made(tmp_path, monkeypatch):
     """With a pool, run_case starts the figures as the case is built.
 
-    Those of the domain and size field once the water is meshed; those
+    Those of the domain and size field once it is made, before the meshing; those
     of the mesh once it has its depths and time step, before its quality is
     measured; the quality figure after that; none is drawn twice.
     """
@@ -74,7 +74,8 @@ def test_each_figure_starts_once_what_it_shows_is_made(tmp_path, monkeypatch):
     start = FigureJobs.start
 
     def recorded(self, jobs, triangles):
-        events.append("start " + " ".join(sorted(j[0] for j in jobs)))
+        if jobs:
+            events.append("start " + " ".join(sorted(j[0] for j in jobs)))
         start(self, jobs, triangles)
 
     monkeypatch.setattr(FigureJobs, "start", recorded)
@@ -99,22 +100,21 @@ def test_each_figure_starts_once_what_it_shows_is_made(tmp_path, monkeypatch):
         result = run_case(
             parse_case(text, EXAMPLE), output=tmp_path / "o", workers=2, stage=stage
         )
-    starts = [e for e in events if e.startswith("start")]
+    starts = [e for e in events if e.startswith("start ")]  # none: no parts
     assert starts[:3] == [
         "start channels domain size",
         "start depth mesh time_step",
         "start quality",
     ], events
     at = events.index
-    assert at("meshing") < at(starts[0]) < at("depth at the nodes")
+    assert at("size field") < at(starts[0]) < at("meshing")
     assert at("time step") < at(starts[1]) < at("mesh quality") < at(starts[2])
-    assert at(starts[2]) < at("writing outputs")
+    assert at(starts[2]) < at("writing outputs") < at(starts[3])  # all, at last
     assert drawn == []  # every figure was drawn on the pool, once
     pngs = sorted(f for f in result.files if f.startswith("figures/"))
     assert pngs == [
         f"figures/{s}.png"
         for s in sorted(
-            ["channels", "domain", "size", "depth", "mesh", "time_step"]
-            + ["quality"]
+            ["channels", "domain", "size", "depth", "mesh", "time_step"] + ["quality"]
         )
     ]

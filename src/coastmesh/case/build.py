@@ -33,7 +33,7 @@ from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig, StudyCase
 from coastmesh.case.executor import open_runner
-from coastmesh.case.figures import FigureJobs, setup_jobs
+from coastmesh.case.figures import FigureJobs, parts_jobs, setup_jobs
 from coastmesh.case.finish import finish_case, measure_mesh, peak_memory_mb
 from coastmesh.case.globe import build_global
 from coastmesh.case.inputs import (
@@ -238,6 +238,7 @@ def _build(
         )
         report = dataclasses.replace(sized.report, channels=channels)
         sized = dataclasses.replace(sized, report=report)
+    _start_setup_figures(figures, config, domain, sized)
     size = sized.field
     output_crs = CRS.from_user_input(config.mesh.output_crs or crs)
     cleanup = _cleanup(config)
@@ -259,7 +260,7 @@ def _build(
         )
     if parts.parts > 1:
         logger.info("parts: %s", parts.summary())
-    _start_setup_figures(figures, config, domain, sized, parts, mesh)
+    _start_parts_figure(figures, config, domain, parts, mesh)
     mesh, after = measure_mesh(
         config, mesh, timed, sized, parts.cleanup, figures=figures, domain=domain
     )
@@ -270,14 +271,13 @@ def _build(
 
 
 def _start_setup_figures(
-    figures: FigureJobs | None,
-    config: CaseConfig,
-    domain: Any,
-    sized: SizeField,
-    parts: Any,
-    mesh: Mesh,
+    figures: FigureJobs | None, config: CaseConfig, domain: Any, sized: SizeField
 ) -> None:
-    """Start the figures of what was meshed: drawn while the mesh is measured."""
+    """Start the figures of the domain and size field: drawn during the meshing.
+
+    Whether they go to the pool is decided on the triangles the size field
+    asks for over its whole grid (land too: an overestimate of the mesh).
+    """
     if figures is not None:
         jobs = setup_jobs(
             config.name,
@@ -285,9 +285,18 @@ def _start_setup_figures(
             sized.field,
             channel_width=sized.width,
             channels=sized.report.channels,
-            parts=parts,
-            crs=mesh.crs,
         )
+        h = sized.field.values
+        cell = float(abs(sized.field.x[1] - sized.field.x[0]))
+        figures.start(jobs, int((4 / np.sqrt(3) * cell**2 / h**2).sum()))
+
+
+def _start_parts_figure(
+    figures: FigureJobs | None, config: CaseConfig, domain: Any, parts: Any, mesh: Mesh
+) -> None:
+    """Start the figure of the parts: drawn while the mesh is measured."""
+    if figures is not None:
+        jobs = parts_jobs(config.name, domain, parts, mesh.crs)
         figures.start(jobs, len(mesh.triangles))
 
 

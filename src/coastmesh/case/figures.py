@@ -10,10 +10,12 @@ other), the longest first.
 
 :func:`coastmesh.run_case` hands its :class:`FigureJobs` to the build, which
 starts each figure as soon as what it shows is final (:func:`setup_jobs` once
-the water is meshed, :func:`mesh_jobs` once the mesh has its depths and time
-step, :func:`quality_jobs` once it is measured), so the pool draws while this
-process measures the mesh and writes its files. The files are the same
-whatever the number of workers, and whenever each figure was started.
+the size field is made, :func:`parts_jobs` once the water is meshed,
+:func:`mesh_jobs` once the mesh has its depths and time step,
+:func:`quality_jobs` once it is measured), so the pool draws while this
+process prepares the parts, measures the mesh and writes its files. The files
+are the same whatever the number of workers, and whenever each figure was
+started.
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ __all__ = [
     "FigureJobs",
     "figure_jobs",
     "mesh_jobs",
+    "parts_jobs",
     "quality_jobs",
     "render",
     "setup_jobs",
@@ -72,14 +75,11 @@ def setup_jobs(
     *,
     channel_width: Any = None,
     channels: Any = None,
-    parts: Any = None,
-    crs: Any = None,
 ) -> list[Job]:
-    """Return the figures of what was meshed: domain, size, channels, parts.
+    """Return the figures of what is meshed: the domain, size field and channels.
 
     ``channels`` is the size field's channel report, drawn with
-    ``channel_width``; ``parts`` the parts report, drawn in ``crs`` (the
-    mesh's) when the water was meshed in more than one part.
+    ``channel_width`` (none without it).
     """
     jobs: list[Job] = [
         ("domain", "domain_figure", (domain,), {"title": f"{name}: domain"}),
@@ -94,12 +94,15 @@ def setup_jobs(
                 {"report": channels, "title": f"{name}: width of the water"},
             )
         )
-    if parts is not None and parts.parts > 1:
-        title = f"{name}: {parts.summary()}"
-        jobs.append(
-            ("parts", "parts_figure", (domain, parts), {"crs": crs, "title": title})
-        )
     return jobs
+
+
+def parts_jobs(name: str, domain: Any, parts: Any, crs: Any) -> list[Job]:
+    """Return the figure of the parts, in ``crs`` (the mesh's); none for one part."""
+    if parts is None or parts.parts < 2:
+        return []
+    title = f"{name}: {parts.summary()}"
+    return [("parts", "parts_figure", (domain, parts), {"crs": crs, "title": title})]
 
 
 def mesh_jobs(
@@ -183,9 +186,8 @@ def figure_jobs(result: CaseResult) -> list[Job]:
             result.size,
             channel_width=result.channel_width,
             channels=report.size_field.channels,
-            parts=report.parts,
-            crs=result.mesh.crs,
         ),
+        *parts_jobs(result.name, result.domain, report.parts, result.mesh.crs),
         *mesh_jobs(
             result.name, result.mesh, result.domain, result.config, report.depth
         ),
