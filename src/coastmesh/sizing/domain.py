@@ -14,6 +14,7 @@ from __future__ import annotations
 import logging
 import warnings
 from collections.abc import Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -26,7 +27,7 @@ from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.geometry.earth import reproject
 from coastmesh.sizing.bathymetry import BathymetrySize, bathymetry_size
 from coastmesh.sizing.channel import ChannelReport, channel_polygons, over_land
-from coastmesh.sizing.field import Gradation, size_field
+from coastmesh.sizing.field import Gradation, grid_axes, size_field
 from coastmesh.sizing.gradation import DEFAULT_RATE, limit_gradation
 from coastmesh.sizing.slots import domain_slots, off_open_boundaries
 from coastmesh.sizing.terms import (
@@ -326,16 +327,27 @@ def size_field_with_report(
     if cell is None:
         cell = max(_extent((minx, miny, maxx, maxy)) / _CELLS_ACROSS, smallest)
     pad = _PAD_CELLS * cell
+    bounds = (minx - pad, miny - pad, maxx + pad, maxy + pad)
     graded = _gradations(domain, gradations, mesh_crs)
     _report(progress, 0)
-    field = size_field(
-        (minx - pad, miny - pad, maxx + pad, maxy + pad),
-        graded,
-        crs=mesh_crs,
-        h_max=h_max,
-        cell=cell,
-        runner=runner,
-    )
+    with ThreadPoolExecutor(1) as thread:
+        # the width of the water needs only the grid: measured in a thread
+        # while the gradations are (GEOS and scipy let the threads run at once)
+        widths = (
+            None
+            if channels is None
+            else thread.submit(
+                domain_width,
+                domain,
+                *grid_axes(bounds, cell),
+                mesh_crs,
+                max_width=channels.elements_across * h_max,
+            )
+        )
+        field = size_field(
+            bounds, graded, crs=mesh_crs, h_max=h_max, cell=cell, runner=runner
+        )
+        measured = None if widths is None else widths.result()
     _report(progress, 1)
     x, y = field.x.values, field.y.values
     values = field.values
@@ -345,7 +357,7 @@ def size_field_with_report(
     width = None
     if channels is not None:
         values, channel_report, narrow, inside, width = _channel_term(
-            domain, channels, values, x, y, mesh_crs, h_min=h_min, h_max=h_max
+            domain, channels, values, x, y, mesh_crs, measured, h_min=h_min
         )
         width = field.copy(data=np.where(inside, width, np.nan))
         width.name = "width"
@@ -392,17 +404,15 @@ def _channel_term(
     x: NDArray[np.float64],
     y: NDArray[np.float64],
     mesh_crs: CRS,
+    measured: tuple[NDArray[np.float64], NDArray[np.bool_]],
     *,
     h_min: float,
-    h_max: float,
 ) -> tuple[Any, ...]:
-    """Apply the channel term.
+    """Apply the channel term, given ``domain_width``'s width and inside.
 
     Returns the sizes, report, narrow channels, nodes inside and the width.
     """
-    width, inside = domain_width(
-        domain, x, y, mesh_crs, max_width=channels.elements_across * h_max
-    )
+    width, inside = measured
     term = over_land(np.maximum(width / channels.elements_across, h_min), width > 0)
     limited = inside & (term < values)
     values = np.minimum(values, term)

@@ -17,7 +17,7 @@ from coastmesh.types import Runner
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["Gradation", "size_field"]
+__all__ = ["Gradation", "grid_axes", "size_field"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -101,10 +101,7 @@ def size_field(
         raise ConfigError(f"bounds = {bounds}: need minx < maxx and miny < maxy")
     if not cell > 0:
         raise ConfigError(f"cell = {cell}: must be > 0 metres")
-    nx = int(np.ceil((maxx - minx) / cell)) + 1
-    ny = int(np.ceil((maxy - miny) / cell)) + 1
-    x = minx + cell * np.arange(nx)
-    y = miny + cell * np.arange(ny)
+    x, y = grid_axes((minx, miny, maxx, maxy), cell)
     for g in gradations:
         if g.h_min > h_max:
             raise ConfigError(
@@ -127,3 +124,23 @@ def size_field(
         name="size",
         attrs={"crs": crs.to_wkt(), "units": "m", "history": history},
     )
+
+
+def grid_axes(
+    bounds: tuple[float, float, float, float], cell: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Return the node coordinates ``x``, ``y`` of :func:`size_field`'s grid.
+
+    From the lower-left corner of ``bounds`` every ``cell`` metres, until the
+    nodes cover them.
+
+    Examples
+    --------
+    >>> x, y = grid_axes((0.0, 0.0, 250.0, 100.0), 100.0)
+    >>> x.tolist(), y.tolist()
+    ([0.0, 100.0, 200.0, 300.0], [0.0, 100.0])
+    """
+    minx, miny, maxx, maxy = (float(v) for v in bounds)
+    nx = int(np.ceil((maxx - minx) / cell)) + 1
+    ny = int(np.ceil((maxy - miny) / cell)) + 1
+    return minx + cell * np.arange(nx), miny + cell * np.arange(ny)
