@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import os
 import warnings
 from pathlib import Path
 
@@ -47,6 +48,9 @@ def test_a_figure_that_fails_on_a_worker_fails_the_write(tmp_path):
     ):
         drawn.start(jobs, big)
         assert drawn.pool is not None
+        if hasattr(os, "nice"):  # the pool takes only idle cores
+            niceness = drawn.pool.submit(os.nice, 0).result()
+            assert niceness == min(os.nice(0) + figures.NICE, 19)
         drawn.save(jobs, tmp_path, big)
     assert not list((tmp_path / "figures").iterdir())
 
