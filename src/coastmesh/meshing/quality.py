@@ -34,7 +34,7 @@ from coastmesh.meshing.quality_report import (
     QualityReport,
     RatioStats,
     ValenceStats,
-    histogram,
+    histograms,
 )
 from coastmesh.meshing.timestep import (
     check_time_step_options,
@@ -292,15 +292,7 @@ def mesh_quality(
         channel_spanning_triangles=_channel_spanning(
             mesh.triangles, all_boundary, boundary, n
         ),
-        histograms={
-            key: histogram(key, values)
-            for key, values in (
-                ("min_angle", shape["min_angle"]),
-                ("radius_ratio", shape["radius_ratio"]),
-                ("edge_ratio", edges.get("ratio")),
-            )
-            if values is not None
-        },
+        histograms=histograms(shape, edges),
     )
     logger.info(
         "quality: %d triangles, min angle %.2f deg, %d below 30, %d all-boundary, "

@@ -33,6 +33,7 @@ __all__ = [
     "ValenceStats",
     "histogram",
     "histogram_bins",
+    "histograms",
 ]
 
 #: Edge length / target size counted as on target.
@@ -255,6 +256,27 @@ def histogram_bins(key: str, values: NDArray[np.float64]) -> NDArray[np.float64]
     low = min(float(values.min()), 0.25)
     high = max(float(values.max()), 4.0)
     return np.geomspace(low, high, HISTOGRAM_BINS + 1)
+
+
+def histograms(
+    shape: dict[str, NDArray[np.float64]], edges: dict[str, Any]
+) -> dict[str, tuple[NDArray, NDArray]]:
+    """Return :attr:`QualityReport.histograms` of measured triangles and edges.
+
+    ``shape`` holds ``"min_angle"`` and ``"radius_ratio"`` per triangle,
+    ``edges`` maybe ``"ratio"`` per edge (as
+    :func:`~coastmesh.meshing.quality.triangle_quality` and
+    :func:`~coastmesh.meshing.quality.edge_quality` return them).
+    """
+    return {
+        key: histogram(key, values)
+        for key, values in (
+            ("min_angle", shape["min_angle"]),
+            ("radius_ratio", shape["radius_ratio"]),
+            ("edge_ratio", edges.get("ratio")),
+        )
+        if values is not None
+    }
 
 
 def histogram(key: str, values: NDArray[np.float64]) -> tuple[NDArray, NDArray]:

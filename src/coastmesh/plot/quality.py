@@ -18,7 +18,7 @@ from coastmesh.meshing import (
     mesh_quality,
     triangle_quality,
 )
-from coastmesh.meshing.quality_report import EDGE_RATIO_RANGE, histogram
+from coastmesh.meshing.quality_report import EDGE_RATIO_RANGE, histograms
 from coastmesh.plot.base import across_dateline, geographic_axes, shaded_mesh
 
 if TYPE_CHECKING:
@@ -77,16 +77,7 @@ def quality_figure(
         report = mesh_quality(mesh)
     drawn = report.histograms
     if not {"min_angle", "radius_ratio"} <= drawn.keys():  # a report without them
-        shape, edges = triangle_quality(mesh), edge_quality(mesh)
-        drawn = {
-            key: histogram(key, values)
-            for key, values in (
-                ("min_angle", shape["min_angle"]),
-                ("radius_ratio", shape["radius_ratio"]),
-                ("edge_ratio", edges.get("ratio")),
-            )
-            if values is not None
-        }
+        drawn = histograms(triangle_quality(mesh), edge_quality(mesh))
     panels = 3 if "edge_ratio" in drawn else 2
     figure = Figure(figsize=(5 * panels, 4), layout="constrained")
     axes = figure.subplots(1, panels, squeeze=False)[0]
