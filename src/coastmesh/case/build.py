@@ -151,11 +151,12 @@ def build_drawing(
 ) -> CaseResult:
     """:func:`build_case`, starting each figure on ``figures`` once it can.
 
-    The figures of what the mesh was made from start once the water is
-    meshed, those of the mesh once it has its depths and time step, the
-    quality figure once it is measured (:mod:`coastmesh.case.figures`): with
-    a pool, they are drawn while this process goes on. A global case starts
-    only the mesh's.
+    The domain, size and channel figures start once the size field is made,
+    the parts figure once the water is meshed, the mesh's figures once it has
+    its depths and time step, the quality figure once it is measured
+    (:mod:`coastmesh.case.figures`): with a pool, they are drawn while this
+    process goes on. A global case starts only the mesh's and the quality
+    figure; the others start when it is written.
     """
     if workers is not None:
         worker_count(workers)  # checked before any work
