@@ -51,6 +51,7 @@ __all__ = [
     "PartTask",
     "Runner",
     "clean_part",
+    "label_point",
     "merge_parts",
     "mesh_arrays",
     "mesh_part",
@@ -83,7 +84,8 @@ class PartTask:
     expected : float
         The part's expected triangle count.
     centre : (float, float)
-        A point inside the part, in the meshing CRS (for labels).
+        A point inside the part, in the meshing CRS, where the parts figure
+        puts its label (:func:`label_point`).
     cleanup : CleanupOptions or None
         Clean the part's mesh, the nodes of its cuts held (:func:`clean_part`).
     """
@@ -201,7 +203,7 @@ def part_tasks(
                 algorithm=algorithm,
                 optimize=optimize,
                 expected=expected_triangles(polygon, window),
-                centre=tuple(np.asarray(polygon.point_on_surface().coords)[0]),
+                centre=label_point(polygon),
                 cleanup=cleanup,
             )
         )
@@ -427,3 +429,31 @@ def merge_parts(
         np.concatenate([n[p.edges] for n, p in zip(offsets, parts, strict=True)]),
         np.concatenate([p.edge_ids for p in parts]),
     )
+
+
+def label_point(polygon: shapely.Polygon) -> tuple[float, float]:
+    """Return a point inside ``polygon`` far from its edges, for a label.
+
+    The centre of the largest circle inside it (GEOS, to 1 % of the square
+    root of its area), so that a label sits in the open water of a part
+    rather than next to a coast; a point on its surface if that fails.
+
+    Examples
+    --------
+    An L of arms 10 wide: the widest place is at the elbow, 5.86 from the
+    edges (a point on its surface lies 5 from them, in an arm).
+
+    >>> ell = shapely.Polygon([(0, 0), (30, 0), (30, 10), (10, 10), (10, 30), (0, 30)])
+    >>> round(ell.exterior.distance(shapely.Point(label_point(ell))), 2)
+    5.86
+    """
+    tolerance = 0.01 * float(np.sqrt(polygon.area))
+    if tolerance > 0:
+        with np.errstate(divide="ignore", invalid="ignore"):  # a degenerate one
+            circle = shapely.maximum_inscribed_circle(polygon, tolerance)
+        if not circle.is_empty:
+            x, y = circle.coords[0]
+            if polygon.contains(shapely.Point(x, y)):
+                return float(x), float(y)
+    x, y = polygon.point_on_surface().coords[0]
+    return float(x), float(y)
