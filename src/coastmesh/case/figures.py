@@ -33,7 +33,6 @@ if TYPE_CHECKING:
     from coastmesh.case.result import CaseResult
 
 __all__ = [
-    "DPI",
     "POOL_MIN_TRIANGLES",
     "FigureJobs",
     "figure_jobs",
@@ -47,8 +46,6 @@ __all__ = [
 #: meshes with fewer triangles have their figures drawn in this process:
 #: starting the worker processes (1-2 s each) would cost more than it saves
 POOL_MIN_TRIANGLES = 200_000
-#: the figures' resolution, dots per inch (:func:`coastmesh.plot.save_figure`'s)
-DPI = 150
 #: the figures that draw every triangle first: they take longest
 _SLOW_FIRST = ("time_step", "quality", "depth", "mesh_mercator", "domain", "parts")
 #: the order of the figures in the case's list of files
@@ -200,10 +197,11 @@ def figure_jobs(result: CaseResult) -> list[Job]:
 def render(function: str, args: tuple, kwargs: dict[str, Any]) -> bytes:
     """Draw one figure with ``coastmesh.plot.<function>``; return it as PNG."""
     from coastmesh import plot
+    from coastmesh.plot.base import FIGURE_DPI
 
     figure = getattr(plot, function)(*args, **kwargs)
     buffer = io.BytesIO()  # a Figure without pyplot: freed when it goes
-    figure.savefig(buffer, format="png", dpi=DPI)
+    figure.savefig(buffer, format="png", dpi=FIGURE_DPI)  # as save_figure
     return buffer.getvalue()
 
 

@@ -25,6 +25,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 __all__ = [
+    "FIGURE_DPI",
     "as_crs",
     "contours",
     "detail_bounds",
@@ -39,6 +40,8 @@ __all__ = [
 ]
 
 _DETAIL_FRACTION = 1 / 8
+#: Resolution of raster figures, dots per inch (:func:`save_figure`'s default).
+FIGURE_DPI = 150
 
 
 def across_dateline(
@@ -67,7 +70,7 @@ def save_figure(
     path: str | os.PathLike[str],
     *,
     overwrite: bool = False,
-    dpi: int = 150,
+    dpi: int = FIGURE_DPI,
 ) -> None:
     """Save a figure atomically; the format comes from the extension.
 
@@ -79,7 +82,7 @@ def save_figure(
         ``.png``, ``.pdf``, ``.svg``, ``.jpg`` or ``.jpeg``.
     overwrite : bool, default False
         Whether an existing file may be replaced.
-    dpi : int, default 150
+    dpi : int, default :data:`FIGURE_DPI` (150)
         Resolution of raster formats, in dots per inch.
 
     Raises
