@@ -18,9 +18,9 @@ from coastmesh.sizing.channel import (
     channel_size,
     local_width,
     narrow_channels,
-    slots,
     water_mask,
 )
+from coastmesh.sizing.slots import slots
 from coastmesh.sizing.terms import domain_width
 
 

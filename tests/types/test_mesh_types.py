@@ -26,6 +26,28 @@ def test_domain_refuses_segments_that_do_not_cover_the_rings():
         Domain(polygon, sides + (shifted,), crs="EPSG:32630")
 
 
+def test_domain_takes_segments_that_cover_the_rings_with_other_vertices():
+    # the same rings, the island traced the other way from another corner,
+    # and the sea's south side with an extra vertex midway: the same polygon
+    # (topologically), though not vertex for vertex
+    polygon = shapely.Polygon(OUTER, [ISLAND])
+    south = np.array([[0, 0], [5000, 0], [10000, 0]], float)
+    sides = (BoundarySegment(south, "open", "s", 1),) + tuple(
+        BoundarySegment(OUTER[i : i + 2], "open", f"s{i}", 2) for i in range(1, 4)
+    )
+    island = BoundarySegment(np.roll(ISLAND[:-1], 2, axis=0)[::-1], "shoreline", "i", 5)
+    island = BoundarySegment(
+        np.vstack([island.coords, island.coords[:1]]), "shoreline", "i", 5
+    )
+    domain = Domain(polygon, sides + (island,), crs="EPSG:32630")
+    assert len(domain.rings()) == 2
+    # and vertex for vertex (the fast check) too
+    exact = tuple(
+        BoundarySegment(OUTER[i : i + 2], "open", f"s{i}", 2) for i in range(4)
+    ) + (BoundarySegment(ISLAND, "shoreline", "i", 5),)
+    assert len(Domain(polygon, exact, crs="EPSG:32630").rings()) == 2
+
+
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [

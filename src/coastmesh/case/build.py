@@ -219,7 +219,9 @@ def _build(
         if config.mesh.crs
         else default_mesh_crs(domain)
     )
-    inputs, closed, slots = _close_water(config, sets, crs, inputs, mesh_crs, timed)
+    inputs, closed, slots = _close_water(
+        config, sets, crs, inputs, mesh_crs, timed, threads
+    )
     domain = inputs.domain
     with timed("size field") as progress:
         sized = _size_field(config, domain, mesh_crs, progress, runner=runner)
@@ -417,6 +419,7 @@ def _close_water(
     inputs: Any,
     mesh_crs: CRS,
     timed: StageFactory,
+    threads: int = 1,
 ) -> tuple[Any, Any, int]:
     """Close what the channel term asks: narrow channels and slots, or slots.
 
@@ -430,9 +433,11 @@ def _close_water(
             inputs, closed = _close_channels(config, sets, crs, inputs, mesh_crs)
         return inputs, closed, 0
     with timed("closing slots"):
-        thin = domain_slots(inputs.domain, mesh_crs, _floor(config) / 2)
+        thin = domain_slots(
+            inputs.domain, mesh_crs, _floor(config) / 2, threads=threads
+        )
         if len(thin):
-            inputs = build_case_domain(config, sets, crs, closed=thin)
+            inputs = build_case_domain(config, sets, crs, closed=thin, stitched=inputs)
             logger.info("closed %d slots narrower than h_min / 2", len(thin))
     return inputs, None, len(thin)
 
@@ -470,7 +475,7 @@ def _close_channels(
         closed_km2 += report.narrow_km2
         land.extend(found.narrow)
         inputs = build_case_domain(
-            config, sets, crs, closed=np.array(land, dtype=object)
+            config, sets, crs, closed=np.array(land, dtype=object), stitched=inputs
         )
     if report is None:
         return inputs, None

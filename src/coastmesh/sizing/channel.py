@@ -52,7 +52,6 @@ __all__ = [
     "channel_size",
     "local_width",
     "narrow_channels",
-    "slots",
     "water_mask",
 ]
 
@@ -365,33 +364,6 @@ def channel_polygons(
         for k in range(count)
     ]
     return np.array(parts, dtype=object)
-
-
-def slots(polygon: shapely.Polygon, width: float) -> NDArray[np.object_]:
-    """Return the slots of water narrower than ``width``: too thin for a grid.
-
-    The water left out of the polygon's opening by a disk of diameter
-    ``width`` (GEOS buffers in and out), in pieces; a piece counts only if it is
-    at least twice ``width`` long (the diagonal of its bounding box), so that
-    the corners the opening rounds off do not. Slots far narrower than a size
-    grid cell (a spike of a coastline) are invisible to :func:`local_width`.
-
-    Examples
-    --------
-    >>> bay = shapely.Polygon([(0, 0), (100, 0), (100, 100), (52, 100), (52, 300),
-    ...                        (48, 300), (48, 100), (0, 100)])
-    >>> [round(p.area, -1) for p in slots(bay, 10.0)]  # the 4 m x 200 m slot
-    [800.0]
-    """
-    r = width / 2
-    opened = shapely.buffer(shapely.buffer(polygon, -r), r)
-    pieces = shapely.get_parts(shapely.difference(polygon, opened))
-    pieces = pieces[shapely.get_type_id(pieces) == 3]
-    if not len(pieces):
-        return pieces
-    bounds = shapely.bounds(pieces)
-    length = np.hypot(bounds[:, 2] - bounds[:, 0], bounds[:, 3] - bounds[:, 1])
-    return pieces[length >= 2 * width]
 
 
 def over_land(term: NDArray[np.float64], water: NDArray[np.bool_]) -> NDArray:

@@ -2,33 +2,169 @@
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.geometry.earth import reproject
-from coastmesh.sizing.channel import slots
 from coastmesh.sizing.terms import projected
 from coastmesh.types import Domain
 
-__all__ = ["domain_slots", "off_open_boundaries"]
+__all__ = [
+    "SLIVER",
+    "TILE_VERTICES",
+    "domain_slots",
+    "off_open_boundaries",
+    "slots",
+    "tiles",
+]
+
+#: Most vertices of the polygon in one tile of :func:`slots`.
+TILE_VERTICES = 50_000
+#: The opening of :func:`slots` is grown by this fraction of its radius.
+SLIVER = 1e-6
+
+
+def slots(
+    polygon: shapely.Polygon,
+    width: float,
+    *,
+    threads: int = 1,
+    tile_vertices: int = TILE_VERTICES,
+) -> NDArray[np.object_]:
+    """Return the slots of water narrower than ``width``: too thin for a grid.
+
+    The water left out of the polygon's opening by a disk of diameter
+    ``width`` (GEOS buffers in and out), in pieces; a piece counts only if it is
+    at least twice ``width`` long (the diagonal of its bounding box), so that
+    the corners the opening rounds off do not. Slots far narrower than a size
+    grid cell (a spike of a coastline) are invisible to
+    :func:`~coastmesh.sizing.channel.local_width`.
+
+    A polygon of more than ``tile_vertices`` vertices is opened in
+    :func:`tiles`, on ``threads`` threads (GEOS lets go of the GIL): the
+    opening at a point depends only on the water within ``width`` of it, so
+    each tile is opened with the water within a little more than ``width`` of
+    it, and the pieces that touch a tile's edge are merged. The tiles depend
+    on the polygon alone, so the slots do not depend on ``threads``; they are
+    the same water as in one piece (to GEOS's rounding), though a piece may
+    come out in two that touch at a point. On the NW-shelf fine domain
+    (171,000 vertices, 4 tiles): 5.9 s in one piece, 5.5 s in tiles one after
+    the other, 2.8 s on 2 threads.
+
+    Examples
+    --------
+    >>> bay = shapely.Polygon([(0, 0), (100, 0), (100, 100), (52, 100), (52, 300),
+    ...                        (48, 300), (48, 100), (0, 100)])
+    >>> [round(p.area, -1) for p in slots(bay, 10.0)]  # the 4 m x 200 m slot
+    [800.0]
+    """
+    r = width / 2
+    cores = tiles(polygon, tile_vertices)
+    if len(cores) == 1:
+        pieces = _thin(polygon, polygon, None, r)
+    else:
+        margin = 1.01 * width  # the opening within the core sees all it needs
+
+        def tile(core: shapely.Polygon) -> NDArray[np.object_]:
+            window = shapely.box(
+                *(np.array(core.bounds) + [-margin, -margin, margin, margin])
+            )
+            return _thin(polygon, shapely.intersection(polygon, window), core, r)
+
+        with ThreadPoolExecutor(max(1, min(int(threads), len(cores)))) as pool:
+            found = np.concatenate(list(pool.map(tile, cores)))
+        edges = shapely.union_all(shapely.boundary(cores))
+        touch = shapely.intersects(found, edges)
+        merged = shapely.get_parts(shapely.union_all(found[touch]))
+        pieces = np.concatenate(
+            [found[~touch], merged[shapely.get_type_id(merged) == 3]]
+        )
+    if not len(pieces):
+        return pieces
+    bounds = shapely.bounds(pieces)
+    length = np.hypot(bounds[:, 2] - bounds[:, 0], bounds[:, 3] - bounds[:, 1])
+    return pieces[length >= 2 * width]
+
+
+def _thin(
+    polygon: shapely.Polygon,
+    window: shapely.Geometry,
+    core: shapely.Polygon | None,
+    r: float,
+) -> NDArray[np.object_]:
+    """Return the pieces of the polygon (in ``core``, else all) the opening misses."""
+    # the opening grown by a millionth of r: GEOS's rounding leaves slivers
+    # (1e-15 m wide) along straight coasts where the opening meets them, which
+    # joined to a corner's piece at a tile's edge made it look long
+    grow = max(SLIVER * r, 1e-12 * float(np.abs(shapely.bounds(window)).max()))
+    opened = shapely.buffer(shapely.buffer(window, -r), r + grow)
+    inside = polygon if core is None else shapely.intersection(polygon, core)
+    pieces = shapely.get_parts(shapely.difference(inside, opened))
+    return pieces[shapely.get_type_id(pieces) == 3]
+
+
+def tiles(polygon: shapely.Geometry, most: int) -> NDArray[np.object_]:
+    """Return boxes tiling the polygon's bounds, each holding at most ``most`` vertices.
+
+    A box with more is split in two at the median of its vertices across its
+    longer side (a k-d tree's cells), so the tiles hold about equal numbers of
+    vertices: the cost of opening the water goes with them.
+
+    Examples
+    --------
+    >>> square = shapely.Polygon([(0, 0), (4, 0), (4, 1), (0, 1)]).segmentize(0.5)
+    >>> [b.bounds for b in tiles(square, 12)]
+    [(0.0, 0.0, 2.0, 1.0), (2.0, 0.0, 4.0, 1.0)]
+    """
+    xy = shapely.get_coordinates(polygon)
+    todo, done = [(tuple(map(float, shapely.bounds(polygon))), xy)], []
+    while todo:
+        box, inside = todo.pop()
+        halves = _halves(box, inside) if len(inside) > most else None
+        if halves is None:
+            done.append(box)
+        else:
+            todo += halves[::-1]
+    return shapely.box(*np.array(done).T)
+
+
+def _halves(box: tuple, inside: NDArray[np.float64]) -> list | None:
+    """Return the box split in two at the median of its vertices, or None.
+
+    Across its longer side if it can be, else across the other; None if
+    neither can (half its vertices on its edge).
+    """
+    x0, y0, x1, y1 = box
+    for axis in (0, 1) if x1 - x0 >= y1 - y0 else (1, 0):
+        cut = float(np.median(inside[:, axis]))
+        if not (x0, y0)[axis] < cut < (x1, y1)[axis]:
+            continue
+        below = inside[:, axis] < cut
+        lo, hi = list(box), list(box)
+        lo[axis + 2], hi[axis] = cut, cut
+        return [(tuple(lo), inside[below]), (tuple(hi), inside[~below])]
+    return None
 
 
 def domain_slots(
-    domain: Domain, mesh_crs: CRS | str, width: float
+    domain: Domain, mesh_crs: CRS | str, width: float, *, threads: int = 1
 ) -> NDArray[np.object_]:
     """Return the slots of the domain's water narrower than ``width``, as land.
 
-    :func:`~coastmesh.sizing.channel.slots` of the domain (in ``mesh_crs``,
-    metres), grown by ``width / 10`` so that they overlap the land, in the
+    :func:`slots` of the domain (in ``mesh_crs``, metres; on ``threads``
+    threads), grown by ``width / 10`` so that they overlap the land, in the
     domain's CRS; none that touches an open boundary (it must still cross the
     coast there to close the domain). :func:`coastmesh.build_case` closes the
     slots narrower than half of ``h_min`` whatever ``narrow`` says: no element
     fits in them, and their tips make the worst elements of a mesh.
     """
     mesh_crs = CRS.from_user_input(mesh_crs)
-    thin = slots(projected(domain, [domain.polygon], mesh_crs)[0], width)
+    water = projected(domain, [domain.polygon], mesh_crs)[0]
+    thin = slots(water, width, threads=threads)
     if not len(thin):
         return thin
     grown = reproject(shapely.buffer(thin, width / 10), mesh_crs, domain.crs)

@@ -206,7 +206,18 @@ def _check_rings(
     rebuilt = shapely.Polygon(
         coords[shell], [c for i, c in enumerate(coords) if i != shell]
     )
-    if not rebuilt.is_valid or not shapely.equals(rebuilt, polygon):
+    if not rebuilt.is_valid:
+        raise ValueError(
+            "segments do not cover the polygon's rings: the rings they form are "
+            f"not a valid polygon ({shapely.is_valid_reason(rebuilt)})"
+        )
+    # the same vertices ring by ring (after normalising: ring order, start
+    # and orientation) is the usual case, and 100 times cheaper to check than
+    # the topological equality (0.7 s on the NW-shelf fine domain)
+    same = shapely.equals_exact(
+        shapely.normalize(rebuilt), shapely.normalize(polygon), tolerance=0.0
+    )
+    if not same and not shapely.equals(rebuilt, polygon):
         raise ValueError(
             "segments do not cover the polygon's rings: the rings they form differ "
             "from the polygon's exterior and holes"
