@@ -70,17 +70,17 @@ def test_each_figure_starts_once_what_it_shows_is_made(tmp_path, monkeypatch):
     """With a pool, run_case starts the figures as the case is built.
 
     Those of the domain and size field once it is made, before the meshing; those
-    of the mesh once it has its depths and time step, before its quality is
-    measured; the quality figure after that; none is drawn twice.
+    of the mesh once it has its depths, before its time step is relieved; the
+    quality figure once it is measured; none is drawn twice.
     """
     monkeypatch.setattr(figures, "POOL_MIN_TRIANGLES", 0)
     events: list[str] = []
     start = FigureJobs.start
 
-    def recorded(self, jobs, triangles):
+    def recorded(self, jobs, triangles, **kwargs):
         if jobs:
             events.append("start " + " ".join(sorted(j[0] for j in jobs)))
-        start(self, jobs, triangles)
+        start(self, jobs, triangles, **kwargs)
 
     monkeypatch.setattr(FigureJobs, "start", recorded)
     drawn: list[str] = []  # what this process draws (the pool's are spawned)
@@ -112,7 +112,8 @@ def test_each_figure_starts_once_what_it_shows_is_made(tmp_path, monkeypatch):
     ], events
     at = events.index
     assert at("size field") < at(starts[0]) < at("meshing")
-    assert at("time step") < at(starts[1]) < at("mesh quality") < at(starts[2])
+    assert at("depth at the nodes") < at(starts[1]) < at("time step")
+    assert at("time step") < at("mesh quality") < at(starts[2])
     assert at(starts[2]) < at("writing outputs") < at(starts[3])  # all, at last
     assert drawn == []  # every figure was drawn on the pool, once
     pngs = sorted(f for f in result.files if f.startswith("figures/"))
@@ -122,3 +123,54 @@ def test_each_figure_starts_once_what_it_shows_is_made(tmp_path, monkeypatch):
             ["channels", "domain", "size", "depth", "mesh", "time_step"] + ["quality"]
         )
     ]
+
+
+def test_a_figure_started_again_is_drawn_from_its_new_arguments(tmp_path):
+    from conftest import one_triangle
+
+    mesh = one_triangle("EPSG:32630")
+    big = figures.POOL_MIN_TRIANGLES
+
+    def job(title):
+        return [("mesh", "mesh_figure", (mesh,), {"title": title})]
+
+    for again, title in ((True, "second"), (False, "first")):
+        with FigureJobs(2) as drawn:
+            drawn.start(job("first"), big)
+            drawn.start(job("second"), big, again=again)
+            folder = tmp_path / title
+            folder.mkdir()
+            drawn.save(job("second"), folder, big)
+        png = (folder / "figures" / "mesh.png").read_bytes()
+        assert png == figures.render("mesh_figure", (mesh,), {"title": title})
+
+
+def test_figures_follow_a_relief_that_changes_the_mesh(tmp_path, monkeypatch):
+    """The mesh's figures, started before the time-step relief, are drawn again
+    when it changes the mesh: the files are those of one worker."""
+    import dataclasses
+
+    from coastmesh.case import finish
+
+    monkeypatch.setattr(figures, "POOL_MIN_TRIANGLES", 0)
+    relieve = finish.relieve
+
+    def changing(config, mesh, raster, cleanup, progress):
+        relieved, report, depth = relieve(config, mesh, raster, cleanup, progress)
+        deeper = {**relieved.point_data, "depth": relieved.point_data["depth"] * 3}
+        return dataclasses.replace(relieved, point_data=deeper), report, depth
+
+    monkeypatch.setattr(finish, "relieve", changing)
+    text = EXAMPLE.read_text().replace('h_min = "150 m"', 'h_min = "400 m"')
+    case = parse_case(text, EXAMPLE)
+    out = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for workers in (1, 2):
+            out[workers] = run_case(
+                case, output=tmp_path / str(workers), workers=workers
+            )
+    for stem in ("depth", "time_step", "mesh"):
+        name = f"figures/{stem}.png"
+        one = (out[1].output / name).read_bytes()
+        assert one == (out[2].output / name).read_bytes(), name

@@ -153,7 +153,8 @@ def build_drawing(
 
     The domain, size and channel figures start once the size field is made,
     the parts figure once the water is meshed, the mesh's figures once it has
-    its depths and time step, the quality figure once it is measured
+    its depths (again if the time-step relief changes it), the quality
+    figure once it is measured
     (:mod:`coastmesh.case.figures`): with a pool, they are drawn while this
     process goes on. A global case starts only the mesh's and the quality
     figure; the others start when it is written.

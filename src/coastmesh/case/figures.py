@@ -11,11 +11,12 @@ the other), the longest first.
 :func:`coastmesh.run_case` hands its :class:`FigureJobs` to the build, which
 starts each figure as soon as what it shows is final (:func:`setup_jobs` once
 the size field is made, :func:`parts_jobs` once the water is meshed,
-:func:`mesh_jobs` once the mesh has its depths and time step,
-:func:`quality_jobs` once it is measured), so the pool draws while this
-process prepares the parts, measures the mesh and writes its files. The files
-are the same whatever the number of workers, and whenever each figure was
-started.
+:func:`quality_jobs` once the mesh is measured), so the pool draws while this
+process prepares the parts, measures the mesh and writes its files. The
+:func:`mesh_jobs` start once the mesh has its depths, before the time-step
+relief, which seldom changes the mesh: when it does, they are started again
+with the relieved mesh and the first drawings are dropped. The files are the
+same whatever the number of workers, and whenever each figure was started.
 """
 
 from __future__ import annotations
@@ -240,8 +241,18 @@ class FigureJobs:
     def __enter__(self) -> FigureJobs:
         return self
 
-    def start(self, jobs: list[Job], triangles: int) -> None:
-        """Start drawing ``jobs`` on the pool, for a mesh of ``triangles``."""
+    def start(self, jobs: list[Job], triangles: int, *, again: bool = False) -> None:
+        """Start drawing ``jobs`` on the pool, for a mesh of ``triangles``.
+
+        A figure started already is not started again, unless ``again``: then
+        its earlier drawing is dropped (a figure started before it was sure
+        that what it shows would not change, and it did).
+        """
+        if again:
+            for stem, *_ in jobs:
+                future = self.futures.pop(stem, None)
+                if future is not None:
+                    future.cancel()  # if it runs, it ends, and is not waited for
         if self.workers < 2 or triangles < POOL_MIN_TRIANGLES:
             return
         if self.pool is None:

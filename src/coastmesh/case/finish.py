@@ -105,25 +105,39 @@ def measure_mesh(
 
     ``cleanup`` is the report of the cleanup done with the meshing, part by
     part. ``timed(label)`` times a stage. The mesh's figures start on
-    ``figures`` once it is final, before its quality is measured, and the
-    quality figure once it is; ``domain`` (the case's, needed with
-    ``figures``) names the boundaries in them.
+    ``figures`` once it has its depths (again if the time-step relief changes
+    it), before its quality is measured, and the quality figure once it is;
+    ``domain`` (the case's, needed with ``figures``) names the boundaries in
+    them.
     """
     after: dict[str, Any] = {"cleanup": cleanup, "depth": None, "quality": None}
     c = config.cleanup
+    started = False
+
+    def start_figures(again: bool = False) -> None:
+        if figures is not None:
+            jobs = mesh_jobs(config.name, mesh, domain, config, after["depth"])
+            figures.start(jobs, len(mesh.triangles), again=again)
+
     if config.bathymetry is not None:
         with timed("depth at the nodes") as progress:
             raster = depth_raster(config, mesh, progress)
             mesh, after["depth"] = node_depths(config, mesh, raster, progress)
         if c.enabled and c.time_step:
+            # drawn while the time step is relieved (a stage of one core),
+            # and again in the seldom case that the relief changes the mesh
+            start_figures()
+            started = True
             with timed("time step") as progress:
-                mesh, after["time_step"], depth = relieve(
+                relieved, after["time_step"], depth = relieve(
                     config, mesh, raster, after["cleanup"], progress
                 )
             after["depth"] = depth or after["depth"]
-    if figures is not None:
-        jobs = mesh_jobs(config.name, mesh, domain, config, after["depth"])
-        figures.start(jobs, len(mesh.triangles))
+            if relieved is not mesh:
+                mesh = relieved
+                start_figures(again=True)
+    if not started:
+        start_figures()
     if config.outputs.quality:
         courant = config.size.courant
         with timed("mesh quality"):
