@@ -16,18 +16,21 @@ from coastmesh.case.figures import FigureJobs
 EXAMPLE = Path(__file__).parents[2] / "examples" / "orkney" / "pentland_firth.toml"
 
 
-def test_figures_on_processes_are_the_same_files(tmp_path, monkeypatch):
-    monkeypatch.setattr(figures, "POOL_MIN_TRIANGLES", 0)  # a pool for this one too
+def _on_1_and_2_workers(tmp_path):
+    """Run the coarse Orkney case on 1 and on 2 workers; return both results."""
     text = EXAMPLE.read_text().replace('h_min = "150 m"', 'h_min = "400 m"')
     case = parse_case(text, EXAMPLE)
-    out = {}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        for workers in (1, 2):
-            out[workers] = run_case(
-                case, output=tmp_path / str(workers), workers=workers
-            )
-    one, two = out[1], out[2]
+        return [
+            run_case(case, output=tmp_path / str(workers), workers=workers)
+            for workers in (1, 2)
+        ]
+
+
+def test_figures_on_processes_are_the_same_files(tmp_path, monkeypatch):
+    monkeypatch.setattr(figures, "POOL_MIN_TRIANGLES", 0)  # a pool for this one too
+    one, two = _on_1_and_2_workers(tmp_path)
     assert one.files == two.files
     pngs = [f for f in one.files if f.startswith("figures/")]
     assert len(pngs) >= 6
@@ -146,8 +149,10 @@ def test_a_figure_started_again_is_drawn_from_its_new_arguments(tmp_path):
 
 
 def test_figures_follow_a_relief_that_changes_the_mesh(tmp_path, monkeypatch):
-    """The mesh's figures, started before the time-step relief, are drawn again
-    when it changes the mesh: the files are those of one worker."""
+    """The mesh's figures are drawn again when the time-step relief changes it.
+
+    They start before the relief; the files must be those of one worker.
+    """
     import dataclasses
 
     from coastmesh.case import finish
@@ -161,16 +166,7 @@ def test_figures_follow_a_relief_that_changes_the_mesh(tmp_path, monkeypatch):
         return dataclasses.replace(relieved, point_data=deeper), report, depth
 
     monkeypatch.setattr(finish, "relieve", changing)
-    text = EXAMPLE.read_text().replace('h_min = "150 m"', 'h_min = "400 m"')
-    case = parse_case(text, EXAMPLE)
-    out = {}
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        for workers in (1, 2):
-            out[workers] = run_case(
-                case, output=tmp_path / str(workers), workers=workers
-            )
+    one, two = _on_1_and_2_workers(tmp_path)
     for stem in ("depth", "time_step", "mesh"):
         name = f"figures/{stem}.png"
-        one = (out[1].output / name).read_bytes()
-        assert one == (out[2].output / name).read_bytes(), name
+        assert (one.output / name).read_bytes() == (two.output / name).read_bytes()
