@@ -212,8 +212,9 @@ def _check_rings(
             f"not a valid polygon ({shapely.is_valid_reason(rebuilt)})"
         )
     # the same vertices ring by ring (after normalising: ring order, start
-    # and orientation) is the usual case, and 100 times cheaper to check than
-    # the topological equality (0.7 s on the NW-shelf fine domain)
+    # and orientation) is the usual case, and far cheaper to check than the
+    # topological equality: 0.01-0.02 s against 0.9 s on the NW-shelf fine
+    # domain (166,000 vertices)
     same = shapely.equals_exact(
         shapely.normalize(rebuilt), shapely.normalize(polygon), tolerance=0.0
     )
