@@ -10,11 +10,16 @@ its quality figures as one JSON line:
   without smoothing or time-step relief): coastmesh as it was before these
   were added.
 
-Time the two side by side with farm-bench (the ratio is after / before)::
+Time the two side by side, in turn, as whole processes (wall seconds and
+peak memory from ``/usr/bin/time``; the ratio is after / before)::
 
-    B="python benchmarks/bench_hard_coasts.py examples/norway/fjords_mesh.toml before"
-    farm-bench -n 3 --warmup 0 --timeout 1400 --vs "$B" -- \\
-        python benchmarks/bench_hard_coasts.py examples/norway/fjords_mesh.toml after
+    C=examples/norway/fjords_mesh.toml
+    for run in 1 2 3; do
+        for v in before after; do
+            /usr/bin/time -f "$v %e s %M KB" \\
+                python benchmarks/bench_hard_coasts.py $C $v > /dev/null
+        done
+    done
 
 and print the quality table of both with ``--table``::
 

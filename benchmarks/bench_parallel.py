@@ -7,12 +7,22 @@ stage's time, the parts, triangles, the quality figures the decomposition must
 not change, and the peak memory of this process and of the whole process tree
 (this process and its workers together, sampled every 0.2 s with psutil). The
 mesh is the same for any ``N`` (``[mesh] parts`` is taken from the case; ``--parts``
-overrides it). Time two worker counts side by side with farm-bench::
+overrides it).
 
-    C=examples/nw_european_shelf/intermediate.toml
-    farm-bench -n 3 --warmup 0 --timeout 1400 \\
-        --vs "python benchmarks/bench_parallel.py $C --workers 1" -- \\
-        python benchmarks/bench_parallel.py $C --workers 2
+Time worker counts side by side with ``--compare``: each run is a process of
+its own (this script again), the counts in turn (1, 2, 1, 2, ... for
+``--compare 1,2``), so that a drift in the machine's speed falls on both
+alike. Each run's wall time is measured from outside, from the start of its
+process to its exit (imports included), and the ratio is taken pair by pair::
+
+    C=examples/nw_european_shelf/fine.toml
+    python benchmarks/bench_parallel.py $C --compare 1,2 --runs 2 --output /tmp/b
+
+prints each run's JSON line (with ``wall_s``, the outside time), then a
+table: per worker count the runs' wall times and their median, per pair the
+ratio of the first count's time to the others', and the median ratio. With
+``--output DIR`` each run writes its outputs to ``DIR/w<N>``, replaced by the
+next run of that count.
 """
 
 from __future__ import annotations
@@ -20,9 +30,14 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import shutil
+import statistics
+import subprocess
+import sys
 import threading
 import time
 import warnings
+from pathlib import Path
 
 import psutil
 
@@ -64,7 +79,17 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=None)
     parser.add_argument("--parts", default=None, help='"auto" or a count')
     parser.add_argument("--output", default=None, help="write the outputs here")
+    parser.add_argument(
+        "--compare",
+        default=None,
+        help="worker counts to run in turn, each in a process of its own: 1,2",
+    )
+    parser.add_argument("--runs", type=int, default=2, help="with --compare")
     args = parser.parse_args()
+    if args.compare is not None:
+        counts = [int(w) for w in args.compare.split(",")]
+        compare(args.case, counts, args.runs, args.parts, args.output)
+        return
     case = coastmesh.read_case(args.case)
     if args.parts is not None:
         parts = args.parts if args.parts == "auto" else int(args.parts)
@@ -100,6 +125,45 @@ def main() -> None:
             }
         )
     )
+
+
+def compare(
+    case: str, counts: list[int], runs: int, parts: str | None, output: str | None
+) -> None:
+    """Run the case with each worker count in turn, ``runs`` times; print all."""
+    walls: dict[int, list[float]] = {w: [] for w in counts}
+    for _ in range(runs):
+        for w in counts:
+            command = [sys.executable, __file__, case, "--workers", str(w)]
+            if parts is not None:
+                command += ["--parts", parts]
+            if output is not None:
+                folder = Path(output) / f"w{w}"
+                shutil.rmtree(folder, ignore_errors=True)
+                command += ["--output", str(folder)]
+            started = time.perf_counter()
+            done = subprocess.run(command, check=False, capture_output=True, text=True)
+            wall = time.perf_counter() - started
+            if done.returncode != 0:
+                sys.exit(f"{' '.join(command)} failed:\n{done.stderr[-2000:]}")
+            line = json.loads(done.stdout.strip().splitlines()[-1])
+            print(json.dumps({**line, "wall_s": round(wall, 2)}), flush=True)
+            walls[w].append(wall)
+    first = counts[0]
+    print()
+    print("| workers | wall s, each run | median |")
+    print("|---|---|---:|")
+    for w in counts:
+        times = ", ".join(f"{t:.1f}" for t in walls[w])
+        print(f"| {w} | {times} | {statistics.median(walls[w]):.1f} |")
+    for w in counts[1:]:
+        ratios = [a / b for a, b in zip(walls[first], walls[w], strict=True)]
+        each = ", ".join(f"{r:.2f}" for r in ratios)
+        print(
+            f"\n{first} over {w} workers, pair by pair: {each}; "
+            f"median {statistics.median(ratios):.2f}x; of the medians "
+            f"{statistics.median(walls[first]) / statistics.median(walls[w]):.2f}x"
+        )
 
 
 if __name__ == "__main__":

@@ -7,6 +7,8 @@ Python bindings, the same ``gmsh`` as coastmesh's, scipy, psutil)::
     python benchmarks/bench_seamsh.py examples/nw_european_shelf/intermediate.toml
     python benchmarks/bench_seamsh.py examples/nw_european_shelf/fine.toml \\
         --coarsen --isolated
+    python benchmarks/bench_seamsh.py examples/nw_european_shelf/fine.toml \\
+        --coarsen --parts auto
 
 What is compared, and how:
 
@@ -51,6 +53,11 @@ What is compared, and how:
   child's ``VmHWM`` (its own peak since ``exec``: ``ru_maxrss`` would keep
   this process's memory at the fork), and its memory at the start is its
   resident memory just before the call.
+- **coastmesh in parts** (``--parts auto``): the water cut into parts as
+  coastmesh cuts it by default, the parts meshed one after the other in this
+  process (``workers=1``), still without cleanup: coastmesh's own way of
+  meshing, on one core. The "meshing" stage then also holds the cutting and
+  the joining of the parts, and Gmsh's times are summed over the parts.
 - **seamsh + coarsen** (``--coarsen``): seamsh's own workflow, the same
   domain first passed through ``seamsh.geometry.coarsen_boundaries`` (its
   boundaries resampled to the size field, as coastmesh resamples its rings
@@ -459,12 +466,12 @@ def run_child(python: str, script: str, name: str, work: Path, max_mb: float) ->
     return json.loads((work / f"{name}.json").read_text())
 
 
-def build(case_path: str) -> tuple[Any, MeshingStage, GmshLog]:
-    """Build the case on one core, one part, no cleanup; watch its meshing."""
+def build(case_path: str, parts: int | str = 1) -> tuple[Any, MeshingStage, GmshLog]:
+    """Build the case on one core, in ``parts``, no cleanup; watch its meshing."""
     case = coastmesh.read_case(case_path)
     case = dataclasses.replace(
         case,
-        mesh=dataclasses.replace(case.mesh, parts=1),
+        mesh=dataclasses.replace(case.mesh, parts=parts),
         cleanup=dataclasses.replace(case.cleanup, enabled=False),
     )
     stage, log = MeshingStage(), GmshLog()
@@ -622,6 +629,13 @@ def main() -> None:
         help="also mesh with seamsh after its coarsen_boundaries",
     )
     parser.add_argument(
+        "--parts",
+        default="1",
+        help="coastmesh's [mesh] parts: 1 (default: one surface, as seamsh "
+        'meshes) or "auto" or a count (the water cut into parts, meshed one '
+        "after the other on this one core)",
+    )
+    parser.add_argument(
         "--isolated",
         action="store_true",
         help="also mesh with coastmesh in a child process, measured as seamsh",
@@ -680,7 +694,8 @@ def seamsh_row(
 
 def compare(args: argparse.Namespace, work: Path) -> Iterator[dict]:
     """Mesh with coastmesh, then seamsh (and coastmesh alone); measure all."""
-    result, stage, log = build(args.case)
+    parts = args.parts if args.parts == "auto" else int(args.parts)
+    result, stage, log = build(args.case, parts)
     mesh_crs = CRS.from_user_input(result.report.mesh_crs)
     config = result.config.mesh
     algorithm = ALGORITHMS[config.algorithm]
@@ -701,8 +716,9 @@ def compare(args: argparse.Namespace, work: Path) -> Iterator[dict]:
     to_plane = Transformer.from_crs(result.mesh.crs, mesh_crs, always_xy=True)
     points = np.column_stack(to_plane.transform(*result.mesh.points[:, :2].T))
     name = result.name
+    count = result.report.parts.parts
     yield row(
-        "coastmesh",
+        "coastmesh" if count <= 1 else f"coastmesh ({count} parts, 1 core)",
         coastmesh.__version__,
         name,
         wall_s=stage.seconds,

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import os
 import time
 from pathlib import Path
@@ -30,11 +31,34 @@ def _die(_):
     os._exit(3)
 
 
+def _pid(_):
+    time.sleep(0.05)  # long enough that both workers take tasks
+    return os.getpid()
+
+
+def _note_pid(path: str) -> None:
+    with open(path, "a") as f:
+        f.write(f"{os.getpid()}\n")
+
+
 def test_the_pool_returns_results_in_order_whatever_finishes_first():
     with open_runner(2) as run:
         assert run(_square, list(range(7))) == [x * x for x in range(7)]
     with open_runner(1) as run:  # one worker: this process
         assert run(_square, [3]) == [9]
+
+
+def test_workers_started_ahead_run_the_next_tasks(tmp_path):
+    ready = tmp_path / "ready"
+    with open_runner(2) as run:
+        run.warm(5, functools.partial(_note_pid, str(ready)))  # 2: the workers
+        run.warm(5, functools.partial(_note_pid, str(ready)))  # started already
+        pids = run(_pid, list(range(6)))
+        started = {int(p) for p in ready.read_text().split()}
+        assert len(started) == 2 and set(pids) <= started
+        assert set(run(_pid, list(range(4)))).isdisjoint(started)  # a new pool
+    with open_runner(1) as run:
+        assert not hasattr(run, "warm")  # this process: nothing to start
 
 
 def test_a_dying_worker_is_replaced_and_its_task_run_again(tmp_path):

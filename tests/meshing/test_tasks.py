@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 
 from coastmesh.errors import MeshingError
 from coastmesh.meshing.curves import boundary_nodes
+from coastmesh.meshing.parts import auto_parts
 from coastmesh.meshing.parts_report import PartsReport
 from coastmesh.meshing.surfaces import split_faces
 from coastmesh.meshing.tasks import (
@@ -17,6 +18,8 @@ from coastmesh.meshing.tasks import (
     merge_parts,
     mesh_part,
     part_tasks,
+    ready,
+    start_workers,
 )
 from coastmesh.types import SizeGrid
 
@@ -131,3 +134,37 @@ def test_projected_speedup_schedules_the_longest_first():
     assert report.projected_speedup(32) == pytest.approx(14 / 4)  # the largest part
     assert PartsReport(1, 1, (), (), (), (), ()).projected_speedup(8) == 1.0
     assert report.to_dict()["projected_speedup"]["32"] == 3.5
+
+
+class _Warm:
+    """A runner that records what it was asked to start."""
+
+    def __init__(self) -> None:
+        self.calls: list[tuple[int, object]] = []
+
+    def warm(self, count: int, fn: object) -> None:
+        self.calls.append((count, fn))
+
+
+@pytest.mark.parametrize("h", [500.0, 100.0, 20.0])
+def test_workers_are_started_for_the_parts_auto_will_cut(h):
+    x = np.arange(0.0, 100_001, 1_000)
+    grid = SizeGrid(x, x, np.full((len(x), len(x)), h))
+    # the water as the engine has it: rings of segments, the exterior first
+    outer = [
+        np.array([[0, 0], [9e4, 0], [9e4, 9e4]]),
+        np.array([[9e4, 9e4], [0, 9e4], [0, 0]]),
+    ]
+    island = [np.array([[4e4, 4e4], [4e4, 5e4], [5e4, 5e4], [5e4, 4e4], [4e4, 4e4]])]
+    water = shapely.Polygon(np.concatenate(outer), [np.concatenate(island)])
+    runner = _Warm()
+    start_workers(runner, "auto", [outer, island], grid)
+    want = auto_parts(water, grid)
+    assert runner.calls == ([(want, ready)] if want > 1 else [])
+    assert want > 1 or h == 500.0  # the three cover both
+    start_workers(runner, 3, [outer, island], grid)
+    start_workers(runner, 1, [outer, island], grid)  # one part: none started
+    assert runner.calls[-1] == (3, ready) and len(runner.calls) == (
+        2 if want > 1 else 1
+    )
+    start_workers(object(), 3, [outer, island], grid)  # no warm: left be

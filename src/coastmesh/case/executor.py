@@ -5,7 +5,10 @@
 
 - one after the other in this process, with one worker;
 - in a local pool of worker processes (:class:`concurrent.futures.
-  ProcessPoolExecutor`, started on first use, so a one-part case starts none);
+  ProcessPoolExecutor`, started on first use, so a one-part case starts none,
+  or ahead of it by ``runner.warm(count, ready)``, which the meshing calls
+  once it expects parts, so that the processes have started and imported
+  what they need by the time the parts are ready);
 - or as tasks on a Dask distributed cluster, given a scheduler address.
 
 Nothing here schedules: the pool and Dask do. Results come back in the tasks'
@@ -119,13 +122,24 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
         pools.append(pool)
         return pool
 
+    ahead: list[ProcessPoolExecutor] = []  # started by warm, for the next run
+
+    def warm(count: int, ready: Callable[[], Any]) -> None:
+        """Start ``min(workers, count)`` processes now, each calling ``ready``."""
+        if not ahead:
+            started = min(workers, count)
+            pool = new_pool(started)
+            for _ in range(started):  # a process is started per task waiting
+                pool.submit(ready)
+            ahead.append(pool)
+
     def run(fn: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
         if len(items) <= 1:
             return [fn(item) for item in items]
         results: dict[int, Any] = {}
         todo = _longest_first(items)
         for attempt in range(2):
-            pool = new_pool(min(workers, len(todo)))
+            pool = ahead.pop() if ahead else new_pool(min(workers, len(todo)))
             futures = {i: pool.submit(fn, items[i]) for i in todo}
             broken = []
             for i, future in futures.items():
@@ -148,6 +162,7 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
         return [results[i] for i in range(len(items))]
 
     run.workers = workers  # type: ignore[attr-defined]
+    run.warm = warm  # type: ignore[attr-defined]
     return run
 
 

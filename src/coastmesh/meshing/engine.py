@@ -49,6 +49,7 @@ from coastmesh.meshing.tasks import (
     mesh_part,
     part_tasks,
     serial_runner,
+    start_workers,
 )
 from coastmesh.meshing.topology import unique_edges
 from coastmesh.types import Domain, Mesh, Progress, SizeGrid
@@ -263,7 +264,10 @@ def mesh_in_parts(
         len(dropped),
     )
     step(1)
-    pieces, water = boundary_nodes(resampled, ids, map_size, threads=threads)
+    with ThreadPoolExecutor(1) as side:  # while Gmsh makes the boundary nodes
+        warming = side.submit(start_workers, runner, parts, rings, map_size)
+        pieces, water = boundary_nodes(resampled, ids, map_size, threads=threads)
+        warming.result()
     pieces, chords, wanted = _cut(pieces, water, map_size, parts)
     faces = split_faces(pieces, water, [shapely.LineString(c) for c in chords])
     tasks = part_tasks(

@@ -33,7 +33,7 @@ from coastmesh.errors import MeshingError
 from coastmesh.meshing.boundary import resample_segment
 from coastmesh.meshing.cleanup import clean_mesh
 from coastmesh.meshing.cleanup_report import CleanupOptions, PartCleanup
-from coastmesh.meshing.parts import expected_triangles
+from coastmesh.meshing.parts import auto_parts, expected_triangles
 from coastmesh.meshing.planar import signed_areas
 from coastmesh.meshing.projection import sample_size
 from coastmesh.meshing.session import (
@@ -57,6 +57,7 @@ __all__ = [
     "mesh_part",
     "part_tasks",
     "serial_runner",
+    "start_workers",
 ]
 
 
@@ -208,6 +209,32 @@ def part_tasks(
             )
         )
     return tasks
+
+
+def start_workers(runner: Any, parts: int | str, rings: list, size: SizeGrid) -> None:
+    """Have ``runner`` start the workers for the parts now, if it can.
+
+    Called while the boundary nodes are made, seconds before the parts are
+    ready, so that a local pool's worker processes have started and imported
+    Python, numpy, shapely and Gmsh (about 2 s each) when the parts come.
+    ``parts = "auto"`` is estimated from the projected ``rings`` (exterior
+    first); the water the parts are cut from can differ at a power of two,
+    and then a worker starts for nothing, or when its part comes. A runner
+    without a ``warm(count, ready)`` method (this process, Dask) is left be.
+    """
+    warm = getattr(runner, "warm", None)
+    if warm is None or parts == 1 or not isinstance(size, SizeGrid):
+        return
+    if parts == "auto":
+        shells = [np.concatenate([np.asarray(s) for s in ring]) for ring in rings]
+        parts = auto_parts(shapely.Polygon(shells[0], shells[1:]), size)
+    if int(parts) > 1:
+        warm(int(parts), ready)
+
+
+def ready() -> None:
+    """Import Gmsh: the first task of a worker started ahead of its parts."""
+    import gmsh  # noqa: F401  (this module brought the rest mesh_part needs)
 
 
 def _ring(loop: Sequence[int], curves: tuple) -> NDArray[np.float64]:
