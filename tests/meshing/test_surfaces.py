@@ -45,3 +45,33 @@ def test_canonical_order_of_a_delaunay_mesh_does_not_depend_on_numbering(seed, n
     t = first[1]
     assert (t[:, 0] == t.min(axis=1)).all()
     assert [tuple(r) for r in t.tolist()] == sorted(tuple(r) for r in t.tolist())
+
+
+@settings(deadline=None, max_examples=60)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(1, 300), spread=st.integers(1, 6))
+def test_nodes_are_in_xy_order_and_triangles_start_at_their_lowest_node(
+    seed, n, spread
+):
+    rng = np.random.default_rng(seed)
+    # few distinct x (and y): ties, signed zeros and repeated places
+    xy = rng.integers(-spread, spread + 1, (n, 2)).astype(float) * rng.choice(
+        [1.0, 0.5]
+    )
+    xy[rng.random(n) < 0.2] *= -1.0
+    tri = rng.integers(0, n, (2 * n, 3))
+    edges = rng.integers(0, n, (n, 2))
+    ids = rng.integers(0, 9, n)
+    points, triangles, out_edges, out_ids = canonical_order(xy, tri, edges, ids)
+    # literal: numpy's lexsort by x then y (stable), triangles turned one by one
+    order = np.lexsort((xy[:, 1], xy[:, 0]))
+    np.testing.assert_array_equal(points, xy[order])
+    rank = np.argsort(order)
+    turned = []
+    for t in rank[tri].tolist():
+        k = t.index(min(t))  # the first of equal lowest nodes, as argmin
+        turned.append(t[k:] + t[:k])
+    assert [tuple(t) for t in triangles.tolist()] == sorted(map(tuple, turned))
+    np.testing.assert_array_equal(
+        out_edges, rank[edges][np.lexsort(rank[edges].T[::-1])]
+    )
+    np.testing.assert_array_equal(out_ids, ids[np.lexsort(rank[edges].T[::-1])])
