@@ -36,9 +36,14 @@ def _pid(_):
     return os.getpid()
 
 
-def _note_pid(path: str) -> None:
+def _note_pid(path: str, count: int) -> None:
+    """Note this process; wait until ``count`` processes have (one call each)."""
     with open(path, "a") as f:
         f.write(f"{os.getpid()}\n")
+    until = time.monotonic() + 60
+    while len(set(Path(path).read_text().split())) < count:
+        assert time.monotonic() < until, "the workers were not all started"
+        time.sleep(0.01)
 
 
 def test_the_pool_returns_results_in_order_whatever_finishes_first():
@@ -51,12 +56,18 @@ def test_the_pool_returns_results_in_order_whatever_finishes_first():
 def test_workers_started_ahead_run_the_next_tasks(tmp_path):
     ready = tmp_path / "ready"
     with open_runner(2) as run:
-        run.warm(5, functools.partial(_note_pid, str(ready)))  # 2: the workers
-        run.warm(5, functools.partial(_note_pid, str(ready)))  # started already
+        run.warm(5, functools.partial(_note_pid, str(ready), 2))  # 2: the workers
+        run.warm(5, functools.partial(_note_pid, str(ready), 2))  # started already
         pids = run(_pid, list(range(6)))
         started = {int(p) for p in ready.read_text().split()}
         assert len(started) == 2 and set(pids) <= started
         assert set(run(_pid, list(range(4)))).isdisjoint(started)  # a new pool
+    few = tmp_path / "few"
+    with open_runner(3) as run:  # two started ahead, three tasks: not used
+        run.warm(2, functools.partial(_note_pid, str(few), 2))
+        _note_pid(str(few), 3)  # this process third: once both have started
+        pids = run(_pid, list(range(3)))
+        assert set(pids).isdisjoint(int(p) for p in few.read_text().split())
     with open_runner(1) as run:
         assert not hasattr(run, "warm")  # this process: nothing to start
 

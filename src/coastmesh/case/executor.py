@@ -122,7 +122,7 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
         pools.append(pool)
         return pool
 
-    ahead: list[ProcessPoolExecutor] = []  # started by warm, for the next run
+    ahead: list[tuple[ProcessPoolExecutor, int]] = []  # from warm, for next run
 
     def warm(count: int, ready: Callable[[], Any]) -> None:
         """Start ``min(workers, count)`` processes now, each calling ``ready``."""
@@ -131,7 +131,17 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
             pool = new_pool(started)
             for _ in range(started):  # a process is started per task waiting
                 pool.submit(ready)
-            ahead.append(pool)
+            ahead.append((pool, started))
+
+    def pool_for(tasks: int) -> ProcessPoolExecutor:
+        """Return the pool started ahead if it has enough processes, else a new one."""
+        wanted = min(workers, tasks)
+        if ahead:
+            pool, started = ahead.pop()
+            if started >= wanted:
+                return pool
+            pool.shutdown(wait=False, cancel_futures=True)  # too few: not used
+        return new_pool(wanted)
 
     def run(fn: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
         if len(items) <= 1:
@@ -139,7 +149,7 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
         results: dict[int, Any] = {}
         todo = _longest_first(items)
         for attempt in range(2):
-            pool = ahead.pop() if ahead else new_pool(min(workers, len(todo)))
+            pool = pool_for(len(todo))
             futures = {i: pool.submit(fn, items[i]) for i in todo}
             broken = []
             for i, future in futures.items():
