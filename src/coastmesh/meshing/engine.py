@@ -267,8 +267,8 @@ def mesh_in_parts(
     with ThreadPoolExecutor(1) as side:  # while Gmsh makes the boundary nodes
         warming = side.submit(start_workers, runner, parts, rings, map_size)
         pieces, water = boundary_nodes(resampled, ids, map_size, threads=threads)
-        if warming.exception() is not None:  # only a head start: never fatal
-            logger.warning("workers not started ahead: %s", warming.exception())
+        if (error := warming.exception()) is not None:  # a head start only
+            logger.warning("workers not started ahead: %s", error)
     pieces, chords, wanted = _cut(pieces, water, map_size, parts)
     faces = split_faces(pieces, water, [shapely.LineString(c) for c in chords])
     tasks = part_tasks(
