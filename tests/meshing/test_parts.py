@@ -8,11 +8,11 @@ import warnings
 import numpy as np
 import pytest
 import shapely
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from coastmesh.case.executor import open_runner
-from coastmesh.meshing import CleanupOptions, generate_mesh
+from coastmesh.meshing import CleanupOptions, crossings, generate_mesh
 from coastmesh.meshing import parts as parts_module
 from coastmesh.meshing.engine import PartsWarning, mesh_in_parts
 from coastmesh.meshing.parts import auto_parts, cut_lines, expected_triangles
@@ -160,6 +160,38 @@ def test_small_regions_are_not_cut():
     water = shapely.Polygon(OUTER)
     # 7,700 expected triangles: under twice the least a part may hold
     assert cut_lines(water, _grid(120.0, 0.0), 4) == []
+
+
+def _faces(water, cuts):
+    """The faces of water the cuts make, literally: node, polygonize, keep wet."""
+    faces = shapely.get_parts(
+        shapely.polygonize(
+            shapely.get_parts(shapely.node(shapely.union_all([water.boundary, *cuts])))
+        )
+    )
+    return [f for f in faces if water.contains(f.point_on_surface())]
+
+
+@settings(max_examples=20, deadline=None)
+@given(parts=st.integers(2, 6), off=st.floats(0.0, 0.3))
+@example(parts=2, off=0.3)  # 0.2 / 0.8 of the water: the 0.8 is cut again
+def test_no_part_holds_much_more_than_its_share(parts, off):
+    # every cut forced off balance by ``off`` (as where only a cut off balance
+    # is clean): a part over OVERSIZE shares is cut again, and again
+    water = shapely.Polygon(OUTER)
+    grid = SizeGrid(
+        np.arange(0.0, 12001, 50), np.arange(0.0, 8001, 50), np.full((161, 241), 10.0)
+    )
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(parts_module, "_CANDIDATES", 1)  # only share - _SPREAD
+        patch.setattr(parts_module, "_SPREAD", off)
+        cuts = cut_lines(water, grid, parts)
+    costs = np.array([expected_triangles(f, grid) for f in _faces(water, cuts)])
+    total = expected_triangles(water, grid)
+    assert costs.sum() == pytest.approx(total, rel=1e-9)
+    assert costs.max() <= parts_module.OVERSIZE * total / parts * (1 + 1e-9)
+    if off == 0.0:
+        assert len(cuts) == parts - 1  # balanced cuts: no part is cut again
 
 
 @pytest.mark.parametrize("key", [(3, "serial"), (4, "serial"), (3, "clean")])
@@ -322,7 +354,7 @@ def test_the_clipped_crossing_is_the_whole_polygons(frac, across_x, seed):
     else:
         at = y0 + frac * (y1 - y0)
         line = shapely.LineString([(x0, at), (x1, at)])
-    fast, literal = parts_module._wet(water, line), shapely.intersection(water, line)
+    fast, literal = crossings.wet(water, line), shapely.intersection(water, line)
     assert shapely.get_num_geometries(fast) == shapely.get_num_geometries(literal)
     assert fast.length == pytest.approx(literal.length, abs=1e-6)
     assert shapely.hausdorff_distance(fast, literal) < 1e-6

@@ -21,7 +21,7 @@ from test_parts import (
     jagged_water,
 )
 
-from coastmesh.meshing import generate_mesh
+from coastmesh.meshing import crossings, generate_mesh
 from coastmesh.meshing import parts as parts_module
 from coastmesh.meshing.parts import cut_lines, expected_triangles
 from coastmesh.types import SizeGrid
@@ -57,7 +57,7 @@ def test_crossings_in_the_turned_water_are_the_water_crossings(frac, angle, seed
     at = along.min() + frac * np.ptp(along)
     line = parts_module._line(region, direction, at)
     assert line.geom_type == "LineString" and not line.is_empty
-    fast = parts_module._Turned(water, direction).chords(line)
+    fast = crossings.Turned(water, direction).chords(line)
     literal = [
         g
         for g in shapely.get_parts(shapely.intersection(water, line))
@@ -141,8 +141,8 @@ def test_the_tight_check_is_the_literal_one(seed, angle, offset, h, with_cut):
     xy = a + t[:, None] * (b - a)
     hs = h * (1 + 0.5 * np.sin(7 * t))
     earlier = [shapely.LineString([(-6000, offset), (6000, offset + 500)])]
-    coast = (parts_module._coast_tree(water), None, [], earlier if with_cut else [])
-    fast = parts_module._tight(coast, xy, hs, t, length)
+    coast = (crossings.coast_tree(water), None, [], earlier if with_cut else [])
+    fast = crossings.tight(coast, xy, hs, t, length)
     assert fast == _literal_tight(water, coast[3], xy, hs, t, length)
 
 

@@ -28,23 +28,24 @@ from its end (it meets the coast at under 35 degrees, or runs along it; nearer
 its end, the coast's roughness below the size is noise), or ends
 within half an edge of the end of a boundary curve or within an edge of
 another cut's end. A region holding under twice :data:`MIN_PART_TRIANGLES` is
-not cut. Nothing is random: the same water, grid and ``K`` give the same
-cuts.
+not cut. A part left holding over :data:`OVERSIZE` times its share (the
+water's cost over ``K``), where only a cut off balance was clean, is cut in
+two as a region would be, until it is not. Nothing is random: the same
+water, grid and ``K`` give the same cuts.
 """
 
 from __future__ import annotations
-
-from typing import Any
 
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from coastmesh.meshing.projection import sample_size
+from coastmesh.meshing.crossings import PENALTY, Turned, coast_tree, edges_across
 from coastmesh.types import SizeGrid
 
 __all__ = [
     "MIN_PART_TRIANGLES",
+    "OVERSIZE",
     "TRIANGLES_PER_PART",
     "auto_parts",
     "cut_lines",
@@ -68,6 +69,16 @@ MAX_AUTO_PARTS = 64
 #: mesh, 141,000 triangles, got faces a few elements wide in the coarse North
 #: Sea, and triangles with a radius ratio of 0.16.)
 MIN_PART_TRIANGLES = 10_000
+#: A part still holding more than this many times its share (the water's
+#: expected triangles over ``parts``) when the bisection gives it no more cuts
+#: is cut in two, again and again while it can be. A cut off balance (no clean
+#: cut near the balanced one) leaves one side large: on the NW-shelf fine case
+#: (8 wanted) the region meant for two parts around the Pentland Firth, 1.05 M
+#: expected triangles, was cut 39 / 61 % and its larger side of 640,000 (1.63
+#: shares) meshed alone for a quarter of the Gmsh time: no number of cores
+#: could mesh the case in under that part's time. Gmsh's time per triangle
+#: grows with the part, too (48 us at 79,000 triangles, 78 at 635,000).
+OVERSIZE = 1.5
 #: Candidate cut positions tried around the balanced one, and their spread
 #: (a fraction of the region's cost on either side).
 _CANDIDATES = 9
@@ -81,10 +92,6 @@ _WIDER = 0.15
 #: (On the NW-shelf fine case no cut of either half across x or y is clean,
 #: and 8 wanted parts were 2; with these, 14 faces.)
 _OBLIQUE = (45.0, 135.0, 30.0, 60.0, 120.0, 150.0)
-#: A cut crossing the coast at a smaller angle (degrees), or crossing water
-#: under two target edges wide, is penalised by this many edges.
-_MIN_CROSSING = 35.0
-_PENALTY = 1e6
 
 
 def _cells(
@@ -165,7 +172,8 @@ def cut_lines(
     -------
     list of shapely.LineString
         ``parts - 1`` segments (fewer where a region holds under twice
-        :data:`MIN_PART_TRIANGLES` expected triangles or has no clean cut),
+        :data:`MIN_PART_TRIANGLES` expected triangles or has no clean cut;
+        more where a part would hold over :data:`OVERSIZE` shares),
         each spanning the region it cuts (a convex region of the recursive
         bisection);
         later cuts end on earlier ones. A cut may cross the water several
@@ -183,7 +191,7 @@ def cut_lines(
     x, y, w = _cells(polygon, grid)
     cuts: list[shapely.LineString] = []
     coast = (
-        _coast_tree(polygon),
+        coast_tree(polygon),
         (
             None
             if ends is None or not len(ends)
@@ -192,20 +200,10 @@ def cut_lines(
         [],  # the ends of the cuts chosen so far
         [],  # and their crossings of the water
     )
-    _bisect(
-        polygon, grid, coast, shapely.box(*polygon.bounds), x, y, w, int(parts), cuts
-    )
+    limit = OVERSIZE * float(w.sum()) / int(parts)
+    region = shapely.box(*polygon.bounds)
+    _bisect(polygon, grid, coast, region, (x, y, w), (int(parts), limit), cuts)
     return cuts
-
-
-def _coast_tree(polygon: shapely.Polygon) -> shapely.STRtree:
-    """Return an R-tree of the polygon's boundary, one segment per edge."""
-    rings = shapely.get_rings(shapely.get_parts(polygon))
-    segments = []
-    for ring in rings:
-        xy = shapely.get_coordinates(ring)
-        segments.append(shapely.linestrings(np.stack([xy[:-1], xy[1:]], axis=1)))
-    return shapely.STRtree(np.concatenate(segments))
 
 
 def _bisect(
@@ -213,13 +211,19 @@ def _bisect(
     grid: SizeGrid,
     coast: tuple,
     region: shapely.Polygon,
-    x: NDArray,
-    y: NDArray,
-    w: NDArray,
-    parts: int,
+    cells: tuple[NDArray, NDArray, NDArray],
+    aim: tuple[int, float],
     cuts: list[shapely.LineString],
 ) -> None:
-    """Cut ``region`` (convex: a box, or a box cut by oblique cuts) and recurse."""
+    """Cut ``region`` (convex: a box, or a box cut by oblique cuts) and recurse.
+
+    ``cells`` are the grid nodes in its water and their expected triangles;
+    ``aim`` the parts wanted of it and the :data:`OVERSIZE` limit of a part.
+    """
+    x, y, w = cells
+    parts, limit = aim
+    if parts < 2 and w.sum() > limit:
+        parts = 2  # too large a part: cut once more
     if parts < 2 or len(w) < 2 or w.sum() < 2 * MIN_PART_TRIANGLES:
         return  # a part must be many elements across, or its cuts make slivers
     x0, y0, x1, y1 = region.bounds
@@ -237,7 +241,7 @@ def _bisect(
         score, line, chosen, at = _best_cut(
             polygon, grid, coast, region, x, y, w, share, direction
         )
-        if score < _PENALTY:
+        if score < PENALTY:
             break
     else:
         return  # no clean cut: fewer parts beat thin triangles
@@ -247,7 +251,8 @@ def _bisect(
     low = _along(x, y, direction) < at
     for below, side, n in ((True, low, parts // 2), (False, ~low, parts - parts // 2)):
         half = _half(region, direction, at, below=below)
-        _bisect(polygon, grid, coast, half, x[side], y[side], w[side], n, cuts)
+        cells = (x[side], y[side], w[side])
+        _bisect(polygon, grid, coast, half, cells, (n, limit), cuts)
 
 
 def _directions(longer_x: bool) -> list[tuple[float, float]]:
@@ -356,10 +361,10 @@ def _best_cut(
     along = _along(x, y, direction)
     order = np.argsort(along, kind="stable")
     cum = np.cumsum(w[order]) / w.sum()
-    turned = _Turned(polygon, direction)
+    turned = Turned(polygon, direction)
     best: tuple = (np.inf, shapely.LineString(), [], 0.0)
     for spread, count in ((_SPREAD, _CANDIDATES), (_WIDER, _WIDER_CANDIDATES)):
-        if best[0] < _PENALTY:
+        if best[0] < PENALTY:
             break  # a clean cut within the first spread: no need to look wider
         tried = np.linspace(share - spread, share + spread, count)
         for q in sorted(tried, key=lambda q: abs(q - share)):  # ties: balanced
@@ -369,132 +374,7 @@ def _best_cut(
             line = _line(region, direction, at)
             if line.is_empty:
                 continue
-            score, chords = _edges_across(grid, coast, turned.chords(line))
+            score, chords = edges_across(grid, coast, turned.chords(line))
             if score < best[0]:
                 best = (score, line, chords, at)
     return best
-
-
-class _Turned:
-    """The water turned so that cuts normal to ``direction`` run along y.
-
-    :func:`_wet` clips the water to a thin box around an axis-parallel line;
-    an oblique line's box would hold most of the water. Turning the water once
-    per direction keeps every candidate's overlay local.
-    """
-
-    def __init__(self, polygon: Any, direction: tuple[float, float]) -> None:
-        c, s = direction
-        self.axis = s == 0.0 or c == 0.0
-        self.polygon = polygon
-        if not self.axis:
-            self.forward = np.array([[c, -s], [s, c]])  # xy @ forward: along, across
-            self.turned = shapely.transform(polygon, lambda xy: xy @ self.forward)
-
-    def chords(self, line: shapely.LineString) -> list[shapely.LineString]:
-        """Return the crossings of the water by ``line``, in its own coordinates."""
-        if self.axis:
-            wet = _wet(self.polygon, line)
-        else:
-            xy = shapely.get_coordinates(line) @ self.forward
-            xy[:, 0] = xy[:, 0].mean()  # exactly along y, for the thin clip
-            back = self.forward.T
-            wet = shapely.transform(
-                _wet(self.turned, shapely.LineString(xy)), lambda uv: uv @ back
-            )
-        return [
-            g
-            for g in shapely.get_parts(wet)
-            if g.geom_type == "LineString" and not g.is_empty
-        ]
-
-
-def _wet(polygon: Any, line: shapely.LineString) -> Any:
-    """Return the part of ``line`` (straight, along x or y) in ``polygon``.
-
-    The polygon is clipped to a box one map unit around the line first, so the
-    overlay sees only the edges near the line: 18 times faster on the NW
-    shelf's water (43,000 vertices), the crossings the same to 1e-10 m. A clip
-    GEOS cannot overlay (it may be invalid) falls back to the whole polygon.
-    """
-    x0, y0, x1, y1 = line.bounds
-    near = shapely.clip_by_rect(polygon, x0 - 1.0, y0 - 1.0, x1 + 1.0, y1 + 1.0)
-    try:
-        return shapely.intersection(near, line)
-    except shapely.errors.GEOSException:
-        return shapely.intersection(polygon, line)
-
-
-def _edges_across(
-    grid: SizeGrid, coast: tuple, chords: list[shapely.LineString]
-) -> tuple[float, list[shapely.LineString]]:
-    """Return the target edges along a cut's crossings (``chords``), plus penalties.
-
-    Each crossing shorter than two target edges, ending within half a
-    target edge of one of ``coast[1]``'s points or within one of an earlier
-    cut's end (``coast[2]``), or coming nearer the coast or an earlier cut
-    (``coast[0]``, ``coast[3]``) than ``sin(35 deg) min(s, 2 h)`` at a distance
-    ``s >= 2 h`` from its nearer end (it meets the coast at under 35 degrees, or runs
-    along it), adds :data:`_PENALTY`: it would make thin triangles. The
-    crossings are returned too.
-    """
-    if not chords:
-        return np.inf, []  # cuts nothing: never the best
-    score = 0.0
-    for chord in chords:
-        a, b = np.asarray(chord.coords)[[0, -1]]
-        length = float(np.hypot(*(b - a)))
-        h_ends = sample_size(grid, np.stack([a, b]))
-        n = int(np.clip(2.0 * length / h_ends.min(), 16, 512))
-        t = np.linspace(0.0, 1.0, n + 1)
-        xy = a + t[:, None] * (b - a)
-        h = sample_size(grid, xy)
-        edges = float(length * np.mean(1.0 / h))
-        score += edges
-        if (
-            edges < 2.0
-            or _near_ends(coast, a, b, h_ends)
-            or _tight(coast, xy, h, t, length)
-        ):
-            # a penalised line is never cut along (any clean one beats it, and
-            # with none the region is not cut): its other chords do not matter
-            return score + _PENALTY, chords
-    return score, chords
-
-
-def _near_ends(coast: tuple, a: NDArray, b: NDArray, h_ends: NDArray) -> bool:
-    """Whether a chord ends near a curve's end (half an edge) or a cut's (an edge)."""
-    if coast[1] is not None:
-        _, to_end = coast[1].query_nearest(
-            shapely.points([a, b]), return_distance=True, all_matches=False
-        )
-        if (to_end < 0.5 * h_ends).any():
-            return True
-    if coast[2]:  # two cuts meeting a third within h leave a sliver of it
-        joints = np.asarray(coast[2])
-        gaps = np.hypot(*(joints[None, :, :] - np.stack([a, b])[:, None, :]).T)
-        return bool((gaps.T.min(axis=1) < h_ends).any())
-    return False
-
-
-def _tight(coast: tuple, xy: NDArray, h: NDArray, t: NDArray, length: float) -> bool:
-    """Whether a chord comes nearer the coast or a cut than ``sin(35 deg) min(s, 2 h)``.
-
-    Only points at ``s >= 2 h`` from the nearer end count: within two target
-    edges of its ends the coast's own roughness (below the size: the resampled
-    boundary has two points per edge) is noise. Each point asks the R-tree for
-    coast within its own limit only (``dwithin``), not for its nearest edge.
-    """
-    s = length * np.minimum(t, 1.0 - t)
-    need = np.sin(np.radians(_MIN_CROSSING)) * np.minimum(s, 2.0 * h)
-    far = (s >= 2.0 * h)[1:-1]
-    points, limit = xy[1:-1][far], 0.999 * need[1:-1][far]
-    if not len(points):
-        return False
-    near = coast[0].query(shapely.points(points), predicate="dwithin", distance=limit)
-    if near.shape[1]:
-        return True
-    if coast[3]:  # earlier cuts count as coast: no thin strip between cuts
-        earlier = shapely.multilinestrings(coast[3])
-        return bool(shapely.dwithin(earlier, shapely.points(points), limit).any())
-    return False
