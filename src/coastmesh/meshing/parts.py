@@ -64,10 +64,10 @@ _DENSITY = 4.0 / np.sqrt(3.0)
 #: holds about 200,000 (the issue's bound is 1 deg below one part).
 TRIANGLES_PER_PART = 200_000
 MAX_AUTO_PARTS = 64
-#: A region is not cut into parts of fewer expected triangles than this:
-#: ``parts`` is an upper bound. (Forced to 64 parts, the NW-shelf intermediate
-#: mesh, 141,000 triangles, got faces a few elements wide in the coarse North
-#: Sea, and triangles with a radius ratio of 0.16.)
+#: A region is not cut into parts of fewer expected triangles than this, so
+#: fewer than ``parts`` parts may be made. (Forced to 64 parts, the NW-shelf
+#: intermediate mesh, 141,000 triangles, got faces a few elements wide in the
+#: coarse North Sea, and triangles with a radius ratio of 0.16.)
 MIN_PART_TRIANGLES = 10_000
 #: A part still holding more than this many times its share (the water's
 #: expected triangles over ``parts``) when the bisection gives it no more cuts
@@ -90,7 +90,7 @@ _WIDER = 0.15
 #: Where no cut across x or y is clean, cuts whose normals make these angles
 #: (degrees) with the x axis are tried, in this order: the diagonals first.
 #: (On the NW-shelf fine case no cut of either half across x or y is clean,
-#: and 8 wanted parts were 2; with these, 14 faces.)
+#: and 8 wanted parts were 2; with these, 14 faces; 16 with :data:`OVERSIZE`.)
 _OBLIQUE = (45.0, 135.0, 30.0, 60.0, 120.0, 150.0)
 
 
