@@ -54,6 +54,16 @@ def _reference_expected(polygon, grid):
     return total
 
 
+def _faces(water, cuts):
+    """The faces of water the cuts make, literally: node, polygonize, keep wet."""
+    faces = shapely.get_parts(
+        shapely.polygonize(
+            shapely.get_parts(shapely.node(shapely.union_all([water.boundary, *cuts])))
+        )
+    )
+    return [f for f in faces if water.contains(f.point_on_surface())]
+
+
 def test_expected_triangles_matches_the_literal_sum():
     water = shapely.Polygon(OUTER, [ISLAND])
     grid = _grid()
@@ -69,16 +79,7 @@ def test_cuts_balance_the_expected_triangles(parts, slope, h):
     grid = _grid(h, slope, step=50.0)  # >= 100,000 expected triangles per part
     cuts = cut_lines(water, grid, parts)
     assert len(cuts) == parts - 1  # this water has a clean cut everywhere
-    pieces = shapely.get_parts(
-        shapely.polygonize(
-            [
-                *shapely.get_parts(
-                    shapely.node(shapely.union_all([water.boundary, *cuts]))
-                )
-            ]
-        )
-    )
-    pieces = [p for p in pieces if water.contains(p.point_on_surface())]
+    pieces = _faces(water, cuts)
     assert len(pieces) >= parts
     costs = np.array([expected_triangles(p, grid) for p in pieces])
     # the cuts may split the water into more faces than parts (around the
@@ -160,16 +161,6 @@ def test_small_regions_are_not_cut():
     water = shapely.Polygon(OUTER)
     # 7,700 expected triangles: under twice the least a part may hold
     assert cut_lines(water, _grid(120.0, 0.0), 4) == []
-
-
-def _faces(water, cuts):
-    """The faces of water the cuts make, literally: node, polygonize, keep wet."""
-    faces = shapely.get_parts(
-        shapely.polygonize(
-            shapely.get_parts(shapely.node(shapely.union_all([water.boundary, *cuts])))
-        )
-    )
-    return [f for f in faces if water.contains(f.point_on_surface())]
 
 
 @settings(max_examples=20, deadline=None)

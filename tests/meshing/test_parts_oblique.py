@@ -17,6 +17,7 @@ from test_parts import (
     ISLAND,
     OUTER,
     _domain,
+    _faces,
     assert_one_conforming_mesh,
     jagged_water,
 )
@@ -166,12 +167,7 @@ def test_oblique_cuts_balance_the_expected_triangles(parts):
     for cut in cuts:  # every cut at 45 or 135 degrees
         (x0, y0), (x1, y1) = np.asarray(cut.coords)[[0, -1]]
         assert abs(abs(x1 - x0) - abs(y1 - y0)) < 1e-6 * cut.length
-    faces = shapely.get_parts(
-        shapely.polygonize(
-            shapely.get_parts(shapely.node(shapely.union_all([water.boundary, *cuts])))
-        )
-    )
-    faces = [f for f in faces if water.contains(f.point_on_surface())]
+    faces = _faces(water, cuts)
     costs = np.array([expected_triangles(f, grid) for f in faces])
     assert costs.sum() == pytest.approx(expected_triangles(water, grid), rel=1e-9)
     assert costs.max() <= 1.35 * costs.sum() / parts
