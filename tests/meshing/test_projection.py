@@ -7,7 +7,7 @@ import pytest
 import shapely
 from pyproj import CRS, Geod, Transformer
 
-from coastmesh.meshing import generate_mesh
+from coastmesh.meshing import generate_mesh, projection
 from coastmesh.meshing.projection import default_mesh_crs, scale_factor, to_map_units
 from coastmesh.types import BoundarySegment, Domain, SizeGrid
 
@@ -160,3 +160,22 @@ def test_size_grid_outside_the_projection_is_refused(box60):
     size = SizeGrid([-1e8, 1e8], [6.5e6, 6.8e6], np.full((2, 2), H))
     with pytest.raises(ValueError, match=r"no longitude.*UTM zone 31N"):
         generate_mesh(box60, size, mesh_crs=utm)
+
+
+def test_scale_factors_in_threads_are_those_of_one(monkeypatch):
+    monkeypatch.setattr(projection, "_SCALE_BLOCK", 7)  # 12 blocks, the last short
+    crs = CRS.from_epsg(32631)
+    rng = np.random.default_rng(3)
+    x = rng.uniform(2e5, 8e5, (9, 9))
+    y = rng.uniform(6.5e6, 6.8e6, (9, 9))
+    one = scale_factor(x, y, crs)
+    np.testing.assert_array_equal(scale_factor(x, y, crs, threads=3), one)
+    assert one.shape == (9, 9) and 0.9996 <= one.min() < one.max() < 1.001
+    # a point with no longitude: the same error, naming the first such node
+    x[4, 2], x[7, 1] = 1e8, 2e8
+    messages = []
+    for threads in (1, 3):
+        with pytest.raises(ValueError, match="no longitude") as error:
+            scale_factor(x, y, crs, threads=threads)
+        messages.append(str(error.value))
+    assert messages[0] == messages[1] and "100000000.0" in messages[0]

@@ -251,7 +251,7 @@ def mesh_in_parts(
             progress(done, total)
 
     started = time.perf_counter()
-    map_size = to_map_units(size, mesh_crs)
+    map_size = to_map_units(size, mesh_crs, threads=threads)
     rings, ids = project_rings(domain, mesh_crs)
     resampled, dropped = resample_rings(rings, lambda xy: sample_size(map_size, xy))
     ids = [ring_ids for r, ring_ids in enumerate(ids) if r not in set(dropped)]

@@ -10,6 +10,7 @@ puts the domain's boundary into the meshing CRS.
 from __future__ import annotations
 
 import logging
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 import shapely
@@ -179,7 +180,11 @@ def sample_size(grid: SizeGrid, xy: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def scale_factor(
-    x: NDArray[np.float64], y: NDArray[np.float64], mesh_crs: CRS
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    mesh_crs: CRS,
+    *,
+    threads: int = 1,
 ) -> NDArray[np.float64]:
     """Return the point scale factor k of a conformal ``mesh_crs`` at points.
 
@@ -189,6 +194,9 @@ def scale_factor(
         Projected coordinates in ``mesh_crs``, of the same shape.
     mesh_crs : pyproj.CRS
         A projected CRS.
+    threads : int, default 1
+        Blocks of points computed at once (PROJ lets go of the GIL): the
+        same numbers for any number.
 
     Returns
     -------
@@ -208,14 +216,14 @@ def scale_factor(
     projection = Proj(mesh_crs)
     flat_x, flat_y = x.ravel(), y.ravel()
     k = np.empty(flat_x.size)
-    distortion = 0.0
-    for start in range(0, flat_x.size, _SCALE_BLOCK):
-        block = slice(start, start + _SCALE_BLOCK)
-        lon, lat = to_lonlat.transform(flat_x[block], flat_y[block])
+
+    def block(start: int) -> float:
+        part = slice(start, start + _SCALE_BLOCK)
+        lon, lat = to_lonlat.transform(flat_x[part], flat_y[part])
         factors = projection.get_factors(lon, lat)
-        k[block] = factors.meridional_scale
-        bad = ~(np.isfinite(lon) & np.isfinite(lat) & np.isfinite(k[block]))
-        bad |= ~(k[block] > 0)
+        k[part] = factors.meridional_scale
+        bad = ~(np.isfinite(lon) & np.isfinite(lat) & np.isfinite(k[part]))
+        bad |= ~(k[part] > 0)
         if bad.any():
             i = start + int(np.argmax(bad))
             raise ValueError(
@@ -223,7 +231,14 @@ def scale_factor(
                 f"longitude, latitude or scale factor in mesh_crs {mesh_crs.name!r}; "
                 "keep the grid inside the projection's valid area"
             )
-        distortion = max(distortion, float(np.max(factors.angular_distortion)))
+        return float(np.max(factors.angular_distortion, initial=0.0))
+
+    starts = range(0, flat_x.size, _SCALE_BLOCK)
+    if threads > 1 and len(starts) > 1:
+        with ThreadPoolExecutor(min(threads, len(starts))) as pool:
+            distortion = max(pool.map(block, starts))  # the first error raises
+    else:
+        distortion = max(map(block, starts), default=0.0)
     if not distortion <= _MAX_ANGULAR_DISTORTION:
         raise ValueError(
             f"mesh_crs {mesh_crs.name!r} is not conformal: its angular distortion "
@@ -235,7 +250,7 @@ def scale_factor(
     return k.reshape(x.shape)
 
 
-def to_map_units(size: SizeGrid, mesh_crs: CRS) -> SizeGrid:
+def to_map_units(size: SizeGrid, mesh_crs: CRS, *, threads: int = 1) -> SizeGrid:
     """Convert a size grid from metres on the Earth to ``mesh_crs`` map units.
 
     Parameters
@@ -244,6 +259,8 @@ def to_map_units(size: SizeGrid, mesh_crs: CRS) -> SizeGrid:
         Target edge lengths in metres on the Earth, at nodes in ``mesh_crs``.
     mesh_crs : pyproj.CRS
         A projected, conformal CRS.
+    threads : int, default 1
+        Threads for the scale factors (:func:`scale_factor`).
 
     Returns
     -------
@@ -254,7 +271,7 @@ def to_map_units(size: SizeGrid, mesh_crs: CRS) -> SizeGrid:
     if not isinstance(size, SizeGrid):  # a SphereSizeGrid scales as it samples
         return size.in_map_units()
     gx, gy = np.meshgrid(size.x, size.y)
-    k = scale_factor(gx, gy, mesh_crs)
+    k = scale_factor(gx, gy, mesh_crs, threads=threads)
     logger.info(
         "size: scale factor %.4f to %.4f in %s", k.min(), k.max(), mesh_crs.name
     )

@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy import ndimage
 
 from coastmesh.errors import MeshingError
 from coastmesh.types import SizeGrid
@@ -122,11 +123,21 @@ def set_options(gmsh: Any, *, threads: int, seed: int, algorithm: str) -> None:
         gmsh.option.setNumber(name, value)
 
 
-def add_size_view(gmsh: Any, size: SizeGrid, bounds: tuple[float, ...]) -> None:
-    """Make the size grid, padded to ``bounds``, Gmsh's background mesh size."""
+def add_size_view(
+    gmsh: Any,
+    size: SizeGrid,
+    bounds: tuple[float, ...],
+    near: NDArray[np.float64] | None = None,
+) -> None:
+    """Make the size grid, padded to ``bounds``, Gmsh's background mesh size.
+
+    With ``near`` (points, (k, 2)), only the cells holding a point and the
+    cells around them (:func:`grid_view_data`) go into the view: Gmsh then
+    sizes right only there (elsewhere its field gives no size).
+    """
     view = gmsh.view.add("size")
     if isinstance(size, SizeGrid):
-        data = grid_view_data(size, bounds)
+        data = grid_view_data(size, bounds, near)
         gmsh.view.addListData(view, "SQ", len(data) // 16, data)
     else:  # a SphereSizeGrid: its cells, moved into the plane
         for kind, data in size.view_data().items():
@@ -137,11 +148,52 @@ def add_size_view(gmsh: Any, size: SizeGrid, bounds: tuple[float, ...]) -> None:
     gmsh.model.mesh.field.setNumber(field, "ViewTag", view)
     gmsh.model.mesh.field.setAsBackgroundMesh(field)
     # build the view's search structure on one thread (Gmsh: lazily, in-loop)
-    gmsh.view.probe(view, bounds[0], bounds[1], 0.0)
+    at = (bounds[0], bounds[1]) if near is None or not len(near) else near[0]
+    gmsh.view.probe(view, float(at[0]), float(at[1]), 0.0)
 
 
-def grid_view_data(size: SizeGrid, bounds: tuple[float, ...]) -> NDArray[np.float64]:
-    """Quadrangles of the size grid, padded to ``bounds``, in Gmsh list format."""
+def grid_view_data(
+    size: SizeGrid,
+    bounds: tuple[float, ...],
+    near: NDArray[np.float64] | None = None,
+) -> NDArray[np.float64]:
+    """Quadrangles of the size grid, padded to ``bounds``, in Gmsh list format.
+
+    Each cell is 16 numbers: its corners' x, y, z (0) and values,
+    counter-clockwise from its lower left. All cells in row order, or with
+    ``near`` (points, (k, 2)) only those holding a point or next to one
+    (the 3 x 3 cells around each point's cell), in row order: a point within
+    one cell's width of a point of ``near`` lies in one of them.
+    """
+    x, y, v = _padded(size, bounds)
+    ny, nx = len(y) - 1, len(x) - 1
+    corners = [(0, 0), (0, 1), (1, 1), (1, 0)]  # (dj, di), counter-clockwise
+    if near is None:
+        cells = np.zeros((ny, nx, 16))
+        for k, (dj, di) in enumerate(corners):
+            cells[:, :, k] = x[di : di + nx]
+            cells[:, :, 4 + k] = y[dj : dj + ny, None]
+            cells[:, :, 12 + k] = v[dj : dj + ny, di : di + nx]
+        # gmsh's Python API takes a contiguous float64 array as it is
+        return cells.ravel()
+    near = np.asarray(near, dtype=np.float64).reshape(-1, 2)
+    hit = np.zeros((ny, nx), dtype=bool)
+    i = np.clip(np.searchsorted(x, near[:, 0], side="right") - 1, 0, nx - 1)
+    j = np.clip(np.searchsorted(y, near[:, 1], side="right") - 1, 0, ny - 1)
+    hit[j, i] = True
+    j, i = np.nonzero(ndimage.binary_dilation(hit, np.ones((3, 3), dtype=bool)))
+    cells = np.zeros((len(j), 16))
+    for k, (dj, di) in enumerate(corners):
+        cells[:, k] = x[i + di]
+        cells[:, 4 + k] = y[j + dj]
+        cells[:, 12 + k] = v[j + dj, i + di]
+    return cells.ravel()
+
+
+def _padded(
+    size: SizeGrid, bounds: tuple[float, ...]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Return the grid's x, y and values, a row or column more where ``bounds`` pass."""
     minx, miny, maxx, maxy = bounds
     pad = 0.01 * max(maxx - minx, maxy - miny) + 1.0
     x, y, v = size.x, size.y, size.values
@@ -153,20 +205,7 @@ def grid_view_data(size: SizeGrid, bounds: tuple[float, ...]) -> NDArray[np.floa
         y, v = np.concatenate([[miny - pad], y]), np.vstack([v[:1], v])
     if maxy + pad > y[-1]:
         y, v = np.concatenate([y, [maxy + pad]]), np.vstack([v, v[-1:]])
-    gx, gy = np.meshgrid(x, y)
-    corners = [(0, 0), (0, 1), (1, 1), (1, 0)]  # (dj, di), counter-clockwise
-
-    def at(a: NDArray[np.float64], dj: int, di: int) -> NDArray[np.float64]:
-        return a[dj : a.shape[0] - 1 + dj, di : a.shape[1] - 1 + di].ravel()
-
-    columns = (
-        [at(gx, dj, di) for dj, di in corners]
-        + [at(gy, dj, di) for dj, di in corners]
-        + [np.zeros(gx[:-1, :-1].size)] * 4
-        + [at(v, dj, di) for dj, di in corners]
-    )
-    # gmsh's Python API takes a contiguous float64 array as it is (no list copy)
-    return np.column_stack(columns).ravel()
+    return x, y, v
 
 
 def crop_grid(grid: SizeGrid, bounds: tuple[float, ...], margin: int = 2) -> SizeGrid:
