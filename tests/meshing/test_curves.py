@@ -143,7 +143,8 @@ def test_boundary_nodes_of_orkney_are_those_of_the_whole_view(
 
 def test_a_spline_that_misses_its_points_gets_the_whole_view():
     piece = np.array([[0.0, 0.0], [50.0, 10.0], [100.0, 0.0]])
-    size = SizeGrid(np.arange(0.0, 101, 10), np.arange(-20.0, 21, 10), np.ones((5, 11)))
+    x, y = np.arange(-100.0, 201, 10), np.arange(-20.0, 21, 10)
+    size = SizeGrid(x, y, np.ones((len(y), len(x))))  # 155 cells
 
     class Model:
         def __init__(self, shift):
@@ -161,5 +162,9 @@ def test_a_spline_that_misses_its_points_gets_the_whole_view():
             self.model = Model(shift)
 
     along = curves._along(Gmsh(0.0), [(piece, 1, 1)], size)
-    assert along is not None and np.hypot(*np.diff(along, axis=0).T).max() <= 2.5
+    assert len(along) == 2 * 21 + 1  # two 51 m spans in 2.5 m steps, and the end
+    assert np.hypot(*np.diff(along, axis=0).T).max() <= 2.5
     assert curves._along(Gmsh(0.5), [(piece, 1, 1)], size) is None
+    # more samples than the grid has cells: the whole grid costs less
+    small = SizeGrid(x[:8], y, np.ones((len(y), 8)))  # 35 cells
+    assert curves._along(Gmsh(0.0), [(piece, 1, 1)], small) is None

@@ -97,8 +97,8 @@ def _along(
     the same boundary nodes. A spline through ``n`` points takes them at
     the parameters ``k / (n - 1)``; each span is sampled at steps of at most a
     quarter cell along its chord. None (the whole grid) for a size grid on
-    the sphere, or if Gmsh's spline does not pass its points at those
-    parameters.
+    the sphere, if that takes more points than the grid has cells, or if
+    Gmsh's spline does not pass its points at those parameters.
     """
     if not isinstance(size, SizeGrid):
         return None
@@ -110,6 +110,8 @@ def _along(
     at = np.delete(np.arange(len(points) - 1), np.cumsum(spans + 1)[:-1] - 1)
     chords = np.hypot(*(points[at + 1] - points[at]).T)
     steps = np.maximum(np.ceil(chords / step), 1).astype(np.int64)
+    if steps.sum() > size.values.size:  # more samples than cells: nothing saved
+        return None
     span = np.repeat(np.arange(len(at)), steps)
     within = np.arange(len(span)) - np.repeat(np.cumsum(steps) - steps, steps)
     curve = np.searchsorted(ends, span, side="right")
