@@ -15,7 +15,12 @@ from coastmesh.case.executor import open_runner
 from coastmesh.meshing import CleanupOptions, crossings, generate_mesh
 from coastmesh.meshing import parts as parts_module
 from coastmesh.meshing.engine import PartsWarning, mesh_in_parts
-from coastmesh.meshing.parts import auto_parts, cut_lines, expected_triangles
+from coastmesh.meshing.parts import (
+    auto_parts,
+    cut_lines,
+    expected_triangles,
+    plan_cuts,
+)
 from coastmesh.meshing.surfaces import chunked, split_faces
 from coastmesh.types import BoundarySegment, Domain, SizeGrid
 
@@ -185,6 +190,34 @@ def test_no_part_holds_much_more_than_its_share(parts, off):
         assert len(cuts) == parts - 1  # balanced cuts: no part is cut again
 
 
+def test_a_part_cut_again_for_its_size_does_not_hide_a_cut_not_made():
+    # the first cut is forced to 0.2 / 0.8; the 0.2 side (2 parts wanted) has
+    # no clean cut; the 0.8 side's larger part is cut again, and again, for
+    # its size: more cuts than asked, and still one asked for is missed
+    water = shapely.Polygon(OUTER)
+    grid = SizeGrid(
+        np.arange(0.0, 12001, 50), np.arange(0.0, 8001, 50), np.full((161, 241), 10.0)
+    )
+    total = expected_triangles(water, grid)
+    best = parts_module._best_cut
+
+    def refuse_small(polygon, grid, coast, region, x, y, w, *rest):
+        if w.sum() < 0.3 * total:  # no clean cut in a region under 30 %
+            return (np.inf, shapely.LineString(), [], 0.0)
+        return best(polygon, grid, coast, region, x, y, w, *rest)
+
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(parts_module, "_CANDIDATES", 1)  # only share - _SPREAD
+        patch.setattr(parts_module, "_SPREAD", 0.3)
+        patch.setattr(parts_module, "_best_cut", refuse_small)
+        plan = plan_cuts(water, grid, 4)
+        assert cut_lines(water, grid, 4) == plan.cuts
+    assert len(plan.cuts) > 3 and plan.missed == 1
+    costs = np.array([expected_triangles(f, grid) for f in _faces(water, plan.cuts)])
+    assert costs.max() <= parts_module.OVERSIZE * total / 4 * (1 + 1e-9)
+    assert np.isclose(costs, 0.2 * total, rtol=0.02).sum() == 1  # the uncut side
+
+
 @pytest.mark.parametrize("key", [(3, "serial"), (4, "serial"), (3, "clean")])
 def test_parts_give_one_conforming_mesh_with_the_same_boundary(meshes, key):
     one, many = meshes[(1, "serial")], meshes[key]
@@ -231,7 +264,9 @@ def test_the_mesh_does_not_depend_on_the_executor_or_order(meshes, how):
 
 def test_too_many_parts_warns_and_meshes_fewer():
     # 7,700 expected triangles: not one cut leaves two parts of 10,000
-    with pytest.warns(PartsWarning, match="at only 0 places; meshing 1 parts"):
+    with pytest.warns(
+        PartsWarning, match="at only 0 of the 3 places asked; meshing 1 parts"
+    ):
         _, report = mesh_in_parts(_domain(), _grid(), parts=4)
     assert report.parts == 1 and report.wanted == 4 and report.cuts == ()
     with warnings.catch_warnings():

@@ -26,7 +26,7 @@ from coastmesh.meshing.cleanup_report import CleanupOptions, combine, stats
 from coastmesh.meshing.curves import boundary_nodes
 from coastmesh.meshing.globe import SphereSizeGrid
 from coastmesh.meshing.junctions import join_cuts
-from coastmesh.meshing.parts import MIN_PART_TRIANGLES, auto_parts, cut_lines
+from coastmesh.meshing.parts import MIN_PART_TRIANGLES, auto_parts, plan_cuts
 from coastmesh.meshing.parts_report import PartsReport
 from coastmesh.meshing.projection import (
     default_mesh_crs,
@@ -422,13 +422,15 @@ def _cut(
     if wanted == 1:
         return pieces, [], 1
     ends = np.array([p[i] for p, _ in pieces for i in (0, -1)])
-    cuts = cut_lines(water, size, wanted, ends=ends)
-    if parts != "auto" and len(cuts) < wanted - 1:
+    cuts, missed = plan_cuts(water, size, wanted, ends=ends)
+    if parts != "auto" and missed:
+        # counted as asked: a part cut again for its size (OVERSIZE) is not
+        # one of them, so the count of parts alone would hide a shortfall
         warnings.warn(
             f"parts = {parts}: the water can be cut cleanly (every part at least "
             f"{MIN_PART_TRIANGLES:,} expected triangles, cuts clear of the coast "
-            f"and of each other) at only {len(cuts)} places; meshing "
-            f"{len(cuts) + 1} parts",
+            f"and of each other) at only {wanted - 1 - missed} of the "
+            f"{wanted - 1} places asked; meshing {len(cuts) + 1} parts",
             PartsWarning,
             stacklevel=4,
         )

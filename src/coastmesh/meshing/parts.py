@@ -36,6 +36,8 @@ water, grid and ``K`` give the same cuts.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 import shapely
 from numpy.typing import NDArray
@@ -47,9 +49,11 @@ __all__ = [
     "MIN_PART_TRIANGLES",
     "OVERSIZE",
     "TRIANGLES_PER_PART",
+    "CutPlan",
     "auto_parts",
     "cut_lines",
     "expected_triangles",
+    "plan_cuts",
 ]
 
 #: Triangles per unit area of an equilateral mesh of edge h: 4 / (sqrt(3) h^2).
@@ -147,14 +151,24 @@ def auto_parts(polygon: shapely.Polygon, grid: SizeGrid) -> int:
     return int(min(2 ** max(int(np.floor(np.log2(max(n, 1.0)))), 0), MAX_AUTO_PARTS))
 
 
-def cut_lines(
+class CutPlan(NamedTuple):
+    """The cuts of :func:`plan_cuts`, and how many cuts asked for were not made."""
+
+    cuts: list[shapely.LineString]
+    missed: int
+
+
+def plan_cuts(
     polygon: shapely.Polygon,
     grid: SizeGrid,
     parts: int,
     *,
     ends: NDArray[np.float64] | None = None,
-) -> list[shapely.LineString]:
+) -> CutPlan:
     """Return straight cuts that split the water into ``parts`` of equal cost.
+
+    :func:`cut_lines` returns the same cuts; this also counts the cuts asked
+    for that were not made.
 
     Parameters
     ----------
@@ -170,21 +184,27 @@ def cut_lines(
 
     Returns
     -------
-    list of shapely.LineString
-        ``parts - 1`` segments (fewer where a region holds under twice
+    CutPlan
+        ``cuts``: ``parts - 1`` segments (fewer where a region holds under twice
         :data:`MIN_PART_TRIANGLES` expected triangles or has no clean cut;
         more where a part would hold over :data:`OVERSIZE` shares),
         each spanning the region it cuts (a convex region of the recursive
         bisection);
         later cuts end on earlier ones. A cut may cross the water several
-        times: each crossing is a shared curve.
+        times: each crossing is a shared curve. ``missed``: how many of the
+        ``parts - 1`` cuts asked for were not made (a cut made again to split
+        a part over :data:`OVERSIZE` shares does not stand in for one).
 
     Examples
     --------
     >>> g = SizeGrid(np.arange(0.0, 2001, 20), np.arange(0.0, 1001, 20),
     ...              np.full((51, 101), 5.0))  # 180,000 triangles
-    >>> [c.bounds for c in cut_lines(shapely.box(0, 0, 2000, 1000), g, 2)]
-    [(1010.0, 0.0, 1010.0, 1000.0)]
+    >>> plan = plan_cuts(shapely.box(0, 0, 2000, 1000), g, 2)
+    >>> [c.bounds for c in plan.cuts], plan.missed
+    ([(1010.0, 0.0, 1010.0, 1000.0)], 0)
+    >>> plan = plan_cuts(shapely.box(0, 0, 2000, 1000), g, 40)  # 4,500 each
+    >>> len(plan.cuts), plan.missed  # 16 parts of 11,250: each over 10,000
+    (15, 24)
     """
     if isinstance(parts, bool) or not isinstance(parts, int | np.integer) or parts < 1:
         raise ValueError(f"parts is {parts!r}; expected an integer >= 1")
@@ -202,8 +222,30 @@ def cut_lines(
     )
     limit = OVERSIZE * float(w.sum()) / int(parts)
     region = shapely.box(*polygon.bounds)
-    _bisect(polygon, grid, coast, region, (x, y, w), (int(parts), limit), cuts)
-    return cuts
+    missed: list[int] = []
+    _bisect(polygon, grid, coast, region, (x, y, w), (int(parts), limit), cuts, missed)
+    return CutPlan(cuts, sum(missed))
+
+
+def cut_lines(
+    polygon: shapely.Polygon,
+    grid: SizeGrid,
+    parts: int,
+    *,
+    ends: NDArray[np.float64] | None = None,
+) -> list[shapely.LineString]:
+    """Return straight cuts that split the water into ``parts`` of equal cost.
+
+    The cuts of :func:`plan_cuts`, which documents the arguments.
+
+    Examples
+    --------
+    >>> g = SizeGrid(np.arange(0.0, 2001, 20), np.arange(0.0, 1001, 20),
+    ...              np.full((51, 101), 5.0))  # 180,000 triangles
+    >>> [c.bounds for c in cut_lines(shapely.box(0, 0, 2000, 1000), g, 2)]
+    [(1010.0, 0.0, 1010.0, 1000.0)]
+    """
+    return plan_cuts(polygon, grid, parts, ends=ends).cuts
 
 
 def _bisect(
@@ -214,18 +256,23 @@ def _bisect(
     cells: tuple[NDArray, NDArray, NDArray],
     aim: tuple[int, float],
     cuts: list[shapely.LineString],
+    missed: list[int],
 ) -> None:
     """Cut ``region`` (convex: a box, or a box cut by oblique cuts) and recurse.
 
     ``cells`` are the grid nodes in its water and their expected triangles;
     ``aim`` the parts wanted of it and the :data:`OVERSIZE` limit of a part.
+    The cuts are appended to ``cuts``; the number of the region's wanted
+    cuts not made, if it is not cut, to ``missed``.
     """
     x, y, w = cells
     parts, limit = aim
+    asked = max(parts - 1, 0)  # cuts wanted here; not the one more for OVERSIZE
     if parts < 2 and w.sum() > limit:
         parts = 2  # too large a part: cut once more
     if parts < 2 or len(w) < 2 or w.sum() < 2 * MIN_PART_TRIANGLES:
-        return  # a part must be many elements across, or its cuts make slivers
+        missed.append(asked)  # a part must be many elements across, or its
+        return  # cuts make slivers
     x0, y0, x1, y1 = region.bounds
     # the water in the region only: each level works on less geometry
     clipped = shapely.clip_by_rect(polygon, x0, y0, x1, y1)
@@ -233,6 +280,7 @@ def _bisect(
         clipped = shapely.intersection(clipped, region)
     pieces = [g for g in shapely.get_parts(clipped) if g.geom_type == "Polygon"]
     if not pieces:
+        missed.append(asked)
         return
     polygon = pieces[0] if len(pieces) == 1 else shapely.MultiPolygon(pieces)
     share = (parts // 2) / parts
@@ -244,6 +292,7 @@ def _bisect(
         if score < PENALTY:
             break
     else:
+        missed.append(asked)
         return  # no clean cut: fewer parts beat thin triangles
     cuts.append(line)
     coast[2].extend(c for g in chosen for c in np.asarray(g.coords)[[0, -1]])
@@ -252,7 +301,7 @@ def _bisect(
     for below, side, n in ((True, low, parts // 2), (False, ~low, parts - parts // 2)):
         half = _half(region, direction, at, below=below)
         cells = (x[side], y[side], w[side])
-        _bisect(polygon, grid, coast, half, cells, (n, limit), cuts)
+        _bisect(polygon, grid, coast, half, cells, (n, limit), cuts, missed)
 
 
 def _directions(longer_x: bool) -> list[tuple[float, float]]:
