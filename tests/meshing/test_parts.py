@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import re
 import warnings
 
 import numpy as np
@@ -298,6 +299,35 @@ def test_the_parts_figure_draws_every_cut_and_labels_every_part(monkeypatch):
     assert len(labels) == len(big) >= 3
     pairs = zip(big, labels, strict=True)
     assert all(f"{n:,} tri" in label for n, label in pairs)
+
+
+def test_the_parts_figure_keeps_its_labels_apart():
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from coastmesh import plot
+    from coastmesh.meshing.parts_report import PartsReport
+
+    # parts 1-4 labelled at nearly one point, part 5 far from them
+    centres = ((2000, 2000), (2100, 2050), (2200, 1950), (2050, 2150), (10000, 6000))
+    triangles = (5000, 4000, 3000, 2000, 6000)
+    report = PartsReport(
+        5, 5, (), (1.0,) * 5, triangles, (1.0,) * 5, ("w",) * 5, centres
+    )
+    ax = plot.parts_figure(_domain(), report).axes[0]
+    renderer = FigureCanvasAgg(ax.figure).get_renderer()
+    labels = [t for t in ax.texts if t.get_visible() and t.get_text()[0].isdigit()]
+    boxes = [t.get_window_extent(renderer) for t in labels]
+    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[:i])
+    shown = {int(t.get_text().split("\n")[0]): t.get_text() for t in labels}
+    # the largest parts keep their whole label; the others their number, or
+    # are named in the note
+    assert "6,000 tri" in shown[5] and "5,000 tri" in shown[1]
+    assert all(shown[k] == str(k) for k in shown if k not in (1, 5))
+    note = [t.get_text() for t in ax.texts if t.get_text().startswith("not labelled")]
+    named = re.search(r"parts? ([\d, ]+)$", note[0]) if note else None
+    hidden = {int(k) for k in named.group(1).split(", ")} if named else set()
+    assert hidden | set(shown) == {1, 2, 3, 4, 5} and not hidden & set(shown)
+    assert hidden  # four labels on one point: some find no room
 
 
 def _literal_stats(mesh, min_angle):

@@ -127,15 +127,37 @@ class PartsReport(Report):
         }
 
     def summary(self) -> str:
-        """One line: parts, balance, and the projected speed-ups."""
+        """One line: parts, balance, and the projected speed-ups.
+
+        The balance is the largest part over its share: all the triangles
+        over the parts wanted (a cut crossing the water more than once makes
+        more parts, some of them slivers, which a mean would count).
+
+        Examples
+        --------
+        >>> r = PartsReport(2, 2, (), (1.0,) * 3, (600, 10, 390), (3.0, 0.1, 2.0),
+        ...                 ("a", "b", "a"))
+        >>> head, tail = r.summary().split("), ")
+        >>> head
+        '3 parts of 2 wanted (10 to 600 triangles, the largest 1.20 x its share'
+        >>> tail.split("; ")[0]
+        '5.1 s of Gmsh and 0.0 s of cleanup on 2 workers'
+        """
         if not self.seconds:
             return "1 part"
         most = max(self.triangles)
+        share = sum(self.triangles) / max(self.wanted, 1)
         return (
-            f"{self.parts} parts ({min(self.triangles):,} to {most:,} triangles, "
-            f"largest {most / float(np.mean(self.triangles)):.2f} x the mean), "
+            f"{self.parts} parts of {self.wanted} wanted ({min(self.triangles):,} "
+            f"to {most:,} triangles, the largest {most / share:.2f} x its share), "
             f"{sum(self.seconds):.1f} s of Gmsh and "
             f"{sum(self.cleanup_seconds):.1f} s of cleanup on "
-            f"{len(set(self.workers))} workers; projected speed-up on 8 / 32 cores "
+            f"{_count(len(set(self.workers)), 'worker')}; projected speed-up on "
+            "8 / 32 cores "
             f"{self.projected_speedup(8):.1f} / {self.projected_speedup(32):.1f}"
         )
+
+
+def _count(n: int, noun: str) -> str:
+    """Return ``"1 worker"``, ``"2 workers"``."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"

@@ -430,12 +430,13 @@ def parts_figure(
         LineCollection(list(parts.cuts), colors="#c0392b", linewidths=1.6, zorder=3)
     )
     total = max(sum(parts.triangles), 1)
+    labels = []
     for k, (xy, n, t) in enumerate(
         zip(parts.centres, parts.triangles, parts.seconds, strict=False)
     ):
         if n < 0.005 * total:
             continue  # a sliver of water a cut crosses: no label to clutter
-        ax.annotate(
+        label = ax.annotate(
             f"{k + 1}\n{n:,} tri\n{t:.1f} s",
             xy,
             ha="center",
@@ -444,7 +445,46 @@ def parts_figure(
             zorder=4,
             bbox={"boxstyle": "round", "fc": "white", "ec": "0.6", "alpha": 0.8},
         )
+        labels.append((n, k + 1, label))
     xy = np.concatenate(outline)
     _frame(ax, (*xy.min(axis=0), *xy.max(axis=0)), crs)
     ax.set_title("\n".join(textwrap.wrap(title or parts.summary(), 90)), fontsize=9)
+    _declutter(figure, ax, labels)
     return figure
+
+
+def _declutter(figure: Figure, ax: Any, labels: list) -> None:
+    """Keep the labels of ``(triangles, number, annotation)`` from overlapping.
+
+    Larger parts first: a label over one already placed shows its part's
+    number alone; if that still overlaps, it is not drawn, and the parts left
+    unlabelled are named in a corner of the axes.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    if len(labels) < 2:
+        return
+    renderer = FigureCanvasAgg(figure).get_renderer()
+    figure.draw_without_rendering()  # the layout, so the boxes are where drawn
+    placed: list = []
+    hidden = []
+    for _, number, label in sorted(labels, key=lambda item: (-item[0], item[1])):
+        box = label.get_window_extent(renderer)
+        if any(box.overlaps(other) for other in placed):
+            label.set_text(str(number))
+            box = label.get_window_extent(renderer)
+            if any(box.overlaps(other) for other in placed):
+                label.set_visible(False)
+                hidden.append(number)
+                continue
+        placed.append(box)
+    if hidden:
+        ax.text(
+            0.01,
+            0.01,
+            f"not labelled (no room): part{'s' if len(hidden) > 1 else ''} "
+            + ", ".join(map(str, sorted(hidden))),
+            transform=ax.transAxes,
+            fontsize=7,
+            bbox={"fc": "white", "ec": "0.6", "alpha": 0.8},
+        )
