@@ -21,17 +21,43 @@ from coastmesh.meshing.session import grid_view_data
 from coastmesh.types import SizeGrid
 
 
+def _literal_whole(size, bounds):
+    """Literal: every cell of the grid padded to ``bounds``, in row order."""
+    minx, miny, maxx, maxy = bounds
+    pad = 0.01 * max(maxx - minx, maxy - miny) + 1.0
+    xs, ys = list(size.x), list(size.y)
+    v = [list(row) for row in size.values]
+    if minx - pad < xs[0]:
+        xs.insert(0, minx - pad)
+        v = [[row[0], *row] for row in v]
+    if maxx + pad > xs[-1]:
+        xs.append(maxx + pad)
+        v = [[*row, row[-1]] for row in v]
+    if miny - pad < ys[0]:
+        ys.insert(0, miny - pad)
+        v.insert(0, list(v[0]))
+    if maxy + pad > ys[-1]:
+        ys.append(maxy + pad)
+        v.append(list(v[-1]))
+    cells = []
+    for j in range(len(ys) - 1):
+        for i in range(len(xs) - 1):
+            corners = [(j, i), (j, i + 1), (j + 1, i + 1), (j + 1, i)]  # ccw
+            cells.append(
+                [xs[b] for _, b in corners]
+                + [ys[a] for a, _ in corners]
+                + [0.0] * 4
+                + [v[a][b] for a, b in corners]
+            )
+    return np.array(cells).reshape(-1, 16), xs, ys
+
+
 def _reference_view(size, bounds, near):
     """Literal: the whole view's cells, kept where a point is in the 3 x 3 around."""
-    whole = grid_view_data(size, bounds).reshape(-1, 16)
+    whole, xs, ys = _literal_whole(size, bounds)
     kept = []
     for cell in whole:
-        x0, x1 = cell[0], cell[1]  # lower left, lower right
-        y0, y1 = cell[4], cell[6]  # lower left, upper right
-        xs = sorted({float(c[0]) for c in whole} | {float(c[1]) for c in whole})
-        ys = sorted({float(c[4]) for c in whole} | {float(c[6]) for c in whole})
-        i, j = xs.index(x0), ys.index(y0)
-        assert xs[i + 1] == x1 and ys[j + 1] == y1
+        i, j = xs.index(cell[0]), ys.index(cell[4])  # its lower left corner
         for px, py in near:
             # the cell holding the point; points outside go to the edge cells
             pi = max(min(sum(px >= x for x in xs) - 1, len(xs) - 2), 0)
@@ -49,12 +75,14 @@ def _reference_view(size, bounds, near):
     count=st.integers(0, 6),
     seed=st.integers(0, 2**32 - 1),
 )
-def test_the_view_near_points_keeps_the_cells_around_them(nx, ny, count, seed):
+def test_the_view_is_the_padded_grid_near_points_or_whole(nx, ny, count, seed):
     rng = np.random.default_rng(seed)
     x = np.cumsum(rng.uniform(1.0, 10.0, nx))
     y = np.cumsum(rng.uniform(1.0, 10.0, ny))
     size = SizeGrid(x, y, rng.uniform(1.0, 5.0, (ny, nx)))
-    bounds = (x[0] + 0.5, y[0] - 3.0, x[-1] + 4.0, y[-1])  # padded on three sides
+    # a side of the grid is padded where ``bounds`` come within the pad of it
+    a, b, c, d = rng.uniform(-4.0, 4.0, 4)
+    bounds = (x[0] + a, y[0] + b, x[-1] - c, y[-1] - d)
     near = np.column_stack(
         [
             rng.uniform(x[0] - 9, x[-1] + 9, count),
@@ -63,6 +91,8 @@ def test_the_view_near_points_keeps_the_cells_around_them(nx, ny, count, seed):
     )
     got = grid_view_data(size, bounds, near).reshape(-1, 16)
     np.testing.assert_array_equal(got, _reference_view(size, bounds, near))
+    whole = grid_view_data(size, bounds).reshape(-1, 16)
+    np.testing.assert_array_equal(whole, _literal_whole(size, bounds)[0])
 
 
 def _full_and_near(monkeypatch, rings, ids, size, threads=1):
