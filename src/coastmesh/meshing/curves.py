@@ -93,14 +93,14 @@ def _along(
 
     Gmsh's 1-D mesher asks for sizes on the curves only, so the size view
     needs only the grid cells along them (:func:`add_size_view` with these
-    points): on the NW-shelf fine case 57,000 cells of its 2.2 million, and
-    the same boundary nodes. A spline through ``n`` points takes them at
+    points): on the NW-shelf fine case 34,920 cells of its 839,004, and the
+    same boundary nodes. A spline through ``n`` points takes them at
     the parameters ``k / (n - 1)``; each span is sampled at steps of at most a
     quarter cell along its chord. None (the whole grid) for a size grid on
     the sphere, if that takes more points than the grid has cells, or if
     Gmsh's spline does not pass its points at those parameters.
     """
-    if not isinstance(size, SizeGrid):
+    if not isinstance(size, SizeGrid) or min(len(size.x), len(size.y)) < 2:
         return None
     step = 0.25 * min(np.min(np.diff(size.x)), np.min(np.diff(size.y)))
     spans = np.array([len(piece) - 1 for piece, _, _ in curves])

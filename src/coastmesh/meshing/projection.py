@@ -231,7 +231,8 @@ def scale_factor(
                 f"longitude, latitude or scale factor in mesh_crs {mesh_crs.name!r}; "
                 "keep the grid inside the projection's valid area"
             )
-        return float(np.max(factors.angular_distortion, initial=0.0))
+        # a NaN (PROJ has no derivative there) is skipped, not taken as the max
+        return float(np.fmax.reduce(factors.angular_distortion, initial=0.0))
 
     starts = range(0, flat_x.size, _SCALE_BLOCK)
     if threads > 1 and len(starts) > 1:
