@@ -294,40 +294,59 @@ def test_the_parts_figure_draws_every_cut_and_labels_every_part(monkeypatch):
     ax = figure.axes[0]
     cuts = ax.collections[-1]
     assert len(cuts.get_segments()) == len(report.cuts) > 0
-    labels = [t.get_text() for t in ax.texts]
-    big = [n for n in report.triangles if n >= 0.005 * sum(report.triangles)]
-    assert len(labels) == len(big) >= 3
-    pairs = zip(big, labels, strict=True)
-    assert all(f"{n:,} tri" in label for n, label in pairs)
+    labels = {int(t.get_text().split("\n")[0]): t.get_text() for t in ax.texts}
+    total = sum(report.triangles)
+    big = {k + 1: n for k, n in enumerate(report.triangles) if n >= 0.005 * total}
+    assert set(labels) == set(big) and len(big) >= 3
+    assert all(f"{n:,} tri" in labels[k] for k, n in big.items())
 
 
-def test_the_parts_figure_keeps_its_labels_apart():
+def _drawn_labels(centres, triangles):
+    """The parts figure of these parts, drawn: its labels by part, and its note."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     from coastmesh import plot
     from coastmesh.meshing.parts_report import PartsReport
 
-    # parts 1-4 labelled at nearly one point, part 5 far from them
-    centres = ((2000, 2000), (2100, 2050), (2200, 1950), (2050, 2150), (10000, 6000))
-    triangles = (5000, 4000, 3000, 2000, 6000)
+    k = len(centres)
     report = PartsReport(
-        5, 5, (), (1.0,) * 5, triangles, (1.0,) * 5, ("w",) * 5, centres
+        k, k, (), (1.0,) * k, triangles, (1.0,) * k, ("w",) * k, centres
     )
     ax = plot.parts_figure(_domain(), report).axes[0]
-    renderer = FigureCanvasAgg(ax.figure).get_renderer()
-    labels = [t for t in ax.texts if t.get_visible() and t.get_text()[0].isdigit()]
-    boxes = [t.get_window_extent(renderer) for t in labels]
+    FigureCanvasAgg(ax.figure).draw()
+    labels = {
+        int(t.get_text().split("\n")[0]): t
+        for t in ax.texts
+        if t.get_text()[0].isdigit()
+    }
+    notes = [t.get_text() for t in ax.texts if t.get_text().startswith("not labelled")]
+    boxes = [t.get_bbox_patch().get_window_extent() for t in labels.values()]
     assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[:i])
-    shown = {int(t.get_text().split("\n")[0]): t.get_text() for t in labels}
-    # the largest parts keep their whole label; the others their number, or
-    # are named in the note
-    assert "6,000 tri" in shown[5] and "5,000 tri" in shown[1]
-    assert all(shown[k] == str(k) for k in shown if k not in (1, 5))
-    note = [t.get_text() for t in ax.texts if t.get_text().startswith("not labelled")]
-    named = re.search(r"parts? ([\d, ]+)$", note[0]) if note else None
+    for t in labels.values():  # a label off its part's centre has a line to it
+        assert (tuple(t.xyann) != (0.0, 0.0)) == (t.arrow_patch is not None)
+    return labels, notes
+
+
+def test_the_parts_figure_keeps_its_labels_apart():
+    # parts 1-4 labelled at nearly one point, part 5 far from them
+    centres = ((2000, 2000), (2100, 2050), (2200, 1950), (2050, 2150), (10000, 6000))
+    labels, notes = _drawn_labels(centres, (5000, 4000, 3000, 2000, 6000))
+    assert set(labels) == {1, 2, 3, 4, 5} and not notes  # room for all
+    # the largest of the four and the lone one whole, at their centres
+    for k, n in ((1, "5,000"), (5, "6,000")):
+        assert f"{n} tri" in labels[k].get_text() and tuple(labels[k].xyann) == (0, 0)
+    assert all(tuple(labels[k].xyann) != (0, 0) for k in (2, 3, 4))
+    # forty parts at one point: those with no room are named in a note
+    many = [(6000 + 10.0 * k, 1500.0) for k in range(40)]
+    labels, notes = _drawn_labels(many, tuple(range(5000, 5040)))
+    named = re.search(r"parts? ([\d, ]+)$", notes[0]) if notes else None
     hidden = {int(k) for k in named.group(1).split(", ")} if named else set()
-    assert hidden | set(shown) == {1, 2, 3, 4, 5} and not hidden & set(shown)
-    assert hidden  # four labels on one point: some find no room
+    assert (
+        hidden
+        and not hidden & set(labels)
+        and hidden | set(labels) == set(range(1, 41))
+    )
+    assert max(labels) == 40 and "5,039 tri" in labels[40].get_text()  # the largest
 
 
 def _literal_stats(mesh, min_angle):

@@ -34,9 +34,9 @@ from coastmesh.plot.mesh import (
     domain_figure,
     mercator_figure,
     mesh_figure,
-    parts_figure,
     size_figure,
 )
+from coastmesh.plot.parts import parts_figure
 from coastmesh.plot.pca import (
     plot_raster_comparison,
     plot_shoreline_overlay,

@@ -7,7 +7,6 @@ get the same colour in every figure.
 
 from __future__ import annotations
 
-import textwrap
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -21,14 +20,12 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-    from coastmesh.meshing.parts_report import PartsReport
     from coastmesh.types import Domain, Mesh
 
 __all__ = [
     "domain_figure",
     "mercator_figure",
     "mesh_figure",
-    "parts_figure",
     "size_figure",
 ]
 
@@ -386,105 +383,3 @@ def mercator_figure(
     if title:
         figure.suptitle(title)
     return figure
-
-
-def parts_figure(
-    domain: Domain,
-    parts: PartsReport,
-    *,
-    crs: Any = None,
-    title: str | None = None,
-) -> Figure:
-    """Draw how the water was cut into parts: the cuts, and each part's cost.
-
-    Parameters
-    ----------
-    domain : coastmesh.types.Domain
-        The domain, in the CRS of ``parts``.
-    parts : coastmesh.meshing.parts_report.PartsReport
-        From :func:`coastmesh.meshing.engine.mesh_in_parts`.
-    crs : pyproj.CRS or CRS-like, optional
-        The CRS of ``parts`` (the mesh's); default ``domain.crs``.
-    title : str, optional
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-        The water, the cuts in red, and at a point in each part (holding at
-        least 0.5 % of the triangles) its number, triangles and Gmsh seconds.
-    """
-    from matplotlib.collections import LineCollection
-    from matplotlib.figure import Figure
-
-    crs = domain.crs if crs is None else crs
-
-    def here(xy: Any) -> NDArray[np.float64]:
-        return reproject_points(np.asarray(xy, dtype=float), domain.crs, crs)
-
-    figure = Figure(figsize=(9, 8), layout="constrained")
-    ax = figure.add_subplot()
-    _fill_water(ax, domain.polygon, here)
-    outline = [here(s.coords) for s in domain.segments]
-    ax.add_collection(LineCollection(outline, colors="0.45", linewidths=0.6))
-    ax.add_collection(
-        LineCollection(list(parts.cuts), colors="#c0392b", linewidths=1.6, zorder=3)
-    )
-    total = max(sum(parts.triangles), 1)
-    labels = []
-    for k, (xy, n, t) in enumerate(
-        zip(parts.centres, parts.triangles, parts.seconds, strict=False)
-    ):
-        if n < 0.005 * total:
-            continue  # a sliver of water a cut crosses: no label to clutter
-        label = ax.annotate(
-            f"{k + 1}\n{n:,} tri\n{t:.1f} s",
-            xy,
-            ha="center",
-            va="center",
-            fontsize=7,
-            zorder=4,
-            bbox={"boxstyle": "round", "fc": "white", "ec": "0.6", "alpha": 0.8},
-        )
-        labels.append((n, k + 1, label))
-    xy = np.concatenate(outline)
-    _frame(ax, (*xy.min(axis=0), *xy.max(axis=0)), crs)
-    ax.set_title("\n".join(textwrap.wrap(title or parts.summary(), 90)), fontsize=9)
-    _declutter(figure, ax, labels)
-    return figure
-
-
-def _declutter(figure: Figure, ax: Any, labels: list) -> None:
-    """Keep the labels of ``(triangles, number, annotation)`` from overlapping.
-
-    Larger parts first: a label over one already placed shows its part's
-    number alone; if that still overlaps, it is not drawn, and the parts left
-    unlabelled are named in a corner of the axes.
-    """
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-    if len(labels) < 2:
-        return
-    renderer = FigureCanvasAgg(figure).get_renderer()
-    figure.draw_without_rendering()  # the layout, so the boxes are where drawn
-    placed: list = []
-    hidden = []
-    for _, number, label in sorted(labels, key=lambda item: (-item[0], item[1])):
-        box = label.get_window_extent(renderer)
-        if any(box.overlaps(other) for other in placed):
-            label.set_text(str(number))
-            box = label.get_window_extent(renderer)
-            if any(box.overlaps(other) for other in placed):
-                label.set_visible(False)
-                hidden.append(number)
-                continue
-        placed.append(box)
-    if hidden:
-        ax.text(
-            0.01,
-            0.01,
-            f"not labelled (no room): part{'s' if len(hidden) > 1 else ''} "
-            + ", ".join(map(str, sorted(hidden))),
-            transform=ax.transAxes,
-            fontsize=7,
-            bbox={"fc": "white", "ec": "0.6", "alpha": 0.8},
-        )
