@@ -42,8 +42,10 @@ def parts_figure(
     Returns
     -------
     matplotlib.figure.Figure
-        The water, the cuts in red, and at a point in each part (holding at
-        least 0.5 % of the triangles) its number, triangles and Gmsh seconds.
+        The water, the cuts in red, and for each part holding at least 0.5 %
+        of the triangles its number, triangles and Gmsh seconds, at a point
+        inside it (``parts.centres``) or, where labels would overlap, beside
+        it with a line to it, or its number alone (:func:`_place_labels`).
     """
     from matplotlib.collections import LineCollection
     from matplotlib.figure import Figure
