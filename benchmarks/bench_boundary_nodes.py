@@ -24,8 +24,6 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parents[1]
-
 
 class _Captured(Exception):
     """Raised to stop the case at its meshing, with what it would mesh."""
@@ -97,7 +95,8 @@ def main() -> None:
         whole = statistics.median(times[("whole grid", threads)])
         for how in ("along the curves", "whole grid"):
             t = times[(how, threads)]
-            ratio = f"{whole / statistics.median(t):.2f}" if how[0] == "a" else ""
+            first = how == "along the curves"
+            ratio = f"{whole / statistics.median(t):.2f}" if first else ""
             print(
                 f"| {threads} | {how} | {min(t):.2f} | {statistics.median(t):.2f} "
                 f"| {ratio} |"

@@ -112,11 +112,12 @@ def _along(
     steps = np.maximum(np.ceil(chords / step), 1).astype(np.int64)
     if steps.sum() > size.values.size:  # more samples than cells: nothing saved
         return None
+    first = np.cumsum(steps) - steps  # each span's first sample
+    owner = np.searchsorted(ends, np.arange(len(at)), side="right")  # its curve
     span = np.repeat(np.arange(len(at)), steps)
-    within = np.arange(len(span)) - np.repeat(np.cumsum(steps) - steps, steps)
-    curve = np.searchsorted(ends, span, side="right")
-    local = span - (ends - spans)[curve]  # the span's number in its curve
-    t = (local + within / steps[span]) / spans[curve]
+    within = np.arange(len(span)) - first[span]
+    local = span - (ends - spans)[owner[span]]  # the span's number in its curve
+    t = (local + within / steps[span]) / spans[owner[span]]
     cut = np.cumsum(steps)[ends - 1]
     out = []
     for (_, _, tag), params in zip(curves, np.split(t, cut[:-1]), strict=True):
@@ -124,11 +125,8 @@ def _along(
         out.append(xy.reshape(-1, 3)[:, :2])
     along = np.concatenate(out)
     # each span's first sample and each curve's last must be its points
-    starts = (
-        np.cumsum(steps) - steps + np.searchsorted(ends, np.arange(len(at)), "right")
-    )
-    lasts = cut + np.arange(len(cut))
-    knots = along[np.concatenate([starts, lasts])]
+    # (each curve ends with one sample more: its parameter 1)
+    knots = along[np.concatenate([first + owner, cut + np.arange(len(cut))])]
     expected = points[np.concatenate([at, np.cumsum(spans + 1) - 1])]
     if not np.allclose(knots, expected, rtol=0.0, atol=1e-3 * step):
         return None
