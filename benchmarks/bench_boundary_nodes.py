@@ -6,7 +6,7 @@ Run from the repository root:
 
 The case is built up to its meshing (shoreline sets, domain, slots, size
 field: about 25 s for the NW-shelf fine case); then, in the same process and in
-turn, :func:`coastmesh.meshing.curves.boundary_nodes` makes the boundary nodes
+turn, :func:`coastmesh.meshing.gmsh.boundary_nodes.boundary_nodes` makes the boundary nodes
 with Gmsh's size view holding only the grid cells along the curves (as
 coastmesh does) and with the whole grid (as before), ``--runs`` times each on
 1 and on 2 Gmsh threads. The nodes must be the same, bit for bit. Prints a
@@ -32,7 +32,7 @@ class _Captured(Exception):
 def case_boundary(case: Path):
     """Return the case's resampled boundary rings, their ids, and the size grid."""
     from coastmesh.case import build as build_module
-    from coastmesh.meshing.boundary import resample_rings
+    from coastmesh.meshing.gmsh.resample import resample_rings
     from coastmesh.meshing.projection import project_rings, sample_size, to_map_units
 
     def capture(domain, size, **kwargs):
@@ -58,8 +58,8 @@ def main() -> None:
     parser.add_argument("--runs", type=int, default=5)
     args = parser.parse_args()
     warnings.simplefilter("ignore")
-    from coastmesh.meshing import curves
-    from coastmesh.meshing.session import grid_view_data
+    from coastmesh.meshing.gmsh import boundary_nodes as curves
+    from coastmesh.meshing.gmsh.model import grid_view_data
 
     rings, ids, size = case_boundary(args.case)
     along = curves._along

@@ -37,12 +37,12 @@ from reference import bilinear_loop, write_fort14_loop  # noqa: E402
 from reference_quality import triangle_quality_reference  # noqa: E402
 
 from coastmesh.data import path as data_path  # noqa: E402
+from coastmesh.depth.nodes import depth_at_nodes  # noqa: E402
 from coastmesh.io import mesh_formats, read_mesh, read_raster, write_mesh  # noqa: E402
-from coastmesh.meshing.cleanup import clean_mesh  # noqa: E402
-from coastmesh.meshing.depth import depth_at_nodes  # noqa: E402
-from coastmesh.meshing.quality import mesh_quality, triangle_quality  # noqa: E402
-from coastmesh.meshing.topology import boundary_strings  # noqa: E402
+from coastmesh.meshing.cleanup.fixes import clean_mesh  # noqa: E402
+from coastmesh.meshing.quality.mesh_quality import mesh_quality, triangle_quality  # noqa: E402
 from coastmesh.types import Mesh  # noqa: E402
+from coastmesh.types.topology import boundary_strings  # noqa: E402
 
 
 def grid_mesh(triangles: int) -> Mesh:

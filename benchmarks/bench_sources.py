@@ -134,8 +134,8 @@ def sampling(n: int) -> list[tuple[str, float, float]]:
     import xarray as xr
     from rasterio.warp import Resampling, reproject
 
+    from coastmesh.depth import DepthSource, DepthSources
     from coastmesh.io import read_raster
-    from coastmesh.sizing import DepthSource, DepthSources
 
     etopo = read_raster(DATA / "etopo1_0.1deg_nwshelf.tif")
     x = np.arange(300e3, 700e3, 200.0)

@@ -4,7 +4,7 @@ Reads a world shoreline layer, builds the world ocean in the stereographic
 plane (:func:`coastmesh.geometry.world.world_ocean`), grades the size from the
 coast on a longitude/latitude grid with the tidal-wavelength term from ETOPO1
 at 0.5 degrees (:func:`coastmesh.sizing.sphere.sphere_size_field`), meshes it
-through the plane (:class:`coastmesh.meshing.globe.SphereSizeGrid`) and prints
+through the plane (:class:`coastmesh.meshing.gmsh.sphere_sizes.SphereSizeGrid`) and prints
 one JSON line: each stage's time, the triangles, the quality measured on the
 sphere (flat triangles between the nodes' unit vectors), the area against the
 ocean's on the sphere, and the peak memory::
@@ -31,7 +31,7 @@ from coastmesh.geometry.world import world_ocean
 from coastmesh.io import read_raster
 from coastmesh.io.vector import read_features
 from coastmesh.meshing import generate_mesh
-from coastmesh.meshing.globe import SphereSizeGrid
+from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
 from coastmesh.sizing import BathymetrySize
 from coastmesh.sizing.field import Gradation
 from coastmesh.sizing.sphere import sphere_size_field

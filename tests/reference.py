@@ -156,7 +156,7 @@ def distance_to_points_geodesic(lon, lat, line_lon, line_lat):
 def bilinear_loop(rx, ry, values, px, py):
     """Bilinear interpolation one point at a time (NaN outside or at nodata).
 
-    The literal reference of ``coastmesh.sizing.raster.interpolate_bilinear``
+    The literal reference of ``coastmesh.depth.raster.interpolate_bilinear``
     (ascending ``rx``, ``ry``), which node depths and size grids use.
     """
     out = np.full(len(px), np.nan)

@@ -17,7 +17,8 @@ STATEMENTS = {
     # the package itself, errors, pca and geometry come with the shoreline module
     "core": (
         "import coastmesh.geometry.shoreline, coastmesh.types, coastmesh.data, "
-        "coastmesh.geometry, coastmesh.sizing, coastmesh.pca, coastmesh.meshing"
+        "coastmesh.geometry, coastmesh.depth, coastmesh.sizing, coastmesh.pca, "
+        "coastmesh.meshing"
     ),
     "msh": "import coastmesh.io.msh",
     "cli": "import coastmesh.cli.main",
@@ -54,7 +55,7 @@ def test_core_modules_stay_light(loaded):
 
 
 def test_msh_io_does_not_load_gmsh(loaded):
-    """Only meshing/engine.py talks to gmsh, and only while meshing."""
+    """Only meshing/gmsh/model.py talks to gmsh, and only while meshing."""
     assert loaded["msh"] & {"gmsh", "matplotlib", "rasterio", "pyogrio"} == set()
 
 

@@ -99,7 +99,9 @@ def test_no_loose_modules_beside_the_stage_packages():
 WRITERS = {"write_text", "write_bytes", "savefig", "to_netcdf", "mkdir", "replace"}
 
 
-@pytest.mark.parametrize("stage", ["pca", "geometry", "sizing", "meshing", "types"])
+@pytest.mark.parametrize(
+    "stage", ["pca", "geometry", "depth", "sizing", "meshing", "types"]
+)
 def test_the_core_stages_write_no_files(stage):
     """Computation never writes: files are written in io (and by its callers)."""
     for path in sorted((PACKAGE / stage).rglob("*.py")):

@@ -89,7 +89,7 @@ def test_every_name_the_docs_show_exists(module, name):
         owner = importlib.import_module(module)
     except ModuleNotFoundError:
         # `coastmesh.io.read_mesh` is module `coastmesh.io`, name `read_mesh`;
-        # `coastmesh.meshing.cleanup` is a module itself
+        # `coastmesh.meshing.cleanup.fixes` is a module itself
         importlib.import_module(f"{module}.{name}")
         return
     if not hasattr(owner, name):

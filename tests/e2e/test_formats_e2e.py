@@ -96,7 +96,7 @@ def test_mike_by_mikeio(reference):
 
 def test_fort14_and_gr3_against_the_format_description(reference):
     from coastmesh.io.adcirc import read_fort14
-    from coastmesh.meshing.topology import boundary_strings
+    from coastmesh.types.topology import boundary_strings
 
     result, out, mesh = reference
     strings = boundary_strings(mesh)

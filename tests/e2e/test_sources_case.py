@@ -21,9 +21,9 @@ from rasterio.warp import Resampling, reproject
 
 from coastmesh.case import parse_case, run_case
 from coastmesh.data import path as data_path
+from coastmesh.depth import DepthSource, DepthSources
 from coastmesh.errors import ConfigError, FormatError, InputDataError
 from coastmesh.io import read_raster
-from coastmesh.sizing import DepthSource, DepthSources
 
 ETOPO = data_path("etopo1_0.1deg_orkney_wide.tif")
 NODE_DEPTH = """[bathymetry]

@@ -15,13 +15,8 @@ from pyproj import Geod, Proj
 from coastmesh.data import path as data_path
 from coastmesh.errors import InputDataError
 from coastmesh.geometry.earth import EARTH_RADIUS, reproject
-from coastmesh.geometry.world import (
-    join_dateline,
-    plane_crs,
-    polar_ring,
-    scale_factor,
-    world_ocean,
-)
+from coastmesh.geometry.sphere import plane_crs, stereographic_scale
+from coastmesh.geometry.world import join_dateline, polar_ring, world_ocean
 from coastmesh.io.vector import read_features
 
 SPHERE = Geod(a=EARTH_RADIUS, b=EARTH_RADIUS)
@@ -61,7 +56,7 @@ def _land_area(polygons) -> float:
 )
 def test_the_scale_factor_is_pyprojs(lon, lat, pole_lon, pole_lat):
     pole = (pole_lon, pole_lat)
-    k = float(scale_factor(lon, lat, pole))
+    k = float(stereographic_scale(lon, lat, pole))
     # far enough from the pole for the plane to be finite
     if k > 1e3:
         return
@@ -75,7 +70,7 @@ def test_the_pole_goes_to_infinity_and_its_antipode_to_the_origin():
     crs = plane_crs((30.0, -60.0))
     x, y = reproject(shapely.Point(-150.0, 60.0), "EPSG:4326", crs).coords[0]
     assert abs(x) < 1e-6 and abs(y) < 1e-6
-    assert float(scale_factor(-150.0, 60.0, (30.0, -60.0))) == pytest.approx(1.0)
+    assert float(stereographic_scale(-150.0, 60.0, (30.0, -60.0))) == pytest.approx(1.0)
     with pytest.raises(InputDataError, match=r"pole \(0.0, 95.0\) is not on"):
         plane_crs((0.0, 95.0))
 

@@ -26,18 +26,17 @@ from scipy.spatial import ConvexHull, cKDTree
 import coastmesh
 from coastmesh.errors import CoastmeshWarning, ConfigError, FormatError
 from coastmesh.geometry import EARTH_RADIUS, reproject_points
+from coastmesh.geometry.sphere import lonlat_to_xyz, xyz_to_lonlat
 from coastmesh.io import check_on_sphere
 from coastmesh.io.adcirc import read_fort14
 from coastmesh.io.sphere import (
     crossing_triangles,
-    lonlat_to_xyz,
     on_sphere,
     pole_triangles,
     solid_angles,
-    xyz_to_lonlat,
 )
-from coastmesh.meshing.topology import boundary_rings
 from coastmesh.types import Mesh
+from coastmesh.types.topology import boundary_rings
 
 CAPS = (  # centre lon, lat, radius (degrees), name; id = position + 1
     (180.0, 10.0, 22.0, "pacifica"),

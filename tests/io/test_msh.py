@@ -13,7 +13,7 @@ from io_meshes import canonical, same_mesh, same_topology
 from coastmesh.errors import FormatError, InputDataError, OutputExistsError
 from coastmesh.io.msh import read_msh, write_msh
 from coastmesh.meshing.engine import generate_mesh
-from coastmesh.meshing.session import gmsh_session
+from coastmesh.meshing.gmsh.model import gmsh_session
 from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
 
 FORMATS = [("2.2", False), ("2.2", True), ("4.1", False), ("4.1", True)]

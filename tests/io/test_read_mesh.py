@@ -26,8 +26,8 @@ from coastmesh.io import (
     register_mesh_format,
     write_mesh,
 )
-from coastmesh.meshing.topology import boundary_rings
 from coastmesh.types import Mesh
+from coastmesh.types.topology import boundary_rings
 
 
 @dataclass(frozen=True)

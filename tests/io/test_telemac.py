@@ -13,8 +13,8 @@ from io_meshes import strip_mesh
 from coastmesh.errors import CoastmeshWarning, FormatError, OutputExistsError
 from coastmesh.io import MeshFormat, telemac
 from coastmesh.io.telemac import write_selafin
-from coastmesh.meshing.topology import boundary_rings
 from coastmesh.types import Mesh
+from coastmesh.types.topology import boundary_rings
 
 
 def grid_mesh(nx=6, ny=5, dx=100.0, x0=0.0, y0=0.0, ids=None, crs="EPSG:32630"):

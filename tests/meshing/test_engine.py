@@ -15,8 +15,8 @@ from pyproj import CRS, Transformer
 
 from coastmesh.errors import MeshingError
 from coastmesh.meshing import default_mesh_crs, generate_mesh, sample_size
-from coastmesh.meshing.boundary import SmallIslandWarning
-from coastmesh.meshing.session import gmsh_session
+from coastmesh.meshing.gmsh.model import gmsh_session
+from coastmesh.meshing.gmsh.resample import SmallIslandWarning
 from coastmesh.types import BoundarySegment, Domain, SizeGrid
 
 OUTER = np.array([[0, 0], [10000, 0], [10000, 10000], [0, 10000], [0, 0]], float)
@@ -281,7 +281,7 @@ def test_orkney_mesh_in_utm_returned_in_lon_lat(orkney):
 @pytest.mark.skipif(not Path("/proc/self/status").exists(), reason="Linux only")
 def test_a_gmsh_session_leaves_broken_pipes_to_python():
     """Gmsh resets SIGPIPE to 'end the process'; the session puts Python's back."""
-    from coastmesh.meshing.session import gmsh_session
+    from coastmesh.meshing.gmsh.model import gmsh_session
 
     def ignored() -> bool:
         status = Path("/proc/self/status").read_text().splitlines()

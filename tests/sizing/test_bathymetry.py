@@ -8,9 +8,10 @@ from pyproj import Transformer
 from reference import bilinear_loop
 
 from coastmesh.data import path as data_path
+from coastmesh.depth import depth_on_grid
 from coastmesh.errors import ConfigError
 from coastmesh.io import read_raster
-from coastmesh.sizing import M2_PERIOD, depth_on_grid, slope_size, wavelength_size
+from coastmesh.sizing import M2_PERIOD, slope_size, wavelength_size
 
 
 def _bilinear(raster, lon, lat):

@@ -13,10 +13,10 @@ from hypothesis import strategies as st
 
 from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError
-from coastmesh.geometry.earth import EARTH_RADIUS
+from coastmesh.geometry.earth import EARTH_RADIUS, GRAVITY
 from coastmesh.io import read_raster
 from coastmesh.sizing import BathymetrySize
-from coastmesh.sizing.bathymetry import GRAVITY, M2_PERIOD
+from coastmesh.sizing.bathymetry import M2_PERIOD
 from coastmesh.sizing.field import Gradation
 from coastmesh.sizing.sphere import limit_gradation_sphere, sphere_size_field
 

@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 from pyproj import Transformer
 
 from coastmesh.errors import CoastmeshWarning
+from coastmesh.geometry.earth import GRAVITY
 from coastmesh.sizing import (
     BoundaryGradation,
     ChannelSize,
@@ -23,7 +24,7 @@ from coastmesh.sizing import (
     domain_slots,
     size_field_with_report,
 )
-from coastmesh.sizing.terms import GRAVITY, courant_bounds
+from coastmesh.sizing.terms import courant_bounds
 from coastmesh.types import BoundarySegment, Domain
 
 

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from coastmesh.errors import CoastmeshWarning
-from coastmesh.meshing.measure import places
+from coastmesh.meshing.quality.measure import places
 from coastmesh.types import Mesh
 
 __all__ = ["warn_avoidable_corners", "warn_spanning"]

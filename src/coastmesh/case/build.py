@@ -11,7 +11,7 @@ region, draw the open boundaries and build the domain
 5. mesh with Gmsh and clean up (:func:`~coastmesh.meshing.generate_mesh` and
    :func:`~coastmesh.meshing.clean_mesh`, both part by part, on a process pool
    or a Dask cluster: :mod:`coastmesh.case.executor`), put depths on the nodes
-   (:func:`~coastmesh.meshing.depth_at_nodes`) and measure the quality
+   (:func:`~coastmesh.depth.depth_at_nodes`) and measure the quality
    (:func:`~coastmesh.meshing.mesh_quality`).
 
 Nothing is written: :meth:`CaseResult.write` writes the files, and
@@ -52,8 +52,8 @@ from coastmesh.meshing import (
     default_mesh_crs,
 )
 from coastmesh.meshing.engine import mesh_in_parts
-from coastmesh.meshing.session import release_memory
-from coastmesh.meshing.tasks import Runner
+from coastmesh.meshing.gmsh.model import release_memory
+from coastmesh.meshing.parts.tasks import Runner
 from coastmesh.sizing.domain import (
     BoundaryGradation,
     SizeField,
@@ -359,7 +359,7 @@ def _size_field(
     The Courant term takes its depths from ``[mesh_size.bathymetry]``, else from
     ``[bathymetry]``. ``channels_only``: the channel term alone, on the same
     grid and floor (to find the narrow channels to close). ``runner``: where
-    the distance terms run, in bands (:mod:`coastmesh.sizing.tiles`).
+    the distance terms run, in bands (:mod:`coastmesh.sizing.bands`).
     """
     size = config.size
     if channels_only:

@@ -12,8 +12,9 @@ from typing import Any
 from coastmesh.case.config import CaseConfig
 from coastmesh.case.config.sources import stack_of
 from coastmesh.case.sources import read_sources
-from coastmesh.meshing import depth_at_nodes, relieve_time_step
-from coastmesh.meshing.depth import node_sources
+from coastmesh.depth import depth_at_nodes
+from coastmesh.depth.nodes import node_sources
+from coastmesh.meshing import relieve_time_step
 from coastmesh.types import Mesh, Progress
 
 __all__ = ["depth_raster", "node_depths", "relieve"]
@@ -49,8 +50,8 @@ def depth_raster(config: CaseConfig, mesh: Mesh, progress: Progress) -> Any:
     b = config.bathymetry
     sources = read_sources(stack_of(b), mesh.points, mesh.crs, progress)
     if b.window is not None:
+        from coastmesh.depth import DepthSource, DepthSources
         from coastmesh.pca import simplify_raster
-        from coastmesh.sizing import DepthSource, DepthSources
 
         sources = DepthSources(
             [

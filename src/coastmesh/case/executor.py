@@ -1,6 +1,6 @@
 """Where the parts of a mesh are made: here, a local process pool, or Dask.
 
-:func:`open_runner` yields a :data:`~coastmesh.meshing.tasks.Runner`,
+:func:`open_runner` yields a :data:`~coastmesh.meshing.parts.tasks.Runner`,
 ``runner(fn, tasks) -> [fn(t) for t in tasks]``, that computes the tasks
 
 - one after the other in this process, with one worker;
@@ -35,7 +35,7 @@ from contextlib import contextmanager
 from typing import Any
 
 from coastmesh.errors import ConfigError, MeshingError
-from coastmesh.meshing.tasks import Runner, serial_runner
+from coastmesh.meshing.parts.tasks import Runner, serial_runner
 
 __all__ = ["SCHEDULER_TIMEOUT", "connect_scheduler", "open_runner"]
 

@@ -16,7 +16,7 @@ The steps of a regional case, on the sphere:
    (:func:`coastmesh.sizing.sphere_size_field`): gradations by great-circle
    distance from the sets, the tidal-wavelength term, the gradation limit;
 5. Gmsh meshes the ocean in the plane with the sizes scaled by the plane's
-   scale factor (:class:`coastmesh.meshing.globe.SphereSizeGrid`), in one part;
+   scale factor (:class:`coastmesh.meshing.gmsh.sphere_sizes.SphereSizeGrid`), in one part;
 6. the nodes go back to lon/lat; depths, time step and quality follow as in a
    regional case.
 """
@@ -48,8 +48,8 @@ from coastmesh.geometry import simplify_shorelines
 from coastmesh.geometry.earth import EARTH_RADIUS, METRES_PER_DEGREE, reproject
 from coastmesh.geometry.world import close_narrow_water, world_land
 from coastmesh.meshing.engine import mesh_in_parts
-from coastmesh.meshing.globe import SphereSizeGrid
-from coastmesh.meshing.session import release_memory
+from coastmesh.meshing.gmsh.model import release_memory
+from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
 from coastmesh.sizing.domain import SizeField, SizeFieldReport
 from coastmesh.sizing.field import Gradation
 from coastmesh.sizing.sphere import sphere_size_field

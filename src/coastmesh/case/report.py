@@ -7,14 +7,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from coastmesh.case.inputs import ShorelineSetReport
+from coastmesh.depth import DepthReport
 from coastmesh.geometry import DomainReport, StitchReport
-from coastmesh.meshing import (
-    CleanupReport,
-    DepthReport,
-    QualityReport,
-    ThrottleReport,
-)
-from coastmesh.meshing.parts_report import PartsReport
+from coastmesh.meshing import CleanupReport, QualityReport, ThrottleReport
+from coastmesh.meshing.parts.report import PartsReport
 from coastmesh.sizing import SizeFieldReport
 from coastmesh.types import Mesh, Report
 
@@ -80,12 +76,12 @@ class CaseReport(Report):
     size_field : SizeFieldReport
     mesh : MeshReport
     cleanup, depth, quality : report or None
-        :class:`~coastmesh.meshing.cleanup.CleanupReport`,
-        :class:`~coastmesh.meshing.depth.DepthReport`,
-        :class:`~coastmesh.meshing.quality.QualityReport`, where the case asks.
+        :class:`~coastmesh.meshing.cleanup.fixes.CleanupReport`,
+        :class:`~coastmesh.depth.nodes.DepthReport`,
+        :class:`~coastmesh.meshing.quality.mesh_quality.QualityReport`, where the case asks.
     parts : PartsReport or None
         How the water was cut into parts and what each cost
-        (:class:`~coastmesh.meshing.parts_report.PartsReport`).
+        (:class:`~coastmesh.meshing.parts.report.PartsReport`).
     time_step : ThrottleReport or None
         The elements that throttled the time step, relieved
         (:func:`~coastmesh.meshing.relieve_time_step`); with ``[bathymetry]``

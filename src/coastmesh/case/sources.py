@@ -1,4 +1,4 @@
-"""Read ``[[bathymetry.sources]]`` into a :class:`~coastmesh.sizing.DepthSources`.
+"""Read ``[[bathymetry.sources]]`` into a :class:`~coastmesh.depth.DepthSources`.
 
 Each raster is read only over the window the mesh (or size grid) needs, widened
 by the source's blend; ``bbox`` and ``region`` keep the cells whose centres lie
@@ -16,10 +16,10 @@ from numpy.typing import ArrayLike
 from pyproj import CRS
 
 from coastmesh.case.config.sources import DepthSourceConfig
+from coastmesh.depth.sources import check_blend, no_crs
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry.earth import METRES_PER_DEGREE, reproject
 from coastmesh.io.raster_window import raster_extent, read_raster_around
-from coastmesh.sizing.sources import check_blend, no_crs
 from coastmesh.types import Progress
 
 __all__ = ["check_rasters", "read_sources"]
@@ -32,7 +32,7 @@ def read_sources(
     progress: Progress | None = None,
 ) -> Any:
     """Read the sources (priority order) over the window ``points`` need."""
-    from coastmesh.sizing import DepthSource, DepthSources
+    from coastmesh.depth import DepthSource, DepthSources
 
     _check_priorities(configs)
     sources = []

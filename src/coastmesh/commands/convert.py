@@ -113,7 +113,7 @@ def convert_mesh(
         Metres over which each raster blends into the next (one for all, or
         one each).
     method, min_depth, max_slope, outside, land, land_distance
-        As in :func:`coastmesh.meshing.depth.depth_at_nodes`; ``outside``
+        As in :func:`coastmesh.depth.nodes.depth_at_nodes`; ``outside``
         defaults to an error for nodes beyond every raster.
     positive : {"up", "down"}, optional
         The sign written, for formats that take one; default: the format's own.
@@ -166,7 +166,7 @@ def convert_mesh(
         mesh = _with_kinds(mesh, open_ids, os.fspath(src))
     depth_report = None
     if bathymetry is not None:
-        from coastmesh.meshing.depth import depth_at_nodes, node_sources
+        from coastmesh.depth.nodes import depth_at_nodes, node_sources
 
         stack = _stack(bathymetry, raster_positive, blend, mesh)
         depth, depth_report = depth_at_nodes(

@@ -8,6 +8,7 @@
 :mod:`.rhumb`             loxodromes and great circles for open boundaries
 :mod:`.domain`            the sea polygon and its tagged boundary
 :mod:`.earth`             reprojection, earth-centred coordinates, lengths
+:mod:`.sphere`            lon/lat and vectors, the stereographic plane
 :mod:`.world`             the world ocean in a stereographic plane
 ========================  =====================================================
 """
@@ -45,13 +46,13 @@ from coastmesh.geometry.rhumb import (
     paper_bearing,
 )
 from coastmesh.geometry.shoreline import ShorelineReport, simplify_shorelines
+from coastmesh.geometry.sphere import plane_crs
 from coastmesh.geometry.stitch import ShorelineSet, StitchReport, stitch_shorelines
 from coastmesh.geometry.world import (
     WorldLand,
     WorldOcean,
     close_narrow_water,
     join_dateline,
-    plane_crs,
     polar_ring,
     world_land,
     world_ocean,

@@ -26,11 +26,15 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS, Transformer
 
+from coastmesh.types import Mesh
+
 __all__ = [
     "EARTH_RADIUS",
+    "GRAVITY",
     "METRES_PER_DEGREE",
     "arc_lengths",
     "earth_centred",
+    "mesh_earth_centred",
     "metres_per_unit",
     "reproject",
     "reproject_points",
@@ -44,6 +48,8 @@ EARTH_RADIUS = 6_371_008.8
 #: Length of one degree of great-circle arc on the sphere of radius
 #: :data:`EARTH_RADIUS`, metres (111 195 m; a degree of latitude, near enough).
 METRES_PER_DEGREE = EARTH_RADIUS * math.pi / 180.0
+#: Standard gravity, m/s2: every wave speed of coastmesh uses it.
+GRAVITY = 9.80665
 
 _ECEF = CRS.from_epsg(4978)  # WGS84 earth-centred, earth-fixed, metres
 _A = 6_378_137.0  # WGS84 semi-major axis, metres
@@ -303,3 +309,41 @@ def _points(xy: ArrayLike, name: str) -> NDArray[np.float64]:
     if points.ndim != 2 or points.shape[1] != 2:
         raise ValueError(f"{name} must have shape (n, 2); got shape {points.shape}")
     return points
+
+
+def mesh_earth_centred(mesh: Mesh) -> tuple[NDArray[np.float64], bool]:
+    """Return the nodes of a mesh in earth-centred metres, or planar without a CRS.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        Points in a geographic, projected or compound CRS, or planar metres
+        when ``mesh.crs`` is None.
+
+    Returns
+    -------
+    xyz : ndarray of shape (N, 3)
+        WGS84 earth-centred coordinates at height 0
+        (:func:`~coastmesh.geometry.earth.earth_centred`); for a mesh without a
+        CRS, its points with z = 0.
+    planar : bool
+        True when the mesh has no CRS.
+
+    Raises
+    ------
+    ValueError
+        If ``mesh.crs`` is neither geographic nor projected, or a node has no
+        position on the Earth.
+
+    Examples
+    --------
+    >>> m = Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]],
+    ...          [1, 1, 1], 1, "EPSG:4326")
+    >>> xyz, planar = mesh_earth_centred(m)
+    >>> xyz[0].tolist(), planar
+    ([6378137.0, 0.0, 0.0], False)
+    """
+    points = mesh.points
+    if mesh.crs is None:
+        return np.column_stack([points, np.zeros(len(points))]), True
+    return earth_centred(points, mesh.crs, name="mesh.points"), False

@@ -15,7 +15,8 @@ can mesh:
   projection whose singular point (the projection's *pole*, mapped to infinity)
   lies on land: inside Antarctica by default, at the South Pole. The plane is
   conformal, so angles are kept and a triangle shaped well in the plane is
-  shaped well on the sphere; lengths are scaled by :func:`scale_factor`, which
+  shaped well on the sphere; lengths are scaled by
+  :func:`~coastmesh.geometry.sphere.stereographic_scale`, which
   the size field is multiplied by. The land polygon holding the pole becomes the
   outside of the ocean: its coast (:func:`polar_ring` for a polygon that runs
   down to the South Pole) is the ocean's exterior ring, and every other land
@@ -42,15 +43,14 @@ from pyproj import CRS
 from coastmesh.errors import InputDataError
 from coastmesh.geometry.earth import EARTH_RADIUS, reproject
 from coastmesh.geometry.layers import valid_polygons
+from coastmesh.geometry.sphere import plane_crs
 
 __all__ = [
     "WorldLand",
     "WorldOcean",
     "close_narrow_water",
     "join_dateline",
-    "plane_crs",
     "polar_ring",
-    "scale_factor",
     "world_land",
     "world_ocean",
 ]
@@ -60,56 +60,6 @@ _POLE_TOLERANCE = 1e-6
 
 _MIN_LON_SPAN = 300.0  #: a world layer spans at least this much longitude (deg)
 _STEP = 0.25  #: longest edge (deg) before the land goes into the plane
-
-
-def plane_crs(pole: tuple[float, float] = (0.0, -90.0)) -> CRS:
-    """Return the stereographic plane whose singular point is ``pole`` (lon, lat).
-
-    The plane touches the sphere at the antipode of ``pole``, where the scale is
-    1; the pole itself goes to infinity and must lie on land.
-
-    Examples
-    --------
-    >>> crs = plane_crs()
-    >>> crs.is_projected, crs.to_dict()["lat_0"], crs.to_dict()["R"]
-    (True, 90, 6371008.8)
-    """
-    lon, lat = (float(v) for v in pole)
-    if not (-90.0 <= lat <= 90.0 and math.isfinite(lon)):
-        raise InputDataError(f"the projection pole ({lon}, {lat}) is not on the Earth")
-    centre_lon = (lon + 180.0 + 180.0) % 360.0 - 180.0
-    return CRS.from_proj4(
-        f"+proj=stere +lat_0={-lat:.12g} +lon_0={centre_lon:.12g} +k=1 "
-        f"+x_0=0 +y_0=0 +R={EARTH_RADIUS} +units=m +no_defs +type=crs"
-    )
-
-
-def scale_factor(
-    lon: ArrayLike, lat: ArrayLike, pole: tuple[float, float] = (0.0, -90.0)
-) -> NDArray[np.float64]:
-    """Scale of the stereographic plane of :func:`plane_crs` at (lon, lat).
-
-    ``k = 2 / (1 + cos c)``, ``c`` the angle from the plane's centre (the
-    antipode of ``pole``): 1 at the centre, 2 a quarter of the way round, and
-    without bound at the pole. A length of ``h`` metres on the sphere is
-    ``k h`` metres in the plane.
-
-    Examples
-    --------
-    >>> scale_factor([0.0, 0.0, 0.0], [90.0, 0.0, -60.0]).round(6).tolist()
-    [1.0, 2.0, 14.928203]
-    """
-    lon = np.radians(np.asarray(lon, dtype=np.float64))
-    lat = np.radians(np.asarray(lat, dtype=np.float64))
-    plon, plat = math.radians(pole[0]), math.radians(pole[1])
-    # 1 - cos(angle from the pole) = chord^2 / 2, exact near the pole too
-    chord2 = (
-        (np.cos(lat) * np.cos(lon) - math.cos(plat) * math.cos(plon)) ** 2
-        + (np.cos(lat) * np.sin(lon) - math.cos(plat) * math.sin(plon)) ** 2
-        + (np.sin(lat) - math.sin(plat)) ** 2
-    )
-    with np.errstate(divide="ignore"):
-        return 4.0 / chord2
 
 
 def join_dateline(geoms: ArrayLike) -> NDArray[np.object_]:

@@ -25,12 +25,8 @@ import shapely
 from numpy.typing import NDArray
 
 from coastmesh.errors import InputDataError
-from coastmesh.io.sphere import (
-    crossing_triangles,
-    lonlat_to_xyz,
-    solid_angles,
-    wrap_longitude,
-)
+from coastmesh.geometry.sphere import lonlat_to_xyz, wrap_longitude
+from coastmesh.io.sphere import crossing_triangles, solid_angles
 
 __all__ = ["cut_edges", "cut_triangles", "edge_nodes", "triangle_nodes"]
 

@@ -12,7 +12,8 @@ from pyproj import CRS
 from pyproj.exceptions import CRSError
 
 from coastmesh.errors import ConfigError, InputDataError
-from coastmesh.io.sphere import lonlat_to_xyz, misdrawn_triangles, solid_angles
+from coastmesh.geometry.sphere import lonlat_to_xyz
+from coastmesh.io.sphere import misdrawn_triangles, solid_angles
 from coastmesh.types import Mesh
 
 __all__ = [

@@ -22,13 +22,13 @@ from coastmesh.io.sphere import (
     sphere_boundary_rings,
     sphere_boundary_strings,
 )
-from coastmesh.meshing.topology import (
+from coastmesh.types import Mesh
+from coastmesh.types.topology import (
     BoundaryRing,
     BoundaryString,
     boundary_rings,
     boundary_strings,
 )
-from coastmesh.types import Mesh
 
 __all__ = [
     "POSITIVE",
@@ -199,7 +199,7 @@ def require_kinds(mesh: Mesh, name: str, *, hint: str = "") -> dict[int, str]:
 def mesh_boundary_rings(mesh: Mesh, name: str) -> list[BoundaryRing]:
     """Return the mesh's boundary rings; errors name the output file ``name``.
 
-    The rings of :func:`~coastmesh.meshing.topology.boundary_rings`, with the
+    The rings of :func:`~coastmesh.types.topology.boundary_rings`, with the
     parameters and errors of :func:`mesh_boundary_strings`; for a mesh on the
     sphere (:func:`~coastmesh.io.sphere.on_sphere`), those of
     :func:`~coastmesh.io.sphere.sphere_boundary_rings`.
@@ -228,7 +228,7 @@ def mesh_boundary_strings(mesh: Mesh, name: str) -> list[BoundaryString]:
     Returns
     -------
     list of BoundaryString
-        As :func:`~coastmesh.meshing.topology.boundary_strings` splits them; for
+        As :func:`~coastmesh.types.topology.boundary_strings` splits them; for
         a mesh on the sphere (:func:`~coastmesh.io.sphere.on_sphere`), as
         :func:`~coastmesh.io.sphere.sphere_boundary_strings` does.
 

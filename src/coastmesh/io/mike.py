@@ -45,8 +45,8 @@ from coastmesh.io._model import (
 )
 from coastmesh.io._table import TextLines, put_lines, write_table
 from coastmesh.io.sphere import crossing_triangles, on_sphere
-from coastmesh.meshing.topology import unique_edges
 from coastmesh.types import Mesh
+from coastmesh.types.topology import unique_edges
 
 __all__ = ["read_mike_mesh", "write_mike_mesh"]
 

@@ -31,15 +31,11 @@ from pyproj import CRS
 
 from coastmesh.errors import CoastmeshWarning, ConfigError, FormatError
 from coastmesh.geometry.earth import EARTH_RADIUS, reproject_points
+from coastmesh.geometry.sphere import lonlat_to_xyz, xyz_to_lonlat
 from coastmesh.io._atomic import atomic_write
 from coastmesh.io._inputs import check_input, mesh_from_file, resolve_crs
 from coastmesh.io._meshio import flat_points, read_with_meshio, split_cells
-from coastmesh.io.sphere import (
-    crossing_triangles,
-    lonlat_to_xyz,
-    on_sphere,
-    xyz_to_lonlat,
-)
+from coastmesh.io.sphere import crossing_triangles, on_sphere
 from coastmesh.types import Mesh
 
 __all__ = ["MSH_VERSIONS", "read_msh", "write_msh"]

@@ -22,99 +22,33 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
 from coastmesh.errors import FormatError
 from coastmesh.geometry.earth import EARTH_RADIUS
-from coastmesh.meshing.topology import (
+from coastmesh.geometry.sphere import lonlat_to_xyz, wrap_longitude
+from coastmesh.types import Mesh
+from coastmesh.types.topology import (
     BoundaryRing,
     BoundaryString,
     boundary_rings,
     rings_to_strings,
 )
-from coastmesh.types import Mesh
 
 __all__ = [
     "SphereCheck",
     "check_on_sphere",
     "crossing_triangles",
     "is_geographic",
-    "lonlat_to_xyz",
     "misdrawn_triangles",
     "on_sphere",
     "pole_triangles",
     "solid_angles",
     "sphere_boundary_rings",
     "sphere_boundary_strings",
-    "wrap_longitude",
-    "xyz_to_lonlat",
 ]
 
 _FULL = 4 * np.pi  # steradians of the whole sphere
-
-
-def wrap_longitude(lon: ArrayLike) -> NDArray[np.float64]:
-    """Return longitudes in degrees moved into [-180, 180).
-
-    Examples
-    --------
-    >>> wrap_longitude([180.0, -180.0, 190.0, -190.0, 359.5]).tolist()
-    [-180.0, -180.0, -170.0, 170.0, -0.5]
-    """
-    lon = np.asarray(lon, dtype=np.float64)
-    return np.where((lon >= -180) & (lon < 180), lon, (lon + 180) % 360 - 180)
-
-
-def lonlat_to_xyz(lonlat: ArrayLike, radius: float = 1.0) -> NDArray[np.float64]:
-    """Return the points of the sphere of ``radius`` at longitude, latitude.
-
-    Parameters
-    ----------
-    lonlat : array_like of shape (N, 2)
-        Longitude and latitude in degrees.
-    radius : float, default 1.0
-        The sphere's radius: 1 gives unit vectors.
-
-    Returns
-    -------
-    ndarray of shape (N, 3)
-        x towards (0, 0), y towards (90, 0), z towards the North Pole.
-
-    Examples
-    --------
-    >>> lonlat_to_xyz([[0, 0], [90, 0], [0, 90]]).round(12).tolist()
-    [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
-    """
-    lonlat = np.asarray(lonlat, dtype=np.float64).reshape(-1, 2)
-    lon, lat = np.radians(lonlat[:, 0]), np.radians(lonlat[:, 1])
-    return radius * np.column_stack(
-        [np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)]
-    )
-
-
-def xyz_to_lonlat(xyz: ArrayLike) -> NDArray[np.float64]:
-    """Return the longitude, latitude in degrees of points given in x, y, z.
-
-    Parameters
-    ----------
-    xyz : array_like of shape (N, 3)
-        Points away from the centre, on a sphere of any radius.
-
-    Returns
-    -------
-    ndarray of shape (N, 2)
-        Longitude in [-180, 180), latitude in [-90, 90].
-
-    Examples
-    --------
-    >>> xyz_to_lonlat([[-1.0, 0.0, 0.0], [0.0, -2.0, 0.0], [0.0, 0.0, 3.0]]).tolist()
-    [[-180.0, 0.0], [-90.0, 0.0], [0.0, 90.0]]
-    """
-    xyz = np.asarray(xyz, dtype=np.float64).reshape(-1, 3)
-    x, y, z = xyz.T
-    lon = wrap_longitude(np.degrees(np.arctan2(y, x)))
-    lat = np.degrees(np.arctan2(z, np.hypot(x, y)))
-    return np.column_stack([lon, lat])
 
 
 def is_geographic(mesh: Mesh) -> bool:
@@ -348,7 +282,7 @@ def check_on_sphere(mesh: Mesh, *, radius: float = EARTH_RADIUS) -> SphereCheck:
 def sphere_boundary_rings(mesh: Mesh) -> list[BoundaryRing]:
     """Order the boundary edges of a lon/lat mesh into rings, on the sphere.
 
-    As :func:`~coastmesh.meshing.topology.boundary_rings`, which works in the
+    As :func:`~coastmesh.types.topology.boundary_rings`, which works in the
     plane, with the two things it measures taken on the sphere: which way the
     triangles run (the domain is on the left of each ring, seen from outside)
     and which ring is the exterior, the one that cuts off the largest area on
@@ -369,7 +303,7 @@ def sphere_boundary_rings(mesh: Mesh) -> list[BoundaryRing]:
     Raises
     ------
     FormatError
-        As :func:`~coastmesh.meshing.topology.boundary_rings`.
+        As :func:`~coastmesh.types.topology.boundary_rings`.
 
     Examples
     --------
@@ -396,7 +330,7 @@ def sphere_boundary_rings(mesh: Mesh) -> list[BoundaryRing]:
 def sphere_boundary_strings(mesh: Mesh) -> list[BoundaryString]:
     """Split the rings of :func:`sphere_boundary_rings` into runs of one id.
 
-    As :func:`~coastmesh.meshing.topology.boundary_strings`, on the sphere.
+    As :func:`~coastmesh.types.topology.boundary_strings`, on the sphere.
 
     Examples
     --------
@@ -412,7 +346,7 @@ def sphere_boundary_strings(mesh: Mesh) -> list[BoundaryString]:
 def _tangent_proxy(mesh: Mesh, xyz: NDArray[np.float64]) -> Mesh:
     """Return the mesh with its nodes in the tangent plane at its first triangle.
 
-    :func:`~coastmesh.meshing.topology.boundary_rings` reads which way the
+    :func:`~coastmesh.types.topology.boundary_rings` reads which way the
     triangles run from the first one, in the plane: in the tangent plane at that
     triangle (east, north), it runs as it does seen from outside the sphere.
     """

@@ -51,8 +51,8 @@ from coastmesh.io._model import (
     require_kinds,
 )
 from coastmesh.io.sphere import crossing_triangles, misdrawn_triangles, on_sphere
-from coastmesh.meshing.topology import BoundaryRing
 from coastmesh.types import Mesh
+from coastmesh.types.topology import BoundaryRing
 
 __all__ = ["write_selafin"]
 
@@ -141,7 +141,7 @@ def write_selafin(
     issue 985), hence the warning.
 
     The ``.cli`` lists the boundary nodes ring by ring, as
-    :func:`~coastmesh.meshing.topology.boundary_rings` orders them: the exterior
+    :func:`~coastmesh.types.topology.boundary_rings` orders them: the exterior
     counter-clockwise, then the islands clockwise. ``N`` is the node number (from
     1), ``K`` the line number. ``LITBOR`` is 2 on land and 4 on open boundaries;
     the prescribed values are 0. A node where an open and a shoreline boundary

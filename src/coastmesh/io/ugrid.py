@@ -26,8 +26,8 @@ from coastmesh.io._atomic import atomic_write
 from coastmesh.io._cf import axis_attrs, crs_from_grid_mapping, grid_mapping_attrs
 from coastmesh.io._inputs import check_input, mesh_from_file, resolve_crs
 from coastmesh.io._model import check_mesh, index_dtype, point_values
-from coastmesh.meshing.topology import unique_edges
 from coastmesh.types import Mesh
+from coastmesh.types.topology import unique_edges
 
 __all__ = ["read_ugrid", "write_ugrid"]
 

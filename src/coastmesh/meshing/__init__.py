@@ -9,62 +9,71 @@
 :func:`clean_mesh`        all-boundary triangles, valence, slivers fixed
 :func:`smooth_mesh`       interior nodes moved, minimum angle never lowered
 :func:`relieve_time_step` edges of time-step-throttling elements collapsed
-:func:`depth_at_nodes`    a bathymetry raster on the nodes
 :func:`mesh_quality`      angles, radius ratios, edge sizes, valence, corners
 :func:`boundary_angles`   the domain's interior angle at each boundary node
 ========================  =====================================================
 
 :func:`element_time_steps` gives each triangle's stable time step and, at a model
-time step, its Courant number.
+time step, its Courant number. Depth at the nodes is
+:func:`coastmesh.depth.depth_at_nodes`.
 
 The types they take and return (:class:`~coastmesh.types.Domain`,
 :class:`~coastmesh.types.SizeGrid`, :class:`~coastmesh.types.Mesh`) live in
 :mod:`coastmesh.types`.
 
-Modules: ``engine`` (Gmsh), ``session`` (one Gmsh session and its options),
-``curves`` (the boundary nodes, made once), ``parts``, ``junctions`` and
-``surfaces`` (the water cut into parts), ``tasks`` (each part meshed alone,
-on any executor, and the parts merged by their shared nodes),
-``projection`` (the meshing CRS and sizes in it), ``boundary`` (resampling),
-``topology`` (boundary rings and strings),
-``cleanup``, ``smoothing``, ``throttle``, ``depth``, ``quality``,
-``quality_report``, ``measure``, ``timestep`` and ``corners`` (measure, never
-write).
+Subpackages, by what they do (each may use those after it):
 
-Gmsh is imported only when :func:`generate_mesh` runs.
+* ``engine`` (:func:`generate_mesh`, :func:`mesh_in_parts`): the entry points;
+* :mod:`~coastmesh.meshing.parts`: the water cut into parts, each meshed alone
+  as a task on any executor, the parts merged by their shared nodes;
+* :mod:`~coastmesh.meshing.gmsh`: one Gmsh session, its options and size
+  view, the boundary nodes made once, boundary resampling;
+* :mod:`~coastmesh.meshing.cleanup`: fixes, smoothing and the time-step
+  relief, never for the worse;
+* :mod:`~coastmesh.meshing.quality`: triangles and edges measured on the
+  Earth, the quality report, time steps and sharp corners;
+* ``projection``: the meshing CRS and sizes in its map units.
+
+They compute and never write. Gmsh is imported only when :func:`generate_mesh`
+runs.
 """
 
 from __future__ import annotations
 
-from coastmesh.meshing.boundary import (
-    SmallIslandWarning,
-    resample_rings,
-    resample_segment,
-)
-from coastmesh.meshing.cleanup import CleanupOptions, CleanupReport, clean_mesh
-from coastmesh.meshing.corners import CornerStats, SharpCorner, boundary_angles
-from coastmesh.meshing.depth import DEPTH_METHODS, DepthReport, depth_at_nodes
-from coastmesh.meshing.engine import PartsWarning, generate_mesh, mesh_in_parts
-from coastmesh.meshing.parts_report import PartsReport
-from coastmesh.meshing.projection import default_mesh_crs, sample_size
-from coastmesh.meshing.quality import edge_quality, mesh_quality, triangle_quality
-from coastmesh.meshing.quality_report import QualityReport
-from coastmesh.meshing.smoothing import SmoothingReport, smooth_mesh, smooth_points
-from coastmesh.meshing.throttle import (
+from coastmesh.meshing.cleanup import (
     THROTTLE_RATIO,
+    CleanupOptions,
+    CleanupReport,
+    SmoothingReport,
     ThrottleReport,
+    clean_mesh,
     relieve_time_step,
+    smooth_mesh,
+    smooth_points,
 )
-from coastmesh.meshing.timestep import CourantStats, TimeStepStats, element_time_steps
+from coastmesh.meshing.engine import PartsWarning, generate_mesh, mesh_in_parts
+from coastmesh.meshing.gmsh import SmallIslandWarning, resample_rings, resample_segment
+from coastmesh.meshing.parts import PartsReport
+from coastmesh.meshing.projection import default_mesh_crs, sample_size
+from coastmesh.meshing.quality import (
+    CornerStats,
+    CourantStats,
+    QualityReport,
+    SharpCorner,
+    TimeStepStats,
+    boundary_angles,
+    edge_quality,
+    element_time_steps,
+    mesh_quality,
+    triangle_quality,
+)
 
 __all__ = [
-    "DEPTH_METHODS",
     "THROTTLE_RATIO",
     "CleanupOptions",
     "CleanupReport",
     "CornerStats",
     "CourantStats",
-    "DepthReport",
     "PartsReport",
     "PartsWarning",
     "QualityReport",
@@ -76,7 +85,6 @@ __all__ = [
     "boundary_angles",
     "clean_mesh",
     "default_mesh_crs",
-    "depth_at_nodes",
     "edge_quality",
     "element_time_steps",
     "generate_mesh",

@@ -1,8 +1,8 @@
 """Gmsh meshing engine: a Domain and a size grid in, a Mesh out.
 
-Gmsh is imported only inside :func:`~coastmesh.meshing.session.gmsh_session`,
+Gmsh is imported only inside :func:`~coastmesh.meshing.gmsh.model.gmsh_session`,
 so ``import coastmesh.meshing`` stays light. One part is one Gmsh model here;
-several parts are tasks (:mod:`coastmesh.meshing.tasks`) for any executor. The
+several parts are tasks (:mod:`coastmesh.meshing.parts.tasks`) for any executor. The
 meshing CRS and the sizes in its map units come from
 :mod:`coastmesh.meshing.projection`.
 """
@@ -21,29 +21,22 @@ from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.errors import CoastmeshWarning, MeshingError
-from coastmesh.meshing.boundary import check_boundary, resample_rings
-from coastmesh.meshing.cleanup_report import CleanupOptions, combine, stats
-from coastmesh.meshing.curves import boundary_nodes
-from coastmesh.meshing.globe import SphereSizeGrid
-from coastmesh.meshing.junctions import join_cuts
-from coastmesh.meshing.parts import MIN_PART_TRIANGLES, auto_parts, plan_cuts
-from coastmesh.meshing.parts_report import PartsReport
-from coastmesh.meshing.projection import (
-    default_mesh_crs,
-    project_points,
-    project_rings,
-    sample_size,
-    to_map_units,
-)
-from coastmesh.meshing.seams import smooth_seams
-from coastmesh.meshing.session import (
+from coastmesh.meshing.cleanup.report import CleanupOptions, combine, stats
+from coastmesh.meshing.gmsh.boundary_nodes import boundary_nodes
+from coastmesh.meshing.gmsh.model import (
     ALGORITHMS,
 )
-from coastmesh.meshing.surfaces import (
+from coastmesh.meshing.gmsh.resample import check_boundary, resample_rings
+from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
+from coastmesh.meshing.parts.cuts import MIN_PART_TRIANGLES, auto_parts, plan_cuts
+from coastmesh.meshing.parts.faces import (
     canonical_order,
     split_faces,
 )
-from coastmesh.meshing.tasks import (
+from coastmesh.meshing.parts.junctions import join_cuts
+from coastmesh.meshing.parts.report import PartsReport
+from coastmesh.meshing.parts.seams import smooth_seams
+from coastmesh.meshing.parts.tasks import (
     Runner,
     merge_parts,
     mesh_part,
@@ -51,8 +44,15 @@ from coastmesh.meshing.tasks import (
     serial_runner,
     start_workers,
 )
-from coastmesh.meshing.topology import unique_edges
+from coastmesh.meshing.projection import (
+    default_mesh_crs,
+    project_points,
+    project_rings,
+    sample_size,
+    to_map_units,
+)
 from coastmesh.types import Domain, Mesh, Progress, SizeGrid
+from coastmesh.types.topology import unique_edges
 
 __all__ = ["ALGORITHMS", "PartsWarning", "generate_mesh", "mesh_in_parts"]
 
@@ -102,16 +102,16 @@ def generate_mesh(
         Improve the triangles' shapes after meshing (Gmsh "Relocate2D").
     parts : int or "auto", default 1
         Cut the water into this many parts of equal expected triangle count
-        (:mod:`~coastmesh.meshing.parts`), each meshed alone as a task (or
+        (:mod:`~coastmesh.meshing.parts.cuts`), each meshed alone as a task (or
         more, where a cut crosses the water several times). Each cut is
         discretised once and both parts get its nodes, so the mesh conforms
-        (:mod:`~coastmesh.meshing.tasks`). ``"auto"``: one part per 200,000
+        (:mod:`~coastmesh.meshing.parts.tasks`). ``"auto"``: one part per 200,000
         expected triangles, rounded down to a power of two (at most 64). Fewer
         parts are made where no clean cut exists (a warning says so when
         ``parts`` is a number). The same ``parts`` and ``seed`` give the same
         mesh whatever ``runner``: nodes are numbered in order of x, then y.
     threads : int, default 1
-        Gmsh threads for the boundary nodes (:mod:`~coastmesh.meshing.curves`):
+        Gmsh threads for the boundary nodes (:mod:`~coastmesh.meshing.gmsh.boundary_nodes`):
         separate pieces of the boundary are meshed at once.
     runner : callable, optional
         ``runner(fn, tasks)`` returns ``[fn(t) for t in tasks]``, computed
@@ -120,7 +120,7 @@ def generate_mesh(
         other in this process.
     cleanup : CleanupOptions, optional
         Clean each part where it is meshed
-        (:func:`~coastmesh.meshing.tasks.clean_part`:
+        (:func:`~coastmesh.meshing.parts.tasks.clean_part`:
         :func:`~coastmesh.meshing.clean_mesh` with the nodes of the cuts held);
         :func:`mesh_in_parts` reports what it did. Default: no cleanup.
     progress : callable, optional
@@ -166,15 +166,15 @@ def generate_mesh(
 
     Each segment is projected to ``mesh_crs`` and resampled to about two
     points per local target edge
-    (:func:`~coastmesh.meshing.boundary.resample_rings`), keeping end points
+    (:func:`~coastmesh.meshing.gmsh.resample.resample_rings`), keeping end points
     and corners. Gmsh's 1-D mesher then places the boundary nodes on splines
     through those points, once, for the whole boundary
-    (:mod:`~coastmesh.meshing.curves`, integral of 1/h to a relative
+    (:mod:`~coastmesh.meshing.gmsh.boundary_nodes`, integral of 1/h to a relative
     precision of 1e-4), and the nodes are fixed: every boundary edge goes to
     the 2-D mesher as a straight line with its two end nodes only, so the
     boundary is the same whether the water is meshed whole or in parts (where
     a cut meets the boundary, the nearer node moves onto the meeting point:
-    :mod:`~coastmesh.meshing.junctions`). The size grid is handed to Gmsh as a
+    :mod:`~coastmesh.meshing.parts.junctions`). The size grid is handed to Gmsh as a
     list-based post-processing view of quadrangles (bilinear interpolation),
     padded to the part's bounds with the edge values, and used as the
     background field; sizes from points, curvature and the boundary are

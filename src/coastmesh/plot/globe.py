@@ -7,8 +7,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from coastmesh.geometry import EARTH_RADIUS, reproject_points, transformer
-from coastmesh.meshing.topology import unique_edges
 from coastmesh.plot.mesh import _legend, _palette
+from coastmesh.types.topology import unique_edges
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

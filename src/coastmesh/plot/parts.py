@@ -14,7 +14,7 @@ from coastmesh.plot.mesh import _fill_water, _frame
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from coastmesh.meshing.parts_report import PartsReport
+    from coastmesh.meshing.parts.report import PartsReport
     from coastmesh.types import Domain
 
 __all__ = ["parts_figure"]
@@ -33,7 +33,7 @@ def parts_figure(
     ----------
     domain : coastmesh.types.Domain
         The domain, in the CRS of ``parts``.
-    parts : coastmesh.meshing.parts_report.PartsReport
+    parts : coastmesh.meshing.parts.report.PartsReport
         From :func:`coastmesh.meshing.engine.mesh_in_parts`.
     crs : pyproj.CRS or CRS-like, optional
         The CRS of ``parts`` (the mesh's); default ``domain.crs``.

@@ -18,7 +18,7 @@ from coastmesh.meshing import (
     mesh_quality,
     triangle_quality,
 )
-from coastmesh.meshing.quality_report import EDGE_RATIO_RANGE, histograms
+from coastmesh.meshing.quality.report import EDGE_RATIO_RANGE, histograms
 from coastmesh.plot.base import across_dateline, geographic_axes, shaded_mesh
 
 if TYPE_CHECKING:
@@ -50,7 +50,7 @@ def quality_figure(
     mesh : coastmesh.meshing.Mesh
         The mesh; the edge panel needs ``point_data["size"]`` (metres).
     report : QualityReport, optional
-        :func:`~coastmesh.meshing.quality.mesh_quality` of ``mesh``, for the
+        :func:`~coastmesh.meshing.quality.mesh_quality.mesh_quality` of ``mesh``, for the
         numbers in the panel titles; computed when not given.
     title : str, optional
         Figure title.
@@ -287,7 +287,7 @@ def time_step_figure(
         runs at) circled and labelled; with ``dt`` a second map of
         ``dt (sqrt(g d) + u) / h`` with the largest circled. Each map has its
         colour bar. Triangles that limit nothing (dry, or no depth) are blank.
-        See :func:`~coastmesh.meshing.timestep.element_time_steps`. A mesh of
+        See :func:`~coastmesh.meshing.quality.time_step.element_time_steps`. A mesh of
         more than :data:`FLAT_TRIANGLES` triangles (most smaller than a pixel)
         is shaded from its nodes, each the worst value of its triangles:
         matplotlib draws a flat colour per triangle as one polygon each, 16 s
@@ -296,7 +296,7 @@ def time_step_figure(
     Raises
     ------
     ValueError
-        As for :func:`~coastmesh.meshing.timestep.element_time_steps`.
+        As for :func:`~coastmesh.meshing.quality.time_step.element_time_steps`.
 
     Examples
     --------

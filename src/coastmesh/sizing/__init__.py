@@ -19,22 +19,15 @@
 :func:`limit_gradation`            a bound on the size's slope
 :func:`wavelength_size`            elements per tidal wavelength
 :func:`slope_size`                 elements per bathymetric slope
-:func:`depth_on_grid`              a raster's depth on a size grid
-:class:`DepthSources`              several rasters in priority order, blended
-:class:`DepthSource`               one raster of such a stack
-:func:`raster_grid`                a raster's axes (ascending) and values
 :func:`to_metres`                  ``"10 km"``, ``"0.02 deg"`` to metres
 =================================  ===========================================
+
+Depth rasters and their sampling are in :mod:`coastmesh.depth`.
 """
 
 from __future__ import annotations
 
-from coastmesh.sizing.bathymetry import (
-    M2_PERIOD,
-    depth_on_grid,
-    slope_size,
-    wavelength_size,
-)
+from coastmesh.sizing.bathymetry import M2_PERIOD, slope_size, wavelength_size
 from coastmesh.sizing.channel import ChannelReport, NarrowChannel, local_width
 from coastmesh.sizing.distance import distance_to_lines
 from coastmesh.sizing.domain import (
@@ -48,8 +41,6 @@ from coastmesh.sizing.domain import (
 )
 from coastmesh.sizing.field import Gradation, size_field
 from coastmesh.sizing.gradation import DEFAULT_RATE, gradation_size, limit_gradation
-from coastmesh.sizing.raster import interpolate_bilinear, raster_grid
-from coastmesh.sizing.sources import DepthSource, DepthSources, SourceSample
 from coastmesh.sizing.sphere import limit_gradation_sphere, sphere_size_field
 from coastmesh.sizing.terms import (
     ChannelSize,
@@ -70,25 +61,19 @@ __all__ = [
     "ChannelSize",
     "CourantReport",
     "CourantSize",
-    "DepthSource",
-    "DepthSources",
     "Gradation",
     "NarrowChannel",
     "SizeField",
     "SizeFieldReport",
-    "SourceSample",
     "courant_bounds",
-    "depth_on_grid",
     "distance_to_lines",
     "domain_size_field",
     "domain_slots",
     "domain_width",
     "gradation_size",
-    "interpolate_bilinear",
     "limit_gradation",
     "limit_gradation_sphere",
     "local_width",
-    "raster_grid",
     "size_field",
     "size_field_with_report",
     "slope_size",

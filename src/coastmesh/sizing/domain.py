@@ -198,7 +198,7 @@ def domain_size_field(
         Called as ``progress(done, 3)``.
     runner : Runner, optional
         Where the gradations' distances run, in bands of rows
-        (:mod:`coastmesh.sizing.tiles`); default here. The field is the same.
+        (:mod:`coastmesh.sizing.bands`); default here. The field is the same.
 
     Returns
     -------

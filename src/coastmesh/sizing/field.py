@@ -10,8 +10,8 @@ from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.errors import ConfigError
+from coastmesh.sizing.bands import graded_sizes
 from coastmesh.sizing.gradation import limit_gradation
-from coastmesh.sizing.tiles import graded_sizes
 from coastmesh.types import Runner
 
 if TYPE_CHECKING:
@@ -73,7 +73,7 @@ def size_field(
         Gradation limit: the size grows by at most ``rate`` metres per metre.
     runner : Runner, optional
         Where the distance terms run, in bands of rows
-        (:mod:`coastmesh.sizing.tiles`); default here. The field is the same.
+        (:mod:`coastmesh.sizing.bands`); default here. The field is the same.
 
     Returns
     -------

@@ -2,7 +2,7 @@
 
 A global case's size field lives on the nodes of a longitude/latitude grid whose
 last column is its first (longitude -180 and 180): the grid
-:class:`~coastmesh.meshing.globe.SphereSizeGrid` hands to the mesher. Every size
+:class:`~coastmesh.meshing.gmsh.sphere_sizes.SphereSizeGrid` hands to the mesher. Every size
 is a length on the sphere, in metres:
 
 * gradations from shoreline sets, by great-circle distance
@@ -24,9 +24,10 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS
 
+from coastmesh.depth.grid import depth_on_grid
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import EARTH_RADIUS, earth_centred
-from coastmesh.sizing.bathymetry import BathymetrySize, depth_on_grid, wavelength_size
+from coastmesh.sizing.bathymetry import BathymetrySize, wavelength_size
 from coastmesh.sizing.distance import distance_to_lines, nearest_arcs
 from coastmesh.sizing.field import Gradation
 from coastmesh.sizing.gradation import gradation_size

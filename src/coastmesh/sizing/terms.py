@@ -19,9 +19,10 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS
 
+from coastmesh.depth.grid import depth_on_grid
+from coastmesh.depth.sources import DepthSources
 from coastmesh.errors import CoastmeshWarning
-from coastmesh.geometry.earth import reproject, transformer
-from coastmesh.sizing.bathymetry import GRAVITY, depth_on_grid
+from coastmesh.geometry.earth import GRAVITY, reproject, transformer
 from coastmesh.sizing.channel import (
     NARROW_ELEMENTS,
     ChannelReport,
@@ -30,14 +31,12 @@ from coastmesh.sizing.channel import (
     narrow_channels,
     water_mask,
 )
-from coastmesh.sizing.sources import DepthSources
 from coastmesh.types import Domain, Report
 
 if TYPE_CHECKING:
     import xarray as xr
 
 __all__ = [
-    "GRAVITY",
     "NARROW_CHOICES",
     "ChannelSize",
     "CourantReport",

@@ -41,11 +41,11 @@ class NodeDepthConfig:
         or the nearest valid cell and a warning.
     land : {"min_depth", "nearest_sea", "smooth"}
         Nodes where the rasters say land (depth <= 0 m); see
-        :data:`coastmesh.meshing.depth.LAND_TREATMENTS`.
+        :data:`coastmesh.depth.nodes.LAND_TREATMENTS`.
     land_distance : float or str, optional
         Width of the coastal taper of ``land = "smooth"`` (metres).
     method : {"bilinear", "mean"}
-        See :func:`coastmesh.meshing.depth.depth_at_nodes`.
+        See :func:`coastmesh.depth.nodes.depth_at_nodes`.
     min_depth : float or str, optional
         Depths below this are raised to it (metres, may be negative).
     max_slope : float, optional
@@ -67,7 +67,7 @@ class NodeDepthConfig:
     land_distance: float | None = None
 
     def _checked(self, c: Check) -> NodeDepthConfig:
-        from coastmesh.meshing.depth import (
+        from coastmesh.depth.nodes import (
             DEPTH_METHODS,
             LAND_TREATMENTS,
             OUTSIDE_RULES,
@@ -109,7 +109,7 @@ class NodeDepthConfig:
 
 @dataclass(frozen=True, slots=True)
 class CleanupConfig:
-    """``[cleanup]``: fixes after meshing (see :mod:`coastmesh.meshing.cleanup`).
+    """``[cleanup]``: fixes after meshing (see :mod:`coastmesh.meshing.cleanup.fixes`).
 
     ``smooth``: move interior nodes to raise the smallest angles (boundary nodes
     stay); the result is kept only if its minimum angle and 1st percentile are
@@ -159,8 +159,8 @@ class MeshConfig:
     optimize : bool
     parts : int or "auto", default "auto"
         Parts of the water meshed alone, at once on as many processes as the
-        run has workers, or on a Dask cluster (:mod:`coastmesh.meshing.parts`,
-        :mod:`coastmesh.meshing.tasks`); ``"auto"``: one per 200,000 expected
+        run has workers, or on a Dask cluster (:mod:`coastmesh.meshing.parts.cuts`,
+        :mod:`coastmesh.meshing.parts.tasks`); ``"auto"``: one per 200,000 expected
         triangles, rounded down to a power of two (1 to 64). It depends on the
         case only, so the mesh is the same on any number of cores or machines.
         1 is one part. The boundary nodes are the same either way, and so,

@@ -2,7 +2,7 @@
 
 A stack of bathymetry rasters, highest priority first: a node takes the first
 source with a valid value there, blended into the next across ``blend`` inside
-the edge of the source's data (:class:`coastmesh.sizing.DepthSources`).
+the edge of the source's data (:class:`coastmesh.depth.DepthSources`).
 """
 
 from __future__ import annotations

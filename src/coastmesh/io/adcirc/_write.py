@@ -25,8 +25,8 @@ from coastmesh.io._model import (
 )
 from coastmesh.io._table import put_lines, write_table
 from coastmesh.io.sphere import on_sphere, pole_triangles
-from coastmesh.meshing.topology import BoundaryString
 from coastmesh.types import Mesh
+from coastmesh.types.topology import BoundaryString
 
 __all__ = ["write_fort14", "write_gr3"]
 

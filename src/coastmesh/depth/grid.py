@@ -1,0 +1,77 @@
+"""Depth on the nodes of a grid, from one raster or a stack of them."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from pyproj import CRS
+
+from coastmesh.depth.raster import interpolate_bilinear, raster_grid
+from coastmesh.depth.sources import DepthSources
+from coastmesh.errors import ConfigError
+from coastmesh.geometry.earth import reproject_points
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+__all__ = ["depth_on_grid"]
+
+
+def depth_on_grid(
+    raster: xr.DataArray | DepthSources,
+    x: ArrayLike,
+    y: ArrayLike,
+    *,
+    crs: CRS | str,
+    positive: str = "up",
+) -> NDArray[np.float64]:
+    """Interpolate a bathymetry raster bilinearly onto the nodes of a size grid.
+
+    Parameters
+    ----------
+    raster : xarray.DataArray or DepthSources
+        Dims ``("y", "x")`` with 1-D cell-centre coordinates and a ``crs`` attr
+        (WKT), as :func:`coastmesh.io.read_raster` returns; NaN = missing. Or a
+        stack of rasters (:class:`~coastmesh.depth.DepthSources`), which
+        carries its own signs.
+    x, y : array_like of shape (nx,), (ny,)
+        Node coordinates of the grid in ``crs``.
+    crs : pyproj.CRS or str
+        CRS of the grid.
+    positive : {"up", "down"}
+        Sign of the raster: ``"up"`` for elevations (GEBCO, ETOPO: depths are
+        negative), ``"down"`` for depths.
+
+    Returns
+    -------
+    ndarray of shape (ny, nx)
+        Depth, metres, positive down; NaN outside the raster or at missing cells.
+
+    Raises
+    ------
+    ConfigError
+        For a bad ``positive``, or a raster without dims ``("y", "x")``, a
+        ``crs`` attribute or monotonic axes
+        (:func:`~coastmesh.depth.raster.raster_grid`).
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> r = xr.DataArray([[-10.0, -20.0], [-30.0, -40.0]], dims=("y", "x"),
+    ...                  coords={"y": [0.0, 1.0], "x": [0.0, 1.0]},
+    ...                  attrs={"crs": "EPSG:4326"})
+    >>> depth_on_grid(r, [0.5], [0.5], crs="EPSG:4326").tolist()
+    [[25.0]]
+    """
+    if positive not in ("up", "down"):
+        raise ConfigError(f"positive = {positive!r}: use 'up' or 'down'")
+    gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
+    nodes = np.column_stack([gx.ravel(), gy.ravel()])
+    if isinstance(raster, DepthSources):
+        return raster.sample(nodes, crs).depth.reshape(gx.shape)
+    rx, ry, values, raster_crs = raster_grid(raster)
+    px, py = reproject_points(nodes, crs, raster_crs).T
+    z = interpolate_bilinear(rx, ry, values, px, py).reshape(gx.shape)
+    return -z if positive == "up" else z

@@ -1,0 +1,36 @@
+"""Cleanup and relief: what ocean models choke on, fixed without losing quality.
+
+``fixes`` (all-boundary triangles, crowded nodes and slivers, by flips and
+splits), ``smoothing`` (interior nodes moved, the worst angles never lowered),
+``time_step_relief`` (edges collapsed where elements throttle an explicit
+model's time step), ``report`` (what the cleanup did), ``editable`` (a mesh to
+edit in place) and ``planar`` (triangle measures in a plane, for the local
+decisions).
+"""
+
+from __future__ import annotations
+
+from coastmesh.meshing.cleanup.fixes import clean_mesh
+from coastmesh.meshing.cleanup.report import CleanupOptions, CleanupReport
+from coastmesh.meshing.cleanup.smoothing import (
+    SmoothingReport,
+    smooth_mesh,
+    smooth_points,
+)
+from coastmesh.meshing.cleanup.time_step_relief import (
+    THROTTLE_RATIO,
+    ThrottleReport,
+    relieve_time_step,
+)
+
+__all__ = [
+    "THROTTLE_RATIO",
+    "CleanupOptions",
+    "CleanupReport",
+    "SmoothingReport",
+    "ThrottleReport",
+    "clean_mesh",
+    "relieve_time_step",
+    "smooth_mesh",
+    "smooth_points",
+]

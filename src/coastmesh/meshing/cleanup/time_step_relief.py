@@ -1,0 +1,404 @@
+"""Edge collapses that lift the few elements capping a mesh's stable time step.
+
+An explicit shallow-water model runs at the smallest element time step
+``dt_e = r_in / (sqrt(g d) + u)`` (:mod:`~coastmesh.meshing.quality.time_step`). Gmsh
+makes a few elements 0.6 of the requested size; in deep water they cap the
+whole model's time step: the smallest ``dt_e`` over their 1st percentile is 0.4
+to 0.55 on the NW European shelf meshes, where 0.6 means that no element
+throttles. :func:`relieve_time_step` collapses an edge of each, in the
+conformal plane the cleanup works in (angles there are angles on the Earth).
+
+Each pass takes the triangles below ``ratio`` times the 1st percentile of the
+time steps, smallest first, and collapses the shortest of their edges that
+passes: into its boundary node (boundary nodes never move or go), else at the
+midpoint, with the deeper depth. A collapse passes if the mesh stays valid
+(link condition, positive areas, no new edge between boundary nodes, no node
+left bare), no angle falls below both ``min_angle`` and the smallest it
+replaces, and the smallest time step around rises. The result is kept only if,
+on the Earth, the smallest time step over its 1st percentile rose and neither
+the minimum angle nor its 1st percentile fell (below ``keep_angles``, when
+given: a case gives Gmsh's own mesh's, as the cleanup does).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy import sparse
+
+from coastmesh.errors import ConfigError
+from coastmesh.meshing.cleanup import smoothing
+from coastmesh.meshing.cleanup.planar import signed_areas, triangle_angles
+from coastmesh.meshing.quality.time_step import (
+    MIN_OVER_P1_TARGET,
+    element_time_steps,
+    node_depth,
+)
+from coastmesh.sizing.terms import wave_speed
+from coastmesh.types import Mesh, Report
+
+__all__ = ["THROTTLE_RATIO", "ThrottleReport", "relieve_time_step"]
+
+logger = logging.getLogger(__name__)
+#: Goal: no element's time step below this fraction of the 1st percentile of
+#: them (the target :data:`~coastmesh.meshing.quality.time_step.MIN_OVER_P1_TARGET` is
+#: 0.6: a margin for the re-sampled depth).
+THROTTLE_RATIO = 0.65
+
+
+@dataclass(frozen=True, slots=True)
+class ThrottleReport(Report):
+    """What :func:`relieve_time_step` changed (in the mesh it returned).
+
+    Attributes
+    ----------
+    throttling_before, throttling_after, collapses : int
+        Triangles with a time step below ``ratio`` times the 1st percentile;
+        edges collapsed.
+    min_over_p1_before, min_over_p1_after : float
+        Smallest time step over its 1st percentile, measured on the Earth.
+    min_angle_before, min_angle_after, min_angle_p1_before, min_angle_p1_after
+        Smallest angle, and 1st percentile of minimum angles, degrees (float).
+    accepted : bool
+        Whether the mesh returned differs from the input; False when nothing
+        throttles, no collapse passes, or their result is rejected.
+    """
+
+    throttling_before: int
+    throttling_after: int
+    collapses: int
+    min_over_p1_before: float
+    min_over_p1_after: float
+    min_angle_before: float
+    min_angle_after: float
+    min_angle_p1_before: float
+    min_angle_p1_after: float
+    accepted: bool
+
+    def summary(self) -> str:
+        """Return a one-line summary.
+
+        Examples
+        --------
+        >>> print(ThrottleReport(3, 0, 2, 0.45, 0.7, 20, 21, 30, 30, True).summary())
+        ... # doctest: +NORMALIZE_WHITESPACE
+        time step relieved: min / p1 0.45 -> 0.70 (target >= 0.6), throttling 3 -> 0
+        (2 collapses); min angle 20.0 -> 21.0 deg, 1st percentile 30.0 -> 30.0 deg
+        """
+        return (
+            f"time step {'relieved' if self.accepted else 'unchanged'}: min / p1 "
+            f"{self.min_over_p1_before:.2f} -> {self.min_over_p1_after:.2f} "
+            f"(target >= {MIN_OVER_P1_TARGET:g}), throttling "
+            f"{self.throttling_before} -> {self.throttling_after} "
+            f"({self.collapses} collapses); min angle {self.min_angle_before:.1f} "
+            f"-> {self.min_angle_after:.1f} deg, 1st percentile "
+            f"{self.min_angle_p1_before:.1f} -> {self.min_angle_p1_after:.1f} deg"
+        )
+
+
+def relieve_time_step(
+    mesh: Mesh,
+    *,
+    velocity: float = 0.0,
+    ratio: float = THROTTLE_RATIO,
+    min_angle: float = 30.0,
+    passes: int = 3,
+    keep_angles: tuple[float, float] | None = None,
+) -> tuple[Mesh, ThrottleReport]:
+    """Collapse an edge of each element whose time step is far below the others'.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        With ``point_data["depth"]`` (metres, positive down); triangles
+        counter-clockwise.
+    velocity : float, default 0
+        Velocity scale ``u`` added to the wave speed, m/s (>= 0).
+    ratio : float, default :data:`THROTTLE_RATIO`
+        Triangles below ``ratio`` times the 1st percentile throttle (0 to 1).
+    min_angle : float, default 30
+        A collapse may leave a smaller angle (degrees, 0 to 60) only if no
+        smaller than the smallest it replaces.
+    passes : int, default 3
+        Most sweeps over the throttling triangles (>= 1).
+    keep_angles : (float, float), optional
+        The minimum angle and 1st percentile of minimum angles (degrees) the
+        result must keep; default the input's. A case passes Gmsh's own mesh's,
+        the bar the cleanup keeps to.
+
+    Returns
+    -------
+    mesh : Mesh
+        The same boundary edges, ids and boundary nodes; fewer nodes and
+        triangles. A merged node's point data are the mean of the two nodes'
+        (re-sample the depth). The input itself unless ``report.accepted``.
+    report : ThrottleReport
+
+    Raises
+    ------
+    ConfigError
+        If ``velocity``, ``ratio``, ``min_angle`` or ``passes`` is out of range.
+    ValueError
+        If the mesh has no ``"depth"`` point data.
+
+    Notes
+    -----
+    See the module notes; ``velocity``, ``ratio`` and the depth are as for
+    :func:`~coastmesh.meshing.quality.time_step.element_time_steps`.
+
+    Examples
+    --------
+    >>> from coastmesh.types.topology import unique_edges
+    >>> n = 12  # 100 m squares cut in two, 50 m deep; one node moved 75 m east
+    >>> pts = np.mgrid[0:n, 0:n].reshape(2, -1).T[:, ::-1] * 100.0
+    >>> pts[5 * n + 5, 0] += 75
+    >>> q = (np.arange(n - 1)[:, None] * n + np.arange(n - 1)).ravel()
+    >>> tri = np.vstack([np.column_stack([q, q + 1, q + n + 1]),
+    ...                  np.column_stack([q, q + n + 1, q + n])])
+    >>> edges, count = unique_edges(tri, n * n)
+    >>> m = Mesh(pts, tri, edges[count == 1], [1] * (4 * n - 4), 1, None,
+    ...          {"depth": np.full(n * n, 50.0)})
+    >>> relieved, report = relieve_time_step(m)
+    >>> report.accepted, report.collapses, len(relieved.triangles) - len(tri)
+    (True, 1, -2)
+    >>> round(report.min_over_p1_before, 2), round(report.min_over_p1_after, 2)
+    (0.33, 0.77)
+    """
+    _check_options(velocity, ratio, min_angle, passes)
+    depth = node_depth(mesh)
+    if depth is None:
+        raise ValueError(
+            f"mesh.point_data has no 'depth' (it has {sorted(mesh.point_data)}); "
+            "add one with mesh.with_point_data(depth=...)"
+        )
+    to_plane = smoothing.local_plane(mesh)
+    xy = smoothing.plane_points(mesh.points, to_plane)
+    fixed = smoothing.boundary_nodes(mesh.triangles, len(xy))
+    fixed[mesh.boundary_edges.ravel()] = True
+    work = _Collapser(xy, mesh.triangles, fixed, depth, velocity)
+    collapses = 0
+    for _ in range(passes):
+        made = work.run_pass(ratio, min_angle)
+        collapses += made
+        if not made:
+            break
+    before = after = _measures(mesh, xy, velocity, ratio)
+    new, accepted = mesh, False
+    if collapses:
+        new = work.result(mesh, to_plane)
+        after = _measures(new, work.xy[~work.removed], velocity, ratio)
+        keep = keep_angles or (before["min_angle"], before["min_angle_p1"])
+        accepted = after["min_over_p1"] > before["min_over_p1"] and (
+            after["min_angle"] >= keep[0] and after["min_angle_p1"] >= keep[1]
+        )
+        logger.debug("throttle: %d collapses, %s -> %s", collapses, before, after)
+    if not accepted:
+        new, after, collapses = mesh, before, 0
+    report = ThrottleReport(
+        **{f"{name}_before": value for name, value in before.items()},
+        **{f"{name}_after": value for name, value in after.items()},
+        collapses=collapses,
+        accepted=accepted,
+    )
+    return new, report
+
+
+def _check_options(velocity: float, ratio: float, min_angle: float, passes: int):
+    """Raise ConfigError naming the first option out of range."""
+    integer = isinstance(passes, int | np.integer) and not isinstance(passes, bool)
+    speed = math.isfinite(velocity) and velocity >= 0
+    for name, value, ok, rule in (
+        ("velocity", velocity, speed, "finite and >= 0 m/s"),
+        ("ratio", ratio, 0 < ratio <= 1, "> 0 and <= 1"),
+        ("min_angle", min_angle, 0 < min_angle < 60, "between 0 and 60 degrees"),
+        ("passes", passes, integer and passes >= 1, "an integer >= 1"),
+    ):
+        if not ok:
+            raise ConfigError(f"{name} = {value!r}: must be {rule}")
+
+
+def _measures(mesh: Mesh, xy: NDArray, velocity: float, ratio: float) -> dict:
+    """Return the report's numbers: time steps on the Earth, angles in the plane."""
+    step = element_time_steps(mesh, velocity=velocity)["dt"]
+    step = step[np.isfinite(step)]  # no NaN (no depth) nor inf (dry)
+    p1 = float(np.percentile(step, 1)) if step.size else math.inf
+    angles = smoothing.min_angles(xy, mesh.triangles)
+    return {
+        "throttling": int((step < ratio * p1).sum()),
+        "min_over_p1": float(step.min()) / p1 if step.size and p1 > 0 else math.nan,
+        "min_angle": float(angles.min(initial=90.0)),
+        "min_angle_p1": smoothing.percentile(angles, 1),
+    }
+
+
+def _plane_time_steps(pts: NDArray, corner_depth: NDArray, velocity: float) -> NDArray:
+    """Return the time steps of triangles as (k, 3, 2) coordinates (inf: dry).
+
+    ``r_in / (sqrt(g max(d, 0)) + u)``, ``d`` the deepest of ``corner_depth``.
+    """
+    sides = np.linalg.norm(pts - np.roll(pts, -1, axis=1), axis=2).sum(axis=1)
+    r_in = 2 * signed_areas(pts) / np.maximum(sides, 1e-300)
+    deepest = np.fmax.reduce(corner_depth, axis=1)  # NaN only if all three are
+    speed = wave_speed(deepest, velocity)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        return np.where(speed > 0, r_in / speed, np.inf)
+
+
+# Edge collapse is hand-written: no maintained Python library among our
+# dependencies (numpy, scipy, shapely, gmsh, meshio) does constrained edge
+# collapse on a numpy triangle mesh.
+class _Collapser:
+    """The mesh being collapsed: triangles, the triangles at each node, time steps.
+
+    No triangle is added: a collapse deletes the two at the edge and renames
+    the removed node in the others, so the indices stay.
+    """
+
+    def __init__(self, xy, triangles, fixed, depth, velocity) -> None:
+        self.xy0, self.xy = xy, np.array(xy, dtype=np.float64)  # at first, now
+        self.fixed, self.velocity = fixed, velocity
+        self.tri = np.array(triangles, dtype=np.int64)
+        self.depth = np.array(depth, dtype=np.float64)
+        self.alive = np.ones(len(self.tri), dtype=bool)
+        self.removed = np.zeros(len(xy), dtype=bool)
+        self.merges: list[tuple[int, int]] = []  # (kept, removed), in order
+        m = len(self.tri)
+        csr = sparse.csr_array(
+            (np.ones(3 * m, np.int8), (self.tri.ravel(), np.repeat(np.arange(m), 3))),
+            shape=(len(xy), m),
+        )
+        self._ptr, self._at = csr.indptr, csr.indices
+        self._stars: dict[int, set[int]] = {}
+        self.dt = _plane_time_steps(self.xy[self.tri], self.depth[self.tri], velocity)
+
+    def star(self, node: int) -> set[int]:
+        """Return the set of live triangles at ``node``."""
+        if node not in self._stars:
+            at = self._at[self._ptr[node] : self._ptr[node + 1]]
+            self._stars[node] = set(at.tolist())
+        return self._stars[node]
+
+    def _nodes(self, tris: set[int]) -> set[int]:  # of the triangles
+        return set(self.tri[list(tris)].ravel().tolist())
+
+    def run_pass(self, ratio: float, min_angle: float) -> int:
+        """Collapse an edge of each triangle below ``ratio`` x p1; return how many."""
+        live = np.flatnonzero(self.alive & np.isfinite(self.dt))
+        if not live.size:
+            return 0
+        limit = ratio * np.percentile(self.dt[live], 1)
+        worst = live[self.dt[live] < limit]
+        made = 0
+        for t in worst[np.argsort(self.dt[worst], kind="stable")].tolist():
+            if self.alive[t] and self.dt[t] < limit:
+                collapse = self.best_collapse(t, min_angle)
+                if collapse is not None:
+                    self.apply(*collapse)
+                    made += 1
+        return made
+
+    def best_collapse(self, t: int, min_angle: float) -> tuple | None:
+        """Return the first collapse of an edge of ``t`` that passes, shortest first.
+
+        As (kept, removed, position, depth, deleted, changed, new triangles,
+        their time steps); None if none passes.
+        """
+        nodes = self.tri[t].tolist()
+        p = self.xy[nodes]
+        length = np.linalg.norm(p - np.roll(p, -1, axis=0), axis=1)
+        for e in np.argsort(length, kind="stable").tolist():
+            collapse = self.try_edge(nodes[e], nodes[(e + 1) % 3], min_angle)
+            if collapse is not None:
+                return collapse
+        return None
+
+    def try_edge(self, a: int, b: int, min_angle: float) -> tuple | None:
+        """Return the collapse of edge ``(a, b)`` if it passes, else None."""
+        found = self._relinked(a, b)
+        if found is None:
+            return None
+        kept, gone, deleted, ids, new, old = found
+        position = self.xy[kept] if self.fixed[kept] else (self.xy[a] + self.xy[b]) / 2
+        pts = self.xy[new]
+        pts[new == kept] = position
+        merged = np.fmax(self.depth[a], self.depth[b])
+        corner_depth = self.depth[new]
+        corner_depth[new == kept] = merged
+        dt = _plane_time_steps(pts, corner_depth, self.velocity)
+        floor = min(min_angle, triangle_angles(self.xy[self.tri[old]]).min())
+        if (
+            (signed_areas(pts) > 0).all()
+            and triangle_angles(pts).min() >= floor
+            and dt.min() > self.dt[old].min()
+        ):
+            return kept, gone, position, merged, deleted, ids, new, dt
+        return None
+
+    def _relinked(self, a: int, b: int) -> tuple | None:
+        """Return the new triangles if collapsing ``(a, b)`` leaves a valid mesh.
+
+        As (kept, removed, deleted, changed, their nodes, all affected).
+        """
+        if self.fixed[a] and self.fixed[b]:
+            return None
+        fixed_b = self.fixed[b] or (not self.fixed[a] and b < a)
+        kept, gone = (b, a) if fixed_b else (a, b)
+        own, other = self.star(kept), self.star(gone)
+        deleted = own & other
+        near_kept, near_gone = self._nodes(own) - {kept}, self._nodes(other) - {gone}
+        opposite = self._nodes(deleted) - {a, b}
+        if (
+            not deleted
+            or near_kept & near_gone != opposite  # the link condition
+            or any(self.star(c) <= deleted for c in opposite)  # a node left bare
+            or (  # a new edge between two boundary nodes
+                self.fixed[kept]
+                and self.fixed[list(near_gone - near_kept - {kept})].any()
+            )
+        ):
+            return None
+        changed = sorted(other - deleted)
+        ids = np.array(sorted(own - deleted) + changed, dtype=np.int64)
+        new = self.tri[ids]
+        new[new == gone] = kept
+        repeated = len(np.unique(np.sort(new, axis=1), axis=0)) < len(new)
+        if repeated or self.fixed[new[len(ids) - len(changed) :]].all(axis=1).any():
+            return None  # a repeated triangle, or a new all-boundary one
+        return kept, gone, deleted, ids, new, np.array(sorted(own | other))
+
+    def apply(self, kept, gone, position, merged, deleted, ids, new, dt) -> None:
+        """Make a collapse returned by :meth:`try_edge`."""
+        for t in deleted:
+            for node in self.tri[t].tolist():
+                self.star(node).discard(t)
+        self._stars[kept] = self.star(kept) | self.star(gone)
+        self._stars[gone] = set()
+        dead = list(deleted)
+        self.alive[dead], self.dt[dead] = False, np.nan
+        self.tri[ids], self.dt[ids] = new, dt
+        self.xy[kept], self.depth[kept] = position, merged
+        self.removed[gone] = True
+        self.merges.append((kept, gone))
+
+    def result(self, mesh: Mesh, to_plane) -> Mesh:
+        """Return ``mesh`` with the collapses: removed nodes dropped, renumbered."""
+        keep = ~self.removed
+        index = np.cumsum(keep) - 1
+        point_data = {}
+        for name, values in mesh.point_data.items():
+            full = np.array(values, dtype=np.result_type(values, 1.0))
+            for kept, gone in self.merges:
+                full[kept] = (full[kept] + full[gone]) / 2
+            point_data[name] = full[keep]
+        points = smoothing.moved_points(mesh.points, self.xy0, self.xy, to_plane)
+        return smoothing.mesh_with(
+            mesh,
+            points=points[keep],
+            triangles=index[self.tri[self.alive]],
+            boundary_edges=index[mesh.boundary_edges],
+            point_data=point_data,
+        )

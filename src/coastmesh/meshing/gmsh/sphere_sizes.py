@@ -1,0 +1,185 @@
+"""Sizes for a mesh of the whole sphere, meshed in a stereographic plane.
+
+A global mesh is made in the stereographic plane of
+:func:`coastmesh.geometry.sphere.plane_crs`, whose singular point lies on land.
+Its size field cannot be a regular grid in that plane: the ocean's image reaches
+about 11 Earth radii from the centre while the scale factor runs from 1 to about
+90, so a plane grid fine enough at the centre would hold 10^8 cells. The field
+is kept on a longitude/latitude grid instead (:class:`SphereSizeGrid`), and
+handed to the mesher as it is:
+
+* sampled at points of the plane by inverting the projection and interpolating
+  bilinearly in longitude and latitude (longitude wraps round);
+* given to Gmsh as a view of the grid's cells with their corners moved into the
+  plane: meridians are straight there, parallels are circles that the cells'
+  edges cut as chords; the cells at a pole of the grid are triangles;
+* in map units, the sizes are multiplied by the plane's scale factor, so edge
+  lengths on the sphere follow the field.
+
+Gmsh's own interpolation inside a cell is bilinear in the plane, not in
+longitude and latitude: at most a few per cent apart where the field changes
+fast within one cell, which the grid spacing controls.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from pyproj import CRS
+
+from coastmesh.geometry.earth import EARTH_RADIUS, transformer
+from coastmesh.geometry.sphere import plane_crs, stereographic_scale
+from coastmesh.types import SizeGrid
+
+__all__ = ["SphereSizeGrid"]
+
+_LONLAT = CRS.from_epsg(4326)
+
+
+@dataclass(frozen=True, slots=True)
+class SphereSizeGrid:
+    """A size field on a longitude/latitude grid, for a mesh in a plane.
+
+    Parameters
+    ----------
+    grid : SizeGrid
+        ``x`` longitudes and ``y`` latitudes (degrees, ascending) of the nodes,
+        ``values`` the edge lengths in metres on the sphere. The longitudes
+        span one turn exactly (the last is the first plus 360) so that the grid
+        wraps round.
+    pole : (lon, lat)
+        The plane's singular point (:func:`~coastmesh.geometry.sphere.plane_crs`).
+    map_units : bool
+        Whether :meth:`sample` and :meth:`view_data` give plane lengths (metres
+        on the sphere times the scale factor) or lengths on the sphere.
+
+    Raises
+    ------
+    ValueError
+        If the longitudes do not span exactly 360 degrees, or a latitude is
+        beyond 90.
+
+    Examples
+    --------
+    >>> lon = np.linspace(-180.0, 180.0, 9)
+    >>> lat = np.linspace(-60.0, 90.0, 6)
+    >>> g = SphereSizeGrid(SizeGrid(lon, lat, np.full((6, 9), 1000.0)))
+    >>> xy = np.array([[0.0, 0.0]])  # the plane's centre: the North Pole
+    >>> float(g.sample(xy)[0]), float(g.in_map_units().sample(xy)[0])
+    (1000.0, 1000.0)
+    """
+
+    grid: SizeGrid
+    pole: tuple[float, float] = (0.0, -90.0)
+    map_units: bool = False
+
+    def __post_init__(self) -> None:
+        lon, lat = self.grid.x, self.grid.y
+        if abs(lon[-1] - lon[0] - 360.0) > 1e-9:
+            raise ValueError(
+                f"the size grid's longitudes run from {lon[0]} to {lon[-1]}: a "
+                "global grid spans exactly 360 degrees (the last is the first + 360)"
+            )
+        if lat[0] < -90.0 or lat[-1] > 90.0:
+            raise ValueError(
+                f"the size grid's latitudes run from {lat[0]} to {lat[-1]}, past a pole"
+            )
+        object.__setattr__(self, "pole", (float(self.pole[0]), float(self.pole[1])))
+
+    @property
+    def crs(self) -> CRS:
+        """The plane the mesh is made in."""
+        return plane_crs(self.pole)
+
+    def in_map_units(self) -> SphereSizeGrid:
+        """Return the same field, sampled in plane lengths."""
+        return SphereSizeGrid(self.grid, self.pole, map_units=True)
+
+    def lonlat(self, xy: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Return the longitude and latitude of points of the plane."""
+        xy = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
+        lon, lat = transformer(self.crs, _LONLAT).transform(xy[:, 0], xy[:, 1])
+        return np.column_stack([lon, lat])
+
+    def sample(self, xy: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Interpolate the field at points of the plane (bilinear in lon/lat)."""
+        ll = self.lonlat(xy)
+        values = self.at_lonlat(ll[:, 0], ll[:, 1])
+        if self.map_units:
+            values = values * stereographic_scale(ll[:, 0], ll[:, 1], self.pole)
+        return values
+
+    def at_lonlat(
+        self, lon: NDArray[np.float64], lat: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """Interpolate the field (metres on the sphere) at lon/lat points."""
+        x, y, v = self.grid.x, self.grid.y, self.grid.values
+        lon = (np.asarray(lon, dtype=np.float64) - x[0]) % 360.0 + x[0]
+        lat = np.clip(np.asarray(lat, dtype=np.float64), y[0], y[-1])
+        i = np.clip(np.searchsorted(x, lon, side="right") - 1, 0, x.size - 2)
+        j = np.clip(np.searchsorted(y, lat, side="right") - 1, 0, y.size - 2)
+        tx = (lon - x[i]) / (x[i + 1] - x[i])
+        ty = (lat - y[j]) / (y[j + 1] - y[j])
+        return (
+            (1 - tx) * (1 - ty) * v[j, i]
+            + tx * (1 - ty) * v[j, i + 1]
+            + (1 - tx) * ty * v[j + 1, i]
+            + tx * ty * v[j + 1, i + 1]
+        )
+
+    def view_data(self) -> dict[str, NDArray[np.float64]]:
+        """Return the grid's cells in the plane, in Gmsh's list format, by type.
+
+        Returns ``{"SQ": quadrangles, "ST": triangles}``: a quadrangle per cell
+        (corners counter-clockwise in the plane), and a triangle per cell of a
+        row that ends at the North Pole (where the cell's two top corners are one
+        point). Values are plane lengths when :attr:`map_units` is set.
+        """
+        x, y, v = self.grid.x, self.grid.y, self.grid.values
+        glon, glat = np.meshgrid(x, y)
+        px, py = transformer(_LONLAT, self.crs).transform(glon, glat)
+        if self.map_units:
+            v = v * stereographic_scale(glon, glat, self.pole)
+        top = y[-1] >= 90.0 - 1e-9
+        rows = len(y) - 1 - int(top)
+        corners = [(0, 0), (0, 1), (1, 1), (1, 0)]  # (dj, di): east, then north
+
+        def at(a: NDArray, dj: int, di: int, r0: int, r1: int) -> NDArray:
+            return a[r0 + dj : r1 + dj, di : a.shape[1] - 1 + di].ravel()
+
+        def block(order: list, r0: int, r1: int) -> NDArray[np.float64]:
+            zeros = np.zeros(at(px, 0, 0, r0, r1).size)
+            return np.column_stack(
+                [at(px, dj, di, r0, r1) for dj, di in order]
+                + [at(py, dj, di, r0, r1) for dj, di in order]
+                + [zeros] * len(order)
+                + [at(v, dj, di, r0, r1) for dj, di in order]
+            ).ravel()
+
+        out = {"SQ": block(corners, 0, rows)}
+        if top:
+            out["ST"] = block([(0, 0), (0, 1), (1, 0)], rows, rows + 1)
+        else:
+            out["ST"] = np.zeros(0)
+        return out
+
+    def cells(
+        self, polygon: shapely.Polygon
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """Grid nodes in ``polygon`` (plane), and the sphere area each stands for.
+
+        Returns the nodes' plane x and y and, per node, the area of its cell on
+        the sphere divided by its size squared (the triangle density's weight).
+        """
+        x, y, v = self.grid.x, self.grid.y, self.grid.values
+        glon, glat = np.meshgrid(x[:-1], y)  # the wrapped column once
+        px, py = transformer(_LONLAT, self.crs).transform(glon, glat)
+        inside = shapely.contains_xy(polygon, px, py)
+        dlon = math.radians(float(x[1] - x[0]))
+        dlat = math.radians(float(y[1] - y[0]))
+        area = EARTH_RADIUS**2 * dlon * dlat * np.cos(np.radians(glat))
+        return px[inside], py[inside], area[inside] / v[:, :-1][inside] ** 2

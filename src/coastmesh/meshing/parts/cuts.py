@@ -1,0 +1,429 @@
+"""Domain decomposition: cut the water into parts of about equal meshing cost.
+
+:func:`cut_lines` chooses straight cuts through the sea;
+:func:`~coastmesh.meshing.parts.faces.split_faces` nodes the boundary with them
+and returns the faces of water as loops of shared curves, and
+:mod:`~coastmesh.meshing.parts.tasks` meshes each face alone, with the cuts'
+nodes fixed once for both sides, so the meshes conform with no stitching.
+
+**How the cuts are chosen.** The cost of a region is its expected triangle
+count, the integral over its water of the triangle density ``4 / (sqrt(3)
+h^2)`` of an equilateral mesh of size ``h`` (:func:`expected_triangles`). A
+region is cut across its longer side, in recursive bisection: ``K`` parts take
+``floor(K / 2)`` and ``ceil(K / 2)`` parts on either side, so the cut sits at
+that quantile of the cost. Among 9 positions within 3 % of cost of it, the cut
+whose water crossing has the fewest target edges (``integral of 1 / h`` along
+it) wins: cuts go where the size is coarse and the water narrow, and keep off
+the fine coast. A cut must be clean where it crosses the water, every time
+it does: if none of the 9 is, 41 positions within 15 % are tried, then the
+same across the shorter side, then the same at the oblique angles of
+:data:`_OBLIQUE` (the diagonals first); a region with no clean cut is not cut
+(fewer parts, never thin triangles). The first direction with a clean cut
+wins, so a region cut across x or y is cut as before oblique cuts were
+tried. A region is convex: a box, or a box cut by oblique cuts, and its
+halves are its parts on either side of the cut. A crossing makes thin
+triangles when it is under two target edges long, comes nearer the coast or
+an earlier cut than ``sin(35 deg) min(s, 2 h)`` at a distance ``s >= 2 h``
+from its end (it meets the coast at under 35 degrees, or runs along it; nearer
+its end, the coast's roughness below the size is noise), or ends
+within half an edge of the end of a boundary curve or within an edge of
+another cut's end. A region holding under twice :data:`MIN_PART_TRIANGLES` is
+not cut. A part left holding over :data:`OVERSIZE` times its share (the
+water's cost over ``K``), where only a cut off balance was clean, is cut in
+two as a region would be, until it is not. Nothing is random: the same
+water, grid and ``K`` give the same cuts.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
+from coastmesh.meshing.parts.crossings import PENALTY, Turned, coast_tree, edges_across
+from coastmesh.types import SizeGrid
+
+__all__ = [
+    "MIN_PART_TRIANGLES",
+    "OVERSIZE",
+    "TRIANGLES_PER_PART",
+    "CutPlan",
+    "auto_parts",
+    "cut_lines",
+    "expected_triangles",
+    "plan_cuts",
+]
+
+#: Triangles per unit area of an equilateral mesh of edge h: 4 / (sqrt(3) h^2).
+_DENSITY = 4.0 / np.sqrt(3.0)
+#: ``parts = "auto"``: the largest power of two at most the expected triangles
+#: over this, from 1 to :data:`MAX_AUTO_PARTS`. It depends on the case only,
+#: never on the machine, so a case gives the same mesh on any number of cores.
+#: Every cut leaves a band a few elements wide where Gmsh's triangles are a
+#: little worse; the NW-shelf fine case (3.1 M expected triangles, oblique
+#: cuts) had a 1st-percentile angle of 44.92 deg in one part, 44.41 in 8
+#: wanted parts (14 faces), 44.03 in 16 (32) and 43.70 in 64 (93), so a part
+#: holds about 200,000 (the issue's bound is 1 deg below one part).
+TRIANGLES_PER_PART = 200_000
+MAX_AUTO_PARTS = 64
+#: A region is not cut into parts of fewer expected triangles than this, so
+#: fewer than ``parts`` parts may be made. (Forced to 64 parts, the NW-shelf
+#: intermediate mesh, 141,000 triangles, got faces a few elements wide in the
+#: coarse North Sea, and triangles with a radius ratio of 0.16.)
+MIN_PART_TRIANGLES = 10_000
+#: A part still holding more than this many times its share (the water's
+#: expected triangles over ``parts``) when the bisection gives it no more cuts
+#: is cut in two, again and again while it can be. A cut off balance (no clean
+#: cut near the balanced one) leaves one side large: on the NW-shelf fine case
+#: (8 wanted) the region meant for two parts around the Pentland Firth, 1.05 M
+#: expected triangles, was cut 39 / 61 % and its larger side of 640,000 (1.63
+#: shares) meshed alone for a quarter of the Gmsh time: no number of cores
+#: could mesh the case in under that part's time. Gmsh's time per triangle
+#: grows with the part, too (48 us at 79,000 triangles, 78 at 635,000).
+OVERSIZE = 1.5
+#: Candidate cut positions tried around the balanced one, and their spread
+#: (a fraction of the region's cost on either side).
+_CANDIDATES = 9
+_SPREAD = 0.03
+#: Where every one of those would make thin triangles, positions this far off
+#: are tried too (a less even split beats a bad triangle).
+_WIDER_CANDIDATES = 41
+_WIDER = 0.15
+#: Where no cut across x or y is clean, cuts whose normals make these angles
+#: (degrees) with the x axis are tried, in this order: the diagonals first.
+#: (On the NW-shelf fine case no cut of either half across x or y is clean,
+#: and 8 wanted parts were 2; with these, 14 faces; 16 with :data:`OVERSIZE`.)
+_OBLIQUE = (45.0, 135.0, 30.0, 60.0, 120.0, 150.0)
+
+
+def _cells(
+    polygon: shapely.Polygon, grid: SizeGrid
+) -> tuple[NDArray, NDArray, NDArray]:
+    """Grid nodes in the water and the expected triangles each stands for."""
+    if not isinstance(grid, SizeGrid):  # a SphereSizeGrid: areas on the sphere
+        x, y, weight = grid.cells(polygon)
+        return x, y, _DENSITY * weight
+    gx, gy = np.meshgrid(grid.x, grid.y)
+    inside = shapely.contains_xy(polygon, gx, gy)
+    cell = abs(grid.x[1] - grid.x[0]) * abs(grid.y[1] - grid.y[0])
+    weight = _DENSITY * cell / grid.values[inside] ** 2
+    return gx[inside], gy[inside], weight
+
+
+def expected_triangles(polygon: shapely.Polygon, grid: SizeGrid) -> float:
+    """Return the expected triangle count of ``polygon`` meshed at ``grid``.
+
+    Parameters
+    ----------
+    polygon : shapely.Polygon
+        The water, in the grid's coordinates (metres).
+    grid : SizeGrid
+        Target sizes, metres, at least 2 x 2 nodes.
+
+    Returns
+    -------
+    float
+        The integral of ``4 / (sqrt(3) h^2)`` over the grid nodes inside.
+
+    Examples
+    --------
+    >>> g = SizeGrid(np.arange(0.0, 1001, 10), np.arange(0.0, 1001, 10),
+    ...              np.full((101, 101), 100.0))
+    >>> round(expected_triangles(shapely.box(0, 0, 1000, 1000), g))  # 99 x 99 inside
+    226
+    """
+    return float(_cells(polygon, grid)[2].sum())
+
+
+def auto_parts(polygon: shapely.Polygon, grid: SizeGrid) -> int:
+    """Return the number of parts ``parts = "auto"`` means for this water.
+
+    Examples
+    --------
+    >>> g = SizeGrid(np.arange(0.0, 100_001, 500), np.arange(0.0, 100_001, 500),
+    ...              np.full((201, 201), 100.0))
+    >>> auto_parts(shapely.box(0, 0, 100_000, 100_000), g)  # 2,286,365 triangles
+    8
+    """
+    n = expected_triangles(polygon, grid) / TRIANGLES_PER_PART
+    return int(min(2 ** max(int(np.floor(np.log2(max(n, 1.0)))), 0), MAX_AUTO_PARTS))
+
+
+class CutPlan(NamedTuple):
+    """The cuts of :func:`plan_cuts`, and how many cuts asked for were not made."""
+
+    cuts: list[shapely.LineString]
+    missed: int
+
+
+def plan_cuts(
+    polygon: shapely.Polygon,
+    grid: SizeGrid,
+    parts: int,
+    *,
+    ends: NDArray[np.float64] | None = None,
+) -> CutPlan:
+    """Return straight cuts that split the water into ``parts`` of equal cost.
+
+    :func:`cut_lines` returns the same cuts; this also counts the cuts asked
+    for that were not made.
+
+    Parameters
+    ----------
+    polygon : shapely.Polygon
+        The water, in the grid's coordinates.
+    grid : SizeGrid
+        Target sizes there.
+    parts : int
+        The number of parts wanted, >= 1.
+    ends : ndarray of shape (k, 2), optional
+        Points of the boundary a cut should not end within half a target edge
+        of: the ends of its curves (a cut there leaves a sliver of curve).
+
+    Returns
+    -------
+    CutPlan
+        ``cuts``: ``parts - 1`` segments (fewer where a region holds under twice
+        :data:`MIN_PART_TRIANGLES` expected triangles or has no clean cut;
+        more where a part would hold over :data:`OVERSIZE` shares),
+        each spanning the region it cuts (a convex region of the recursive
+        bisection);
+        later cuts end on earlier ones. A cut may cross the water several
+        times: each crossing is a shared curve. ``missed``: how many of the
+        ``parts - 1`` cuts asked for were not made (a cut made again to split
+        a part over :data:`OVERSIZE` shares does not stand in for one).
+
+    Examples
+    --------
+    >>> g = SizeGrid(np.arange(0.0, 2001, 20), np.arange(0.0, 1001, 20),
+    ...              np.full((51, 101), 5.0))  # 180,000 triangles
+    >>> plan = plan_cuts(shapely.box(0, 0, 2000, 1000), g, 2)
+    >>> [c.bounds for c in plan.cuts], plan.missed
+    ([(1010.0, 0.0, 1010.0, 1000.0)], 0)
+    >>> plan = plan_cuts(shapely.box(0, 0, 2000, 1000), g, 40)  # 4,500 each
+    >>> len(plan.cuts), plan.missed  # 16 parts of 11,250: each over 10,000
+    (15, 24)
+    """
+    if isinstance(parts, bool) or not isinstance(parts, int | np.integer) or parts < 1:
+        raise ValueError(f"parts is {parts!r}; expected an integer >= 1")
+    x, y, w = _cells(polygon, grid)
+    cuts: list[shapely.LineString] = []
+    coast = (
+        coast_tree(polygon),
+        (
+            None
+            if ends is None or not len(ends)
+            else shapely.STRtree(shapely.points(ends))
+        ),
+        [],  # the ends of the cuts chosen so far
+        [],  # and their crossings of the water
+    )
+    limit = OVERSIZE * float(w.sum()) / int(parts)
+    region = shapely.box(*polygon.bounds)
+    missed: list[int] = []
+    _bisect(polygon, grid, coast, region, (x, y, w), (int(parts), limit), cuts, missed)
+    return CutPlan(cuts, sum(missed))
+
+
+def cut_lines(
+    polygon: shapely.Polygon,
+    grid: SizeGrid,
+    parts: int,
+    *,
+    ends: NDArray[np.float64] | None = None,
+) -> list[shapely.LineString]:
+    """Return straight cuts that split the water into ``parts`` of equal cost.
+
+    The cuts of :func:`plan_cuts`, which documents the arguments.
+
+    Examples
+    --------
+    >>> g = SizeGrid(np.arange(0.0, 2001, 20), np.arange(0.0, 1001, 20),
+    ...              np.full((51, 101), 5.0))  # 180,000 triangles
+    >>> [c.bounds for c in cut_lines(shapely.box(0, 0, 2000, 1000), g, 2)]
+    [(1010.0, 0.0, 1010.0, 1000.0)]
+    """
+    return plan_cuts(polygon, grid, parts, ends=ends).cuts
+
+
+def _bisect(
+    polygon: shapely.Polygon,
+    grid: SizeGrid,
+    coast: tuple,
+    region: shapely.Polygon,
+    cells: tuple[NDArray, NDArray, NDArray],
+    aim: tuple[int, float],
+    cuts: list[shapely.LineString],
+    missed: list[int],
+) -> None:
+    """Cut ``region`` (convex: a box, or a box cut by oblique cuts) and recurse.
+
+    ``cells`` are the grid nodes in its water and their expected triangles;
+    ``aim`` the parts wanted of it and the :data:`OVERSIZE` limit of a part.
+    The cuts are appended to ``cuts``; the number of the region's wanted
+    cuts not made, if it is not cut, to ``missed``.
+    """
+    x, y, w = cells
+    parts, limit = aim
+    asked = max(parts - 1, 0)  # cuts wanted here; not the one more for OVERSIZE
+    if parts < 2 and w.sum() > limit:
+        parts = 2  # too large a part: cut once more
+    if parts < 2 or len(w) < 2 or w.sum() < 2 * MIN_PART_TRIANGLES:
+        missed.append(asked)  # a part must be many elements across, or its
+        return  # cuts make slivers
+    x0, y0, x1, y1 = region.bounds
+    # the water in the region only: each level works on less geometry
+    clipped = shapely.clip_by_rect(polygon, x0, y0, x1, y1)
+    if not _is_box(region):
+        clipped = shapely.intersection(clipped, region)
+    pieces = [g for g in shapely.get_parts(clipped) if g.geom_type == "Polygon"]
+    if not pieces:
+        missed.append(asked)
+        return
+    polygon = pieces[0] if len(pieces) == 1 else shapely.MultiPolygon(pieces)
+    share = (parts // 2) / parts
+    longer_x = (x1 - x0) >= (y1 - y0)  # cut across the longer side first
+    for direction in _directions(longer_x):
+        score, line, chosen, at = _best_cut(
+            polygon, grid, coast, region, x, y, w, share, direction
+        )
+        if score < PENALTY:
+            break
+    else:
+        missed.append(asked)
+        return  # no clean cut: fewer parts beat thin triangles
+    cuts.append(line)
+    coast[2].extend(c for g in chosen for c in np.asarray(g.coords)[[0, -1]])
+    coast[3].extend(chosen)
+    low = _along(x, y, direction) < at
+    for below, side, n in ((True, low, parts // 2), (False, ~low, parts - parts // 2)):
+        half = _half(region, direction, at, below=below)
+        cells = (x[side], y[side], w[side])
+        _bisect(polygon, grid, coast, half, cells, (n, limit), cuts, missed)
+
+
+def _directions(longer_x: bool) -> list[tuple[float, float]]:
+    """Return the normals ``(cos, sin)`` of the cuts to try, in order.
+
+    Across the longer side, then the shorter (exact axes: such a cut of a box
+    leaves boxes), then the oblique :data:`_OBLIQUE` directions.
+    """
+    axes = [(1.0, 0.0), (0.0, 1.0)]
+    oblique = [(np.cos(np.radians(a)), np.sin(np.radians(a))) for a in _OBLIQUE]
+    return (axes if longer_x else axes[::-1]) + oblique
+
+
+def _along(x: NDArray, y: NDArray, direction: tuple[float, float]) -> NDArray:
+    """Coordinates along the normal ``direction``: exactly x or y on the axes."""
+    c, s = direction
+    if s == 0.0:
+        return x
+    if c == 0.0:
+        return y
+    return x * c + y * s
+
+
+def _is_box(region: shapely.Polygon) -> bool:
+    x0, y0, x1, y1 = region.bounds
+    return bool(region.area >= (1 - 1e-12) * (x1 - x0) * (y1 - y0))
+
+
+def _half(
+    region: shapely.Polygon, direction: tuple[float, float], at: float, below: bool
+) -> shapely.Polygon:
+    """Return the part of ``region`` below ``at`` along ``direction`` (or above).
+
+    A box cut along an axis gives the exact box.
+    """
+    c, s = direction
+    x0, y0, x1, y1 = region.bounds
+    if (s == 0.0 or c == 0.0) and _is_box(region):
+        if s == 0.0:
+            return shapely.box(x0, y0, at, y1) if below else shapely.box(at, y0, x1, y1)
+        return shapely.box(x0, y0, x1, at) if below else shapely.box(x0, at, x1, y1)
+    normal, tangent, base, far = _frame(region, direction, at)
+    toward = -normal if below else normal
+    plane = shapely.Polygon(
+        [base - far * tangent, base + far * tangent,
+         base + far * tangent + far * toward, base - far * tangent + far * toward]
+    )  # fmt: skip
+    return shapely.intersection(region, plane)
+
+
+def _line(
+    region: shapely.Polygon, direction: tuple[float, float], at: float
+) -> shapely.LineString:
+    """Return the chord of the convex ``region`` at ``at`` along ``direction``."""
+    c, s = direction
+    x0, y0, x1, y1 = region.bounds
+    if (s == 0.0 or c == 0.0) and _is_box(region):
+        if s == 0.0:
+            return shapely.LineString([(at, y0), (at, y1)])
+        return shapely.LineString([(x0, at), (x1, at)])
+    _, tangent, base, far = _frame(region, direction, at)
+    long = shapely.LineString([base - far * tangent, base + far * tangent])
+    chord = shapely.intersection(region, long)
+    return chord if chord.geom_type == "LineString" else shapely.LineString()
+
+
+def _frame(
+    region: shapely.Polygon, direction: tuple[float, float], at: float
+) -> tuple[NDArray, NDArray, NDArray, float]:
+    """Return a cut's normal, tangent, base point and reach across ``region``.
+
+    The base is the point of the line nearest the region's centre, and the
+    reach takes a segment from it past the region. The base is not
+    ``normal * at``: in a projected CRS far from its origin (a UTM northing of
+    6,000 km) that point may lie farther from the region than any multiple of
+    its size.
+    """
+    c, s = direction
+    normal, tangent = np.array([c, s]), np.array([-s, c])
+    x0, y0, x1, y1 = region.bounds
+    centre = np.array([(x0 + x1) / 2, (y0 + y1) / 2])
+    base = centre + (at - float(centre @ normal)) * normal
+    far = (
+        2.0 * float(np.hypot(x1 - x0, y1 - y0))
+        + 2.0 * abs(at - float(centre @ normal))
+        + 1.0
+    )
+    return normal, tangent, base, far
+
+
+def _best_cut(
+    polygon: shapely.Polygon | shapely.MultiPolygon,
+    grid: SizeGrid,
+    coast: tuple,
+    region: shapely.Polygon,
+    x: NDArray,
+    y: NDArray,
+    w: NDArray,
+    share: float,
+    direction: tuple[float, float],
+) -> tuple[float, shapely.LineString, list[shapely.LineString], float]:
+    """Return the best cut normal to ``direction``: score, line, crossings, place."""
+    c, s = direction
+    dx, dy = (abs(float(np.diff(g)[0])) for g in (grid.x, grid.y))
+    spacing = dx if s == 0.0 else dy if c == 0.0 else min(dx, dy)
+    along = _along(x, y, direction)
+    order = np.argsort(along, kind="stable")
+    cum = np.cumsum(w[order]) / w.sum()
+    turned = Turned(polygon, direction)
+    best: tuple = (np.inf, shapely.LineString(), [], 0.0)
+    for spread, count in ((_SPREAD, _CANDIDATES), (_WIDER, _WIDER_CANDIDATES)):
+        if best[0] < PENALTY:
+            break  # a clean cut within the first spread: no need to look wider
+        tried = np.linspace(share - spread, share + spread, count)
+        for q in sorted(tried, key=lambda q: abs(q - share)):  # ties: balanced
+            k = min(int(np.searchsorted(cum, q)), len(order) - 1)
+            # half a cell past a grid node: no node lies on the cut
+            at = float(along[order[k]]) + 0.5 * spacing
+            line = _line(region, direction, at)
+            if line.is_empty:
+                continue
+            score, chords = edges_across(grid, coast, turned.chords(line))
+            if score < best[0]:
+                best = (score, line, chords, at)
+    return best

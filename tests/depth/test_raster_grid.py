@@ -1,0 +1,74 @@
+"""Rasters as arrays: axes, flips and errors, and bilinear sampling against a loop."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+from reference import bilinear_loop
+
+from coastmesh.depth.raster import interpolate_bilinear, raster_grid
+from coastmesh.errors import ConfigError
+
+
+def raster(values, y, x, crs="EPSG:4326"):
+    attrs = {} if crs is None else {"crs": crs}
+    return xr.DataArray(values, dims=("y", "x"), coords={"y": y, "x": x}, attrs=attrs)
+
+
+@pytest.mark.parametrize("flip_y", [False, True])
+@pytest.mark.parametrize("flip_x", [False, True])
+def test_raster_grid_returns_ascending_axes(flip_x, flip_y):
+    values = np.arange(12, dtype=np.float32).reshape(3, 4)
+    x, y = np.array([0.0, 1.0, 2.0, 3.0]), np.array([10.0, 20.0, 30.0])
+    r = raster(values, y, x)
+    if flip_x:
+        r = r.isel(x=slice(None, None, -1))
+    if flip_y:
+        r = r.isel(y=slice(None, None, -1))
+    before = r.values.copy()
+    gx, gy, grid, crs = raster_grid(r)
+    np.testing.assert_array_equal(gx, x)
+    np.testing.assert_array_equal(gy, y)
+    np.testing.assert_array_equal(grid, values)  # the unflipped order
+    assert grid.dtype == gx.dtype == gy.dtype == np.float64
+    assert crs.to_epsg() == 4326
+    np.testing.assert_array_equal(r.values, before)  # the raster is not changed
+
+
+def test_raster_grid_errors_name_the_problem():
+    values = np.zeros((2, 3))
+    with pytest.raises(ConfigError, match=r"raster dims \('x', 'y'\)"):
+        raster_grid(raster(values, [0.0, 1.0], [0.0, 1.0, 2.0]).transpose())
+    with pytest.raises(ConfigError, match="no 'crs' attribute"):
+        raster_grid(raster(values, [0.0, 1.0], [0.0, 1.0, 2.0], crs=None))
+    with pytest.raises(ConfigError, match="raster x coordinates are not strictly"):
+        raster_grid(raster(values, [0.0, 1.0], [0.0, 2.0, 1.0]))
+    with pytest.raises(ConfigError, match="raster y coordinates are not strictly"):
+        raster_grid(raster(values, [1.0, 1.0], [0.0, 1.0, 2.0]))
+
+
+def test_bilinear_matches_the_loop_with_nodata_and_outside_points():
+    rng = np.random.default_rng(4)
+    x = np.cumsum(rng.uniform(0.5, 1.5, 15))
+    y = np.cumsum(rng.uniform(0.5, 1.5, 11))
+    values = rng.normal(0, 10, (11, 15))
+    values[rng.random(values.shape) < 0.05] = np.nan
+    px = rng.uniform(x[0] - 2, x[-1] + 2, 2000)
+    py = rng.uniform(y[0] - 2, y[-1] + 2, 2000)
+    got = interpolate_bilinear(x, y, values, px, py)
+    expected = bilinear_loop(x, y, values, px, py)
+    np.testing.assert_array_equal(np.isnan(got), np.isnan(expected))
+    assert np.isnan(got).sum() > 100 and (~np.isnan(got)).sum() > 1000
+    np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12)
+    # cell centres give the cells (without nodata); the shape of the points is kept
+    gx, gy = np.meshgrid(x, y)
+    full = np.nan_to_num(values)
+    np.testing.assert_allclose(interpolate_bilinear(x, y, full, gx, gy), full)
+
+
+def test_bilinear_on_a_grid_one_cell_wide_is_nan():
+    out = interpolate_bilinear(
+        np.array([0.0]), np.array([0.0, 1.0]), np.ones((2, 1)), [0.0], [0.5]
+    )
+    assert np.isnan(out).all() and out.shape == (1,)

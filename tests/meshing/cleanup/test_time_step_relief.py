@@ -1,0 +1,299 @@
+"""Relieving the time step: edge collapses against a literal, slow reference."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.spatial import Delaunay
+
+from coastmesh.errors import ConfigError
+from coastmesh.meshing import THROTTLE_RATIO, ThrottleReport, relieve_time_step
+from coastmesh.meshing.cleanup.smoothing import boundary_nodes
+from coastmesh.meshing.cleanup.time_step_relief import _Collapser
+from coastmesh.meshing.quality.time_step import element_time_steps
+from coastmesh.types import Mesh
+from coastmesh.types.topology import unique_edges
+
+G = 9.80665  # standard gravity, as coastmesh.geometry.earth.GRAVITY
+
+# --- the literal reference: lists, loops and the math module ------------------
+
+
+def _time_step(xy, tri, depth, velocity):
+    """r_in / (sqrt(g d) + u), d the deepest node clipped at 0; inf if no speed."""
+    (x0, y0), (x1, y1), (x2, y2) = (xy[k] for k in tri)
+    area = 0.5 * ((x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0))
+    sides = math.dist(xy[tri[0]], xy[tri[1]]) + math.dist(xy[tri[1]], xy[tri[2]])
+    sides += math.dist(xy[tri[2]], xy[tri[0]])
+    known = [depth[k] for k in tri if not math.isnan(depth[k])]
+    speed = math.sqrt(G * max(*known, 0.0)) + velocity if known else math.nan
+    return 2 * area / sides / speed if speed > 0 else math.inf
+
+
+def _min_angle(xy, tri):
+    """Smallest angle, degrees, by the law of cosines."""
+    out = 180.0
+    for k in range(3):
+        p, q, r = xy[tri[k]], xy[tri[(k + 1) % 3]], xy[tri[(k + 2) % 3]]
+        a, b, c = math.dist(q, r), math.dist(p, q), math.dist(p, r)
+        cos = (b * b + c * c - a * a) / (2 * b * c)
+        out = min(out, math.degrees(math.acos(min(1.0, max(-1.0, cos)))))
+    return out
+
+
+def _area(xy, tri):
+    (x0, y0), (x1, y1), (x2, y2) = (xy[k] for k in tri)
+    return 0.5 * ((x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0))
+
+
+def collapse_reference(xy, tris, fixed, depth, velocity, a, b, min_angle):
+    """Collapse edge (a, b) of the list mesh if it passes the checks: the new
+    (xy, tris, depth), else None. Everything is found by scanning all triangles."""
+    if fixed[a] and fixed[b]:
+        return None
+    if fixed[a] or fixed[b]:
+        kept, gone = (a, b) if fixed[a] else (b, a)
+        position = xy[kept]
+    else:
+        kept, gone = min(a, b), max(a, b)
+        position = ((xy[a][0] + xy[b][0]) / 2, (xy[a][1] + xy[b][1]) / 2)
+
+    def around(v):
+        return [i for i, t in enumerate(tris) if t is not None and v in t]
+
+    def neighbours(v):
+        return {w for i in around(v) for w in tris[i]} - {v}
+
+    deleted = [i for i in around(gone) if kept in tris[i]]
+    opposite = {w for i in deleted for w in tris[i]} - {kept, gone}
+    if neighbours(kept) & neighbours(gone) != opposite:
+        return None
+    if any(all(i in deleted for i in around(c)) for c in opposite):
+        return None
+    new_neighbours = neighbours(gone) - neighbours(kept) - {kept}
+    if fixed[kept] and any(fixed[c] for c in new_neighbours):
+        return None
+    affected = sorted(set(around(kept)) | set(around(gone)))
+    new_xy = list(xy)
+    new_xy[kept] = position
+    new_depth = list(depth)
+    known = [d for d in (depth[a], depth[b]) if not math.isnan(d)]
+    new_depth[kept] = max(known) if known else math.nan
+    new_tris = list(tris)
+    for i in deleted:
+        new_tris[i] = None
+    changed = [i for i in affected if new_tris[i] is not None]
+    for i in changed:
+        new_tris[i] = tuple(kept if v == gone else v for v in tris[i])
+        if gone in tris[i] and all(fixed[v] for v in new_tris[i]):
+            return None
+    if len({frozenset(new_tris[i]) for i in changed}) < len(changed):
+        return None
+    if any(_area(new_xy, new_tris[i]) <= 0 for i in changed):
+        return None
+    old_angle = min(_min_angle(xy, tris[i]) for i in affected)
+    if min(_min_angle(new_xy, new_tris[i]) for i in changed) < min(
+        min_angle, old_angle
+    ):
+        return None
+    old_dt = min(_time_step(xy, tris[i], depth, velocity) for i in affected)
+    new_dt = min(_time_step(new_xy, new_tris[i], new_depth, velocity) for i in changed)
+    if not new_dt > old_dt:
+        return None
+    return new_xy, new_tris, new_depth
+
+
+def pass_reference(xy, tris, fixed, depth, velocity, ratio, min_angle):
+    """One pass: the throttling triangles smallest time step first, each edge
+    shortest first, the first collapse that passes. Returns the list mesh and
+    the number of collapses."""
+    dt = [_time_step(xy, t, depth, velocity) for t in tris]
+    finite = [s for s in dt if math.isfinite(s)]
+    limit = ratio * np.percentile(finite, 1)
+    worst = sorted((s, i) for i, s in enumerate(dt) if s < limit)
+    made = 0
+    for _, i in worst:
+        if tris[i] is None or _time_step(xy, tris[i], depth, velocity) >= limit:
+            continue
+        t = tris[i]
+        edges = sorted((math.dist(xy[t[e]], xy[t[(e + 1) % 3]]), e) for e in range(3))
+        for _, e in edges:
+            out = collapse_reference(
+                xy, tris, fixed, depth, velocity, t[e], t[(e + 1) % 3], min_angle
+            )
+            if out is not None:
+                xy, tris, depth = out
+                made += 1
+                break
+    return xy, tris, made
+
+
+def random_mesh(seed: int, n: int) -> Mesh:
+    """Delaunay of random points in a 10 km square, a deep spot somewhere in it
+    and some dry land (depth below 0) in a corner."""
+    rng = np.random.default_rng(seed)
+    points = rng.uniform(0, 10_000.0, (n, 2))
+    spot = rng.uniform(2_000, 8_000, 2)
+    depth = 300 * np.exp(-(((points - spot) / 2_500) ** 2).sum(axis=1)) - 10
+    tri = Delaunay(points).simplices
+    edges, count = unique_edges(tri, n)
+    hull = edges[count == 1]
+    return Mesh(points, tri, hull, [1] * len(hull), 1, None, {"depth": depth})
+
+
+@given(
+    st.integers(0, 2**32 - 1),
+    st.integers(12, 40),
+    st.floats(0, 2),
+    st.floats(0.7, 1.0),
+    st.floats(10, 40),
+)
+@settings(max_examples=30, deadline=None)
+def test_a_pass_matches_the_reference(seed, n, velocity, ratio, min_angle):
+    mesh = random_mesh(seed, n)
+    fixed = boundary_nodes(mesh.triangles, n)
+    depth = mesh.point_data["depth"]
+    work = _Collapser(mesh.points, mesh.triangles, fixed, depth, velocity)
+    made = work.run_pass(ratio, min_angle)
+    xy = [tuple(p) for p in mesh.points.tolist()]
+    tris = [tuple(t) for t in mesh.triangles.tolist()]
+    ref_xy, ref_tris, ref_made = pass_reference(
+        xy, tris, fixed.tolist(), depth.tolist(), velocity, ratio, min_angle
+    )
+    assert made == ref_made
+    alive = [t for t in ref_tris if t is not None]
+    np.testing.assert_array_equal(work.tri[work.alive], np.array(alive).reshape(-1, 3))
+    np.testing.assert_allclose(work.xy, np.array(ref_xy), rtol=0, atol=1e-9)
+
+
+def test_the_reference_comparison_sees_collapses():
+    # the property above is not vacuous: random meshes do collapse
+    made = 0
+    for seed in range(20):
+        mesh = random_mesh(seed, 30)
+        fixed = boundary_nodes(mesh.triangles, 30)
+        depth = mesh.point_data["depth"]
+        work = _Collapser(mesh.points, mesh.triangles, fixed, depth, 0.0)
+        made += work.run_pass(1.0, 20.0) > 0
+    assert made >= 5
+
+
+# --- whole meshes -------------------------------------------------------------
+
+
+def lattice(extra=(0.2, 0.1), n=16, lat=60.0):
+    """A jittered equilateral lattice of ~1.1 km sides in longitude and
+    latitude, 50-200 m deep (deepest in the middle), with one more node
+    ``extra`` (in sides) from the middle node: small triangles in deep water.
+    A random ``tag`` at each node."""
+    rng = np.random.default_rng(3)
+    j, i = np.mgrid[0:n, 0:n]
+    x, y = (i + 0.5 * (j % 2)).astype(float), j * np.sqrt(3) / 2
+    pts = np.column_stack([x.ravel(), y.ravel()])
+    inner = ((i > 0) & (i < n - 1) & (j > 0) & (j < n - 1)).ravel()
+    pts[inner] += rng.uniform(-0.05, 0.05, (inner.sum(), 2))
+    middle = pts[(n // 2) * n + n // 2]
+    if extra is not None:
+        pts = np.vstack([pts, middle + extra])
+    tri = Delaunay(pts).simplices
+    edges, count = unique_edges(tri, len(pts))
+    hull = edges[count == 1]
+    depth = 50 + 150 * np.exp(-(((pts - middle) / 5) ** 2).sum(axis=1))
+    lonlat = pts * 0.01
+    lonlat[:, 0] /= np.cos(np.radians(lat))
+    return Mesh(
+        lonlat + [-5.0, lat],
+        tri,
+        hull,
+        np.arange(len(hull)) % 3 + 1,
+        1,
+        "EPSG:4326",
+        {"depth": depth, "tag": rng.normal(size=len(pts))},
+    )
+
+
+def _min_over_p1(mesh):
+    dt = element_time_steps(mesh)["dt"]
+    return dt.min() / np.percentile(dt, 1)
+
+
+def _boundary(mesh):
+    """The boundary edges as {(end, end, id)} of coordinates."""
+    return {
+        (*sorted(map(tuple, mesh.points[e].tolist())), int(pid))
+        for e, pid in zip(mesh.boundary_edges, mesh.boundary_ids, strict=True)
+    }
+
+
+def test_a_small_element_in_deep_water_is_collapsed():
+    mesh = lattice()
+    assert _min_over_p1(mesh) < 0.5
+    relieved, report = relieve_time_step(mesh)
+    assert isinstance(report, ThrottleReport) and report.accepted
+    assert report.collapses >= 1 and report.throttling_before >= 1
+    assert report.throttling_after == 0
+    assert report.min_over_p1_after >= 0.6 > report.min_over_p1_before
+    assert report.min_over_p1_after == pytest.approx(_min_over_p1(relieved))
+    assert report.min_angle_after >= report.min_angle_before
+    assert report.min_angle_p1_after >= report.min_angle_p1_before
+    assert len(relieved.triangles) < len(mesh.triangles)
+    assert len(relieved.points) == len(mesh.points) - report.collapses
+    assert _boundary(relieved) == _boundary(mesh)  # same edges, ids, coordinates
+    xy = relieved.points[relieved.triangles]
+    cross = (xy[:, 1, 0] - xy[:, 0, 0]) * (xy[:, 2, 1] - xy[:, 0, 1]) - (
+        xy[:, 2, 0] - xy[:, 0, 0]
+    ) * (xy[:, 1, 1] - xy[:, 0, 1])
+    assert (cross > 0).all()  # counter-clockwise
+    np.testing.assert_array_equal(
+        np.unique(relieved.triangles), np.arange(len(relieved.points))
+    )
+    # the merged node's point data are the mean of the two nodes'
+    tag = mesh.point_data["tag"]
+    new = relieved.point_data["tag"].tolist()
+    made = [value for value in new if value not in set(tag.tolist())]
+    gone = set(tag.tolist()) - set(new)
+    assert len(made) == 1 and len(gone) == 2
+    assert made[0] == pytest.approx(sum(gone) / 2)
+    assert relieved.surface_id == mesh.surface_id and relieved.crs == mesh.crs
+    assert "relieved" in report.summary()
+
+
+def test_nothing_throttles_returns_the_input():
+    mesh = lattice(extra=None)
+    same, report = relieve_time_step(mesh)
+    assert same is mesh and not report.accepted and report.collapses == 0
+    assert report.throttling_before == report.throttling_after == 0
+    assert report.min_over_p1_after == report.min_over_p1_before
+    assert "unchanged" in report.summary()
+    assert THROTTLE_RATIO == 0.65
+
+
+@pytest.mark.parametrize(
+    ("option", "value"),
+    [
+        ("velocity", -1.0),
+        ("velocity", math.nan),
+        ("ratio", 0.0),
+        ("ratio", 1.5),
+        ("min_angle", 0.0),
+        ("min_angle", 60.0),
+        ("passes", 0),
+        ("passes", 1.5),
+    ],
+)
+def test_bad_options_name_themselves(option, value):
+    with pytest.raises(ConfigError, match=option):
+        relieve_time_step(lattice(), **{option: value})
+
+
+def test_a_mesh_without_depth_is_refused():
+    mesh = lattice()
+    bare = Mesh(
+        mesh.points, mesh.triangles, mesh.boundary_edges, mesh.boundary_ids, 1, None
+    )
+    with pytest.raises(ValueError, match="depth"):
+        relieve_time_step(bare)

@@ -1,0 +1,186 @@
+"""Sizes on the sphere, and a mesh of a whole (synthetic) world through the plane."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+from conftest import synthetic_world
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from pyproj import Geod, Transformer
+
+from coastmesh.geometry.earth import EARTH_RADIUS
+from coastmesh.geometry.sphere import plane_crs, stereographic_scale
+from coastmesh.geometry.world import world_ocean
+from coastmesh.meshing import generate_mesh
+from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
+from coastmesh.types import BoundarySegment, Domain, SizeGrid
+
+SPHERE = Geod(a=EARTH_RADIUS, b=EARTH_RADIUS)
+
+
+def _grid(step: float = 10.0, lat0: float = -80.0, seed: int = 0) -> SizeGrid:
+    lon = np.arange(-180.0, 180.0 + step / 2, step)
+    lat = np.arange(lat0, 90.0 + step / 2, step)
+    rng = np.random.default_rng(seed)
+    values = rng.uniform(1e4, 1e5, (len(lat), len(lon)))
+    values[:, -1] = values[:, 0]  # one turn: the last column is the first
+    return SizeGrid(lon, lat, values)
+
+
+def _reference_sample(size: SphereSizeGrid, xy) -> list[float]:
+    """One point at a time: invert the projection, find the cell, interpolate."""
+    inverse = Transformer.from_crs(plane_crs(size.pole), "EPSG:4326", always_xy=True)
+    lon_nodes, lat_nodes, v = size.grid.x, size.grid.y, size.grid.values
+    out = []
+    for x, y in xy:
+        lon, lat = inverse.transform(x, y)
+        while lon < lon_nodes[0]:
+            lon += 360.0
+        while lon >= lon_nodes[-1]:
+            lon -= 360.0
+        lat = min(max(lat, lat_nodes[0]), lat_nodes[-1])
+        i = max(k for k in range(len(lon_nodes) - 1) if lon_nodes[k] <= lon)
+        j = max([k for k in range(len(lat_nodes) - 1) if lat_nodes[k] <= lat] or [0])
+        tx = (lon - lon_nodes[i]) / (lon_nodes[i + 1] - lon_nodes[i])
+        ty = (lat - lat_nodes[j]) / (lat_nodes[j + 1] - lat_nodes[j])
+        h = (
+            (1 - tx) * (1 - ty) * v[j, i]
+            + tx * (1 - ty) * v[j, i + 1]
+            + (1 - tx) * ty * v[j + 1, i]
+            + tx * ty * v[j + 1, i + 1]
+        )
+        if size.map_units:
+            h *= 2.0 / (1.0 + math.sin(math.radians(lat)))  # pole at -90
+        out.append(h)
+    return out
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    st.lists(
+        st.tuples(st.floats(-180, 179.999), st.floats(-79, 89.9)),
+        min_size=1,
+        max_size=20,
+    ),
+    st.integers(0, 5),
+    st.booleans(),
+)
+def test_sampling_matches_the_literal_reference(points, seed, map_units):
+    size = SphereSizeGrid(_grid(seed=seed), map_units=map_units)
+    forward = Transformer.from_crs("EPSG:4326", plane_crs(), always_xy=True)
+    xy = np.array([forward.transform(lon, lat) for lon, lat in points])
+    np.testing.assert_allclose(size.sample(xy), _reference_sample(size, xy), rtol=1e-9)
+
+
+def test_a_grid_must_go_once_round():
+    g = _grid()
+    with pytest.raises(ValueError, match="spans exactly 360 degrees"):
+        SphereSizeGrid(SizeGrid(g.x[:-1], g.y, g.values[:, :-1]))
+
+
+def test_the_view_covers_the_plane_with_cells_turning_the_right_way():
+    size = SphereSizeGrid(_grid()).in_map_units()
+    data = size.view_data()
+    quads = data["SQ"].reshape(-1, 16)
+    tris = data["ST"].reshape(-1, 12)
+    nx, ny = len(size.grid.x) - 1, len(size.grid.y) - 1
+    assert len(quads) == nx * (ny - 1) and len(tris) == nx  # the top row: a fan
+    x, y = quads[:, 0:4], quads[:, 4:8]
+    twice = sum(
+        x[:, k] * y[:, (k + 1) % 4] - x[:, (k + 1) % 4] * y[:, k] for k in range(4)
+    )
+    assert (twice > 0).all()  # counter-clockwise in the plane
+    # the values are plane lengths: sphere lengths times the scale factor
+    lon, lat = np.meshgrid(size.grid.x, size.grid.y)
+    k = stereographic_scale(lon, lat)
+    assert quads[0, 12] == pytest.approx(size.grid.values[0, 0] * k[0, 0])
+    # the fan's apex is the North Pole, the plane's centre
+    np.testing.assert_allclose(tris[:, 2], 0.0, atol=1e-6)
+    np.testing.assert_allclose(tris[:, 5], 0.0, atol=1e-6)
+
+
+def test_the_cells_weigh_the_sphere():
+    lon = np.linspace(-180.0, 180.0, 361)
+    lat = np.linspace(-90.0, 90.0, 181)
+    size = SphereSizeGrid(SizeGrid(lon, lat, np.ones((181, 361))), pole=(0.0, -90.0))
+    everything = shapely.box(-1e10, -1e10, 1e10, 1e10)
+    _, _, weight = size.cells(everything)
+    # the South Pole row goes to infinity in the plane: its weight is cos(-90) = 0
+    assert weight.sum() == pytest.approx(4 * math.pi * EARTH_RADIUS**2, rel=1e-4)
+
+
+# --- a whole world, meshed --------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def world_mesh():
+    land = synthetic_world()
+    ocean = world_ocean(land, "EPSG:4326")
+    rings = [ocean.polygon.exterior, *ocean.polygon.interiors]
+    segments = tuple(
+        BoundarySegment(np.asarray(r.coords), "shoreline", f"coast{i}", 1)
+        for i, r in enumerate(rings)
+    )
+    domain = Domain(ocean.polygon, segments, crs=ocean.crs)
+    lon = np.linspace(-180.0, 180.0, 73)
+    lat = np.linspace(-80.0, 90.0, 35)
+    size = SphereSizeGrid(SizeGrid(lon, lat, np.full((35, 73), 600e3)))
+    mesh = generate_mesh(domain, size, mesh_crs=ocean.crs, output_crs="EPSG:4326")
+    return land, ocean, mesh
+
+
+def _xyz(lonlat: np.ndarray) -> np.ndarray:
+    lon, lat = np.radians(lonlat).T
+    return np.column_stack(
+        [np.cos(lat) * np.cos(lon), np.cos(lat) * np.sin(lon), np.sin(lat)]
+    )
+
+
+def test_the_world_mesh_is_one_surface_on_the_sphere(world_mesh):
+    land, ocean, mesh = world_mesh
+    assert ocean.joined == 2 and ocean.islands == 3
+    lon = mesh.points[:, 0]
+    assert (lon >= -180.0).all() and (lon <= 180.0).all()
+    p = _xyz(mesh.points)
+    a, b, c = (p[mesh.triangles[:, k]] for k in range(3))
+    normal = np.cross(b - a, c - a)
+    # every triangle turns counter-clockwise seen from outside the sphere
+    assert ((normal * (a + b + c)).sum(axis=1) > 0).all()
+    # some cross the antimeridian, and are whole on the sphere all the same
+    span = np.ptp(mesh.points[mesh.triangles, 0], axis=1)
+    assert (span > 180.0).sum() >= 3
+    # no duplicate nodes (along the dateline or anywhere)
+    assert len(np.unique(np.round(p, 9), axis=0)) == len(p)
+    # the mesh's area (flat triangles) is the ocean's on the sphere, less the
+    # chords' sag (about h^2 / 12 R^2 of it)
+    area = 0.5 * np.linalg.norm(normal, axis=1).sum() * EARTH_RADIUS**2
+    land_area = sum(
+        abs(SPHERE.geometry_area_perimeter(shapely.Polygon(g.exterior))[0])
+        for g in land
+    )
+    want = 4 * math.pi * EARTH_RADIUS**2 - land_area
+    assert area == pytest.approx(want, rel=0.01)
+    assert area < want
+
+
+def test_the_world_mesh_is_well_shaped_on_the_sphere(world_mesh):
+    _, _, mesh = world_mesh
+    p = _xyz(mesh.points)
+    angles = []
+    for k in range(3):
+        a, b, c = (p[mesh.triangles[:, (k + j) % 3]] for j in range(3))
+        u, v = b - a, c - a
+        cos = (
+            (u * v).sum(axis=1) / np.linalg.norm(u, axis=1) / np.linalg.norm(v, axis=1)
+        )
+        angles.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
+    smallest = np.min(angles, axis=0)
+    assert np.percentile(smallest, 1) >= 30.0
+    # edges follow the 600 km size on the sphere, wherever k is in the plane
+    edges = np.linalg.norm(p[mesh.triangles[:, 0]] - p[mesh.triangles[:, 1]], axis=1)
+    median = float(np.median(edges)) * EARTH_RADIUS
+    assert 450e3 < median < 750e3
