@@ -32,8 +32,8 @@ class _Captured(Exception):
 def case_boundary(case: Path):
     """Return the case's resampled boundary rings, their ids, and the size grid."""
     from coastmesh.case import build as build_module
+    from coastmesh.geometry.projection import project_rings, sample_size, to_map_units
     from coastmesh.meshing.gmsh.resample import resample_rings
-    from coastmesh.meshing.projection import project_rings, sample_size, to_map_units
 
     def capture(domain, size, **kwargs):
         raise _Captured(domain, size, kwargs["mesh_crs"])

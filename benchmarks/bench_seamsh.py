@@ -102,9 +102,9 @@ import shapely
 from pyproj import CRS, Transformer
 
 import coastmesh
+from coastmesh.geometry.projection import project_rings, sample_size, to_map_units
 from coastmesh.meshing.engine import ALGORITHMS
 from coastmesh.meshing.gmsh.resample import resample_rings
-from coastmesh.meshing.projection import project_rings, sample_size, to_map_units
 from coastmesh.sizing import DEFAULT_RATE
 from coastmesh.types import SizeGrid
 

@@ -8,6 +8,7 @@
 :mod:`.rhumb`             loxodromes and great circles for open boundaries
 :mod:`.domain`            the sea polygon and its tagged boundary
 :mod:`.earth`             reprojection, earth-centred coordinates, lengths
+:mod:`.projection`        the conformal CRS meshes are made in, scale factors
 :mod:`.sphere`            lon/lat and vectors, the stereographic plane
 :mod:`.world`             the world ocean in a stereographic plane
 ========================  =====================================================

@@ -32,7 +32,10 @@ Subpackages, by what they do (each may use those after it):
   relief, never for the worse;
 * :mod:`~coastmesh.meshing.quality`: triangles and edges measured on the
   Earth, the quality report, time steps and sharp corners;
-* ``projection``: the meshing CRS and sizes in its map units.
+
+The meshing CRS and sizes in its map units are in
+:mod:`coastmesh.geometry.projection` (:func:`default_mesh_crs` and
+:func:`sample_size` are here too).
 
 They compute and never write. Gmsh is imported only when :func:`generate_mesh`
 runs.
@@ -40,6 +43,7 @@ runs.
 
 from __future__ import annotations
 
+from coastmesh.geometry.projection import default_mesh_crs, sample_size
 from coastmesh.meshing.cleanup import (
     THROTTLE_RATIO,
     CleanupOptions,
@@ -54,7 +58,6 @@ from coastmesh.meshing.cleanup import (
 from coastmesh.meshing.engine import PartsWarning, generate_mesh, mesh_in_parts
 from coastmesh.meshing.gmsh import SmallIslandWarning, resample_rings, resample_segment
 from coastmesh.meshing.parts import PartsReport
-from coastmesh.meshing.projection import default_mesh_crs, sample_size
 from coastmesh.meshing.quality import (
     CornerStats,
     CourantStats,

@@ -4,7 +4,7 @@ Gmsh is imported only inside :func:`~coastmesh.meshing.gmsh.model.gmsh_session`,
 so ``import coastmesh.meshing`` stays light. One part is one Gmsh model here;
 several parts are tasks (:mod:`coastmesh.meshing.parts.tasks`) for any executor. The
 meshing CRS and the sizes in its map units come from
-:mod:`coastmesh.meshing.projection`.
+:mod:`coastmesh.geometry.projection`.
 """
 
 from __future__ import annotations
@@ -21,6 +21,13 @@ from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.errors import CoastmeshWarning, MeshingError
+from coastmesh.geometry.projection import (
+    default_mesh_crs,
+    project_points,
+    project_rings,
+    sample_size,
+    to_map_units,
+)
 from coastmesh.meshing.cleanup.report import CleanupOptions, combine, stats
 from coastmesh.meshing.gmsh.boundary_nodes import boundary_nodes
 from coastmesh.meshing.gmsh.model import (
@@ -43,13 +50,6 @@ from coastmesh.meshing.parts.tasks import (
     part_tasks,
     serial_runner,
     start_workers,
-)
-from coastmesh.meshing.projection import (
-    default_mesh_crs,
-    project_points,
-    project_rings,
-    sample_size,
-    to_map_units,
 )
 from coastmesh.types import Domain, Mesh, Progress, SizeGrid
 from coastmesh.types.topology import unique_edges

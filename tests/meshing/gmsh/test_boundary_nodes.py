@@ -13,11 +13,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from pyproj import Transformer
 
+from coastmesh.geometry.projection import sample_size
 from coastmesh.meshing.gmsh import boundary_nodes as curves
 from coastmesh.meshing.gmsh.boundary_nodes import boundary_nodes
 from coastmesh.meshing.gmsh.model import grid_view_data
 from coastmesh.meshing.gmsh.resample import resample_rings
-from coastmesh.meshing.projection import sample_size
 from coastmesh.types import SizeGrid
 
 

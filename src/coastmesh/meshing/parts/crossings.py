@@ -16,7 +16,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from coastmesh.meshing.projection import sample_size
+from coastmesh.geometry.projection import sample_size
 from coastmesh.types import SizeGrid
 
 __all__ = [

@@ -30,6 +30,7 @@ import shapely
 from numpy.typing import NDArray
 
 from coastmesh.errors import MeshingError
+from coastmesh.geometry.projection import sample_size
 from coastmesh.meshing.cleanup.fixes import clean_mesh
 from coastmesh.meshing.cleanup.planar import signed_areas
 from coastmesh.meshing.cleanup.report import CleanupOptions, PartCleanup
@@ -43,7 +44,6 @@ from coastmesh.meshing.gmsh.model import (
 from coastmesh.meshing.gmsh.resample import resample_segment
 from coastmesh.meshing.parts.cuts import auto_parts, expected_triangles
 from coastmesh.meshing.parts.faces import Faces
-from coastmesh.meshing.projection import sample_size
 from coastmesh.types import Mesh, Runner, SizeGrid, serial_runner
 
 __all__ = [

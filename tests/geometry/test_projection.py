@@ -7,8 +7,8 @@ import pytest
 import shapely
 from pyproj import CRS, Geod, Transformer
 
+from coastmesh.geometry.projection import default_mesh_crs, scale_factor, to_map_units
 from coastmesh.meshing import generate_mesh, projection
-from coastmesh.meshing.projection import default_mesh_crs, scale_factor, to_map_units
 from coastmesh.types import BoundarySegment, Domain, SizeGrid
 
 GEOD = Geod(ellps="WGS84")
