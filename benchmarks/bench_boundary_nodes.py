@@ -6,8 +6,8 @@ Run from the repository root:
 
 The case is built up to its meshing (shoreline sets, domain, slots, size
 field: about 25 s for the NW-shelf fine case); then, in the same process and in
-turn, :func:`coastmesh.meshing.gmsh.boundary_nodes.boundary_nodes` makes the boundary nodes
-with Gmsh's size view holding only the grid cells along the curves (as
+turn, :func:`coastmesh.meshing.gmsh.boundary_nodes.boundary_nodes` makes the
+boundary nodes with Gmsh's size view holding only the grid cells along the curves (as
 coastmesh does) and with the whole grid (as before), ``--runs`` times each on
 1 and on 2 Gmsh threads. The nodes must be the same, bit for bit. Prints a
 Markdown table: min and median seconds, and the ratio of the medians.

@@ -35,7 +35,7 @@ import time
 import warnings
 
 import coastmesh
-from coastmesh.case.config import ChannelConfig
+from coastmesh.case.terms import ChannelConfig
 from coastmesh.sizing import DEFAULT_RATE
 
 # the targets

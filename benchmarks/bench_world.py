@@ -4,8 +4,8 @@ Reads a world shoreline layer, builds the world ocean in the stereographic
 plane (:func:`coastmesh.geometry.world.world_ocean`), grades the size from the
 coast on a longitude/latitude grid with the tidal-wavelength term from ETOPO1
 at 0.5 degrees (:func:`coastmesh.sizing.sphere.sphere_size_field`), meshes it
-through the plane (:class:`coastmesh.meshing.gmsh.sphere_sizes.SphereSizeGrid`) and prints
-one JSON line: each stage's time, the triangles, the quality measured on the
+through the plane (:class:`coastmesh.meshing.gmsh.sphere_sizes.SphereSizeGrid`)
+and prints one JSON line: each stage's time, the triangles, the quality measured on the
 sphere (flat triangles between the nodes' unit vectors), the area against the
 ocean's on the sphere, and the peak memory::
 

@@ -68,8 +68,9 @@ def test_a_full_case_parses():
     assert [s.name for s in case.sets] == ["full", "coarse"]
     assert case.background_set.name == "coarse"
     assert case.sets[1].label == "PCA 1 mode / 100 points"
-    north = case.boundaries[0].loxodrome
-    assert north.azimuth == 340.0 and north.end_lat == 70.0
+    north = case.boundaries[0]
+    assert north.kind == "loxodrome"
+    assert north.bearing == 340.0 and north.end_lat == 70.0
     assert case.boundaries[1].second.start == (5.45, 62.0)
     assert case.size.h_max == pytest.approx(1.5 * 111_195.08, rel=1e-6)
     assert case.size.gradations[0].d_hold == pytest.approx(0.05 * 111_195.08, rel=1e-6)
@@ -124,8 +125,8 @@ def test_loxodrome_between_two_points():
     case = parse(text)
     from coastmesh.geometry import Loxodrome
 
-    lox = case.boundaries[0].loxodrome
-    line = Loxodrome(lox.start, lox.azimuth, end_lat=lox.end_lat)
+    lox = case.boundaries[0]
+    line = Loxodrome(lox.start, lox.bearing, end_lat=lox.end_lat)
     np.testing.assert_allclose(line.end, (-4.0, 48.5), atol=1e-9)
     with pytest.raises(ConfigError, match="either end or bearing"):
         parse(

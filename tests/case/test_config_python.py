@@ -10,10 +10,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from coastmesh.case import (
-    BoundaryConfig,
+    BlendBoundary,
     CaseConfig,
     GradationConfig,
+    GreatCircleBoundary,
+    LoxodromeBoundary,
     LoxodromeConfig,
+    PolylineBoundary,
     RegionConfig,
     ShorelinesConfig,
     ShorelineSetConfig,
@@ -22,6 +25,7 @@ from coastmesh.case import (
     parse_case,
     read_case,
 )
+from coastmesh.case.boundaries import BOUNDARY_KINDS
 from coastmesh.errors import ConfigError
 
 TOML = """
@@ -72,11 +76,8 @@ def python_case(**changes) -> CaseConfig:
         ],
         "regions": [RegionConfig("full", box=[-3.5, 58.5, -3.0, 58.8])],
         "boundaries": [
-            BoundaryConfig(
-                "north",
-                2,
-                "loxodrome",
-                loxodrome=LoxodromeConfig([-15.0, 57.0], 340, end_lat=70.0),
+            LoxodromeBoundary(
+                "north", 2, start=[-15.0, 57.0], bearing=340, end_lat=70.0
             )
         ],
         "size": SizeConfig(
@@ -136,16 +137,7 @@ SIZE = '[mesh_size]\nh_max = "1 km"\n'
         ),
         (
             ("bearing = 340", "bearing = 340\nend_lon = 3"),
-            lambda c: {
-                "boundaries": [
-                    dataclasses.replace(
-                        c.boundaries[0],
-                        loxodrome=dataclasses.replace(
-                            c.boundaries[0].loxodrome, end_lon=3
-                        ),
-                    )
-                ]
-            },
+            lambda c: {"boundaries": [dataclasses.replace(c.boundaries[0], end_lon=3)]},
         ),
         (
             ('lines = ["full", "north"]', 'lines = ["nrth"]'),
@@ -217,26 +209,38 @@ def test_replace_checks_again():
         CaseConfig(name="x", sets=[], size=SizeConfig(1000.0))  # no shorelines
 
 
-def test_the_kind_of_a_boundary_follows_from_its_fields():
+def test_each_kind_of_boundary_is_a_class_with_its_keys():
     lox = LoxodromeConfig((-15.0, 57.0), 340, end_lat=70.0)
     kinds = {
-        "loxodrome": BoundaryConfig("north", 2, loxodrome=lox),
-        "blend": BoundaryConfig("north", 2, first=lox, second=lox),
-        "great_circle": BoundaryConfig("north", 2, start=(0, 50), end=(1, 51)),
-        "polyline": BoundaryConfig("north", 2, points=[(0, 50), (1, 51)]),
+        "loxodrome": LoxodromeBoundary(
+            "north", 2, start=(-15.0, 57.0), bearing=340, end_lat=70.0
+        ),
+        "blend": BlendBoundary("north", 2, first=lox, second=lox),
+        "great_circle": GreatCircleBoundary("north", 2, start=(0, 50), end=(1, 51)),
+        "polyline": PolylineBoundary("north", 2, points=[(0, 50), (1, 51)]),
     }
     for kind, boundary in kinds.items():
         assert python_case(boundaries=[boundary]).boundaries[0].kind == kind
-    with pytest.raises(ConfigError, match=r"open_boundaries\[0\].kind: is missing"):
-        python_case(boundaries=[BoundaryConfig("north", 2, loxodrome=lox, points=[])])
-    with pytest.raises(ConfigError, match=r"open_boundaries\[0\].second: is missing"):
-        python_case(boundaries=[BoundaryConfig("north", 2, "blend", first=lox)])
+        assert BOUNDARY_KINDS[kind] is type(boundary)
+    with pytest.raises(ConfigError, match=r"open_boundaries\[0\].points: give exactly"):
+        python_case(boundaries=[PolylineBoundary("north", 2)])
+    with pytest.raises(
+        ConfigError, match=r"open_boundaries\[0\].second = 'x': expected a Loxo"
+    ):
+        python_case(boundaries=[BlendBoundary("north", 2, first=lox, second="x")])
+    with pytest.raises(TypeError, match="second"):
+        BlendBoundary("north", 2, first=lox)
+    with pytest.raises(ConfigError, match=r"open_boundaries\[0\] = .*BoundaryConf"):
+        python_case(boundaries=[lox])
 
 
 def test_loxodrome_between_two_points():
     lox = LoxodromeConfig.between((-3.0, 58.0), (-4.0, 48.5))
-    case = python_case(boundaries=[BoundaryConfig("north", 2, loxodrome=lox)])
-    assert case.boundaries[0].loxodrome.azimuth == pytest.approx(lox.azimuth % 360)
+    boundary = LoxodromeBoundary(
+        "north", 2, start=lox.start, bearing=lox.bearing, end_lat=lox.end_lat
+    )
+    case = python_case(boundaries=[boundary])
+    assert case.boundaries[0].bearing == pytest.approx(lox.bearing % 360)
 
 
 @pytest.mark.parametrize(
@@ -277,7 +281,7 @@ def test_dump_then_parse_is_the_identity(
         ],
         regions=[RegionConfig("full", box=(box[0], box[1], box[2], box[2] / 2))],
         boundaries=[
-            BoundaryConfig(
+            GreatCircleBoundary(
                 "north", 2, start=(-3.0, 58.0), end=(-2, 59), spacing=spacing
             )
         ],

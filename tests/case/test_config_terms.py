@@ -7,12 +7,13 @@ import dataclasses
 
 import pytest
 
-from coastmesh.case import dump_case, parse_case
-from coastmesh.case.config import (
+from coastmesh.case import (
     BathymetryConfig,
     ChannelConfig,
     CourantConfig,
     NodeDepthConfig,
+    dump_case,
+    parse_case,
 )
 from coastmesh.errors import ConfigError
 from coastmesh.sizing import DEFAULT_RATE

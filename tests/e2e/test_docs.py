@@ -120,3 +120,20 @@ def test_every_exported_name_imports(package):
     missing = [name for name in module.__all__ if not hasattr(module, name)]
     assert missing == [], missing
     assert sorted(module.__all__) == sorted(set(module.__all__))
+
+
+def test_the_key_tables_are_written_from_the_config_classes():
+    """docs/case-files.md lists every key as the config classes declare it."""
+    from coastmesh.case.config import DOCUMENTED
+    from coastmesh.case.schema.reference import MARKER, update_reference
+
+    for name in ("case-files.md", "python-api.md"):
+        text = (ROOT / "docs" / name).read_text(encoding="utf-8")
+        assert MARKER.search(text), name
+        assert update_reference(text, DOCUMENTED) == text, (
+            f"docs/{name} is out of date: run python scripts/case_keys.py"
+        )
+    marked = set(MARKER.findall((ROOT / "docs" / "case-files.md").read_text()))
+    assert {m[1] for m in marked} >= set(DOCUMENTED) - {"CaseConfig"}, (
+        "every config class has its table of keys in docs/case-files.md"
+    )

@@ -12,23 +12,30 @@
 
 The parts of a :class:`CaseConfig`, one per table of the case file, are
 :class:`ShorelinesConfig`, :class:`ShorelineSetConfig`, :class:`RegionConfig`,
-:class:`BoundaryConfig` (with :class:`LoxodromeConfig`), :class:`DomainConfig`,
-:class:`SizeConfig` (with :class:`GradationConfig` and
-:class:`BathymetryConfig`), :class:`MeshConfig`, :class:`NodeDepthConfig`,
+the open-boundary kinds (:class:`LoxodromeBoundary`, :class:`BlendBoundary`
+with :class:`LoxodromeConfig`, :class:`GreatCircleBoundary`,
+:class:`PolylineBoundary`: each a :class:`BoundaryConfig`),
+:class:`DomainConfig`, :class:`SizeConfig` (with a table per size term:
+:class:`GradationConfig`, :class:`BathymetryConfig`, :class:`ChannelConfig`,
+:class:`CourantConfig`), :class:`MeshConfig`, :class:`NodeDepthConfig`,
 :class:`CleanupConfig`, :class:`OutputConfig` and :class:`RunConfig`.
 """
 
 from __future__ import annotations
 
+from coastmesh.case.boundaries import (
+    BlendBoundary,
+    BoundaryConfig,
+    GreatCircleBoundary,
+    LoxodromeBoundary,
+    LoxodromeConfig,
+    PolylineBoundary,
+)
 from coastmesh.case.build import build_case
 from coastmesh.case.config import (
-    BathymetryConfig,
-    BoundaryConfig,
     CaseConfig,
     CleanupConfig,
     DomainConfig,
-    GradationConfig,
-    LoxodromeConfig,
     MeshConfig,
     NodeDepthConfig,
     OutputConfig,
@@ -45,21 +52,33 @@ from coastmesh.case.parse import parse_case, read_case
 from coastmesh.case.report import CaseReport, MeshReport
 from coastmesh.case.result import CaseResult
 from coastmesh.case.run import run_case
+from coastmesh.case.terms import (
+    BathymetryConfig,
+    ChannelConfig,
+    CourantConfig,
+    GradationConfig,
+)
 
 __all__ = [
     "BathymetryConfig",
+    "BlendBoundary",
     "BoundaryConfig",
     "CaseConfig",
     "CaseReport",
     "CaseResult",
+    "ChannelConfig",
     "CleanupConfig",
+    "CourantConfig",
     "DomainConfig",
     "GradationConfig",
+    "GreatCircleBoundary",
+    "LoxodromeBoundary",
     "LoxodromeConfig",
     "MeshConfig",
     "MeshReport",
     "NodeDepthConfig",
     "OutputConfig",
+    "PolylineBoundary",
     "RegionConfig",
     "RunConfig",
     "ShorelineSetConfig",

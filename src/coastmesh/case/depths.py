@@ -10,7 +10,6 @@ import logging
 from typing import Any
 
 from coastmesh.case.config import CaseConfig
-from coastmesh.case.config.sources import stack_of
 from coastmesh.case.sources import read_sources
 from coastmesh.depth import depth_at_nodes
 from coastmesh.depth.nodes import node_sources
@@ -48,7 +47,7 @@ def depth_raster(config: CaseConfig, mesh: Mesh, progress: Progress) -> Any:
     PCA-simplified there if asked.
     """
     b = config.bathymetry
-    sources = read_sources(stack_of(b), mesh.points, mesh.crs, progress)
+    sources = read_sources(b.stack, mesh.points, mesh.crs, progress)
     if b.window is not None:
         from coastmesh.depth import DepthSource, DepthSources
         from coastmesh.pca import simplify_raster

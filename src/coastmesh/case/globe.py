@@ -16,7 +16,7 @@ The steps of a regional case, on the sphere:
    (:func:`coastmesh.sizing.sphere_size_field`): gradations by great-circle
    distance from the sets, the tidal-wavelength term, the gradation limit;
 5. Gmsh meshes the ocean in the plane with the sizes scaled by the plane's
-   scale factor (:class:`coastmesh.meshing.gmsh.sphere_sizes.SphereSizeGrid`), in one part;
+   scale factor (:class:`coastmesh.meshing.gmsh.SphereSizeGrid`), in one part;
 6. the nodes go back to lon/lat; depths, time step and quality follow as in a
    regional case.
 """

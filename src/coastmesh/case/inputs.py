@@ -23,29 +23,21 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS
 
-from coastmesh.case.config import (
-    BoundaryConfig,
-    CaseConfig,
-    LoxodromeConfig,
-    RegionConfig,
-    ShorelineSetConfig,
-)
+from coastmesh.case.boundaries import BoundaryConfig
+from coastmesh.case.config import CaseConfig, RegionConfig, ShorelineSetConfig
+from coastmesh.case.config.case import boundary_key
 from coastmesh.case.dem_shorelines import read_raster_land
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry import (
     DomainReport,
-    Loxodrome,
     OpenBoundary,
     ShorelineSet,
     StitchReport,
-    blend_loxodromes,
     build_domain,
     check_coordinates,
     densify_long_edges,
-    great_circle,
     land_polygons,
     reproject,
-    reproject_points,
     simplify_shorelines,
     smaller_than,
     stitch_shorelines,
@@ -372,7 +364,6 @@ def depth_stack(b: Any, domain: Any = None) -> Any:
 
     Without ``domain`` (the world), the single raster is read whole.
     """
-    from coastmesh.case.config.sources import stack_of
     from coastmesh.case.sources import read_sources
     from coastmesh.io import read_raster
 
@@ -384,7 +375,7 @@ def depth_stack(b: Any, domain: Any = None) -> Any:
             )
         return read_raster(b.path)
     ring = shapely.segmentize(domain.polygon.exterior, domain.polygon.length / 400)
-    return read_sources(stack_of(b), shapely.get_coordinates(ring), domain.crs)
+    return read_sources(b.stack, shapely.get_coordinates(ring), domain.crs)
 
 
 def _seed(config: CaseConfig, crs: CRS, lonlat: CRS | None) -> Any:
@@ -424,40 +415,10 @@ def region_geometry(
 def _boundary_coords(
     b: BoundaryConfig, k: int, crs: CRS, spacing: float, config: CaseConfig
 ) -> NDArray[np.float64]:
-    step = b.spacing or spacing
-    where = f"{config.label}: open_boundaries[{k}] ({b.name!r})"
+    where = f"{config.label}: {boundary_key(config.domain)}[{k}] ({b.name!r})"
     try:
-        if b.kind == "loxodrome":
-            lonlat = _loxodrome(b.loxodrome).sample(step)
-        elif b.kind == "blend":
-            lonlat = blend_loxodromes(
-                _loxodrome(b.first), _loxodrome(b.second), spacing=step
-            )
-        elif b.kind == "great_circle":
-            lonlat = great_circle(b.start, b.end, spacing=step)
-        else:
-            return _polyline(b, where, crs)
+        return b.line(crs, b.spacing or spacing)
     except ConfigError as exc:
         raise ConfigError(f"{where}: {exc}") from None
-    return reproject_points(lonlat, _LONLAT, crs)
-
-
-def _loxodrome(c: LoxodromeConfig) -> Loxodrome:
-    return Loxodrome(c.start, c.azimuth, end_lat=c.end_lat, end_lon=c.end_lon)
-
-
-def _polyline(b: BoundaryConfig, where: str, crs: CRS) -> NDArray[np.float64]:
-    if b.points is not None:
-        return np.array(b.points, dtype=float)
-    features = read_features(b.path, layer=b.layer)
-    lines = features.geometry[shapely.get_dimensions(features.geometry) == 1]
-    parts = shapely.get_parts(lines)
-    if len(parts) != 1:
-        raise InputDataError(
-            f"{where}: {b.path} must hold exactly one line; it has {len(parts)}",
-            path=str(b.path),
-        )
-    line = parts[0]
-    if features.crs is not None:
-        line = reproject(line, features.crs, crs)
-    return shapely.get_coordinates(line)
+    except InputDataError as exc:
+        raise InputDataError(f"{where}: {exc.message}", path=exc.path) from None

@@ -78,7 +78,7 @@ class CaseReport(Report):
     cleanup, depth, quality : report or None
         :class:`~coastmesh.meshing.cleanup.fixes.CleanupReport`,
         :class:`~coastmesh.depth.nodes.DepthReport`,
-        :class:`~coastmesh.meshing.quality.mesh_quality.QualityReport`, where the case asks.
+        :class:`~coastmesh.meshing.quality.QualityReport`, where the case asks.
     parts : PartsReport or None
         How the water was cut into parts and what each cost
         (:class:`~coastmesh.meshing.parts.report.PartsReport`).

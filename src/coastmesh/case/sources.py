@@ -58,11 +58,9 @@ def check_rasters(config: Any) -> None:
 
     Runs before the meshing, so that a bad raster fails in a second.
     """
-    from coastmesh.case.config.sources import stack_of
-
     parts = [config.bathymetry, config.size.bathymetry]
     for part in (p for p in parts if p is not None):
-        stack = stack_of(part)
+        stack = part.stack
         _check_priorities(stack)
         for c in stack:
             _, wkt, _ = raster_extent(c.path)

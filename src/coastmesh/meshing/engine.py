@@ -111,8 +111,9 @@ def generate_mesh(
         ``parts`` is a number). The same ``parts`` and ``seed`` give the same
         mesh whatever ``runner``: nodes are numbered in order of x, then y.
     threads : int, default 1
-        Gmsh threads for the boundary nodes (:mod:`~coastmesh.meshing.gmsh.boundary_nodes`):
-        separate pieces of the boundary are meshed at once.
+        Gmsh threads for the boundary nodes
+        (:mod:`~coastmesh.meshing.gmsh.boundary_nodes`): separate pieces of the
+        boundary are meshed at once.
     runner : callable, optional
         ``runner(fn, tasks)`` returns ``[fn(t) for t in tasks]``, computed
         anywhere: a process pool or a Dask cluster

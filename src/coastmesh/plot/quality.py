@@ -50,7 +50,7 @@ def quality_figure(
     mesh : coastmesh.meshing.Mesh
         The mesh; the edge panel needs ``point_data["size"]`` (metres).
     report : QualityReport, optional
-        :func:`~coastmesh.meshing.quality.mesh_quality.mesh_quality` of ``mesh``, for the
+        :func:`~coastmesh.meshing.quality.mesh_quality` of ``mesh``, for the
         numbers in the panel titles; computed when not given.
     title : str, optional
         Figure title.

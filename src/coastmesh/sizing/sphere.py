@@ -2,8 +2,8 @@
 
 A global case's size field lives on the nodes of a longitude/latitude grid whose
 last column is its first (longitude -180 and 180): the grid
-:class:`~coastmesh.meshing.gmsh.sphere_sizes.SphereSizeGrid` hands to the mesher. Every size
-is a length on the sphere, in metres:
+:class:`~coastmesh.meshing.gmsh.sphere_sizes.SphereSizeGrid` hands to the mesher.
+Every size is a length on the sphere, in metres:
 
 * gradations from shoreline sets, by great-circle distance
   (:func:`~coastmesh.sizing.distance.distance_to_lines` measures on the Earth);

@@ -2,29 +2,28 @@
 
 A :class:`CaseConfig` is checked whenever it is built: by the case-file reader
 (:func:`coastmesh.read_case`), by hand in Python, or by
-:func:`dataclasses.replace`. Every value is checked and converted in
-``CaseConfig.__post_init__``, with the same messages as the reader's, naming the
-key path of the case file (``open_boundaries[2].spacing``); the parts are
-plain containers until a ``CaseConfig`` holds them.
+:func:`dataclasses.replace`. Each part declares its keys once, on its fields
+(:func:`coastmesh.case.schema.key`): their names in the file, how they are
+checked, their units and docs. The parts are plain containers until a
+``CaseConfig`` holds them.
 
-In Python, lengths are numbers of metres or strings with a unit (``"10 km"``,
-``"0.02 deg"``), areas square metres or ``"0.5 km2"``, durations seconds or
-``"12.42 h"``; paths are strings or :class:`pathlib.Path` (relative paths are
-relative to the working folder); sequences may be tuples or lists. The keys of
-the case file and their defaults are listed in ``docs/case-files.md``; the
-field names here follow them, except ``id`` (``physical_id``),
-``[shoreline_sets]`` (``sets``), ``[[open_boundaries]]`` (``boundaries``),
-``[mesh_size]`` (``size``) and ``[output]`` (``outputs``).
+The field names follow the case file's keys, except where a field says another
+key (``physical_id`` is ``id``; ``sets`` is ``[shoreline_sets]``,
+``boundaries`` ``[[open_boundaries]]``, ``size`` ``[mesh_size]`` and ``outputs``
+``[output]``): ``docs/python-api.md`` lists them. The open-boundary kinds are
+in :mod:`coastmesh.case.boundaries`, the size terms' tables in
+:mod:`coastmesh.case.terms`.
 """
 
 from __future__ import annotations
 
-from coastmesh.case.config.boundaries import (
-    BOUNDARY_KINDS,
-    BoundaryConfig,
-    LoxodromeConfig,
+from coastmesh.case.config.case import (
+    CASE_KINDS,
+    PYTHON_SOURCE,
+    CaseConfig,
+    CaseKeys,
+    StudyCase,
 )
-from coastmesh.case.config.case import CASE_KINDS, PYTHON_SOURCE, CaseConfig, StudyCase
 from coastmesh.case.config.mesh import (
     CleanupConfig,
     MeshConfig,
@@ -38,36 +37,61 @@ from coastmesh.case.config.shorelines import (
     ShorelinesConfig,
     ShorelineSetConfig,
 )
-from coastmesh.case.config.sizes import (
-    BathymetryConfig,
-    ChannelConfig,
-    CourantConfig,
-    GradationConfig,
-    SizeConfig,
-)
-from coastmesh.case.config.sources import DepthSourceConfig
+from coastmesh.case.config.sizes import SizeConfig, floor
+from coastmesh.case.config.sources import DepthSourceConfig, RasterConfig
 
 __all__ = [
-    "BOUNDARY_KINDS",
     "CASE_KINDS",
+    "DOCUMENTED",
     "PYTHON_SOURCE",
-    "BathymetryConfig",
-    "BoundaryConfig",
     "CaseConfig",
-    "ChannelConfig",
+    "CaseKeys",
     "CleanupConfig",
-    "CourantConfig",
     "DepthSourceConfig",
     "DomainConfig",
-    "GradationConfig",
-    "LoxodromeConfig",
     "MeshConfig",
     "NodeDepthConfig",
     "OutputConfig",
+    "RasterConfig",
     "RegionConfig",
     "RunConfig",
     "ShorelineSetConfig",
     "ShorelinesConfig",
     "SizeConfig",
     "StudyCase",
+    "floor",
 ]
+
+
+def _documented() -> dict[str, type]:
+    from coastmesh.case.boundaries import (
+        BOUNDARY_KINDS,
+        BoundaryConfig,
+        LoxodromeConfig,
+    )
+    from coastmesh.case.terms import TERMS
+
+    classes: list[type] = [
+        CaseKeys,
+        CaseConfig,
+        ShorelinesConfig,
+        ShorelineSetConfig,
+        RegionConfig,
+        DomainConfig,
+        BoundaryConfig,
+        *BOUNDARY_KINDS.values(),
+        LoxodromeConfig,
+        SizeConfig,
+        *(term.config for term in TERMS),
+        MeshConfig,
+        RunConfig,
+        CleanupConfig,
+        NodeDepthConfig,
+        DepthSourceConfig,
+        OutputConfig,
+    ]
+    return {kind.__name__: kind for kind in classes}
+
+
+#: The config classes whose keys ``docs/case-files.md`` lists, by class name.
+DOCUMENTED: dict[str, type] = _documented()

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import dataclasses
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from coastmesh.case import schema
-from coastmesh.case.config._check import Check, check_part, check_parts
-from coastmesh.case.config.boundaries import BoundaryConfig
+from coastmesh.case.boundaries import BOUNDARY_KINDS, BoundaryConfig
 from coastmesh.case.config.mesh import (
     CleanupConfig,
     MeshConfig,
@@ -23,9 +23,11 @@ from coastmesh.case.config.shorelines import (
     ShorelineSetConfig,
 )
 from coastmesh.case.config.sizes import SizeConfig
+from coastmesh.case.schema import Check, key, keys_of
+from coastmesh.case.schema.keys import check_value
 from coastmesh.errors import ConfigError
 
-__all__ = ["CASE_KINDS", "PYTHON_SOURCE", "CaseConfig", "StudyCase"]
+__all__ = ["CASE_KINDS", "PYTHON_SOURCE", "CaseConfig", "CaseKeys", "StudyCase"]
 
 #: ``[case] kind``: a mesh (default), or one of the paper's PCA studies
 CASE_KINDS = ("mesh", "shorelines", "bathymetry")
@@ -33,41 +35,45 @@ CASE_KINDS = ("mesh", "shorelines", "bathymetry")
 PYTHON_SOURCE = "CaseConfig"
 
 
-@dataclass(frozen=True, slots=True, kw_only=True)
-class CaseConfig:
-    """A whole mesh case, checked when built (see the module docstring).
+@dataclass(frozen=True)
+class CaseKeys:
+    """``[case]``: the case's name, its output folder, its CRS and its kind."""
 
-    Attributes
-    ----------
-    name : str
-        Names the case and its output files.
-    shorelines : ShorelinesConfig
-    sets : sequence of ShorelineSetConfig
-        At least one; exactly one has no region (it is used everywhere else).
-    size : SizeConfig
-    regions : sequence of RegionConfig
-        The first region that holds a place picks its set.
-    domain : DomainConfig
-    boundaries : sequence of BoundaryConfig
-        ``[[open_boundaries]]``; in a global case, ``[[cuts]]``: open
-        boundaries that cut seas off the world ocean.
-    mesh : MeshConfig
-    outputs : OutputConfig
-    bathymetry : NodeDepthConfig, optional
-        Depth at the nodes.
-    cleanup : CleanupConfig
-    run : RunConfig
-        Where the parts are meshed (workers, a Dask scheduler); it never
-        changes the mesh.
-    crs : str, optional
-        The CRS the case works in; default the shoreline file's.
-    output : path, optional
-        The output folder; default ``out/NAME`` (next to the case file when
-        read from one).
-    source : path, optional
-        The case file; None for a case built in Python.
-    text : str
-        The case file's text ("" for a case built in Python).
+    name: str = key(check=schema.string, doc="names the output files (`NAME.msh`, ...)")
+    output: Path | None = key(
+        None,
+        check=schema.path,
+        path=True,
+        default_doc="`out/NAME`",
+        doc="the output folder; `--output` overrides it",
+    )
+    crs: str | None = key(
+        None,
+        check=schema.crs,
+        default_doc="the shoreline file's",
+        doc="the CRS of the domain and of the points in this file",
+    )
+    kind: str = key(
+        "mesh",
+        check=schema.choice(CASE_KINDS),
+        doc='`"mesh"`, or one of the paper\'s PCA studies: `"shorelines"`, '
+        '`"bathymetry"` (below)',
+    )
+
+
+@dataclass(frozen=True, kw_only=True)
+class CaseConfig:
+    """A whole mesh case, checked when built: one field per table of a case file.
+
+    Every value is checked and converted when a ``CaseConfig`` is made (by the
+    case-file reader, by hand, or by :func:`dataclasses.replace`), with the
+    messages of the case-file reader, naming the key path
+    (``open_boundaries[2].spacing``). ``name``, ``crs`` and ``output`` are the
+    keys of ``[case]``; ``source`` and ``text`` are the case file and its text
+    (None and "" for a case built in Python). In Python, lengths are numbers of
+    metres or strings with a unit (``"10 km"``), areas square metres or
+    ``"0.5 km2"``, durations seconds or ``"12.42 h"``; paths are relative to
+    the working folder. ``docs/case-files.md`` lists every key.
 
     Raises
     ------
@@ -93,17 +99,42 @@ class CaseConfig:
     """
 
     name: str
-    shorelines: ShorelinesConfig
-    sets: tuple[ShorelineSetConfig, ...]
-    size: SizeConfig
-    regions: tuple[RegionConfig, ...] = ()
-    domain: DomainConfig = field(default_factory=DomainConfig)
-    boundaries: tuple[BoundaryConfig, ...] = ()
-    mesh: MeshConfig = field(default_factory=MeshConfig)
-    outputs: OutputConfig = field(default_factory=OutputConfig)
-    bathymetry: NodeDepthConfig | None = None
-    cleanup: CleanupConfig = field(default_factory=CleanupConfig)
-    run: RunConfig = field(default_factory=RunConfig)
+    shorelines: ShorelinesConfig = key(
+        part=ShorelinesConfig, doc="the land polygons, or a raster to contour"
+    )
+    sets: tuple[ShorelineSetConfig, ...] = key(
+        name="shoreline_sets",
+        part=ShorelineSetConfig,
+        many=True,
+        keyed=True,
+        doc="versions of the coast: full resolution or PCA reconstructions",
+    )
+    size: SizeConfig = key(name="mesh_size", part=SizeConfig, doc="the size field")
+    regions: tuple[RegionConfig, ...] = key(
+        (), part=RegionConfig, many=True, doc="where each set is used"
+    )
+    domain: DomainConfig = key(
+        DomainConfig(), part=DomainConfig, doc="the sea region meshed"
+    )
+    boundaries: tuple[BoundaryConfig, ...] = key(
+        (),
+        name="open_boundaries",
+        part=BoundaryConfig,
+        many=True,
+        kinds=BOUNDARY_KINDS,
+        doc="the open boundaries; `[[cuts]]` in a global case",
+    )
+    mesh: MeshConfig = key(MeshConfig(), part=MeshConfig, doc="Gmsh and the CRSs")
+    outputs: OutputConfig = key(
+        OutputConfig(), name="output", part=OutputConfig, doc="what is written"
+    )
+    bathymetry: NodeDepthConfig | None = key(
+        None, part=NodeDepthConfig, doc="the depth at the nodes"
+    )
+    cleanup: CleanupConfig = key(
+        CleanupConfig(), part=CleanupConfig, doc="fixes after meshing"
+    )
+    run: RunConfig = key(RunConfig(), part=RunConfig, doc="where the work runs")
     crs: str | None = None
     output: Path | None = None
     source: Path | None = None
@@ -116,36 +147,21 @@ class CaseConfig:
         checked = {
             "name": name,
             "source": source,
-            "output": c(schema.path, self.output, "case.output")
-            if self.output is not None
-            else Path("out") / name,
+            "output": Path("out") / name
+            if self.output is None
+            else c(schema.path, self.output, "case.output"),
             "crs": c.optional(schema.crs, self.crs, "case.crs"),
-            "shorelines": check_part(
-                self.shorelines, ShorelinesConfig, c, "shorelines"
-            ),
-            "sets": check_parts(
-                self.sets,
-                ShorelineSetConfig,
-                c,
-                "shoreline_sets",
-                required=True,
-                keyed=True,
-            ),
-            "regions": check_parts(self.regions, RegionConfig, c, "regions"),
-            "domain": check_part(self.domain, DomainConfig, c, "domain"),
-            "boundaries": check_parts(
-                self.boundaries, BoundaryConfig, c, _boundary_key(self.domain)
-            ),
-            "size": check_part(self.size, SizeConfig, c, "mesh_size"),
-            "mesh": check_part(self.mesh, MeshConfig, c, "mesh"),
-            "outputs": check_part(self.outputs, OutputConfig, c, "output"),
-            "bathymetry": None
-            if self.bathymetry is None
-            else check_part(self.bathymetry, NodeDepthConfig, c, "bathymetry"),
-            "cleanup": check_part(self.cleanup, CleanupConfig, c, "cleanup"),
-            "run": check_part(self.run, RunConfig, c, "run"),
             "text": c(_text, self.text, "text"),
         }
+        domain = check_value(self.domain, *_key(self, "domain"), c)
+        for f, meta in keys_of(self):
+            if f.name == "domain":
+                checked[f.name] = domain
+                continue
+            named = meta
+            if f.name == "boundaries":
+                named = dataclasses.replace(meta, name=boundary_key(domain))
+            checked[f.name] = check_value(getattr(self, f.name), f, named, c)
         _cross_check(checked, c.source)
         for name, value in checked.items():
             object.__setattr__(self, name, value)
@@ -162,7 +178,11 @@ class CaseConfig:
         return PYTHON_SOURCE if self.source is None else str(self.source)
 
 
-@dataclass(frozen=True, slots=True)
+def _key(case: CaseConfig, name: str) -> tuple[dataclasses.Field[Any], Any]:
+    return next((f, meta) for f, meta in keys_of(case) if f.name == name)
+
+
+@dataclass(frozen=True)
 class StudyCase:
     """A case of another kind than a mesh: one of the paper's PCA studies.
 
@@ -183,7 +203,7 @@ def _text(value: Any, key: str) -> str:
     return value
 
 
-def _boundary_key(domain: Any) -> str:
+def boundary_key(domain: Any) -> str:
     """Return the table of open boundaries: ``cuts`` in a global case."""
     return "cuts" if getattr(domain, "kind", None) == "global" else "open_boundaries"
 
@@ -228,7 +248,7 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
     names: set[str] = set()
     items = [("shoreline_sets", s.name, s.physical_id) for s in sets]
     items += [
-        (f"{_boundary_key(case['domain'])}[{k}]", b.name, b.physical_id)
+        (f"{boundary_key(case['domain'])}[{k}]", b.name, b.physical_id)
         for k, b in enumerate(boundaries)
     ]
     for where, name, physical_id in items:

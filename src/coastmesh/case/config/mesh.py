@@ -1,16 +1,17 @@
-"""``[mesh]``, ``[cleanup]``, ``[bathymetry]`` and ``[output]``."""
+"""``[mesh]``, ``[cleanup]``, ``[bathymetry]``, ``[output]`` and ``[run]``."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 from coastmesh.case import schema
-from coastmesh.case.config._check import Check
-from coastmesh.case.config.sources import DepthSourceConfig, check_sources
+from coastmesh.case.config.sources import UP_DOWN, RasterConfig
+from coastmesh.case.schema import Check, key
+from coastmesh.depth import DEPTH_METHODS, LAND_TREATMENTS, OUTSIDE_RULES
 from coastmesh.errors import ConfigError
+from coastmesh.meshing.gmsh import ALGORITHMS
 
 __all__ = [
     "CleanupConfig",
@@ -20,198 +21,196 @@ __all__ = [
     "RunConfig",
 ]
 
-_UP_DOWN = ("up", "down")
 
-
-@dataclass(frozen=True, slots=True)
-class NodeDepthConfig:
+@dataclass(frozen=True)
+class NodeDepthConfig(RasterConfig):
     """``[bathymetry]``: the depth written at the mesh nodes.
 
-    Attributes
-    ----------
-    path : path, optional
-        One raster GDAL reads; or ``sources``.
-    positive : {"up", "down"}
-        The raster's sign (with ``path``).
-    sources : tuple of DepthSourceConfig
-        ``[[bathymetry.sources]]``: several rasters, highest priority first;
-        with ``path``, the one source it makes.
-    outside : {"error", "nearest"}
-        Nodes more than a cell diagonal beyond every source's data: an error,
-        or the nearest valid cell and a warning.
-    land : {"min_depth", "nearest_sea", "smooth"}
-        Nodes where the rasters say land (depth <= 0 m); see
-        :data:`coastmesh.depth.nodes.LAND_TREATMENTS`.
-    land_distance : float or str, optional
-        Width of the coastal taper of ``land = "smooth"`` (metres).
-    method : {"bilinear", "mean"}
-        See :func:`coastmesh.depth.nodes.depth_at_nodes`.
-    min_depth : float or str, optional
-        Depths below this are raised to it (metres, may be negative).
-    max_slope : float, optional
-        Largest depth difference per edge length.
-    window, modes : int, optional
-        PCA of the raster first (both or neither).
+    One raster (``path``) or a stack (``sources``); see ``docs/case-files.md``
+    for every key and :func:`coastmesh.depth.depth_at_nodes` for the method.
     """
 
-    path: Path | None = None
-    positive: str = "up"
-    method: str = "bilinear"
-    min_depth: float | None = None
-    max_slope: float | None = None
-    window: int | None = None
-    modes: int | None = None
-    sources: tuple[DepthSourceConfig, ...] = ()
-    outside: str = "error"
-    land: str = "min_depth"
-    land_distance: float | None = None
+    method: str = key(
+        "bilinear",
+        check=schema.choice(DEPTH_METHODS),
+        doc='or `"mean"`: where the mesh is coarser than the raster, the mean of '
+        "the valid cells within half the mean edge length of each node",
+    )
+    min_depth: float | None = key(
+        None,
+        check=schema.length(signed=True),
+        unit="length",
+        doc='shallower nodes are set to this (e.g. `"5 m"` for a model without '
+        "wetting and drying)",
+    )
+    max_slope: float | None = key(
+        None,
+        check=schema.positive,
+        doc="the largest `|depth difference| / edge length` along any edge; "
+        "deeper nodes are made shallower until it holds (a min-plus convolution "
+        "over the mesh graph), so the coast keeps its depths",
+    )
+    window: int | None = key(
+        None,
+        check=schema.integer(2),
+        doc="with `modes`: interpolate the PCA approximation of each raster (of "
+        "the window read) instead (the paper's section II)",
+    )
+    modes: int | None = key(None, check=schema.integer(1), doc="see `window`")
+    outside: str = key(
+        "error",
+        check=schema.choice(OUTSIDE_RULES),
+        doc="nodes more than one cell diagonal beyond every raster's data: an "
+        "error that names the rasters, the share of nodes each covers and where "
+        'the gap is; or `"nearest"`: the nearest valid cell on the Earth, with a '
+        "warning that counts them",
+    )
+    land: str = key(
+        "min_depth",
+        check=schema.choice(LAND_TREATMENTS),
+        doc="nodes in the mesh's sea where the rasters say land (depth <= 0 m, "
+        'common near the coast on coarse grids): `"min_depth"` (they take the '
+        'depth floor, as any shallow node), `"nearest_sea"` (the nearest wet '
+        'cell on the Earth) or `"smooth"` (the nearest wet cell, then every '
+        "depth within `land_distance` of the coast is tapered linearly to "
+        "`min_depth` at the coast: `min_depth + (d - min_depth) * distance / "
+        "land_distance`)",
+    )
+    land_distance: float | None = key(
+        None,
+        check=schema.length(),
+        unit="length",
+        doc='the width of the `"smooth"` taper (e.g. `"2 km"`); needs `min_depth`',
+    )
 
-    def _checked(self, c: Check) -> NodeDepthConfig:
-        from coastmesh.depth.nodes import (
-            DEPTH_METHODS,
-            LAND_TREATMENTS,
-            OUTSIDE_RULES,
-        )
-
-        window = c.optional(schema.integer(2), self.window, "window")
-        modes = c.optional(schema.integer(1), self.modes, "modes")
-        if (window is None) != (modes is None):
+    def _validate(self, c: Check) -> NodeDepthConfig:
+        if (self.window is None) != (self.modes is None):
             raise c.error(
                 "window", "give window and modes together (PCA of the raster)"
             )
-        if window is not None and modes > window**2:
-            raise c.error("modes", f"= {modes} is more than window**2")
-        positive = c(schema.choice(_UP_DOWN), self.positive, "positive")
-        path, sources = check_sources(c, self.path, positive, self.sources)
-        land = c(schema.choice(LAND_TREATMENTS), self.land, "land")
-        min_depth = c.optional(schema.length(signed=True), self.min_depth, "min_depth")
-        land_distance = c.optional(schema.length(), self.land_distance, "land_distance")
-        if land == "smooth" and (min_depth is None or land_distance is None):
+        if self.window is not None and self.modes > self.window**2:
+            raise c.error("modes", f"= {self.modes} is more than window**2")
+        if self.land == "smooth" and (
+            self.min_depth is None or self.land_distance is None
+        ):
             raise c.error(
                 "land",
                 "= 'smooth' tapers the depth to min_depth at the coast over "
                 "land_distance: give both",
             )
-        return NodeDepthConfig(
-            path=path,
-            positive=positive,
-            sources=sources,
-            outside=c(schema.choice(OUTSIDE_RULES), self.outside, "outside"),
-            land=land,
-            land_distance=land_distance,
-            method=c(schema.choice(DEPTH_METHODS), self.method, "method"),
-            min_depth=min_depth,
-            max_slope=c.optional(schema.positive, self.max_slope, "max_slope"),
-            window=window,
-            modes=modes,
-        )
+        return super()._validate(c)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class CleanupConfig:
-    """``[cleanup]``: fixes after meshing (see :mod:`coastmesh.meshing.cleanup.fixes`).
+    """``[cleanup]``: fixes after meshing (:mod:`coastmesh.meshing.cleanup`)."""
 
-    ``smooth``: move interior nodes to raise the smallest angles (boundary nodes
-    stay); the result is kept only if its minimum angle and 1st percentile are
-    no worse than Gmsh's mesh. ``time_step``: with ``[bathymetry]``, collapse
-    an edge of each of the few elements whose stable time step is under 0.65 of
-    the 1st percentile's (:func:`coastmesh.meshing.relieve_time_step`).
-    """
+    enabled: bool = key(True, check=schema.boolean, doc="run the cleanup at all")
+    boundary_triangles: bool = key(
+        True,
+        check=schema.boolean,
+        doc="remove triangles whose three nodes are all on the boundary (they "
+        "destabilise SCHISM, ADCIRC and SWAN). Each is fixed by flipping an "
+        "interior edge, by splitting that edge (a new node joined to both "
+        "opposite corners), or by splitting the triangle at its centroid, "
+        "whichever leaves the larger minimum angle. A triangle is left in place, "
+        "and counted, if every option would drop below `min_angle / 2`",
+    )
+    max_valence: int | None = key(
+        None,
+        check=schema.integer(4),
+        doc="the most triangles allowed at an interior node; edges are flipped "
+        "away from busier nodes",
+    )
+    min_angle: float = key(
+        20.0,
+        check=schema.number,
+        doc="triangles with a smaller minimum angle (degrees, on the Earth) are "
+        "slivers; the edge opposite the widest angle is flipped when that helps",
+    )
+    smooth: bool = key(
+        True,
+        check=schema.boolean,
+        doc="after the flips and splits, move interior nodes up the gradient of "
+        "their smallest angle (boundary nodes stay; a move is kept only if no "
+        "angle of its triangles falls below the node's old worst or the mesh's "
+        "1st percentile)",
+    )
+    time_step: bool = key(
+        True,
+        check=schema.boolean,
+        doc="with `[bathymetry]`: relieve the few elements that throttle an "
+        "explicit model. An element whose stable time step `r_in / (sqrt(g d) + "
+        "u)` is under 0.65 of the 1st-percentile element's loses its shortest "
+        "edge that can go: the edge is collapsed when every new angle stays at "
+        "least min(30 deg, the old smallest) and the local time step rises. "
+        "Boundary nodes never move. Kept only if the mesh's time step rises and "
+        "its minimum angle and 1st percentile do not fall; `report.json` has "
+        "`time_step` with the counts and ratios before and after",
+    )
 
-    enabled: bool = True
-    boundary_triangles: bool = True
-    max_valence: int | None = None
-    min_angle: float = 20.0
-    smooth: bool = True
-    time_step: bool = True
-
-    def _checked(self, c: Check) -> CleanupConfig:
-        min_angle = c(schema.number, self.min_angle, "min_angle")
-        if not 0 < min_angle < 60:
+    def _validate(self, c: Check) -> CleanupConfig:
+        if not 0 < self.min_angle < 60:
             raise c.error(
-                "min_angle", f"= {self.min_angle!r}: degrees between 0 and 60"
+                "min_angle", f"= {self.min_angle:g}: degrees between 0 and 60"
             )
-        return CleanupConfig(
-            enabled=c(schema.boolean, self.enabled, "enabled"),
-            boundary_triangles=c(
-                schema.boolean, self.boundary_triangles, "boundary_triangles"
-            ),
-            max_valence=c.optional(schema.integer(4), self.max_valence, "max_valence"),
-            min_angle=min_angle,
-            smooth=c(schema.boolean, self.smooth, "smooth"),
-            time_step=c(schema.boolean, self.time_step, "time_step"),
-        )
+        return self
 
 
-@dataclass(frozen=True, slots=True)
+def _parts(value: Any, key: str) -> int | str:
+    """``[mesh] parts``: "auto" or an integer >= 1."""
+    if value == "auto":
+        return value
+    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
+        raise ConfigError(f'{key} = {value!r}: expected "auto" or an integer >= 1')
+    return value
+
+
+@dataclass(frozen=True)
 class MeshConfig:
-    """``[mesh]``: Gmsh options and CRSs.
+    """``[mesh]``: Gmsh's options, the CRSs, the parts the water is cut into."""
 
-    Attributes
-    ----------
-    crs : str, optional
-        The conformal CRS to mesh in; default UTM or an oblique stereographic.
-    output_crs : str, optional
-        The CRS of the written nodes; default the case CRS.
-    seed : int
-        Gmsh's random seed.
-    algorithm : {"frontal-delaunay", "delaunay", "meshadapt", "automatic"}
-    optimize : bool
-    parts : int or "auto", default "auto"
-        Parts of the water meshed alone, at once on as many processes as the
-        run has workers, or on a Dask cluster (:mod:`coastmesh.meshing.parts.cuts`,
-        :mod:`coastmesh.meshing.parts.tasks`); ``"auto"``: one per 200,000 expected
-        triangles, rounded down to a power of two (1 to 64). It depends on the
-        case only, so the mesh is the same on any number of cores or machines.
-        1 is one part. The boundary nodes are the same either way, and so,
-        measured on the NW-shelf meshes, is the quality (docs/meshing.md).
-    """
-
-    crs: str | None = None
-    output_crs: str | None = None
-    seed: int = 0
-    algorithm: str = "frontal-delaunay"
-    optimize: bool = True
-    parts: int | str = "auto"
-
-    def _checked(self, c: Check) -> MeshConfig:
-        from coastmesh.meshing.engine import ALGORITHMS
-
-        return MeshConfig(
-            crs=c.optional(schema.crs, self.crs, "crs"),
-            output_crs=c.optional(schema.crs, self.output_crs, "output_crs"),
-            seed=c(schema.integer(0), self.seed, "seed"),
-            algorithm=c(schema.choice(tuple(ALGORITHMS)), self.algorithm, "algorithm"),
-            optimize=c(schema.boolean, self.optimize, "optimize"),
-            parts=self.parts
-            if self.parts == "auto"
-            else c(_parts, self.parts, "parts"),
-        )
-
-
-@dataclass(frozen=True, slots=True)
-class RunConfig:
-    """``[run]``: where the parts are meshed (never what the mesh is).
-
-    Attributes
-    ----------
-    workers : int, optional
-        Local worker processes; default every core this process may use.
-        ``coastmesh run --workers`` overrides it.
-    scheduler : str, optional
-        The address of a Dask distributed scheduler (``"tcp://host:8786"``):
-        the parts are meshed as tasks on its workers. ``coastmesh run
-        --scheduler`` overrides it.
-    """
-
-    workers: int | None = None
-    scheduler: str | None = None
-
-    def _checked(self, c: Check) -> RunConfig:
-        return RunConfig(
-            workers=c.optional(schema.integer(1), self.workers, "workers"),
-            scheduler=c.optional(_address, self.scheduler, "scheduler"),
-        )
+    crs: str | None = key(
+        None,
+        check=schema.crs,
+        default_doc="UTM zone of the domain, or an oblique stereographic "
+        "projection for domains wider than 6 deg",
+        doc="the conformal projection meshed in; sizes are corrected by its "
+        "scale factor",
+    )
+    output_crs: str | None = key(
+        None,
+        check=schema.crs,
+        default_doc="the case CRS",
+        doc="CRS of the written coordinates (the paper: EPSG:4326)",
+    )
+    seed: int = key(
+        0,
+        check=schema.integer(0),
+        doc="Gmsh's random seed: the same input and seed give the same mesh",
+    )
+    algorithm: str = key(
+        "frontal-delaunay",
+        check=schema.choice(tuple(ALGORITHMS)),
+        doc='or `"delaunay"`, `"meshadapt"`, `"automatic"`',
+    )
+    optimize: bool = key(True, check=schema.boolean, doc="Gmsh's Relocate2D smoothing")
+    parts: int | str = key(
+        "auto",
+        check=_parts,
+        doc="cut the water into this many parts of equal expected triangle count, "
+        "each meshed alone, at once on the run's workers or on a Dask cluster "
+        "(`[run]`). The boundary nodes are made once for the whole boundary and "
+        "each cut is discretised once, so the parts share their nodes: one "
+        "conforming mesh, no duplicate nodes; cuts are not boundaries and carry no "
+        'id. `"auto"`: one part per 200,000 expected triangles, rounded down to a '
+        "power of two (1 to 64). The mesh depends on the case and `parts` only, "
+        "never on `--workers` or the cluster. Fewer parts are made where no clean "
+        "cut exists (a number warns whenever a cut it asks for is not made, even "
+        "if cutting a large part again brings the count back up); a part left "
+        "over 1.5 times its share by a cut off balance is cut again. How cuts are "
+        "chosen: [meshing.md](meshing.md)",
+    )
 
 
 def _address(value: Any, key: str) -> str:
@@ -225,53 +224,29 @@ def _address(value: Any, key: str) -> str:
     return text
 
 
-def _parts(value: Any, key: str) -> int:
-    """``[mesh] parts``: "auto" or an integer >= 1."""
-    if isinstance(value, bool) or not isinstance(value, int) or value < 1:
-        raise ConfigError(f'{key} = {value!r}: expected "auto" or an integer >= 1')
-    return value
+@dataclass(frozen=True)
+class RunConfig:
+    """``[run]``: where the work runs (never what the mesh is)."""
 
-
-@dataclass(frozen=True, slots=True)
-class OutputConfig:
-    """``[output]``: what :meth:`coastmesh.CaseResult.write` writes.
-
-    Attributes
-    ----------
-    formats : sequence of str
-        Mesh formats by name (:func:`coastmesh.io.mesh_formats`).
-    positive : mapping of str to {"up", "down"}, optional
-        The depth sign per format, where a format takes one.
-    domain, size_field, figures, quality : bool
-        Also write ``domain.gpkg``, ``size.tif``, ``figures/`` and the quality
-        report.
-    detail : (minx, miny, maxx, maxy), optional
-        A detail box for a Mercator mesh figure.
-    sphere_xyz : bool
-        Write ``msh2``/``msh4`` nodes as Cartesian x, y, z on the sphere (for
-        Fluidity and Thetis meshes of the globe), with the same physical ids.
-    """
-
-    formats: tuple[str, ...] = ("msh2",)
-    positive: Mapping[str, str] | None = None
-    domain: bool = True
-    size_field: bool = True
-    figures: bool = True
-    quality: bool = True
-    detail: tuple[float, float, float, float] | None = None
-    sphere_xyz: bool = False
-
-    def _checked(self, c: Check) -> OutputConfig:
-        return OutputConfig(
-            formats=c(_formats, self.formats, "formats"),
-            positive=c.optional(_signs, self.positive, "positive"),
-            domain=c(schema.boolean, self.domain, "domain"),
-            size_field=c(schema.boolean, self.size_field, "size_field"),
-            figures=c(schema.boolean, self.figures, "figures"),
-            quality=c(schema.boolean, self.quality, "quality"),
-            detail=c.optional(schema.box, self.detail, "detail"),
-            sphere_xyz=c(schema.boolean, self.sphere_xyz, "sphere_xyz"),
-        )
+    workers: int | None = key(
+        None,
+        check=schema.integer(1),
+        default_doc="every core",
+        doc="local worker processes the parts are meshed and cleaned on, and the "
+        "figures drawn on, each started as soon as what it shows is made "
+        "(`coastmesh run --workers N` overrides it). The outputs are the same for "
+        "any number",
+    )
+    scheduler: str | None = key(
+        None,
+        check=_address,
+        doc='the address of a Dask distributed scheduler, e.g. `"tcp://10.0.0.5:'
+        '8786"`: the parts are meshed as tasks on its workers (`coastmesh run '
+        "--scheduler` overrides it). Start one with `dask scheduler` and `dask "
+        "worker tcp://HOST:8786 --nthreads 1` on each machine, with the same "
+        "coastmesh installed. An address that does not answer within 20 s is an "
+        "error before any work",
+    )
 
 
 def _formats(value: Any, key: str) -> tuple[str, ...]:
@@ -302,5 +277,54 @@ def _signs(value: Any, key: str) -> dict[str, str]:
             raise ConfigError(
                 f"{key}.{name}: unknown format; known: {', '.join(known)}"
             )
-        schema.choice(_UP_DOWN)(sign, f"{key}.{name}")
+        schema.choice(UP_DOWN)(sign, f"{key}.{name}")
     return dict(value)
+
+
+@dataclass(frozen=True)
+class OutputConfig:
+    """``[output]``: what :meth:`coastmesh.CaseResult.write` writes."""
+
+    formats: tuple[str, ...] = key(
+        ("msh2",),
+        check=_formats,
+        doc="mesh formats by name, listed in [formats.md](formats.md) and by "
+        "`coastmesh formats`",
+    )
+    positive: Mapping[str, str] | None = key(
+        None,
+        check=_signs,
+        default_doc="each format's own",
+        doc='the depth sign per format, e.g. `{ mike = "down" }`',
+    )
+    domain: bool = key(
+        True,
+        check=schema.boolean,
+        doc="`domain.gpkg` with the layers `domain`, `boundaries` (name, kind, id, "
+        "geodesic length), `open_boundaries_untrimmed` and `regions`",
+    )
+    size_field: bool = key(
+        True, check=schema.boolean, doc="`size.tif`, the size grid in metres"
+    )
+    figures: bool = key(
+        True,
+        check=schema.boolean,
+        doc="`figures/`: the domain, the mesh, the size field, and what else the "
+        "case has (channels, parts, quality, depth, time step)",
+    )
+    quality: bool = key(
+        True,
+        check=schema.boolean,
+        doc="`quality.json` and `quality.txt`: angles, radius ratios, edge "
+        "lengths against the size field, valences, all-boundary triangles",
+    )
+    detail: tuple[float, float, float, float] | None = key(
+        None, check=schema.box, doc="a detail box for a Mercator mesh figure"
+    )
+    sphere_xyz: bool = key(
+        False,
+        check=schema.boolean,
+        doc="write the nodes as x, y, z on the sphere (radius 6,371,008.8 m) in "
+        "the formats that can (`msh2`, `msh4`), for Fluidity and Thetis meshes "
+        "of the globe",
+    )

@@ -2,77 +2,17 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 from coastmesh.case import schema
-from coastmesh.case.config._check import Check
+from coastmesh.case.schema import Check, key
 from coastmesh.errors import ConfigError
 
 __all__ = ["DomainConfig", "RegionConfig", "ShorelineSetConfig", "ShorelinesConfig"]
 
-
-@dataclass(frozen=True, slots=True)
-class ShorelinesConfig:
-    """``[shorelines]``: the land, from a vector file or an elevation raster.
-
-    Attributes
-    ----------
-    path : path, optional
-        Any vector file GDAL reads, of land polygons (e.g. GSHHG level 1).
-    layer : str, optional
-        The layer, if the file has several (vector files only).
-    bbox : (minx, miny, maxx, maxy), optional
-        Clip to this box first (read only this window of a raster), in the
-        file's CRS.
-    crs : str, optional
-        The file's CRS, if it declares none.
-    min_area : float or str
-        Islands and lakes smaller than this (m², or e.g. ``"0.5 km2"``) are dropped.
-    raster : path, optional
-        Instead of ``path`` (exactly one of the two): any raster GDAL reads, of
-        elevations or depths; the land is where the height is above ``level``
-        (:func:`~coastmesh.geometry.land_from_grid`).
-    level : float or str
-        Rasters: the height of the coast above the raster's datum, positive up
-        whatever ``positive`` is (metres, or e.g. ``"-0.5 m"``); default 0.
-    positive : {"up", "down"}
-        Rasters: the raster's sign, ``"up"`` for elevations (GEBCO, ETOPO),
-        ``"down"`` for depths.
-    """
-
-    path: Path | None = None
-    layer: str | None = None
-    bbox: tuple[float, float, float, float] | None = None
-    crs: str | None = None
-    min_area: float = 0.0
-    raster: Path | None = None
-    level: float = 0.0
-    positive: str = "up"
-
-    def _checked(self, c: Check) -> ShorelinesConfig:
-        if (self.path is None) == (self.raster is None):
-            given = "both are given" if self.path is not None else "neither is given"
-            raise c.error(
-                "path",
-                f"give exactly one of {c.key('path')} (a vector file of land "
-                f"polygons) and {c.key('raster')} (an elevation raster); {given}",
-            )
-        if self.raster is not None and self.layer is not None:
-            raise c.error(
-                "layer", f"= {self.layer!r}: a raster has no layers (layer is for path)"
-            )
-        return ShorelinesConfig(
-            path=c.optional(schema.path, self.path, "path"),
-            layer=c.optional(schema.string, self.layer, "layer"),
-            bbox=c.optional(schema.box, self.bbox, "bbox"),
-            crs=c.optional(schema.crs, self.crs, "crs"),
-            min_area=c(schema.area, self.min_area, "min_area"),
-            raster=c.optional(schema.path, self.raster, "raster"),
-            level=c(_height, self.level, "level"),
-            positive=c(schema.choice(("up", "down")), self.positive, "positive"),
-        )
+_UP_DOWN = ("up", "down")
 
 
 def _height(value: Any, key: str) -> float:
@@ -87,25 +27,133 @@ def _height(value: Any, key: str) -> float:
     )
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
+class ShorelinesConfig:
+    """``[shorelines]``: the land, from a vector file or an elevation raster.
+
+    Exactly one of ``path`` and ``raster``; ``level`` and ``positive`` are for
+    a raster. The keys and their defaults are listed in ``docs/case-files.md``.
+    """
+
+    path: Path | None = key(
+        None,
+        check=schema.path,
+        path=True,
+        default_doc="`path` or `raster`",
+        doc="any vector file GDAL reads (GeoPackage, shapefile, GeoJSON) of land "
+        "polygons, e.g. GSHHG level 1",
+    )
+    layer: str | None = key(
+        None,
+        check=schema.string,
+        default_doc="the only layer",
+        doc="the layer name (`path` only)",
+    )
+    bbox: tuple[float, float, float, float] | None = key(
+        None,
+        check=schema.box,
+        doc="`[minx, miny, maxx, maxy]`: read only this box (of a raster, only "
+        "this window), in the file's CRS",
+    )
+    crs: str | None = key(
+        None,
+        check=schema.crs,
+        default_doc="the file's",
+        doc="the CRS to assume if the file declares none",
+    )
+    min_area: float = key(
+        0.0,
+        check=schema.area,
+        unit="area",
+        default_doc="`0`",
+        doc="islands and lakes smaller than this are dropped (geodesic area)",
+    )
+    raster: Path | None = key(
+        None,
+        check=schema.path,
+        path=True,
+        default_doc="`path` or `raster`",
+        doc="instead of `path`: a raster of elevations or depths; the land is "
+        "contoured from it (below)",
+    )
+    level: float = key(
+        0.0,
+        check=_height,
+        read=_height,
+        dump=lambda v: f"{v!r} m",
+        default_doc='`"0 m"`',
+        doc="`raster` only: the height of the coast, positive up whatever "
+        '`positive` is (`"-0.5 m"`, or a number of metres)',
+    )
+    positive: str = key(
+        "up",
+        check=schema.choice(_UP_DOWN),
+        doc='`raster` only: the raster\'s sign, `"up"` for elevations (GEBCO, '
+        'ETOPO), `"down"` for depths',
+    )
+
+    @classmethod
+    def _read(
+        cls, t: schema.Table, reading: schema.Reading, **given: Any
+    ) -> ShorelinesConfig:
+        """``level`` and ``positive`` are for a raster: refused with ``path``."""
+        contour = [k for k in ("level", "positive") if t.has(k)]
+        if contour and not t.has("raster"):
+            raise t.error(contour[0], "is for a raster shoreline (raster = PATH)")
+        values = schema.read_keys(cls, t, reading)
+        t.done()
+        return cls(**values)
+
+    def _validate(self, c: Check) -> ShorelinesConfig:
+        if (self.path is None) == (self.raster is None):
+            given = "both are given" if self.path is not None else "neither is given"
+            raise c.error(
+                "path",
+                f"give exactly one of {c.key('path')} (a vector file of land "
+                f"polygons) and {c.key('raster')} (an elevation raster); {given}",
+            )
+        if self.raster is not None and self.layer is not None:
+            raise c.error(
+                "layer", f"= {self.layer!r}: a raster has no layers (layer is for path)"
+            )
+        return self
+
+    def _dump(self) -> dict[str, Any]:
+        """Return the keys; the raster's keys only with a raster."""
+        out = schema.dump_keys(self)
+        if self.raster is None:
+            out.pop("level", None)
+            out.pop("positive", None)
+        return out
+
+
+@dataclass(frozen=True)
 class ShorelineSetConfig:
     """``[shoreline_sets.NAME]``: full resolution, or a PCA reconstruction.
 
-    Attributes
-    ----------
-    name : str
-        The set's name (the ``NAME`` of its table).
-    physical_id : int
-        The boundary id of its shoreline edges (``id`` in the file), >= 1.
-    window, modes : int, optional
-        PCA partition length (points) and leading modes kept; both or neither
-        (full resolution).
+    ``name`` is the ``NAME`` of its table; ``physical_id`` is ``id`` in the file.
+    ``window`` and ``modes``: both (a PCA reconstruction) or neither (full
+    resolution).
     """
 
     name: str
-    physical_id: int
-    window: int | None = None
-    modes: int | None = None
+    physical_id: int = key(
+        name="id",
+        check=schema.integer(1),
+        doc="the boundary id of the shoreline edges from this set",
+    )
+    window: int | None = key(
+        None,
+        check=schema.integer(2),
+        default_doc="full resolution",
+        doc="PCA partition size, in points",
+    )
+    modes: int | None = key(
+        None,
+        check=schema.integer(1),
+        default_doc="full resolution",
+        doc="leading modes kept (`1 <= modes <= window`)",
+    )
 
     @property
     def pca(self) -> bool:
@@ -120,99 +168,94 @@ class ShorelineSetConfig:
         modes = "1 mode" if self.modes == 1 else f"{self.modes} modes"
         return f"PCA {modes} / {self.window} points"
 
-    def _checked(self, c: Check) -> ShorelineSetConfig:
-        window = c.optional(schema.integer(2), self.window, "window")
-        modes = c.optional(schema.integer(1), self.modes, "modes")
-        if (window is None) != (modes is None):
+    def _validate(self, c: Check) -> ShorelineSetConfig:
+        if (self.window is None) != (self.modes is None):
             raise c.error("window", "give window and modes together (or neither)")
-        if window is not None and modes > window:
-            raise c.error("modes", f"= {modes} is more than window = {window}")
-        return ShorelineSetConfig(
-            name=c(schema.string, self.name, "name"),
-            physical_id=c(schema.integer(1), self.physical_id, "id"),
-            window=window,
-            modes=modes,
-        )
+        if self.window is not None and self.modes > self.window:
+            raise c.error(
+                "modes", f"= {self.modes} is more than window = {self.window}"
+            )
+        return replace(self, name=c(schema.string, self.name, "name"))
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class RegionConfig:
     """``[[regions]]``: where a shoreline set is used.
 
-    Attributes
-    ----------
-    set : str
-        The shoreline set used inside the region.
-    box : (minx, miny, maxx, maxy), optional
-    polygon : sequence of (x, y), optional
-    path : path, optional
-        Exactly one of ``box``, ``polygon`` and ``path`` (a vector file of
-        polygons, with ``layer``), in the case CRS (a file may have its own).
-    layer : str, optional
+    Exactly one of ``box``, ``polygon`` and ``path`` (a vector file of polygons,
+    with ``layer``), in the case CRS (a file may have its own).
     """
 
-    set: str
-    box: tuple[float, float, float, float] | None = None
-    polygon: tuple[tuple[float, float], ...] | None = None
-    path: Path | None = None
-    layer: str | None = None
+    set: str = key(check=schema.string, doc="the shoreline set's name")
+    box: tuple[float, float, float, float] | None = key(
+        None, check=schema.box, doc="`[minx, miny, maxx, maxy]`"
+    )
+    polygon: tuple[tuple[float, float], ...] | None = key(
+        None, check=schema.points, doc="a list of `[x, y]` points"
+    )
+    path: Path | None = key(
+        None, check=schema.path, path=True, doc="a vector file of polygons"
+    )
+    layer: str | None = key(
+        None, check=schema.string, default_doc="the only layer", doc="its layer"
+    )
 
-    def _checked(self, c: Check) -> RegionConfig:
+    def _validate(self, c: Check) -> RegionConfig:
         given = [k for k in ("box", "polygon", "path") if getattr(self, k) is not None]
         if len(given) != 1:
             raise c.error("box", "give exactly one of box, polygon and path")
-        polygon = c.optional(schema.points, self.polygon, "polygon")
-        if polygon is not None and len(polygon) < 3:
+        if self.polygon is not None and len(self.polygon) < 3:
             raise c.error("polygon", "needs at least three points")
-        return RegionConfig(
-            set=c(schema.string, self.set, "set"),
-            box=c.optional(schema.box, self.box, "box"),
-            polygon=polygon,
-            path=c.optional(schema.path, self.path, "path"),
-            layer=c.optional(schema.string, self.layer, "layer"),
-        )
+        return self
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True)
 class DomainConfig:
-    """``[domain]``: which sea region, seams, the surface id.
+    """``[domain]``: which sea region, seams, the surface id; a global case.
 
-    Attributes
-    ----------
-    seed : (x, y), optional
-        A point in the sea to mesh; default the largest sea region.
-    seam_tolerance : float or str
-        Slivers narrower than twice this at region seams are closed (metres).
-    surface_id : int
-        The physical id of the triangles.
-    kind : {"regional", "global"}
-        ``"global"``: the whole world ocean bounded by a world shoreline layer,
-        with no open boundary, meshed through the stereographic plane whose
-        singular point is ``pole``.
-    pole : (lon, lat)
-        Global cases: the projection's singular point, on land (default the
-        South Pole).
-    close : float or str, optional
-        Global cases: water narrower than this between or within land, and land
-        narrower than it, is closed (metres on the Earth); default the smallest
-        gradation ``h_min``, so the coast can be resolved.
+    ``kind = "global"`` meshes the whole world ocean bounded by a world
+    shoreline layer, through the stereographic plane whose singular point is
+    ``pole`` (docs/global.md).
     """
 
-    seed: tuple[float, float] | None = None
-    seam_tolerance: float = 50.0
-    surface_id: int = 1
-    kind: str = "regional"
-    pole: tuple[float, float] = (0.0, -90.0)
-    close: float | None = None
+    seed: tuple[float, float] | None = key(
+        None,
+        check=schema.point,
+        default_doc="the largest sea region",
+        doc="`[x, y]` of a point in the wanted sea region",
+    )
+    seam_tolerance: float = key(
+        50.0,
+        check=schema.length(positive=False),
+        unit="length",
+        doc='half the width of the slivers removed at seams; `"0 m"` turns it off',
+    )
+    surface_id: int = key(
+        1, check=schema.integer(1), doc="the physical id of the triangles"
+    )
+    kind: str = key(
+        "regional",
+        check=schema.choice(("regional", "global")),
+        doc='`"global"`: the whole world ocean, no open boundary ([global.md]'
+        "(global.md))",
+    )
+    pole: tuple[float, float] = key(
+        (0.0, -90.0),
+        check=schema.point,
+        doc="global cases: the stereographic plane's singular point, on land",
+    )
+    close: float | None = key(
+        None,
+        check=schema.length(),
+        unit="length",
+        default_doc="the smallest gradation `h_min`",
+        doc="global cases: water, and land, narrower than this on the Earth are closed",
+    )
 
-    def _checked(self, c: Check) -> DomainConfig:
-        return DomainConfig(
-            seed=c.optional(schema.point, self.seed, "seed"),
-            seam_tolerance=c(
-                schema.length(positive=False), self.seam_tolerance, "seam_tolerance"
-            ),
-            surface_id=c(schema.integer(1), self.surface_id, "surface_id"),
-            kind=c(schema.choice(("regional", "global")), self.kind, "kind"),
-            pole=c(schema.point, self.pole, "pole"),
-            close=c.optional(schema.length(), self.close, "close"),
-        )
+    def _dump(self) -> dict[str, Any]:
+        """Return the keys; a regional domain's without the global keys."""
+        out = schema.dump_keys(self)
+        if self.kind != "global":
+            for name in ("kind", "pole", "close"):
+                out.pop(name, None)
+        return out

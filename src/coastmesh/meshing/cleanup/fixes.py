@@ -13,8 +13,8 @@
   above the limit or lowering the local minimum angle below ``min_angle``.
 - **Slivers** (minimum angle below ``min_angle``): the edge opposite the widest
   angle is flipped when that raises the smaller minimum angle of the pair.
-- **Smoothing** (:func:`~coastmesh.meshing.cleanup.smoothing.smooth_points`) of the nodes
-  of the worst 5% of triangles and any with an angle below 35 degrees, then
+- **Smoothing** (:func:`~coastmesh.meshing.cleanup.smoothing.smooth_points`) of the
+  nodes of the worst 5% of triangles and any with an angle below 35 degrees, then
   **acceptance**: the minimum angle, and the 1st percentile of the triangles'
   minimum angles, must be no lower than the input's, nor the worst radius ratio
   lower than the input's or 0.5 (on the Pentland Firth, the full pass fixed one

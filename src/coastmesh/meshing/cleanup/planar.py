@@ -2,8 +2,8 @@
 
 Each takes triangles as (k, 3, 2) coordinates in a conformal plane (where the
 cleanup works), or nodes and their (M, 3) indices (:func:`sin_min_angles`, for
-the smoothing's sweeps); :mod:`coastmesh.meshing.quality.mesh_quality` measures on the Earth
-instead.
+the smoothing's sweeps); :mod:`coastmesh.meshing.quality.mesh_quality` measures on
+the Earth instead.
 """
 
 from __future__ import annotations

@@ -7,8 +7,9 @@ curvature (:func:`~coastmesh.geometry.earth.arc_lengths`). A mesh without a CRS 
 taken as planar, in metres. Angles, radii and areas then follow from the three
 sides of each triangle (:func:`triangle_measures`); :func:`edge_measures` measures
 every edge once, and :class:`Place` says where an element or node is.
-:mod:`coastmesh.meshing.quality.mesh_quality`, :mod:`coastmesh.meshing.quality.time_step` and
-:mod:`coastmesh.meshing.quality.corners` build on these.
+:mod:`~coastmesh.meshing.quality.mesh_quality`,
+:mod:`~coastmesh.meshing.quality.time_step` and
+:mod:`~coastmesh.meshing.quality.corners` build on these.
 """
 
 from __future__ import annotations

@@ -3,14 +3,15 @@
 Every length is measured on the WGS84 ellipsoid, never in degrees: the nodes go to
 earth-centred coordinates (EPSG:4978) and each side is the chord between its two
 nodes, turned into the arc of the ellipsoid's local curvature, which matches the
-geodesic to 3e-12 from 1 km to 100 km (:mod:`coastmesh.meshing.quality.measure`). Angles,
-radius ratios and areas then follow from the three sides of each triangle. A mesh
-without a CRS is taken as planar, in metres; the report says so. With depths on
-the nodes, the report has the stable time step and Courant numbers
-(:mod:`coastmesh.meshing.quality.time_step`); it always has the sharp boundary corners
-(:mod:`coastmesh.meshing.quality.corners`). The report (:class:`QualityReport`) is data,
-defined in :mod:`coastmesh.meshing.quality.report`;
-:func:`coastmesh.io.write_report` writes it.
+geodesic to 3e-12 from 1 km to 100 km (:mod:`coastmesh.meshing.quality.measure`).
+Angles, radius ratios and areas then follow from the three sides of each triangle.
+A mesh without a CRS is taken as planar, in metres; the report says so. With
+depths on the nodes, the report has the stable time step and Courant numbers
+(:mod:`coastmesh.meshing.quality.time_step`); it always has the sharp boundary
+corners (:mod:`coastmesh.meshing.quality.corners`). The report
+(:class:`QualityReport`) is data, defined in
+:mod:`coastmesh.meshing.quality.report`; :func:`coastmesh.io.write_report`
+writes it.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""What :func:`~coastmesh.meshing.quality.mesh_quality.mesh_quality` reports, as data and text.
+"""What :func:`~coastmesh.meshing.quality.mesh_quality` reports, as data and text.
 
 :class:`QualityReport` holds the counts and one statistics block per measure
 (:class:`AngleStats`, :class:`RatioStats`, :class:`EdgeRatioStats`,

@@ -197,7 +197,7 @@ def element_time_steps(
     ValueError
         If the mesh has no ``"depth"`` point data (or not one value per node),
         ``velocity`` is negative or ``dt`` not > 0, or the mesh cannot be placed
-        on the Earth (see :func:`~coastmesh.meshing.quality.mesh_quality.triangle_quality`).
+        on the Earth (see :func:`~coastmesh.meshing.quality.triangle_quality`).
 
     Notes
     -----

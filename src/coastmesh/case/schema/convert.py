@@ -1,18 +1,16 @@
-"""The vocabulary of case files: tables read key by key, and value converters.
+"""Value converters: a case file's values checked and turned into Python values.
 
 A converter is ``convert(value, key) -> parsed`` and raises
 :class:`~coastmesh.errors.ConfigError` whose message starts with the key and the
-bad value (``mesh_size.rate = -1: must be > 0``). :class:`Table` reads one TOML
-table: each key is taken once, and a key left over is an error listing the keys
-allowed there. The case-file reader (:mod:`coastmesh.case.parse`), the checks of
-:class:`~coastmesh.case.config.CaseConfig` and the PCA studies all use these, so
-a value gets the same message wherever it is checked.
+bad value (``mesh_size.rate = -1: must be > 0``). The case-file reader, the
+checks of every config dataclass and the PCA studies all use these, so a value
+gets the same message wherever it is checked.
 
 Converters are lenient about Python types (a tuple or an array where TOML has a
-list) and strict about meaning. Lengths, areas and durations are numbers in
-metres, square metres and seconds, or strings with a unit (``"10 km"``); the
-case-file reader asks for the unit (:func:`length_with_unit`,
-:func:`area_with_unit`, :func:`duration_with_unit`).
+list) and strict about meaning. Lengths, areas, durations and speeds are numbers
+in metres, square metres, seconds and metres per second, or strings with a unit
+(``"10 km"``); in a case file the unit is required (:func:`length_with_unit`,
+:func:`area_with_unit`, :func:`duration_with_unit`, :func:`speed_with_unit`).
 """
 
 from __future__ import annotations
@@ -20,7 +18,7 @@ from __future__ import annotations
 import math
 import numbers
 import os
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -35,8 +33,7 @@ from coastmesh.sizing.units import (
 )
 
 __all__ = [
-    "MISSING",
-    "Table",
+    "Converter",
     "area",
     "area_with_unit",
     "boolean",
@@ -61,120 +58,6 @@ __all__ = [
 
 T = TypeVar("T")
 Converter = Callable[[Any, str], T]
-#: The default of :meth:`Table.get` that makes a key required.
-MISSING: Any = object()
-
-
-class Table:
-    """One TOML table being read: each key is taken once; leftovers are errors.
-
-    Parameters
-    ----------
-    data : mapping
-        The table's keys and values.
-    where : str
-        Its key path in the file (``"mesh_size"``, ``"open_boundaries[2]"``);
-        ``""`` for the file itself.
-    source : str
-        The file, named at the start of every message.
-
-    Raises
-    ------
-    ConfigError
-        If ``data`` is not a mapping.
-
-    Examples
-    --------
-    >>> t = Table({"h_max": "5 km", "rate": 0.2}, "mesh_size", "case.toml")
-    >>> t.get("h_max", length_with_unit), t.get("rate", positive)
-    (5000.0, 0.2)
-    >>> t.get("cell", length_with_unit, None) is None
-    True
-    >>> t.done()
-    >>> Table({"rte": 1}, "mesh_size", "case.toml").done()
-    Traceback (most recent call last):
-    ...
-    coastmesh.errors.ConfigError: case.toml: unknown key 'mesh_size.rte'; ...
-    """
-
-    def __init__(self, data: object, where: str, source: str) -> None:
-        if not isinstance(data, Mapping):
-            raise ConfigError(
-                f"{source}: {where or 'the file'} must be a table, got "
-                f"{type(data).__name__} {data!r}"
-            )
-        self.data = dict(data)
-        self.where = where
-        self.source = source
-        self.taken: set[str] = set()
-
-    def key(self, name: str) -> str:
-        """Return the full key path of ``name`` in this table."""
-        return f"{self.where}.{name}" if self.where else name
-
-    def error(self, name: str, message: str) -> ConfigError:
-        """Return a ConfigError about key ``name``, naming the file and the key."""
-        sep = " " if message.startswith("=") else ": "
-        return ConfigError(f"{self.source}: {self.key(name)}{sep}{message}")
-
-    def has(self, name: str) -> bool:
-        """Whether the table has key ``name``."""
-        return name in self.data
-
-    def get(self, name: str, convert: Converter[T], default: Any = MISSING) -> T:
-        """Take key ``name`` and convert it; ``default`` if absent (else an error)."""
-        self.taken.add(name)
-        if name not in self.data:
-            if default is MISSING:
-                raise self.error(name, "is missing")
-            return default
-        return located(convert, self.data[name], self.key(name), self.source)
-
-    def pick(self, *names: str) -> dict[str, Any]:
-        """Take the keys that are present, as they are: ``{key: value}``."""
-        self.taken.update(names)
-        return {name: self.data[name] for name in names if name in self.data}
-
-    def table(self, name: str, *, required: bool = False) -> Table:
-        """Take key ``name`` as a sub-table (empty if absent and not required)."""
-        self.taken.add(name)
-        if name not in self.data:
-            if required:
-                raise self.error(name, "is missing (a [table])")
-            return Table({}, self.key(name), self.source)
-        return Table(self.data[name], self.key(name), self.source)
-
-    def tables(self, name: str) -> list[Table]:
-        """Take key ``name`` as an array of tables (``[[name]]``)."""
-        self.taken.add(name)
-        items = self.data.get(name, [])
-        if not isinstance(items, list):
-            raise self.error(name, "must be an array of tables ([[...]])")
-        return [
-            Table(item, f"{self.key(name)}[{k}]", self.source)
-            for k, item in enumerate(items)
-        ]
-
-    def done(self) -> None:
-        """Raise if a key of the table was not taken."""
-        unknown = sorted(set(self.data) - self.taken)
-        if unknown:
-            known = ", ".join(sorted(self.taken)) or "none"
-            raise ConfigError(
-                f"{self.source}: unknown key {self.key(unknown[0])!r}; the keys "
-                f"allowed here are: {known}"
-            )
-
-
-def located(convert: Converter[T], value: Any, key: str, source: str) -> T:
-    """Run a converter; put ``source`` at the start of its error message."""
-    try:
-        return convert(value, key)
-    except ConfigError as exc:
-        message = str(exc)
-        if not message.startswith(source):
-            message = f"{source}: {message}"
-        raise ConfigError(message) from None
 
 
 def string(value: Any, key: str) -> str:

@@ -1,0 +1,75 @@
+"""Write a config part back as case-file TOML data, as its keys declare.
+
+:func:`dump_part` is :func:`~coastmesh.case.schema.read.read_part` the other way:
+lengths, areas, durations and speeds are written in metres, square metres,
+seconds and metres per second with their unit, paths absolute (so the text runs
+from any folder), sub-tables and arrays of tables as their parts. Keys whose
+value is None are left out, so the reader takes their defaults again.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Any
+
+from coastmesh.case.schema.keys import UNITS, Key, keys_of
+
+__all__ = ["dump_keys", "dump_part", "toml_value"]
+
+
+def dump_part(part: Any) -> dict[str, Any]:
+    """Return a part as the data of its table (for ``tomli_w``).
+
+    A part that leaves keys out where they do not apply (a regional domain's
+    pole, say) does so in a ``_dump()`` method, built on :func:`dump_keys`.
+
+    Examples
+    --------
+    >>> from coastmesh.case.config import DomainConfig
+    >>> dump_part(DomainConfig(seed=(-3.1, 58.85), seam_tolerance=50.0))
+    {'seed': [-3.1, 58.85], 'seam_tolerance': '50.0 m', 'surface_id': 1}
+    """
+    own = getattr(part, "_dump", None)
+    return own() if own is not None else dump_keys(part)
+
+
+def dump_keys(part: Any) -> dict[str, Any]:
+    """Return every key of a part that has a value; a ``kind`` (of a boundary) first."""
+    kind = getattr(type(part), "kind", None)
+    out: dict[str, Any] = {"kind": kind} if isinstance(kind, str) else {}
+    for f, meta in keys_of(part):
+        value = getattr(part, f.name)
+        if value is None and meta.dump is None:
+            continue
+        dumped = _dump_value(value, meta)
+        if dumped not in ([], {}, None):
+            out[meta.name] = dumped
+    return out
+
+
+def _dump_value(value: Any, meta: Key) -> Any:  # noqa: PLR0911 (one per kind)
+    if meta.dump is not None:
+        return meta.dump(value)
+    if meta.part is not None and meta.keyed:
+        return {p.name: dump_part(p) for p in value}
+    if meta.part is not None and meta.many:
+        return [dump_part(p) for p in value]
+    if meta.part is not None:
+        return dump_part(value)
+    if meta.path:
+        return os.path.abspath(value)
+    if meta.unit is not None:
+        return f"{value!r} {UNITS[meta.unit][0]}"
+    return toml_value(value)
+
+
+def toml_value(value: Any) -> Any:
+    """Return a value as TOML holds it: tuples as lists, paths as strings."""
+    if isinstance(value, tuple | list):
+        return [toml_value(v) for v in value]
+    if isinstance(value, Path):
+        return os.path.abspath(value)
+    if hasattr(value, "items"):
+        return {k: toml_value(v) for k, v in value.items()}
+    return value

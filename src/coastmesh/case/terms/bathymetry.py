@@ -1,0 +1,62 @@
+"""``[mesh_size.bathymetry]``: size terms from the depth: tidal wavelength, slope.
+
+``per_wavelength``: elements per tidal wavelength, ``h = T sqrt(g d) / n``;
+``per_slope``: elements per ``2 pi`` topographic length scales,
+``h = 2 pi d / (n |grad d|)`` (:mod:`coastmesh.sizing.bathymetry`). The depth is
+one raster (``path``) or a stack (``[[mesh_size.bathymetry.sources]]``), read over
+the domain's box.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from coastmesh.case import schema
+from coastmesh.case.config.sources import RasterConfig
+from coastmesh.case.schema import Check, key
+from coastmesh.case.terms.base import SizeTerm
+from coastmesh.sizing.bathymetry import M2_PERIOD
+
+__all__ = ["Bathymetry", "BathymetryConfig"]
+
+
+@dataclass(frozen=True)
+class BathymetryConfig(RasterConfig):
+    """``[mesh_size.bathymetry]``: at least one of the two terms."""
+
+    per_wavelength: float | None = key(
+        None,
+        check=schema.positive,
+        doc="elements per tidal wavelength, `h = T sqrt(g d) / n`",
+    )
+    period: float = key(
+        M2_PERIOD,
+        check=schema.duration,
+        unit="duration",
+        default_doc='M2 (`"12.4206012 h"`)',
+        doc="the wave period",
+    )
+    per_slope: float | None = key(
+        None,
+        check=schema.positive,
+        doc="elements per `2 pi` topographic length scales, "
+        "`h = 2 pi d / (n |grad d|)`",
+    )
+    min_depth: float = key(
+        1.0, check=schema.length(), unit="length", doc="the depth floor of both terms"
+    )
+
+    def _validate(self, c: Check) -> BathymetryConfig:
+        if self.per_wavelength is None and self.per_slope is None:
+            raise c.error("per_wavelength", "give per_wavelength and/or per_slope")
+        return super()._validate(c)
+
+
+class Bathymetry(SizeTerm):
+    """The term of ``[mesh_size.bathymetry]``."""
+
+    key = "bathymetry"
+    config = BathymetryConfig
+    many = False
+    default = None
+    doc = "size terms from a bathymetry raster: tidal wavelength and slope (below)"
