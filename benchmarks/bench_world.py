@@ -3,7 +3,7 @@
 Reads a world shoreline layer, builds the world ocean in the stereographic
 plane (:func:`coastmesh.geometry.world.world_ocean`), grades the size from the
 coast on a longitude/latitude grid with the tidal-wavelength term from ETOPO1
-at 0.5 degrees (:func:`coastmesh.sizing.sphere.sphere_size_field`), meshes it
+at 0.5 degrees (:class:`coastmesh.sizing.SphereGrid`), meshes it
 through the plane (:class:`coastmesh.meshing.gmsh.sphere_sizes.SphereSizeGrid`)
 and prints one JSON line: each stage's time, the triangles, the quality measured on the
 sphere (flat triangles between the nodes' unit vectors), the area against the
@@ -32,9 +32,8 @@ from coastmesh.io import read_raster
 from coastmesh.io.vector import read_features
 from coastmesh.meshing import generate_mesh
 from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
-from coastmesh.sizing import BathymetrySize
-from coastmesh.sizing.field import Gradation
-from coastmesh.sizing.sphere import sphere_size_field
+from coastmesh.sizing import SphereGrid, TermSizes, combine, wavelength_size
+from coastmesh.sizing.gradation import Gradation
 from coastmesh.types import BoundarySegment, Domain, SizeGrid
 
 
@@ -115,19 +114,15 @@ def main() -> None:
         np.array([polygon]), h_min=args.coast, d_hold=0.0, d_grade=args.grade
     )
     raster = read_raster(data_path("etopo1_0.5deg_world.tif"))
-    bathymetry = BathymetrySize(
-        raster=raster, per_wavelength=args.per_wavelength, min_depth=10.0
+    grid = SphereGrid(args.cell, south=math.floor(south) - 1.0)
+    graded = grid.graded([coast], lines_crs=ocean.crs, h_max=args.ocean)
+    wave = wavelength_size(
+        grid.depth(raster), per_wavelength=args.per_wavelength, min_depth=10.0
     )
-    field = sphere_size_field(
-        [coast],
-        h_max=args.ocean,
-        cell=args.cell,
-        south=math.floor(south) - 1.0,
-        rate=args.rate,
-        bathymetry=bathymetry,
-        h_min=args.coast,
-        lines_crs=ocean.crs,
-    )
+    terms = [("coast", TermSizes(graded)), ("wavelength", TermSizes(wave))]
+    field = combine(
+        grid, terms, h_min=args.coast, h_max=args.ocean, rate=args.rate
+    ).field
     size = SphereSizeGrid(SizeGrid.from_dataarray(field))
     seconds["size field"] = time.perf_counter() - t
 

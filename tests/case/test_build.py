@@ -148,7 +148,7 @@ def test_peak_memory_where_the_platform_cannot_tell(coarse, monkeypatch):
     """On Windows there is no resource module: the report says so."""
     import builtins
 
-    from coastmesh.case.build import peak_memory_mb
+    from coastmesh.case.report import peak_memory_mb
 
     assert peak_memory_mb() > 0
     real_import = builtins.__import__

@@ -170,7 +170,7 @@ def _layer(path: Path, layer: str):
 def test_small_lakes_are_filled_and_counted():
     from pyproj import CRS
 
-    from coastmesh.case.inputs import fill_lakes
+    from coastmesh.case.pipeline.shorelines import fill_lakes
 
     land = shapely.Polygon(
         [(0, 0), (10_000, 0), (10_000, 10_000), (0, 10_000)],

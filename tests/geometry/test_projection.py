@@ -7,8 +7,9 @@ import pytest
 import shapely
 from pyproj import CRS, Geod, Transformer
 
+from coastmesh.geometry import projection
 from coastmesh.geometry.projection import default_mesh_crs, scale_factor, to_map_units
-from coastmesh.meshing import generate_mesh, projection
+from coastmesh.meshing import generate_mesh
 from coastmesh.types import BoundarySegment, Domain, SizeGrid
 
 GEOD = Geod(ellps="WGS84")

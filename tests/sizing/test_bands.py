@@ -14,7 +14,7 @@ from reference import distance_to_points_geodesic
 
 from coastmesh.sizing import gradation_size, size_field
 from coastmesh.sizing.bands import BandTask, band_count, graded_sizes
-from coastmesh.sizing.field import Gradation
+from coastmesh.sizing.gradation import Gradation
 from coastmesh.types import runner_workers
 
 UTM = CRS.from_epsg(32630)

@@ -14,14 +14,14 @@ from hypothesis.extra.numpy import arrays
 
 from coastmesh.sizing.channel import (
     RADIUS_STEP,
-    channel_polygons,
     channel_size,
+    domain_width,
     local_width,
-    narrow_channels,
     water_mask,
 )
+from coastmesh.sizing.grid import PlaneGrid
+from coastmesh.sizing.narrow import channel_polygons, narrow_channels
 from coastmesh.sizing.slots import slots
-from coastmesh.sizing.terms import domain_width
 
 
 def reference_width(water: np.ndarray, cell: float, max_width: float) -> np.ndarray:
@@ -159,7 +159,8 @@ def test_domain_width_measures_an_inlet_and_ignores_the_open_boundary():
     domain = bay_with_inlet(600.0)
     x = np.arange(-225.0, 20_226.0, 50.0)  # no node on the inlet walls
     y = np.arange(-200.0, 26_201.0, 50.0)
-    width, inside = domain_width(domain, x, y, domain.crs, max_width=9000.0)
+    grid = PlaneGrid(x, y, domain.crs, 50.0, domain)
+    width, inside = domain_width(grid, domain, max_width=9000.0), grid.sea
     row = np.searchsorted(y, 23_000.0)
     in_inlet = width[row][inside[row]]
     assert len(in_inlet) == 12

@@ -15,10 +15,11 @@ from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import EARTH_RADIUS, GRAVITY
 from coastmesh.io import read_raster
-from coastmesh.sizing import BathymetrySize
-from coastmesh.sizing.bathymetry import M2_PERIOD
-from coastmesh.sizing.field import Gradation
-from coastmesh.sizing.sphere import limit_gradation_sphere, sphere_size_field
+from coastmesh.sizing.bathymetry import M2_PERIOD, wavelength_size
+from coastmesh.sizing.combine import TermSizes, combine
+from coastmesh.sizing.gradation import Gradation
+from coastmesh.sizing.grid import SphereGrid
+from coastmesh.sizing.sphere import limit_gradation_sphere
 
 
 def _arc(lon0, lat0, lon1, lat1) -> float:
@@ -90,7 +91,8 @@ def test_the_limit_is_the_shortest_paths_on_the_sphere(ny, nx, south, rate, seed
 def test_a_coast_grades_to_h_max_by_true_distance():
     coast = shapely.LineString([(170.0, 0.0), (190.0, 0.0)])  # across 180
     g = Gradation(np.array([coast]), h_min=10e3, d_hold=0.0, d_grade=1000e3)
-    f = sphere_size_field([g], h_max=60e3, cell=1.0, south=-60.0)
+    grid = SphereGrid(1.0, south=-60.0)
+    f = grid.field(grid.graded([g], lines_crs="EPSG:4326", h_max=60e3), "coast")
     # on the line (to the densifying's 2.5 km), the meridian 180 = -180 alike
     assert float(f.sel(x=180.0, y=0.0)) == float(f.sel(x=-180.0, y=0.0))
     assert float(f.sel(x=180.0, y=0.0)) == pytest.approx(10e3, abs=130.0)
@@ -103,8 +105,10 @@ def test_a_coast_grades_to_h_max_by_true_distance():
 
 def test_the_wavelength_term_wraps_round_the_world():
     raster = read_raster(data_path("etopo1_0.5deg_world.tif"))
-    b = BathymetrySize(raster=raster, per_wavelength=30.0, min_depth=10.0)
-    f = sphere_size_field([], h_max=1e9, cell=0.5, south=-80.0, bathymetry=b)
+    grid = SphereGrid(0.5, south=-80.0)
+    depth = grid.depth(raster, "up")
+    wave = TermSizes(wavelength_size(depth, per_wavelength=30.0, min_depth=10.0))
+    f = combine(grid, [("wave", wave)], h_min=None, h_max=1e9, rate=None).field
     # mid-Pacific, 5,000 m or so: T sqrt(g d) / 30
     depth = -float(raster.sel(x=-150.0, y=0.0, method="nearest"))
     want = M2_PERIOD * math.sqrt(GRAVITY * depth) / 30.0
@@ -116,7 +120,21 @@ def test_the_wavelength_term_wraps_round_the_world():
 
 
 def test_the_slope_term_is_refused_in_a_global_case():
-    raster = read_raster(data_path("etopo1_0.5deg_world.tif"))
-    b = BathymetrySize(raster=raster, per_slope=10.0)
-    with pytest.raises(ConfigError, match=r"per_slope\) is not available in a global"):
-        sphere_size_field([], h_max=1e5, cell=1.0, bathymetry=b)
+    from coastmesh.case import parse_case
+
+    text = (
+        '[case]\nname = "w"\n[shorelines]\npath = "w.gpkg"\n'
+        '[shoreline_sets.world]\nid = 1\n[domain]\nkind = "global"\n'
+        '[mesh_size]\nh_max = "100 km"\n[mesh_size.bathymetry]\n'
+        'path = "etopo.tif"\nper_slope = 10\n'
+    )
+    with pytest.raises(ConfigError, match=r"per_slope: the slope term is not"):
+        parse_case(text, "/cases/w.toml")
+
+
+def test_the_grid_wraps_round_and_measures_areas_on_the_sphere():
+    grid = SphereGrid(10.0, south=-90.0)
+    assert grid.shape == (19, 37) and grid.x[0] == -180.0 and grid.x[-1] == 180.0
+    # every node but the repeated meridian: the whole sphere, to the cells' rule
+    total = grid.km2(np.ones(grid.shape, dtype=bool))
+    assert total == pytest.approx(4 * math.pi * EARTH_RADIUS**2 / 1e6, rel=0.02)

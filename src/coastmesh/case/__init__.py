@@ -5,6 +5,7 @@
 :func:`parse_case`         case-file text -> :class:`CaseConfig`
 :func:`dump_case`          :class:`CaseConfig` -> case-file text
 :func:`build_case`         a case -> :class:`CaseResult`, in memory
+:func:`domain_size_field`  the size stage alone, on a domain built in Python
 :func:`run_case`           build, then :meth:`CaseResult.write`
 :class:`CaseConfig`        a whole case, checked when built; its parts below
 :class:`CaseResult`        mesh, domain, size field, :class:`CaseReport`
@@ -47,8 +48,9 @@ from coastmesh.case.config import (
     StudyCase,
 )
 from coastmesh.case.dump import dump_case
-from coastmesh.case.inputs import ShorelineSetReport
 from coastmesh.case.parse import parse_case, read_case
+from coastmesh.case.pipeline.size import domain_size_field
+from coastmesh.case.pipeline.state import ShorelineSetReport
 from coastmesh.case.report import CaseReport, MeshReport
 from coastmesh.case.result import CaseResult
 from coastmesh.case.run import run_case
@@ -87,6 +89,7 @@ __all__ = [
     "SizeConfig",
     "StudyCase",
     "build_case",
+    "domain_size_field",
     "dump_case",
     "parse_case",
     "read_case",

@@ -28,9 +28,12 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from coastmesh.case.config import CaseConfig
 
 if TYPE_CHECKING:
+    from coastmesh.case.pipeline.state import CaseRun
     from coastmesh.case.result import CaseResult
 
 __all__ = [
@@ -237,6 +240,8 @@ class FigureJobs:
         self.workers = int(workers)
         self.pool: ProcessPoolExecutor | None = None
         self.futures: dict[str, Future[bytes]] = {}
+        #: what :meth:`follow` started figures of, by group
+        self.followed: dict[str, object] = {}
 
     def __enter__(self) -> FigureJobs:
         return self
@@ -267,6 +272,50 @@ class FigureJobs:
         ):
             if stem not in self.futures:
                 self.futures[stem] = self.pool.submit(render, function, args, kwargs)
+
+    def follow(self, run: CaseRun) -> None:
+        """Start the figures a run can draw now that a stage is done; each once.
+
+        The domain, size and channel figures once the size field is made; the
+        parts figure once the water is meshed; the mesh's figures once it has
+        its depths (or is made, without ``[bathymetry]``), and again if the
+        time-step relief changes it; the quality figure once it is measured.
+        """
+        name, domain = run.config.name, run.domain
+        if domain is None or run.size is None:
+            return
+        if "setup" not in self.followed:
+            self.followed["setup"] = run.size
+            field = run.size.field
+            cell = run.size.grid.cell_m
+            self.start(
+                setup_jobs(
+                    name,
+                    domain.domain,
+                    field,
+                    channel_width=run.size.layers.get("width"),
+                    channels=run.size.report.channels,
+                ),
+                int((4 / np.sqrt(3) * cell**2 / field.values**2).sum()),
+            )
+        state = run.mesh
+        if state is None:
+            return
+        triangles = len(state.mesh.triangles)
+        if "parts" not in self.followed:
+            self.followed["parts"] = state.parts
+            jobs = parts_jobs(name, domain.domain, state.parts, state.mesh.crs)
+            self.start(jobs, triangles)
+        deep = run.config.bathymetry is None or run.depth is not None
+        drawn = self.followed.get("mesh")
+        if deep and drawn is not state.mesh:
+            self.followed["mesh"] = state.mesh
+            depth = None if run.depth is None else run.depth.report
+            jobs = mesh_jobs(name, state.mesh, domain.domain, run.config, depth)
+            self.start(jobs, triangles, again=drawn is not None)
+        if run.quality is not None and "quality" not in self.followed:
+            self.followed["quality"] = run.quality
+            self.start(quality_jobs(name, state.mesh, run.quality), triangles)
 
     def save(self, jobs: list[Job], folder: Path, triangles: int) -> list[str]:
         """Draw ``jobs`` into ``folder/figures``; return their names, relative."""

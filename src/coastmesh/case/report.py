@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import sys
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
+from pyproj import CRS
 
-from coastmesh.case.inputs import ShorelineSetReport
+from coastmesh.case.pipeline.state import CaseRun, ShorelineSetReport, missing
 from coastmesh.depth import DepthReport
 from coastmesh.geometry import DomainReport, StitchReport
 from coastmesh.meshing import CleanupReport, QualityReport, ThrottleReport
@@ -14,7 +17,7 @@ from coastmesh.meshing.parts.report import PartsReport
 from coastmesh.sizing import SizeFieldReport
 from coastmesh.types import Mesh, Report
 
-__all__ = ["CaseReport", "MeshReport"]
+__all__ = ["CaseReport", "MeshReport", "peak_memory_mb"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -116,6 +119,43 @@ class CaseReport(Report):
     time_step: ThrottleReport | None = None
     parts: PartsReport | None = None
 
+    @classmethod
+    def of(
+        cls,
+        run: CaseRun,
+        seconds: Mapping[str, float],
+        files: tuple[str, ...] = (),
+    ) -> CaseReport:
+        """Read the report of a finished run: every stage's part, as it left it."""
+        from coastmesh import __version__
+
+        config = run.config
+        shorelines = run.shorelines or missing("shorelines")
+        domain = run.domain or missing("domain")
+        size = run.size or missing("size field")
+        mesh = run.mesh or missing("mesh")
+        return cls(
+            case=config.name,
+            source=None if config.source is None else str(config.source),
+            coastmesh_version=__version__,
+            crs=shorelines.crs.to_string(),
+            mesh_crs=_crs_text(domain.mesh_crs),
+            output_crs=domain.output_crs.to_string(),
+            shoreline_sets=dict(shorelines.reports),
+            stitch=domain.stitch,
+            domain=domain.report,
+            size_field=size.report,
+            mesh=MeshReport.of(mesh.mesh),
+            cleanup=mesh.parts.cleanup,
+            depth=None if run.depth is None else run.depth.report,
+            quality=run.quality,
+            seconds=dict(seconds),
+            peak_memory_mb=peak_memory_mb(),
+            files=files,
+            time_step=None if run.depth is None else run.depth.relief,
+            parts=mesh.parts,
+        )
+
     def summary(self) -> str:
         """Return the report as a few lines of text (``summary.txt``)."""
         lines = [
@@ -151,3 +191,22 @@ class CaseReport(Report):
         if self.files:
             lines.append("files: " + ", ".join(self.files))
         return "\n".join(lines)
+
+
+def _crs_text(crs: CRS) -> str:
+    """Return a CRS as its code (``EPSG:32630``), or as WKT where it has none."""
+    return crs.to_wkt() if crs.to_epsg() is None else crs.to_string()
+
+
+def peak_memory_mb() -> float | None:
+    """Return the peak resident memory of this process, MB; None if unknown.
+
+    The ``resource`` module is Unix-only: on Windows the peak is not measured.
+    """
+    try:
+        import resource
+    except ImportError:
+        return None
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    # Linux reports KiB, macOS bytes
+    return round(peak / (1024 * 1024 if sys.platform == "darwin" else 1024), 1)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -21,6 +22,7 @@ from coastmesh import __version__
 from coastmesh.case.config import CaseConfig, OutputConfig
 from coastmesh.case.dump import dump_case
 from coastmesh.case.figures import FigureJobs, figure_jobs
+from coastmesh.case.pipeline.state import CaseRun, missing
 from coastmesh.case.report import CaseReport
 from coastmesh.geometry import OpenBoundary
 from coastmesh.io import (
@@ -88,6 +90,31 @@ class CaseResult:
     output: Path | None = None
     files: tuple[str, ...] = ()
     channel_width: xr.DataArray | None = None
+
+    @classmethod
+    def of(
+        cls, run: CaseRun, seconds: Mapping[str, float], elapsed: float
+    ) -> CaseResult:
+        """Return what a finished run made, its report read from it.
+
+        ``seconds``: the time of each timed step; ``elapsed``: the whole build.
+        """
+        shorelines = run.shorelines or missing("shorelines")
+        domain = run.domain or missing("domain")
+        size = run.size or missing("size field")
+        mesh = run.mesh or missing("mesh")
+        return cls(
+            config=run.config,
+            mesh=mesh.mesh,
+            domain=domain.domain,
+            size=size.field,
+            report=CaseReport.of(run, seconds),
+            regions=domain.regions,
+            open_boundaries=domain.open_boundaries,
+            crs=shorelines.crs,
+            seconds=elapsed,
+            channel_width=size.layers.get("width"),
+        )
 
     @property
     def name(self) -> str:

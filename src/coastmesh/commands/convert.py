@@ -204,7 +204,7 @@ def convert_mesh(
 def _stack(paths: Any, positive: Any, blend: Any, mesh: Mesh) -> Any:
     """Read the rasters over the mesh's box as a DepthSources stack."""
     from coastmesh.case.config.sources import DepthSourceConfig
-    from coastmesh.case.sources import read_sources
+    from coastmesh.case.pipeline.depth import read_sources
 
     paths = [paths] if isinstance(paths, str | os.PathLike) else list(paths)
     signs = _each(positive, len(paths), "raster_positive")

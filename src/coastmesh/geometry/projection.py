@@ -267,12 +267,15 @@ def to_map_units(size: SizeGrid, mesh_crs: CRS, *, threads: int = 1) -> SizeGrid
     -------
     SizeGrid
         The same nodes with values ``size.values * k``, k the point scale factor
-        (:func:`scale_factor`).
+        (:func:`scale_factor`; ``size.scale`` where the grid has it).
     """
     if not isinstance(size, SizeGrid):  # a SphereSizeGrid scales as it samples
         return size.in_map_units()
-    gx, gy = np.meshgrid(size.x, size.y)
-    k = scale_factor(gx, gy, mesh_crs, threads=threads)
+    if size.scale is not None:  # measured with the grid
+        k = size.scale
+    else:
+        gx, gy = np.meshgrid(size.x, size.y)
+        k = scale_factor(gx, gy, mesh_crs, threads=threads)
     logger.info(
         "size: scale factor %.4f to %.4f in %s", k.min(), k.max(), mesh_crs.name
     )

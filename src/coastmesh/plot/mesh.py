@@ -193,7 +193,7 @@ def channel_figure(
     Parameters
     ----------
     width : xarray.DataArray
-        As :attr:`coastmesh.sizing.SizeField.width` (metres; NaN off the domain,
+        The channel term's width of the water (metres; NaN off the domain,
         inf where wide).
     report : coastmesh.sizing.ChannelReport, optional
         Its narrow channels are circled and its floor drawn as a contour

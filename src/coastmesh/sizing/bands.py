@@ -39,7 +39,7 @@ from coastmesh.sizing.gradation import gradation_size
 from coastmesh.types import local_cores, runner_workers, serial_runner
 
 if TYPE_CHECKING:
-    from coastmesh.sizing.field import Gradation
+    from coastmesh.sizing.gradation import Gradation
 
 __all__ = ["BandTask", "band_count", "graded_band", "graded_sizes"]
 

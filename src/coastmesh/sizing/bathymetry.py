@@ -1,26 +1,20 @@
-"""Size terms from bathymetry: tidal wavelength and bathymetric slope."""
+"""Size from the depth: elements per tidal wavelength, per bathymetric slope."""
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from pyproj import CRS
 
-from coastmesh.depth.grid import depth_on_grid
-from coastmesh.depth.sources import DepthSources
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import GRAVITY
 
 if TYPE_CHECKING:
-    import xarray as xr
+    pass
 
 __all__ = [
     "M2_PERIOD",
-    "BathymetrySize",
-    "bathymetry_size",
     "slope_size",
     "wavelength_size",
 ]
@@ -118,64 +112,3 @@ def slope_size(
     steep = np.hypot(gx, gy)
     with np.errstate(divide="ignore"):
         return np.where(steep > 0, 2 * np.pi * d / (per_slope * steep), np.inf)
-
-
-@dataclass(frozen=True, slots=True)
-class BathymetrySize:
-    """Size terms from a bathymetry raster: tidal wavelength and slope.
-
-    Parameters
-    ----------
-    raster : xarray.DataArray or DepthSources
-        As :func:`coastmesh.io.read_raster` returns (dims ``("y", "x")``, a
-        ``crs`` attr, NaN for nodata).
-    positive : {"up", "down"}
-        The raster's sign: ``"up"`` for elevations (GEBCO, ETOPO).
-    per_wavelength : float, optional
-        Elements per tidal wavelength (:func:`~coastmesh.sizing.wavelength_size`).
-    period : float
-        The tide's period, seconds; default M2.
-    per_slope : float, optional
-        Elements per ``2 pi d / |grad d|`` (:func:`~coastmesh.sizing.slope_size`).
-    min_depth : float
-        Depth floor of both terms, metres.
-    """
-
-    raster: xr.DataArray | DepthSources
-    positive: str = "up"
-    per_wavelength: float | None = None
-    period: float = M2_PERIOD
-    per_slope: float | None = None
-    min_depth: float = 1.0
-
-
-def bathymetry_size(
-    b: BathymetrySize, field: xr.DataArray, mesh_crs: CRS
-) -> NDArray[np.float64]:
-    """Return the smaller of the wavelength and slope terms on a size field's grid.
-
-    ``field`` is a size field DataArray (dims ``("y", "x")``, in ``mesh_crs``).
-    """
-    depth = depth_on_grid(
-        b.raster, field.x.values, field.y.values, crs=mesh_crs, positive=b.positive
-    )
-    size = np.full(depth.shape, np.inf)
-    if b.per_wavelength is not None:
-        size = np.minimum(
-            size,
-            wavelength_size(
-                depth,
-                per_wavelength=b.per_wavelength,
-                period=b.period,
-                min_depth=b.min_depth,
-            ),
-        )
-    if b.per_slope is not None:
-        cell = float(field.x[1] - field.x[0])
-        size = np.minimum(
-            size,
-            slope_size(
-                depth, (cell, cell), per_slope=b.per_slope, min_depth=b.min_depth
-            ),
-        )
-    return size

@@ -35,30 +35,29 @@ written here; every transform in it is scipy's.
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 from scipy import ndimage
 
-from coastmesh.types import Report
+from coastmesh.types import Domain
+
+if TYPE_CHECKING:
+    from coastmesh.sizing.grid import PlaneGrid
 
 __all__ = [
     "RADIUS_STEP",
-    "ChannelReport",
-    "NarrowChannel",
     "channel_size",
+    "domain_width",
     "local_width",
-    "narrow_channels",
+    "over_land",
     "water_mask",
 ]
 
 #: Ratio of one radius to the next in :func:`local_width`.
 RADIUS_STEP = 1.15
-#: A channel is "narrow" if fewer than this many elements of the floor fit across.
-NARROW_ELEMENTS = 2
 
 
 def water_mask(
@@ -168,204 +167,6 @@ def channel_size(
     return np.maximum(width / elements_across, h_min)
 
 
-@dataclass(frozen=True, slots=True)
-class NarrowChannel(Report):
-    """A stretch of water too narrow for two elements of the floor size.
-
-    Attributes
-    ----------
-    x, y : float
-        Its widest point, in the size grid's CRS.
-    lon, lat : float
-        The same point, degrees.
-    area_m2 : float
-        Its area on the size grid, square metres.
-    width_m : float
-        Its greatest width, metres (its dead ends are narrower).
-    """
-
-    x: float
-    y: float
-    lon: float
-    lat: float
-    area_m2: float
-    width_m: float
-
-    def summary(self) -> str:
-        """Return a one-line summary."""
-        return (
-            f"{self.width_m:.0f} m wide, {self.area_m2 / 1e6:.3f} km2 at "
-            f"{self.lon:.4f}, {self.lat:.4f}"
-        )
-
-
-@dataclass(frozen=True, slots=True)
-class ChannelReport(Report):
-    """What the channel-width term found.
-
-    Attributes
-    ----------
-    elements_across : float
-        Elements asked for across every channel.
-    h_min : float
-        The floor of the field, metres.
-    narrow : {"keep", "close"}
-        What is done with narrow channels.
-    limited_km2 : float
-        Area of the domain where the term set the size, km2.
-    narrow_channels : int
-        Stretches of the domain narrower than two elements of ``h_min``: one
-        element wide (after closing, with ``narrow = "close"``: what the cut
-        left).
-    narrow_km2 : float
-        Their area, km2.
-    worst : tuple of NarrowChannel
-        The largest of them (up to 20), largest first.
-    closed, closed_km2 : int, float
-        Channels closed (taken out of the domain as land) and their area, km2.
-    slots : int
-        With ``narrow = "keep"``: slots narrower than ``h_min / 2`` closed all
-        the same (no element fits in them; with ``"close"`` they are counted in
-        ``closed``).
-    """
-
-    elements_across: float
-    h_min: float
-    narrow: str
-    limited_km2: float
-    narrow_channels: int
-    narrow_km2: float
-    worst: tuple[NarrowChannel, ...] = ()
-    closed: int = 0
-    closed_km2: float = 0.0
-    slots: int = 0
-
-    def summary(self) -> str:
-        """Return a one-line summary."""
-        closed = (
-            f"{self.closed} closed ({self.closed_km2:,.2f} km2), "
-            if self.closed
-            else ""
-        )
-        return (
-            f"channels: {self.elements_across:g} elements across sets the size on "
-            f"{self.limited_km2:,.1f} km2; {closed}{self.narrow_channels} narrower "
-            f"than {NARROW_ELEMENTS} x {self.h_min:g} m kept ({self.narrow_km2:,.2f} "
-            "km2)"
-        )
-
-
-def narrow_channels(
-    width: NDArray[np.float64],
-    inside: NDArray[np.bool_],
-    *,
-    h_min: float,
-    cell: float,
-    min_length: float | None = None,
-) -> tuple[NDArray[np.int32], list[tuple[float, float, float, float]]]:
-    """Label the stretches of water narrower than ``NARROW_ELEMENTS * h_min``.
-
-    Parameters
-    ----------
-    width : ndarray, shape (ny, nx)
-        :func:`local_width`, metres.
-    inside : ndarray of bool
-        Grid nodes inside the domain (only those count).
-    h_min : float
-        The floor of the size field, metres.
-    cell : float
-        Grid spacing, metres.
-    min_length : float, optional
-        Stretches shorter than this (the diagonal of their bounding box, metres)
-        are the tips of corners, not channels, and are left out; default
-        ``NARROW_ELEMENTS * h_min``. (The tip of a right-angled corner is about
-        ``0.6 h_min`` long; the head of a fjord 20 degrees wide, ``5.7 h_min``.)
-
-    Returns
-    -------
-    labels : ndarray of int32, shape (ny, nx)
-        0 outside any narrow channel, else its number (1, 2, ...), largest first.
-    channels : list of (row, col, area_m2, width_m)
-        For each: its widest node, its area, and its greatest width (still
-        under ``NARROW_ELEMENTS * h_min``; its dead ends are narrower).
-
-    Examples
-    --------
-    >>> width = np.full((6, 6), 900.0); width[2:4, :] = 150.0; width[2, 0] = 80.0
-    >>> labels, found = narrow_channels(width, np.ones((6, 6), bool),
-    ...                                 h_min=100.0, cell=50.0)
-    >>> int(labels.max()), found[0][2], found[0][3]
-    (1, 30000.0, 150.0)
-    """
-    narrow = inside & (width < NARROW_ELEMENTS * h_min)
-    labels, count = ndimage.label(narrow, structure=np.ones((3, 3)))
-    if count == 0:
-        return labels.astype(np.int32), []
-    if min_length is None:
-        min_length = NARROW_ELEMENTS * h_min
-    sizes = np.bincount(labels.ravel(), minlength=count + 1)
-    sizes[0] = 0
-    boxes = ndimage.find_objects(labels)
-    length = np.zeros(count + 1)
-    length[1:] = [
-        cell * math.hypot(b[0].stop - b[0].start, b[1].stop - b[1].start) for b in boxes
-    ]
-    keep = np.flatnonzero(length >= min_length)
-    keep = keep[np.argsort(-sizes[keep], kind="stable")]
-    renumber = np.zeros(count + 1, dtype=np.int32)
-    renumber[keep] = np.arange(1, len(keep) + 1, dtype=np.int32)
-    labels = renumber[labels]
-    found = []
-    if len(keep):
-        index = np.arange(1, len(keep) + 1)
-        lows = ndimage.maximum_position(width, labels, index=index)
-        for k, (row, col) in enumerate(lows):
-            found.append(
-                (
-                    int(row),
-                    int(col),
-                    float(sizes[keep[k]] * cell * cell),
-                    float(width[row, col]),
-                )
-            )
-    return labels, found
-
-
-def channel_polygons(
-    labels: NDArray[np.int32], x: NDArray[np.float64], y: NDArray[np.float64]
-) -> NDArray[np.object_]:
-    """Return the labelled stretches as polygons (union of their grid cells).
-
-    Parameters
-    ----------
-    labels : ndarray of int, shape (ny, nx)
-        As :func:`narrow_channels` returns.
-    x, y : ndarray
-        Ascending node coordinates of the grid (uniform spacing).
-
-    Returns
-    -------
-    ndarray of shapely polygons
-        One (Multi)Polygon per label, 1 first.
-    """
-    count = int(labels.max(initial=0))
-    if count == 0:
-        return np.empty(0, dtype=object)
-    dx = float(x[1] - x[0])
-    rows, cols = np.nonzero(labels)
-    boxes = shapely.box(
-        x[cols] - dx / 2, y[rows] - dx / 2, x[cols] + dx / 2, y[rows] + dx / 2
-    )
-    order = np.argsort(labels[rows, cols], kind="stable")
-    starts = np.searchsorted(labels[rows, cols][order], np.arange(1, count + 2))
-    # the cells of a label tile it: coverage_union_all merges them exactly
-    parts = [
-        shapely.coverage_union_all(boxes[order[starts[k] : starts[k + 1]]])
-        for k in range(count)
-    ]
-    return np.array(parts, dtype=object)
-
-
 def over_land(term: NDArray[np.float64], water: NDArray[np.bool_]) -> NDArray:
     """Return ``term`` with each land node given its nearest water node's value.
 
@@ -388,3 +189,41 @@ def over_land(term: NDArray[np.float64], water: NDArray[np.bool_]) -> NDArray:
         ~water, return_distances=False, return_indices=True
     )
     return term[tuple(nearest)]
+
+
+def domain_width(
+    grid: PlaneGrid, domain: Domain, *, max_width: float
+) -> NDArray[np.float64]:
+    """Return the width of the domain's water at the grid's nodes (metres).
+
+    The domain's shoreline segments are walls; its open boundaries are not (the
+    sea goes on past them). 0 on land; ``inf`` where wider than ``max_width``
+    (see :func:`local_width`).
+    """
+    from coastmesh.sizing.grid import densified
+
+    lines: dict[str, list[shapely.Geometry]] = {"shoreline": [], "open": []}
+    for s in domain.segments:
+        lines[s.kind].append(shapely.LineString(s.coords))
+    shore = _touched(densified(domain, lines["shoreline"], grid.crs), grid)
+    opened = _touched(densified(domain, lines["open"], grid.crs), grid)
+    water = water_mask(grid.sea, shore, opened)
+    return local_width(water, grid.cell, max_width=max_width)
+
+
+def _touched(lines: NDArray[np.object_], grid: PlaneGrid) -> NDArray[np.bool_]:
+    """Grid nodes next to the lines: the nearest node of every point of them.
+
+    Each line is sampled at a third of the grid spacing, so every cell it
+    crosses has a sample (a line burnt into the grid; rasterio is kept out of
+    the core stages).
+    """
+    x, y, cell = grid.x, grid.y, grid.cell
+    mask = np.zeros(grid.shape, dtype=bool)
+    if not len(lines):
+        return mask
+    points = shapely.get_coordinates(shapely.segmentize(lines, cell / 3))
+    col = np.clip(np.rint((points[:, 0] - x[0]) / cell).astype(np.int64), 0, len(x) - 1)
+    row = np.clip(np.rint((points[:, 1] - y[0]) / cell).astype(np.int64), 0, len(y) - 1)
+    mask[row, col] = True
+    return mask

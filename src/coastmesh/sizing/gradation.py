@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from coastmesh.errors import ConfigError
 
-__all__ = ["DEFAULT_RATE", "gradation_size", "limit_gradation"]
+__all__ = ["DEFAULT_RATE", "Gradation", "gradation_size", "limit_gradation"]
 
 #: The gradation limit of the size field unless a case or a caller sets one
 #: (metres per metre). Measured on the paper's NW-shelf meshes, whose gradations
@@ -156,3 +158,28 @@ def _sweep(h: NDArray[np.float64], step: float, axis) -> NDArray[np.float64]:
     done = _cone_1d(sheared, step, 0)  # inf pads the ends of each diagonal only
     out = done[rows, cols]
     return out[:, ::-1] if flip else out
+
+
+@dataclass(frozen=True, slots=True)
+class Gradation:
+    """The paper's gradation from one set of lines (all lengths in metres).
+
+    Parameters
+    ----------
+    lines : ndarray of shapely geometries
+        The shoreline set (lines or polygons) the size is graded from.
+    h_min : float
+        Size at the lines.
+    d_hold : float
+        Distance over which ``h_min`` is kept.
+    d_grade : float
+        Distance over which the size then grows linearly to the field's ``h_max``.
+    name : str
+        For reports.
+    """
+
+    lines: NDArray[np.object_]
+    h_min: float
+    d_hold: float
+    d_grade: float
+    name: str = "gradation"

@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.geometry.earth import reproject
-from coastmesh.sizing.terms import projected
+from coastmesh.sizing.grid import densified
 from coastmesh.types import Domain
 
 __all__ = [
@@ -167,7 +167,7 @@ def domain_slots(
     fits in them, and their tips make the worst elements of a mesh.
     """
     mesh_crs = CRS.from_user_input(mesh_crs)
-    water = projected(domain, [domain.polygon], mesh_crs)[0]
+    water = densified(domain, [domain.polygon], mesh_crs)[0]
     thin = slots(water, width, threads=threads)
     if not len(thin):
         return thin

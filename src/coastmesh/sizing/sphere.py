@@ -1,17 +1,19 @@
-"""Size fields of the whole world, on a longitude/latitude grid that wraps round.
+"""What a size field of the whole world needs: its grid wraps round.
 
 A global case's size field lives on the nodes of a longitude/latitude grid whose
-last column is its first (longitude -180 and 180): the grid
-:class:`~coastmesh.meshing.gmsh.sphere_sizes.SphereSizeGrid` hands to the mesher.
-Every size is a length on the sphere, in metres:
+last column is its first (longitude -180 and 180):
+:class:`~coastmesh.sizing.grid.SphereGrid`, which
+:class:`~coastmesh.meshing.gmsh.SphereSizeGrid` hands to the mesher. Every size
+is a length on the sphere, in metres:
 
 * gradations from shoreline sets, by great-circle distance
-  (:func:`~coastmesh.sizing.distance.distance_to_lines` measures on the Earth);
-* the tidal-wavelength term from a bathymetry raster, sampled at the nodes with
-  the raster wrapped round in longitude when it covers the world;
+  (:func:`sphere_distance`, from lines in longitude and latitude or in the
+  stereographic plane);
+* a bathymetry raster is sampled at the nodes wrapped round in longitude when it
+  covers the world (:func:`wrapped`);
 * the gradation limit, with the true length of each step on the sphere: the
   east-west spacing shrinks with the cosine of the latitude, and the sweeps
-  carry the limit across the antimeridian.
+  carry the limit across the antimeridian (:func:`limit_gradation_sphere`).
 """
 
 from __future__ import annotations
@@ -24,139 +26,23 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS
 
-from coastmesh.depth.grid import depth_on_grid
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import EARTH_RADIUS, earth_centred
-from coastmesh.sizing.bathymetry import BathymetrySize, wavelength_size
 from coastmesh.sizing.distance import distance_to_lines, nearest_arcs
-from coastmesh.sizing.field import Gradation
-from coastmesh.sizing.gradation import gradation_size
 
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["limit_gradation_sphere", "sphere_size_field"]
+__all__ = [
+    "limit_gradation_sphere",
+    "sphere_distance",
+    "wrapped",
+]
 
 _LONLAT = "EPSG:4326"
 
 
-def sphere_size_field(
-    gradations: list[Gradation],
-    *,
-    h_max: float,
-    cell: float,
-    south: float = -90.0,
-    rate: float | None = None,
-    bathymetry: BathymetrySize | None = None,
-    h_min: float | None = None,
-    lines_crs: CRS | str = _LONLAT,
-) -> xr.DataArray:
-    """Target edge length on a world longitude/latitude grid.
-
-    Parameters
-    ----------
-    gradations : list of Gradation
-        Lines in longitude/latitude (EPSG:4326); combined by minimum.
-    h_max : float
-        Largest size, metres.
-    cell : float
-        Grid spacing in degrees (> 0; 360 and 90 - ``south`` are rounded to
-        whole numbers of cells).
-    south : float
-        Southernmost latitude of the grid (degrees): below the ocean's
-        southernmost point. The grid runs from there to the North Pole.
-    rate : float, optional
-        Gradation limit (metres per metre, on the sphere).
-    bathymetry : BathymetrySize, optional
-        The tidal-wavelength term (the slope term is not available on a world
-        grid yet).
-    h_min : float, optional
-        Floor of the field, metres.
-    lines_crs : CRS-like
-        The CRS of the gradations' lines: longitude/latitude, or the
-        stereographic plane a world is meshed in (lines there, Antarctica's
-        coast among them, have no edge across the antimeridian).
-
-    Returns
-    -------
-    xarray.DataArray
-        Sizes in metres, dims ``("y", "x")``: ``x`` longitudes from -180 to 180
-        (both ends, the same meridian), ``y`` latitudes; attrs ``crs``,
-        ``units`` and ``history``.
-
-    Raises
-    ------
-    ConfigError
-        If a number is out of range, or the bathymetry asks for the slope term.
-
-    Examples
-    --------
-    >>> coast = shapely.LineString([(-10, 0), (10, 0)])
-    >>> g = Gradation(np.array([coast]), h_min=10e3, d_hold=10e3, d_grade=500e3)
-    >>> f = sphere_size_field([g], h_max=50e3, cell=2.0, south=-80.0)
-    >>> f.shape, float(f.sel(x=0, y=0)), float(f.sel(x=180, y=0))
-    ((86, 181), 10000.0, 50000.0)
-    """
-    if not cell > 0:
-        raise ConfigError(f"cell = {cell}: must be > 0 degrees")
-    if not -90.0 <= south < 90.0:
-        raise ConfigError(f"south = {south}: must be a latitude below 90")
-    if bathymetry is not None and bathymetry.per_slope is not None:
-        raise ConfigError(
-            "mesh_size.bathymetry: the slope term (per_slope) is not available in "
-            "a global case; use the wavelength term (per_wavelength) alone"
-        )
-    nx = max(round(360.0 / cell), 4)
-    ny = max(round((90.0 - south) / cell), 2)
-    lon = np.linspace(-180.0, 180.0, nx + 1)
-    lat = np.linspace(south, 90.0, ny + 1)
-    size = np.full((ny + 1, nx + 1), float(h_max))
-    resolution = min(math.radians(360.0 / nx) * EARTH_RADIUS / 4, 5_000.0)
-    for g in gradations:
-        if g.h_min > h_max:
-            raise ConfigError(
-                f"gradation {g.name!r}: h_min = {g.h_min} > h_max = {h_max}"
-            )
-        lines = np.asarray(g.lines, dtype=object)
-        if len(lines) == 0 or shapely.is_empty(lines).all():
-            continue
-        distance = _distance(
-            lines, lines_crs, lon[:-1], lat, resolution, g.d_hold + g.d_grade
-        )  # the last column is the first meridian again
-        graded = gradation_size(distance, g.h_min, h_max, g.d_hold, g.d_grade)
-        np.minimum(size, np.hstack([graded, graded[:, :1]]), out=size)
-    if bathymetry is not None and bathymetry.per_wavelength is not None:
-        raster = _wrapped(bathymetry.raster)
-        depth = depth_on_grid(
-            raster, lon[:-1], lat, crs=_LONLAT, positive=bathymetry.positive
-        )
-        wave = wavelength_size(
-            depth,
-            per_wavelength=bathymetry.per_wavelength,
-            period=bathymetry.period,
-            min_depth=bathymetry.min_depth,
-        )
-        np.minimum(size, np.hstack([wave, wave[:, :1]]), out=size)
-    if h_min is not None:
-        size = np.maximum(size, h_min)
-    size = np.minimum(size, h_max)
-    if rate is not None:
-        size = limit_gradation_sphere(size, lat, rate)
-    import xarray as xr
-
-    history = f"coastmesh sphere_size_field: {len(gradations)} gradations"
-    history += ", wavelength" if bathymetry is not None else ""
-    history += f", h_max {h_max:g} m" + (f", rate {rate:g}" if rate else "")
-    return xr.DataArray(
-        size,
-        dims=("y", "x"),
-        coords={"y": lat, "x": lon},
-        name="size",
-        attrs={"crs": CRS(_LONLAT).to_wkt(), "units": "m", "history": history},
-    )
-
-
-def _distance(
+def sphere_distance(
     lines: NDArray[np.object_],
     crs: CRS | str,
     lon: NDArray[np.float64],
@@ -302,12 +188,14 @@ def _diagonals(h: NDArray, step: NDArray, *, flip: bool) -> NDArray[np.float64]:
     return out[:, ::-1] if flip else out
 
 
-def _wrapped(raster: xr.DataArray) -> xr.DataArray:
+def wrapped(raster: xr.DataArray) -> xr.DataArray:
     """Return a world lon/lat raster one column wider on each side.
 
     The column added on each side is the other side's edge column, so the raster
     interpolates across the antimeridian; any other raster is returned as it is.
     """
+    if not hasattr(raster, "attrs"):  # a stack of sources: sampled as it is
+        return raster
     import xarray as xr
 
     crs = raster.attrs.get("crs")

@@ -30,6 +30,10 @@ class SizeGrid:
         Strictly ascending cell-centre y coordinates, in the meshing CRS; ny >= 2.
     values : array_like of shape (ny, nx)
         Target edge lengths in metres, finite and > 0.
+    scale : array_like of shape (ny, nx), optional
+        The meshing CRS's scale factor at the nodes, where known (a size grid
+        measures it once: :attr:`coastmesh.sizing.grid.Grid.scale`); the mesher
+        works it out otherwise (:func:`coastmesh.geometry.projection.to_map_units`).
 
     Raises
     ------
@@ -46,6 +50,7 @@ class SizeGrid:
     x: NDArray[np.float64]
     y: NDArray[np.float64]
     values: NDArray[np.float64]
+    scale: NDArray[np.float64] | None = None
 
     def __post_init__(self) -> None:
         axes = {}
@@ -67,7 +72,15 @@ class SizeGrid:
             )
         if not np.isfinite(values).all() or not (values > 0).all():
             raise ValueError("values must be finite and > 0 (metres)")
-        for name, array in (*axes.items(), ("values", values)):
+        arrays = [*axes.items(), ("values", values)]
+        if self.scale is not None:
+            scale = np.array(self.scale, dtype=np.float64)
+            if scale.shape != expected:
+                raise ValueError(
+                    f"scale has shape {scale.shape}, expected (ny, nx) = {expected}"
+                )
+            arrays.append(("scale", scale))
+        for name, array in arrays:
             array.flags.writeable = False
             object.__setattr__(self, name, array)
 

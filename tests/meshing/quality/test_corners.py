@@ -15,7 +15,7 @@ from reference_measures import (
     delaunay_meshes,
 )
 
-from coastmesh.case.advice import warn_avoidable_corners
+from coastmesh.case.pipeline.advice import warn_avoidable_corners
 from coastmesh.errors import CoastmeshWarning
 from coastmesh.meshing import boundary_angles, generate_mesh, mesh_quality
 from coastmesh.meshing.quality.corners import MAX_LISTED_CORNERS, SHARP_ANGLE

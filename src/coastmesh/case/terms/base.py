@@ -1,20 +1,111 @@
-"""Size terms as plug-ins: :class:`SizeTerm`, one class per term.
+"""Size terms as plug-ins: :class:`SizeTerm`, and the case a term sizes.
 
 A size term is a table of ``[mesh_size]`` (its config class, with its keys) and
-what it asks of the size field. :data:`coastmesh.case.terms.TERMS` lists them;
-``[mesh_size]`` has one key per term (:class:`~coastmesh.case.config.SizeConfig`
-is made from the list), so a new term is one module and one entry there.
+what it asks of the size field on a grid: :meth:`SizeTerm.sizes` gets the grid
+(:class:`~coastmesh.sizing.grid.Grid`) and the case (:class:`SizeCase`) and
+returns its sizes and its report (:class:`~coastmesh.sizing.combine.TermSizes`).
+:data:`coastmesh.case.terms.TERMS` lists the terms, in the order their sizes are
+applied; ``[mesh_size]`` has one key per term
+(:class:`~coastmesh.case.config.SizeConfig` is made from the list), so a new
+term is one module and one entry there.
 """
 
 from __future__ import annotations
 
-from typing import Any, ClassVar
+import threading
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, ClassVar
 
-__all__ = ["SizeTerm"]
+from coastmesh.sizing.combine import TermSizes
+from coastmesh.sizing.grid import Grid
+from coastmesh.types import Domain, Runner
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from coastmesh.case.config import CaseConfig, RasterConfig
+    from coastmesh.depth import DepthSources
+    from coastmesh.sizing.narrow import ChannelReport
+
+__all__ = ["Closing", "SizeCase", "SizeTables", "SizeTerm"]
+
+
+@dataclass(frozen=True)
+class Closing:
+    """What was closed before the size field: narrow channels, slots.
+
+    Attributes
+    ----------
+    channels : ChannelReport or None
+        With ``narrow = "close"``: the narrow channels closed (their count and
+        area), None if none was.
+    slots : int
+        With ``narrow = "keep"``: the slots narrower than ``h_min / 2`` closed.
+    passes : int
+        With ``narrow = "close"``: the times the domain was built again, each
+        time without the narrow channels found (0: none was found).
+    """
+
+    channels: ChannelReport | None = None
+    slots: int = 0
+    passes: int = 0
+
+
+@dataclass(frozen=True)
+class SizeTables:
+    """The tables size terms read, for a domain built in Python (no case file).
+
+    A :class:`SizeCase` holds the whole :class:`~coastmesh.case.CaseConfig` of
+    a case; one made by :func:`coastmesh.case.domain_size_field` holds these.
+    """
+
+    size: Any
+    bathymetry: Any = None
+
+
+@dataclass(frozen=True, eq=False)
+class SizeCase:
+    """The case, as a size term sees it.
+
+    Attributes
+    ----------
+    config : CaseConfig or SizeTables
+        The case: a term reads its own table (``config.size.<key>``), and
+        other tables it needs (``config.bathymetry``).
+    domain : Domain
+        The domain meshed: its boundary segments by name.
+    floor : float
+        The field's floor ``h_min`` (:func:`~coastmesh.case.config.floor`).
+    read_depth : callable
+        ``read_depth(part) -> raster``: reads a ``[bathymetry]``-like part's
+        rasters as the case needs them (over the domain's box, or the world);
+        :meth:`depth` reads each part once.
+    runner : Runner, optional
+        Where the distance terms run, in bands (a Dask cluster).
+    closing : Closing
+        What was closed before the size field.
+    """
+
+    config: CaseConfig | SizeTables
+    domain: Domain
+    floor: float
+    read_depth: Callable[[RasterConfig], xr.DataArray | DepthSources]
+    runner: Runner | None = None
+    closing: Closing = field(default_factory=Closing)
+    _read: dict[Any, Any] = field(default_factory=dict, repr=False)
+    _lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
+
+    def depth(self, part: RasterConfig) -> xr.DataArray | DepthSources:
+        """Return a part's rasters, read once however many terms ask."""
+        with self._lock:
+            if part not in self._read:
+                self._read[part] = self.read_depth(part)
+            return self._read[part]
 
 
 class SizeTerm:
-    """A size term: its key in ``[mesh_size]`` and its config.
+    """A size term: its key in ``[mesh_size]``, its config, and its sizes.
 
     Attributes
     ----------
@@ -29,6 +120,9 @@ class SizeTerm:
     default : object
         Its config when the case gives none: None (the term is off), ``()``
         for an array, or an instance (on by default).
+    reports : bool
+        Whether the term has a report (``size_field.<key>`` in ``report.json``,
+        null when the term is off).
     doc : str
         One line for the key reference.
     """
@@ -37,4 +131,9 @@ class SizeTerm:
     config: ClassVar[type]
     many: ClassVar[bool] = False
     default: ClassVar[Any] = None
+    reports: ClassVar[bool] = False
     doc: ClassVar[str] = ""
+
+    def sizes(self, grid: Grid, case: SizeCase) -> TermSizes | None:
+        """Return the term's sizes on ``grid``; None when it is off."""
+        raise NotImplementedError(f"{type(self).__name__} has no sizes()")

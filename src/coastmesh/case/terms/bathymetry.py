@@ -11,11 +11,15 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from coastmesh.case import schema
 from coastmesh.case.config.sources import RasterConfig
 from coastmesh.case.schema import Check, key
-from coastmesh.case.terms.base import SizeTerm
-from coastmesh.sizing.bathymetry import M2_PERIOD
+from coastmesh.case.terms.base import SizeCase, SizeTerm
+from coastmesh.sizing.bathymetry import M2_PERIOD, slope_size, wavelength_size
+from coastmesh.sizing.combine import TermSizes
+from coastmesh.sizing.grid import Grid
 
 __all__ = ["Bathymetry", "BathymetryConfig"]
 
@@ -60,3 +64,28 @@ class Bathymetry(SizeTerm):
     many = False
     default = None
     doc = "size terms from a bathymetry raster: tidal wavelength and slope (below)"
+
+    def sizes(self, grid: Grid, case: SizeCase) -> TermSizes | None:
+        """Return the smaller of the wavelength and slope terms at the nodes."""
+        b = case.config.size.bathymetry
+        if b is None:
+            return None
+        depth = grid.depth(case.depth(b), b.positive)
+        size = np.full(depth.shape, np.inf)
+        if b.per_wavelength is not None:
+            wave = wavelength_size(
+                depth,
+                per_wavelength=b.per_wavelength,
+                period=b.period,
+                min_depth=b.min_depth,
+            )
+            size = np.minimum(size, wave)
+        if b.per_slope is not None:
+            slope = slope_size(
+                depth,
+                (grid.cell, grid.cell),
+                per_slope=b.per_slope,
+                min_depth=b.min_depth,
+            )
+            size = np.minimum(size, slope)
+        return TermSizes(upper=size, history="bathymetry")

@@ -8,11 +8,16 @@ is kept between ``dt (sqrt(g d) + u) / courant_max`` and
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, replace
 
 from coastmesh.case import schema
 from coastmesh.case.schema import Check, key
-from coastmesh.case.terms.base import SizeTerm
+from coastmesh.case.terms.base import SizeCase, SizeTerm
+from coastmesh.errors import CoastmeshWarning
+from coastmesh.sizing.combine import Applied, TermSizes
+from coastmesh.sizing.courant import CourantReport, courant_bounds
+from coastmesh.sizing.grid import Grid
 
 __all__ = ["DEFAULT_COURANT_MAX", "Courant", "CourantConfig"]
 
@@ -68,3 +73,52 @@ class Courant(SizeTerm):
     many = False
     default = None
     doc = "sizes a model runs at its time step (below)"
+    reports = True
+
+    def sizes(self, grid: Grid, case: SizeCase) -> TermSizes | None:
+        """Cap and floor the size so the Courant number stays in its window.
+
+        The depth is ``[mesh_size.bathymetry]``'s, else ``[bathymetry]``'s.
+        Warns of the area where no size in ``[h_min, h_max]`` meets the window.
+        """
+        co = case.config.size.courant
+        if co is None:
+            return None
+        source = case.config.size.bathymetry or case.config.bathymetry
+        min_depth = source.min_depth
+        depth = grid.depth(case.depth(source), source.positive)
+        floor, cap = courant_bounds(
+            depth,
+            dt=co.dt,
+            courant_max=co.courant_max,
+            courant_min=co.courant_min,
+            velocity=co.velocity,
+            min_depth=min_depth if min_depth is not None and min_depth > 0 else 1.0,
+        )
+        h_min, h_max = case.floor, case.config.size.h_max
+        unmet = grid.km2(grid.sea & ((floor > h_max) | (cap < h_min)))
+        if unmet > 0:
+            warnings.warn(
+                f"mesh_size.courant: no size in [h_min, h_max] = [{h_min:g}, "
+                f"{h_max:g}] m keeps the Courant number in its window at dt = "
+                f"{co.dt:g} s on {unmet:,.1f} km2 of the domain; the Courant number "
+                "leaves the window there (h_max wins over the floor, h_min over the "
+                "cap)",
+                CoastmeshWarning,
+                stacklevel=2,
+            )
+
+        def report(applied: Applied) -> CourantReport:
+            return CourantReport(
+                dt=co.dt,
+                velocity=co.velocity,
+                courant_min=co.courant_min,
+                courant_max=co.courant_max,
+                raised_km2=grid.km2(grid.sea & (floor > applied.floored)),
+                lowered_km2=grid.km2(grid.sea & (cap < applied.before)),
+                unmet_km2=unmet,
+            )
+
+        return TermSizes(
+            upper=cap, lower=floor, report=report, history=f"Courant at dt {co.dt:g} s"
+        )

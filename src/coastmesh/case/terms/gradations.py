@@ -8,11 +8,19 @@ minimum. Distances are true distances on the Earth.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
+
+import numpy as np
+import shapely
 
 from coastmesh.case import schema
 from coastmesh.case.schema import key
-from coastmesh.case.terms.base import SizeTerm
+from coastmesh.case.terms.base import SizeCase, SizeTerm
+from coastmesh.errors import CoastmeshWarning
+from coastmesh.sizing.combine import TermSizes
+from coastmesh.sizing.gradation import Gradation
+from coastmesh.sizing.grid import Grid
 
 __all__ = ["GradationConfig", "Gradations"]
 
@@ -49,3 +57,42 @@ class Gradations(SizeTerm):
     many = True
     default = ()
     doc = "the paper's gradations from named lines (below)"
+
+    def sizes(self, grid: Grid, case: SizeCase) -> TermSizes:
+        """Grade the size from each gradation's lines (domain segments by name).
+
+        A gradation whose lines have no edge on the domain's boundary is
+        skipped, with a warning.
+        """
+        graded = []
+        for k, g in enumerate(case.config.size.gradations):
+            wanted = set(g.lines)
+            lines = [
+                shapely.LineString(s.coords)
+                for s in case.domain.segments
+                if s.name in wanted
+            ]
+            if not lines:
+                warnings.warn(
+                    f"mesh_size.gradations[{k}]: {sorted(wanted)} have no edges on "
+                    "the domain boundary; the gradation is skipped",
+                    CoastmeshWarning,
+                    stacklevel=2,
+                )
+                continue
+            graded.append(
+                Gradation(
+                    np.array(lines, dtype=object),
+                    h_min=g.h_min,
+                    d_hold=g.d_hold,
+                    d_grade=g.d_grade,
+                    name=",".join(g.lines),
+                )
+            )
+        upper = grid.graded(
+            graded,
+            lines_crs=case.domain.crs,
+            h_max=case.config.size.h_max,
+            runner=case.runner,
+        )
+        return TermSizes(upper=upper, history=f"{len(graded)} gradations")

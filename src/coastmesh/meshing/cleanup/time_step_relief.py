@@ -38,7 +38,7 @@ from coastmesh.meshing.quality.time_step import (
     element_time_steps,
     node_depth,
 )
-from coastmesh.sizing.terms import wave_speed
+from coastmesh.sizing.courant import wave_speed
 from coastmesh.types import Mesh, Report
 
 __all__ = ["THROTTLE_RATIO", "ThrottleReport", "relieve_time_step"]

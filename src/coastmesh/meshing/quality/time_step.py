@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from coastmesh.geometry.earth import mesh_earth_centred
 from coastmesh.meshing.quality.measure import Place, places, triangle_measures
-from coastmesh.sizing.terms import wave_speed
+from coastmesh.sizing.courant import wave_speed
 from coastmesh.types import Mesh, Report
 
 __all__ = [

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from coastmesh.case.globe import _close
+from coastmesh.case.pipeline.world import _close
 
 
 def test_closing_only_near_the_zone():

@@ -1,4 +1,8 @@
-"""The channel and Courant terms in the whole size field: order, reports, warnings."""
+"""The size terms in the whole size field: order, reports, warnings.
+
+Through :func:`coastmesh.case.domain_size_field`, the size stage of a case on a
+domain built in Python, with the depth in memory.
+"""
 
 from __future__ import annotations
 
@@ -14,17 +18,17 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from pyproj import Transformer
 
-from coastmesh.errors import CoastmeshWarning
-from coastmesh.geometry.earth import GRAVITY
-from coastmesh.sizing import (
-    BoundaryGradation,
-    ChannelSize,
-    CourantSize,
+from coastmesh.case import (
+    ChannelConfig,
+    CourantConfig,
+    GradationConfig,
+    NodeDepthConfig,
+    SizeConfig,
     domain_size_field,
-    domain_slots,
-    size_field_with_report,
 )
-from coastmesh.sizing.terms import courant_bounds
+from coastmesh.errors import CoastmeshWarning, ConfigError
+from coastmesh.geometry.earth import GRAVITY
+from coastmesh.sizing import courant_bounds, domain_slots
 from coastmesh.types import BoundarySegment, Domain
 
 
@@ -43,7 +47,18 @@ def _flat_raster(depth: float, crs: str = "EPSG:32631") -> xr.DataArray:
 _bay = bay_with_inlet
 
 
-GRADE = [BoundaryGradation(("coast",), h_min=400.0, d_grade=5000.0)]
+GRADE = [GradationConfig(("coast",), h_min=400.0, d_grade=5000.0)]
+#: the Courant term's depth: a case's [bathymetry] (read from ``depth`` here)
+DEPTH = NodeDepthConfig(path="in_memory.tif")
+OFF = ChannelConfig(enabled=False)
+
+
+def _sized(domain, depth=None, **size):
+    """The size stage on ``domain`` in UTM 31N, with [mesh_size] ``size``."""
+    size = SizeConfig(h_max=3000.0, gradations=GRADE, **size)
+    return domain_size_field(
+        domain, size, mesh_crs="EPSG:32631", bathymetry=DEPTH, depth=depth
+    )
 
 
 def _at(field: xr.DataArray, x: float, y: float) -> float:
@@ -51,13 +66,11 @@ def _at(field: xr.DataArray, x: float, y: float) -> float:
 
 
 def test_the_channel_term_is_on_by_default_and_puts_elements_across():
-    kw = {"mesh_crs": "EPSG:32631", "h_max": 3000.0, "cell": 50.0}
-    kw["gradations"] = GRADE
-    off = domain_size_field(_bay(), channels=None, h_min=100.0, **kw)
+    off = _sized(_bay(), channels=OFF, h_min=100.0, cell=50.0).field
     with pytest.warns(CoastmeshWarning, match="narrower than 2 elements") as caught:
-        on = domain_size_field(_bay(150.0), h_min=100.0, **kw)
+        on = _sized(_bay(150.0), h_min=100.0, cell=50.0).field
     assert "kept" in str(caught[0].message)
-    default = domain_size_field(_bay(), h_min=100.0, **kw)
+    default = _sized(_bay(), h_min=100.0, cell=50.0).field
     # a 600 m inlet: 556 m from the gradation alone (300 m from the shore), at
     # most 200 m (3 across) with the term
     assert _at(off, 10_000, 23_000) == pytest.approx(400 + 300 * 2600 / 5000, rel=0.01)
@@ -76,14 +89,7 @@ def test_the_channel_term_is_on_by_default_and_puts_elements_across():
 
 def test_the_channel_report_counts_narrow_channels_and_gives_their_place():
     with pytest.warns(CoastmeshWarning):
-        sized = size_field_with_report(
-            _bay(150.0),
-            mesh_crs="EPSG:32631",
-            h_max=3000.0,
-            h_min=100.0,
-            cell=25.0,
-            gradations=GRADE,
-        )
+        sized = _sized(_bay(150.0), h_min=100.0, cell=25.0)
     ch = sized.report.channels
     assert ch.narrow_channels == 1 and ch.narrow == "keep"
     assert 9_000 < ch.worst[0].y < 26_000 and ch.worst[0].width_m < 200.0
@@ -93,18 +99,14 @@ def test_the_channel_report_counts_narrow_channels_and_gives_their_place():
     )
     assert (ch.worst[0].lon, ch.worst[0].lat) == (round(lon, 6), round(lat, 6))
     assert 140.0 / 1.15 < ch.worst[0].width_m < 200.0
-    assert len(sized.narrow) == 1 and sized.narrow[0].area > 0.5e6
+    assert sized.report.to_dict()["channels"]["narrow_channels"] == 1
+    width = sized.layers["width"]
+    assert np.isnan(width.sel(x=25_000, y=5_000, method="nearest"))  # off the sea
     assert "1 narrower than 2 x 100 m" in sized.report.summary()
 
 
 def test_h_min_defaults_to_the_smallest_gradation_when_channels_are_on():
-    sized = size_field_with_report(
-        _bay(),
-        mesh_crs="EPSG:32631",
-        h_max=3000.0,
-        cell=50.0,
-        gradations=GRADE,
-    )
+    sized = _sized(_bay(), cell=50.0)
     assert sized.report.h_min_m == 400.0
     # the default gradation limit adds rounding (1e-11 m) to sizes it leaves
     assert float(sized.field.min()) == pytest.approx(400.0, abs=1e-6)
@@ -119,10 +121,9 @@ def test_h_min_defaults_to_the_smallest_gradation_when_channels_are_on():
     st.one_of(st.none(), st.floats(0.01, 0.04)),
 )
 def test_courant_bounds_match_the_formula(depth, dt, u, cmax, cmin):
-    c = CourantSize(
-        _flat_raster(1.0), dt=dt, courant_max=cmax, courant_min=cmin, velocity=u
+    floor, cap = courant_bounds(
+        np.array([depth]), dt=dt, courant_max=cmax, courant_min=cmin, velocity=u
     )
-    floor, cap = courant_bounds(np.array([depth]), c)
     speed = math.sqrt(GRAVITY * max(depth, 1.0)) + u
     assert floor[0] == pytest.approx(dt * speed / cmax, rel=1e-12)
     if cmin is None:
@@ -135,79 +136,48 @@ def test_courant_bounds_match_the_formula(depth, dt, u, cmax, cmin):
 
 def test_the_courant_floor_beats_h_min_and_the_channel_term_and_h_max_beats_it():
     # 100 m deep: c = 31.3 m/s + 1; dt 10 s, courant_max 1: floor 323 m
-    c = CourantSize(_flat_raster(100.0), dt=10.0, courant_max=1.0, velocity=1.0)
+    c = CourantConfig(dt=10.0, courant_max=1.0, velocity=1.0)
     floor = 10.0 * (math.sqrt(GRAVITY * 100.0) + 1.0)
-    sized = size_field_with_report(
-        _bay(600.0),
-        mesh_crs="EPSG:32631",
-        h_max=3000.0,
-        h_min=100.0,
-        cell=50.0,
-        gradations=GRADE,
-        courant=c,
-    )
+    sized = _sized(_bay(600.0), _flat_raster(100.0), h_min=100.0, cell=50.0, courant=c)
     # in the inlet the channel term asks for ~180 m; the Courant floor wins
     assert _at(sized.field, 10_000, 23_000) == pytest.approx(floor)
     assert sized.report.courant.raised_km2 > 3.0
     assert sized.report.courant.unmet_km2 == 0.0
     # a floor above h_max: h_max wins, with a warning giving the area
-    deep = CourantSize(_flat_raster(4000.0), dt=60.0, courant_max=0.5)
+    deep = CourantConfig(dt=60.0, courant_max=0.5)
     with pytest.warns(CoastmeshWarning, match=r"on \d+\.\d km2 of the domain"):
-        capped = size_field_with_report(
-            _bay(),
-            mesh_crs="EPSG:32631",
-            h_max=3000.0,
-            cell=100.0,
-            gradations=GRADE,
-            courant=deep,
-        )
+        capped = _sized(_bay(), _flat_raster(4000.0), cell=100.0, courant=deep)
     assert float(capped.field.max()) == 3000.0
 
 
 def test_the_courant_cap_lowers_sizes_but_not_below_h_min():
     # shallow: 4 m, u = 0: c = 6.26 m/s; dt 30 s, courant_min 0.5: cap 376 m
-    c = CourantSize(
-        _flat_raster(4.0), dt=30.0, courant_max=None, courant_min=0.5, velocity=0.0
-    )
+    c = CourantConfig(dt=30.0, courant_min=0.5, velocity=0.0)
     cap = 30.0 * math.sqrt(GRAVITY * 4.0) / 0.5
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CoastmeshWarning)
-        sized = size_field_with_report(
-            _bay(),
-            mesh_crs="EPSG:32631",
-            h_max=3000.0,
-            h_min=100.0,
-            cell=100.0,
-            gradations=GRADE,
-            courant=c,
-        )
+        sized = _sized(_bay(), _flat_raster(4.0), h_min=100.0, cell=100.0, courant=c)
     assert float(sized.field.max()) == pytest.approx(cap)
     assert sized.report.courant.lowered_km2 > 300
 
 
 @pytest.mark.parametrize(
-    ("kwargs", "message"),
+    ("courant", "message"),
     [
-        ({"dt": 0.0}, "dt = 0.0: must be > 0"),
-        ({"dt": 10.0, "courant_max": 0.3, "courant_min": 0.3}, "courant_min = 0.3"),
-        ({"dt": 10.0, "velocity": -1.0}, "velocity = -1.0"),
+        (CourantConfig(dt=0.0), r"mesh_size.courant.dt = 0 s: must be > 0"),
+        (
+            CourantConfig(dt=10.0, courant_max=0.3, courant_min=0.3),
+            "courant.courant_min = 0.3 is not below",
+        ),
+        (CourantConfig(dt=10.0, velocity=-1.0), "courant.velocity = -1.0: must be"),
+        (ChannelConfig(elements_across=0.5), "elements_across = 0.5: must be at"),
+        (ChannelConfig(narrow="fill"), "channels.narrow = 'fill'"),
     ],
 )
-def test_bad_courant_terms_name_the_parameter(kwargs, message):
-    with pytest.raises(ValueError, match=message):
-        CourantSize(_flat_raster(1.0), **kwargs)
-
-
-@pytest.mark.parametrize(
-    ("kwargs", "message"),
-    [
-        ({"elements_across": 0.5}, "elements_across = 0.5: must be a number >= 1"),
-        ({"narrow": "fill"}, "narrow = 'fill'"),
-    ],
-)
-def test_bad_channel_terms_name_the_parameter(kwargs, message):
-    with pytest.raises(ValueError, match=message):
-        ChannelSize(**kwargs)
+def test_bad_terms_name_the_key(courant, message):
+    key = "courant" if isinstance(courant, CourantConfig) else "channels"
+    with pytest.raises(ConfigError, match=message):
+        _sized(_bay(), _flat_raster(10.0), cell=200.0, **{key: courant})
 
 
 def test_domain_slots_are_closed_but_never_at_an_open_boundary():

@@ -1,28 +1,141 @@
-"""Read ``[[bathymetry.sources]]`` into a :class:`~coastmesh.depth.DepthSources`.
+"""The depth stage: depths at the nodes from ``[bathymetry]``, and the time step.
 
-Each raster is read only over the window the mesh (or size grid) needs, widened
-by the source's blend; ``bbox`` and ``region`` keep the cells whose centres lie
-inside them. Sources with the same explicit ``priority`` must not overlap.
+Bathymetry comes from one raster or a stack of them
+(:class:`~coastmesh.depth.DepthSources`). Each raster is read only over the window
+the mesh (or the size grid) needs, widened by the source's blend; ``bbox`` and
+``region`` keep the cells whose centres lie inside them; sources with the same
+explicit ``priority`` must not overlap. :func:`check_rasters` opens every raster
+before any work, so a bad one fails in a second.
+
+Two stages: :func:`depth_stage` puts the depths on the nodes (PCA-simplified
+rasters if asked); :func:`time_step_stage` relieves the few elements that
+throttle an explicit model's time step (``[cleanup] time_step``), and reads the
+depth again at the nodes it moved.
 """
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Sequence
-from typing import Any
+from dataclasses import replace
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
 from numpy.typing import ArrayLike
 from pyproj import CRS
 
+from coastmesh.case.config import CaseConfig, NodeDepthConfig
 from coastmesh.case.config.sources import DepthSourceConfig
+from coastmesh.case.pipeline.state import CaseRun, DepthState, RunContext, missing
+from coastmesh.depth import DepthReport, DepthSource, DepthSources, depth_at_nodes
+from coastmesh.depth.nodes import node_sources
 from coastmesh.depth.sources import check_blend, no_crs
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry.earth import METRES_PER_DEGREE, reproject
 from coastmesh.io.raster_window import raster_extent, read_raster_around
-from coastmesh.types import Progress
+from coastmesh.meshing import relieve_time_step
+from coastmesh.types import Mesh, Progress
 
-__all__ = ["check_rasters", "read_sources"]
+if TYPE_CHECKING:
+    import xarray as xr
+
+__all__ = [
+    "check_rasters",
+    "depth_stage",
+    "node_depths",
+    "read_sources",
+    "time_step_stage",
+]
+
+logger = logging.getLogger(__name__)
+
+
+def depth_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+    """Put ``[bathymetry]``'s depths on the mesh's nodes (none without it)."""
+    b, state = run.config.bathymetry, run.mesh or missing("mesh")
+    if b is None:
+        return run
+    with ctx.timed("depth at the nodes") as progress:
+        rasters = read_sources(b.stack, state.mesh.points, state.mesh.crs, progress)
+        if b.window is not None:
+            rasters = _simplified(rasters, b)
+        mesh, report = node_depths(b, state.mesh, rasters, progress)
+    return replace(
+        run, mesh=replace(state, mesh=mesh), depth=DepthState(rasters, report)
+    )
+
+
+def time_step_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+    """Relieve the elements that throttle the time step; depth at moved nodes.
+
+    The angles may not fall below Gmsh's own mesh's, the cleanup's bar.
+    """
+    config, state, depth = run.config, run.mesh, run.depth
+    c = config.cleanup
+    if state is None or depth is None or not (c.enabled and c.time_step):
+        return run
+    cleanup = state.parts.cleanup
+    courant = config.size.courant
+    with ctx.timed("time step") as progress:
+        relieved, report = relieve_time_step(
+            state.mesh,
+            velocity=0.0 if courant is None else courant.velocity,
+            keep_angles=(cleanup.min_angle_before, cleanup.min_angle_p1_before),
+        )
+        logger.info("time step: %s", report.summary())
+        if not report.accepted:
+            return replace(run, depth=replace(depth, relief=report))
+        # the merged nodes took their pair's mean depth: read the rasters there
+        b = config.bathymetry or missing("[bathymetry]")
+        relieved, depth_report = node_depths(b, relieved, depth.rasters, progress)
+    return replace(
+        run,
+        mesh=replace(state, mesh=relieved),
+        depth=replace(depth, report=depth_report, relief=report),
+    )
+
+
+def node_depths(
+    b: NodeDepthConfig, mesh: Mesh, rasters: DepthSources, progress: Progress
+) -> tuple[Mesh, DepthReport]:
+    """Return ``mesh`` with ``depth`` at its nodes from ``rasters``, and the report."""
+    depth, report = depth_at_nodes(
+        mesh,
+        rasters,
+        positive=b.positive,
+        method=b.method,
+        min_depth=b.min_depth,
+        max_slope=b.max_slope,
+        outside=b.outside,
+        land=b.land,
+        land_distance=b.land_distance,
+    )
+    progress(2, 2)
+    logger.info("%s", report.summary())
+    if len(rasters) > 1:
+        return mesh.with_point_data(
+            depth=depth, depth_source=node_sources(mesh, rasters)
+        ), report
+    return mesh.with_point_data(depth=depth), report
+
+
+def _simplified(rasters: DepthSources, b: NodeDepthConfig) -> DepthSources:
+    """Each raster of the window read, approximated by PCA (the paper's section II)."""
+    from coastmesh.pca import simplify_raster
+
+    return DepthSources(
+        [
+            DepthSource(
+                s.raster.copy(data=simplify_raster(s.raster.values, b.window, b.modes)),
+                s.positive,
+                s.blend,
+                s.name,
+            )
+            for s in rasters.sources
+        ]
+    )
 
 
 def read_sources(
@@ -30,10 +143,8 @@ def read_sources(
     points: ArrayLike,
     crs: CRS | str,
     progress: Progress | None = None,
-) -> Any:
+) -> DepthSources:
     """Read the sources (priority order) over the window ``points`` need."""
-    from coastmesh.depth import DepthSource, DepthSources
-
     _check_priorities(configs)
     sources = []
     for k, c in enumerate(configs):
@@ -53,7 +164,7 @@ def read_sources(
     return DepthSources(sources)
 
 
-def check_rasters(config: Any) -> None:
+def check_rasters(config: CaseConfig) -> None:
     """Open every bathymetry raster of a case: readable, with a CRS, blend fits.
 
     Runs before the meshing, so that a bad raster fails in a second.
@@ -75,7 +186,7 @@ def check_rasters(config: Any) -> None:
                 check_blend(str(c.path), c.blend, width, height)
 
 
-def _region(path: Any, raster: Any) -> Any:
+def _region(path: Path, raster: xr.DataArray) -> shapely.Geometry:
     """Return the union of the polygons of a vector file, in the raster's CRS."""
     from coastmesh.io import read_features
 
@@ -93,7 +204,9 @@ def _region(path: Any, raster: Any) -> Any:
     return reproject(union, features.crs, CRS.from_user_input(raster.attrs["crs"]))
 
 
-def _keep_inside(raster: Any, area: Any, name: str, key: str) -> Any:
+def _keep_inside(
+    raster: xr.DataArray, area: shapely.Geometry, name: str, key: str
+) -> xr.DataArray:
     """NaN the cells whose centres lie outside ``area``; crop to its box."""
     x, y = raster.x.values, raster.y.values
     minx, miny, maxx, maxy = area.bounds
@@ -129,7 +242,7 @@ def _check_priorities(configs: Sequence[DepthSourceConfig]) -> None:
                     )
 
 
-def _lonlat_box(c: DepthSourceConfig) -> Any:
+def _lonlat_box(c: DepthSourceConfig) -> shapely.Geometry:
     bounds, wkt, _ = raster_extent(c.path)
     if c.bbox is not None:
         b = c.bbox

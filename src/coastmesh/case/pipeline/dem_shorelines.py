@@ -4,7 +4,8 @@ The raster (or its ``bbox`` window) is read with
 :func:`~coastmesh.io.read_raster`, and the land above ``level`` is contoured by
 :func:`~coastmesh.geometry.land_from_grid`. The polygons keep the raster's CRS,
 and then go through the shoreline sets, PCA and stitching as a vector
-shoreline layer does (:func:`~coastmesh.case.inputs.read_shorelines`).
+shoreline layer does
+(:func:`~coastmesh.case.pipeline.shorelines.read_shorelines`).
 """
 
 from __future__ import annotations

@@ -1,27 +1,56 @@
-"""Warnings that tell a case's author what to change, after the mesh is measured.
+"""The quality stage: the mesh measured, and advice to the case's author.
 
-The quality report counts what the geometry or the case forces (sharp corners,
-channels one element wide); these turn the counts into advice, with places.
+The quality report (:func:`~coastmesh.meshing.quality.mesh_quality`) counts what
+the geometry or the case forces (sharp corners, channels one element wide);
+the warnings here turn the counts into advice, with places.
 """
 
 from __future__ import annotations
 
 import warnings
-from typing import Any
+from dataclasses import replace
 
 import numpy as np
 
+from coastmesh.case.pipeline.state import CaseRun, RunContext, missing
 from coastmesh.errors import CoastmeshWarning
+from coastmesh.meshing import QualityReport, mesh_quality
 from coastmesh.meshing.quality.measure import places
 from coastmesh.types import Mesh
 
-__all__ = ["warn_avoidable_corners", "warn_spanning"]
+__all__ = ["quality_stage", "warn_avoidable_corners", "warn_spanning"]
 
 #: Places given in a warning.
 _SHOWN = 5
 
 
-def warn_avoidable_corners(quality: Any, mesh: Mesh) -> None:
+def quality_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+    """Measure the mesh (``[output] quality``); warn of what its author can change."""
+    config, state = run.config, run.mesh or missing("mesh")
+    if not config.outputs.quality:
+        return run
+    courant = config.size.courant
+    with ctx.timed("mesh quality"):
+        quality = mesh_quality(
+            state.mesh,
+            dt=None if courant is None else courant.dt,
+            velocity=0.0 if courant is None else courant.velocity,
+            courant_max=None if courant is None else courant.courant_max,
+            courant_min=None if courant is None else courant.courant_min,
+        )
+    warn_avoidable_corners(quality, state.mesh)
+    size = run.size or missing("size field")
+    warn_spanning(
+        quality,
+        state.mesh,
+        cell=size.grid.cell_m,
+        h_min=size.report.h_min_m,
+        narrow=config.size.channels.narrow,
+    )
+    return replace(run, quality=quality)
+
+
+def warn_avoidable_corners(quality: QualityReport, mesh: Mesh) -> None:
     """Warn of open boundaries that meet the coast at a sharp angle."""
     avoidable = [c for c in quality.corners.sharpest if c.avoidable]
     if not avoidable:
@@ -44,7 +73,12 @@ def warn_avoidable_corners(quality: Any, mesh: Mesh) -> None:
 
 
 def warn_spanning(
-    quality: Any, mesh: Mesh, *, cell: float, h_min: float | None, narrow: str
+    quality: QualityReport,
+    mesh: Mesh,
+    *,
+    cell: float,
+    h_min: float | None,
+    narrow: str,
 ) -> None:
     """Warn of triangles one element across a channel, with what to change.
 

@@ -28,16 +28,16 @@ from coastmesh.case import (
     parse_case,
     run_case,
 )
-from coastmesh.case.dem_shorelines import NoLandWarning
 from coastmesh.case.dump import dump_case
-from coastmesh.case.inputs import read_shorelines
+from coastmesh.case.pipeline.dem_shorelines import NoLandWarning
+from coastmesh.case.pipeline.shorelines import read_shorelines
 from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry import land_from_grid
 from coastmesh.io import read_raster, write_raster
 from coastmesh.io.msh import read_msh
 
-EXAMPLE = Path(__file__).parents[2] / "examples" / "orkney" / "dem_shoreline.toml"
+EXAMPLE = Path(__file__).parents[3] / "examples" / "orkney" / "dem_shoreline.toml"
 ETOPO = data_path("etopo1_0.1deg_orkney_wide.tif")
 #: the example's shoreline raster line, once its paths are absolute
 RASTER = f'raster = "{ETOPO.as_posix()}"'

@@ -8,7 +8,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from coastmesh.case.advice import warn_spanning
+from coastmesh.case.pipeline.advice import warn_spanning
 from coastmesh.errors import CoastmeshWarning
 from coastmesh.meshing import mesh_quality
 from coastmesh.types import Mesh

@@ -1,0 +1,89 @@
+"""A case built as a list of stages over one run state.
+
+Read top to bottom, :data:`STAGES` is what building a case does. Each stage
+takes the :class:`~coastmesh.case.pipeline.state.CaseRun` and returns it with
+its part made; where regional and global cases differ, a stage asks the run's
+strategy (:class:`~coastmesh.case.pipeline.strategy.Regional`,
+:class:`~coastmesh.case.pipeline.world.Global`). After each stage the figures
+that can be drawn start (:meth:`coastmesh.case.figures.FigureJobs.follow`).
+
+==========================  ==================================================
+stage                       makes
+==========================  ==================================================
+:func:`shoreline_stage`     the shoreline layer and each shoreline set
+:func:`domain_stage`        the domain: sets stitched, open boundaries, the sea
+:func:`closing_stage`       water too narrow to mesh closed as land
+:func:`size_stage`          the size field: every size term, combined
+:func:`mesh_stage`          the mesh, in parts, cleaned
+:func:`depth_stage`         depths at the nodes
+:func:`time_step_stage`     the elements that throttle the time step relieved
+:func:`quality_stage`       the quality report, and advice
+==========================  ==================================================
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from coastmesh.case.config import CaseConfig
+from coastmesh.case.pipeline.advice import quality_stage
+from coastmesh.case.pipeline.depth import depth_stage, time_step_stage
+from coastmesh.case.pipeline.mesh import mesh_stage
+from coastmesh.case.pipeline.size import size_stage
+from coastmesh.case.pipeline.state import CaseRun, RunContext, Stage
+from coastmesh.case.pipeline.strategy import Regional, Strategy
+from coastmesh.case.pipeline.world import Global
+
+__all__ = [
+    "STAGES",
+    "CaseRun",
+    "RunContext",
+    "build_run",
+    "closing_stage",
+    "domain_stage",
+    "shoreline_stage",
+    "strategy_of",
+]
+
+
+def shoreline_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+    """Read the shoreline layer and build every shoreline set."""
+    return replace(run, shorelines=run.strategy.shorelines(run, ctx))
+
+
+def domain_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+    """Stitch the sets, draw the open boundaries, build the domain."""
+    return replace(run, domain=run.strategy.domain(run, ctx))
+
+
+def closing_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+    """Close water too narrow to mesh; build the domain again."""
+    return replace(run, domain=run.strategy.close_water(run, ctx))
+
+
+#: What building a case does, in order.
+STAGES: tuple[Stage, ...] = (
+    shoreline_stage,
+    domain_stage,
+    closing_stage,
+    size_stage,
+    mesh_stage,
+    depth_stage,
+    time_step_stage,
+    quality_stage,
+)
+
+
+def strategy_of(config: CaseConfig) -> Strategy:
+    """Return the strategy of a case: global or regional (``[domain] kind``)."""
+    return Global() if config.domain.kind == "global" else Regional()
+
+
+def build_run(config: CaseConfig, ctx: RunContext) -> CaseRun:
+    """Run every stage of :data:`STAGES` on a case; return the finished run."""
+    run = CaseRun(config, strategy_of(config))
+    for stage in STAGES:
+        run = stage(run, ctx)
+        if ctx.figures is not None:
+            ctx.figures.follow(run)
+    return run

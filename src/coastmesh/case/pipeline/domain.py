@@ -1,0 +1,206 @@
+"""The domain: shoreline sets stitched by region, open boundaries, the sea.
+
+:func:`build_case_domain` stitches the sets by region
+(:func:`~coastmesh.geometry.stitch_shorelines`), draws the open boundaries
+(each kind draws itself: :mod:`coastmesh.case.boundaries`) and builds the domain
+(:func:`~coastmesh.geometry.build_domain`); :func:`with_land` builds it again
+with water closed as land (narrow channels, slots), from the same stitched
+shorelines.
+"""
+
+from __future__ import annotations
+
+import logging
+import warnings
+from collections.abc import Mapping
+from dataclasses import replace
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from pyproj import CRS
+
+from coastmesh.case.boundaries import BoundaryConfig
+from coastmesh.case.config import CaseConfig, RegionConfig
+from coastmesh.case.config.case import boundary_key
+from coastmesh.case.pipeline.state import DomainState
+from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
+from coastmesh.geometry import (
+    DomainReport,
+    OpenBoundary,
+    ShorelineSet,
+    StitchReport,
+    build_domain,
+    reproject,
+    stitch_shorelines,
+)
+from coastmesh.io import read_features
+from coastmesh.types import Domain
+
+__all__ = ["Region", "build_case_domain", "region_geometry", "with_land"]
+
+logger = logging.getLogger(__name__)
+
+#: Where a shoreline set is used: its name, its id and its region (None: the rest).
+Region = tuple[str, int, shapely.Geometry | None]
+
+
+def build_case_domain(
+    config: CaseConfig,
+    sets: Mapping[str, NDArray[np.object_]],
+    crs: CRS,
+    *,
+    mesh_crs: CRS,
+    output_crs: CRS,
+    lonlat: CRS | None = None,
+) -> DomainState:
+    """Stitch the sets by region, draw the open boundaries, build the domain.
+
+    ``crs`` is the CRS the sets are in and the domain is built in; ``lonlat``
+    the CRS the case's region boxes, polygons and seed are given in, when it is
+    not ``crs`` (a global case, built in the stereographic plane).
+    """
+    land, regions, stitch_report = _stitch(config, sets, crs, lonlat)
+    spacing = min(1000.0, config.size.h_max / 4)  # a quarter of h_max, <= 1 km
+    walls = tuple(
+        OpenBoundary(
+            _boundary_coords(b, k, crs, spacing, config), b.name, b.physical_id
+        )
+        for k, b in enumerate(config.boundaries)
+    )
+    domain, report = _domain(config, land, walls, regions, crs, lonlat)
+    logger.info("domain: %s; %s", report.summary(), stitch_report.summary())
+    return DomainState(
+        domain, report, stitch_report, tuple(regions), walls, land, mesh_crs, output_crs
+    )
+
+
+def with_land(
+    state: DomainState, config: CaseConfig, closed: NDArray[np.object_]
+) -> DomainState:
+    """Build the domain again with ``closed`` (polygons of water) as land.
+
+    The stitched shorelines and the open boundaries are the ones already made;
+    the closed polygons' edges take the shoreline set of the region they lie in.
+    """
+    land = np.concatenate([np.asarray(state.land, dtype=object), closed])
+    domain, report = _domain(
+        config,
+        land,
+        state.open_boundaries,
+        list(state.regions),
+        state.domain.crs,
+        None,
+    )
+    return replace(state, domain=domain, report=report)
+
+
+def _domain(
+    config: CaseConfig,
+    land: NDArray[np.object_],
+    walls: tuple[OpenBoundary, ...],
+    regions: list[Region],
+    crs: CRS,
+    lonlat: CRS | None,
+) -> tuple[Domain, DomainReport]:
+    """Build the domain; warn of open boundaries that do not reach it."""
+    try:
+        domain, report = build_domain(
+            land,
+            list(walls),
+            crs=crs,
+            seed=_seed(config, crs, lonlat),
+            min_area=config.shorelines.min_area,
+            surface_id=config.domain.surface_id,
+            shorelines=regions,
+        )
+    except ConfigError as exc:
+        raise ConfigError(f"{config.label}: domain: {exc}") from None
+    missing = [b.name for b in walls if b.name not in report.segments]
+    if missing:
+        warnings.warn(
+            f"{config.label}: open boundaries {missing} do not reach the domain "
+            "(they do not close the sea region that holds the seed)",
+            CoastmeshWarning,
+            stacklevel=3,
+        )
+    return domain, report
+
+
+def _stitch(
+    config: CaseConfig,
+    sets: Mapping[str, NDArray[np.object_]],
+    crs: CRS,
+    lonlat: CRS | None,
+) -> tuple[NDArray[np.object_], list[Region], StitchReport]:
+    """Stitch the shoreline sets by region: land, regions by set, report."""
+    regions: dict[str, list[shapely.Geometry]] = {}
+    for k, r in enumerate(config.regions):
+        region = region_geometry(r, k, crs, config)
+        if lonlat is not None and r.path is None:  # a box or polygon in lon/lat
+            region = reproject(shapely.segmentize(region, 0.1), lonlat, crs)
+        regions.setdefault(r.set, []).append(region)
+    ordered = list(dict.fromkeys(r.set for r in config.regions))
+    ordered.append(config.background_set.name)
+    ids = {s.name: s.physical_id for s in config.sets}
+    shoreline_sets = [
+        ShorelineSet(
+            name,
+            sets[name],
+            ids[name],
+            shapely.union_all(regions[name]) if name in regions else None,
+        )
+        for name in ordered
+    ]
+    land, tagged, stitch_report = stitch_shorelines(
+        shoreline_sets, crs=crs, tolerance=config.domain.seam_tolerance
+    )
+    return land, tagged, stitch_report
+
+
+def _seed(
+    config: CaseConfig, crs: CRS, lonlat: CRS | None
+) -> tuple[float, float] | None:
+    seed = config.domain.seed
+    if seed is None or lonlat is None:
+        return seed
+    point = reproject(shapely.Point(seed), lonlat, crs)
+    return (point.x, point.y)
+
+
+def region_geometry(
+    r: RegionConfig, k: int, crs: CRS, config: CaseConfig
+) -> shapely.Geometry:
+    """Return ``[[regions]]`` entry ``k`` as a geometry (a file's in ``crs``)."""
+    if r.box is not None:
+        return shapely.box(*r.box)
+    if r.polygon is not None:
+        polygon = shapely.Polygon(r.polygon)
+        if not polygon.is_valid:
+            raise ConfigError(
+                f"{config.label}: regions[{k}].polygon is not a valid polygon "
+                f"({shapely.is_valid_reason(polygon)})"
+            )
+        return polygon
+    features = read_features(r.path, layer=r.layer)
+    geometry = features.geometry[~shapely.is_missing(features.geometry)]
+    polygonal = shapely.get_dimensions(geometry) == 2
+    if not polygonal.any():
+        raise InputDataError(
+            f"{r.path}: regions[{k}] needs polygons; the file has none",
+            path=str(r.path),
+        )
+    region = shapely.union_all(shapely.make_valid(geometry[polygonal]))
+    return region if features.crs is None else reproject(region, features.crs, crs)
+
+
+def _boundary_coords(
+    b: BoundaryConfig, k: int, crs: CRS, spacing: float, config: CaseConfig
+) -> NDArray[np.float64]:
+    where = f"{config.label}: {boundary_key(config.domain)}[{k}] ({b.name!r})"
+    try:
+        return b.line(crs, b.spacing or spacing)
+    except ConfigError as exc:
+        raise ConfigError(f"{where}: {exc}") from None
+    except InputDataError as exc:
+        raise InputDataError(f"{where}: {exc.message}", path=exc.path) from None

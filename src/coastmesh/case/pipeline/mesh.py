@@ -1,0 +1,47 @@
+"""The meshing stage: Gmsh meshes the domain to the size field, in parts."""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import replace
+
+from coastmesh.case.config import CaseConfig
+from coastmesh.case.pipeline.state import CaseRun, MeshState, RunContext, missing
+from coastmesh.meshing import CleanupOptions, mesh_in_parts
+from coastmesh.meshing.gmsh import release_memory
+
+__all__ = ["cleanup_options", "mesh_stage"]
+
+logger = logging.getLogger(__name__)
+
+
+def mesh_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+    """Mesh the domain (``[mesh]``), cleaned part by part (``[cleanup]``)."""
+    config, state = run.config, run.domain or missing("domain")
+    release_memory()  # what the shoreline sets and slots freed, before the workers
+    with ctx.timed("meshing") as progress:
+        mesh, parts = mesh_in_parts(
+            state.domain,
+            run.strategy.size_grid(run),
+            mesh_crs=state.mesh_crs,
+            output_crs=state.output_crs,
+            seed=config.mesh.seed,
+            algorithm=config.mesh.algorithm,
+            optimize=config.mesh.optimize,
+            parts=run.strategy.parts(config),
+            threads=ctx.threads,
+            runner=ctx.runner,
+            cleanup=cleanup_options(config),
+            progress=progress,
+        )
+    if parts.parts > 1:
+        logger.info("parts: %s", parts.summary())
+    return replace(run, mesh=MeshState(mesh, parts))
+
+
+def cleanup_options(config: CaseConfig) -> CleanupOptions | None:
+    """``[cleanup]`` as the mesher takes it; None when it is off."""
+    c = config.cleanup
+    if not c.enabled:
+        return None
+    return CleanupOptions(c.boundary_triangles, c.max_valence, c.min_angle, c.smooth)

@@ -1,0 +1,168 @@
+"""The size stage: every size term on the strategy's grid, combined.
+
+Each term of :data:`coastmesh.case.terms.TERMS` computes its sizes on the grid
+(:meth:`~coastmesh.case.terms.SizeTerm.sizes`), all at once on threads (the
+distance queries, the distance transforms of the channel term and the raster
+reads let go of the GIL); :func:`~coastmesh.sizing.combine.combine` then
+combines them in the one order its docs give, with the floor
+(:func:`~coastmesh.case.config.floor`), ``h_max`` and the gradation limit.
+"""
+
+from __future__ import annotations
+
+import logging
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import replace
+from functools import partial
+from typing import TYPE_CHECKING
+
+import shapely
+from pyproj import CRS
+
+from coastmesh.case.config import PYTHON_SOURCE, NodeDepthConfig, SizeConfig, floor
+from coastmesh.case.pipeline.closing import smallest_size
+from coastmesh.case.pipeline.depth import read_sources
+from coastmesh.case.pipeline.state import CaseRun, RunContext, SizeState, missing
+from coastmesh.case.schema import Check, check_part
+from coastmesh.case.terms import TERMS
+from coastmesh.case.terms.base import SizeCase, SizeTables
+from coastmesh.depth import DepthSources
+from coastmesh.geometry.projection import default_mesh_crs
+from coastmesh.sizing.combine import combine
+from coastmesh.sizing.grid import Grid, PlaneGrid
+from coastmesh.types import Domain, Progress, Runner
+
+__all__ = ["domain_size_field", "size_field", "size_stage"]
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+logger = logging.getLogger(__name__)
+
+
+def size_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+    """Make the size field of the domain (``[mesh_size]``)."""
+    config, state = run.config, run.domain or missing("domain")
+    with ctx.timed("size field") as progress:
+        case = SizeCase(
+            config,
+            state.domain,
+            floor(config.size),
+            read_depth=partial(run.strategy.read_depth, run),
+            runner=ctx.runner,
+            closing=state.closing,
+        )
+        size = size_field(run.strategy.grid(run, ctx), case, progress)
+    return replace(run, size=size)
+
+
+def size_field(
+    grid: Grid, case: SizeCase, progress: Progress | None = None
+) -> SizeState:
+    """Compute every size term of ``case`` on ``grid`` and combine them.
+
+    Parameters
+    ----------
+    grid : Grid
+        Where the field lives (:class:`~coastmesh.sizing.grid.PlaneGrid` or
+        :class:`~coastmesh.sizing.grid.SphereGrid`).
+    case : SizeCase
+        The case as the terms see it.
+    progress : callable, optional
+        Called as ``progress(done, total)`` as the terms finish.
+
+    Returns
+    -------
+    SizeState
+        The grid, the field (metres), its report, and the terms' other grids.
+    """
+    total = len(TERMS) + 1
+    with ThreadPoolExecutor(len(TERMS)) as pool:
+        running = [(term, pool.submit(term.sizes, grid, case)) for term in TERMS]
+        done = []
+        for k, (term, future) in enumerate(running):
+            done.append((term.key, future.result()))
+            if progress is not None:
+                progress(k + 1, total)
+    size = case.config.size
+    combined = combine(
+        grid,
+        done,
+        h_min=case.floor,
+        h_max=size.h_max,
+        rate=size.rate,
+        reporting=[term.key for term in TERMS if term.reports],
+    )
+    if progress is not None:
+        progress(total, total)
+    logger.info("size field: %s", combined.report.summary())
+    return SizeState(grid, combined.field, combined.report, combined.layers)
+
+
+def domain_size_field(
+    domain: Domain,
+    size: SizeConfig,
+    *,
+    mesh_crs: CRS | str | None = None,
+    bathymetry: NodeDepthConfig | None = None,
+    depth: xr.DataArray | DepthSources | None = None,
+    runner: Runner | None = None,
+) -> SizeState:
+    """Make the size field of a domain built in Python: the size stage alone.
+
+    Parameters
+    ----------
+    domain : Domain
+        The domain; gradations name its boundary segments.
+    size : SizeConfig
+        ``[mesh_size]``: ``h_max``, the floor, the grid, the gradation limit,
+        and a table per size term (checked here, as a case checks it).
+    mesh_crs : pyproj.CRS or CRS-like, optional
+        The projected, conformal CRS the mesh is made in; default
+        :func:`~coastmesh.geometry.projection.default_mesh_crs` of the domain.
+        The grid is regular there.
+    bathymetry : NodeDepthConfig, optional
+        ``[bathymetry]``: the depth of the Courant term when ``size`` has no
+        bathymetry table.
+    depth : xarray.DataArray or DepthSources, optional
+        The raster (or stack) the terms take their depth from, in memory,
+        instead of the files their tables name.
+    runner : Runner, optional
+        Where the gradations' distances run, in bands of rows.
+
+    Returns
+    -------
+    SizeState
+        ``grid``, ``field`` (metres, an xarray DataArray), ``report`` (each
+        term's report by its key) and ``layers`` (the channel term's width).
+
+    Examples
+    --------
+    >>> from coastmesh.case import GradationConfig, SizeConfig
+    >>> from coastmesh.types import BoundarySegment
+    >>> ring = [[0, 0], [20000, 0], [20000, 20000], [0, 20000], [0, 0]]
+    >>> d = Domain(shapely.Polygon(ring),
+    ...            (BoundarySegment(ring[:2], "open", "south", 2),
+    ...             BoundarySegment(ring[1:], "shoreline", "coast", 1)),
+    ...            crs="EPSG:32630")
+    >>> size = SizeConfig(h_max="2 km", cell="500 m", gradations=[
+    ...     GradationConfig(["coast"], h_min="200 m", d_grade="5 km")])
+    >>> out = domain_size_field(d, size, mesh_crs="EPSG:32630")
+    >>> float(out.field.min()), float(out.field.max()), out.field.shape
+    (200.0, 2000.0, (45, 45))
+    """
+    size = check_part(size, SizeConfig, Check(PYTHON_SOURCE), "mesh_size")
+    crs = default_mesh_crs(domain) if mesh_crs is None else CRS(mesh_crs)
+    grid = PlaneGrid.around(
+        domain, crs, spacing=size.cell, smallest=smallest_size(size)
+    )
+
+    def read(part: object) -> xr.DataArray | DepthSources:
+        if depth is not None:
+            return depth
+        ring = shapely.segmentize(domain.polygon.exterior, domain.polygon.length / 400)
+        return read_sources(part.stack, shapely.get_coordinates(ring), domain.crs)
+
+    tables = SizeTables(size, bathymetry)
+    case = SizeCase(tables, domain, floor(size), read_depth=read, runner=runner)
+    return size_field(grid, case)

@@ -1,0 +1,254 @@
+"""The run state of a case: :class:`CaseRun`, one typed part per stage.
+
+A case is built by the stages of :data:`coastmesh.case.pipeline.STAGES`, in
+order. Each stage takes the run as the stages before it left it and returns it
+with its own part filled in (:func:`dataclasses.replace`): the shorelines, the
+domain, the size field, the mesh, the depths and the quality, each with its
+report. The reports of a case (:class:`~coastmesh.case.report.CaseReport`) are
+read from the finished run, never patched. Where and how the run happens (the
+workers, the timer, the figures drawn on the way) is the :class:`RunContext`,
+not state.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import time
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, NoReturn
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from pyproj import CRS
+
+from coastmesh.case.config import CaseConfig
+from coastmesh.case.terms.base import Closing
+from coastmesh.depth import DepthReport, DepthSources
+from coastmesh.geometry import DomainReport, OpenBoundary, StitchReport
+from coastmesh.geometry.world import WorldLand
+from coastmesh.meshing import PartsReport, QualityReport, ThrottleReport
+from coastmesh.sizing.combine import SizeFieldReport
+from coastmesh.sizing.grid import Grid
+from coastmesh.types import (
+    Domain,
+    Features,
+    Mesh,
+    Progress,
+    Report,
+    Runner,
+    StageFactory,
+)
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from coastmesh.case.figures import FigureJobs
+    from coastmesh.case.pipeline.strategy import Strategy
+
+__all__ = [
+    "CaseRun",
+    "DepthState",
+    "DomainState",
+    "MeshState",
+    "RunContext",
+    "ShorelineSetReport",
+    "Shorelines",
+    "SizeState",
+    "missing",
+]
+
+logger = logging.getLogger("coastmesh.case.build")
+
+
+@dataclass(frozen=True, slots=True)
+class ShorelineSetReport(Report):
+    """What building one shoreline set did.
+
+    Attributes
+    ----------
+    kind : str
+        ``"full resolution"`` or ``"PCA m modes / L points"``.
+    points_in : int
+        Vertices of the shoreline layer.
+    contours_in, contours_dropped, features_repaired : int or None
+        For a PCA set: rings in, rings shorter than the window, and polygons
+        repaired after smoothing (:class:`~coastmesh.geometry.ShorelineReport`).
+    polygons : int
+        Land polygons kept.
+    polygons_below_min_area, lakes_below_min_area : int
+        Islands dropped and lakes filled for being below ``min_area``.
+    points_out : int
+        Vertices of the set.
+    """
+
+    kind: str
+    points_in: int
+    polygons: int
+    polygons_below_min_area: int
+    lakes_below_min_area: int
+    points_out: int
+    contours_in: int | None = None
+    contours_dropped: int | None = None
+    features_repaired: int | None = None
+
+    def summary(self) -> str:
+        """Return a one-line summary."""
+        return (
+            f"{self.kind}, {self.polygons} polygons ({self.polygons_below_min_area} "
+            f"islands and {self.lakes_below_min_area} lakes below min_area dropped), "
+            f"{self.points_out:,} points"
+        )
+
+
+@dataclass(frozen=True)
+class Shorelines:
+    """The shoreline layer read, and each shoreline set built from it.
+
+    Attributes
+    ----------
+    features : Features
+        The land polygons, in :attr:`crs`.
+    crs : pyproj.CRS
+        The case CRS: ``[case] crs``, else the shoreline file's.
+    sets : mapping of str to ndarray of shapely Polygons
+        Each set's land, by set name, in :attr:`plane` (the case CRS of a
+        regional case; the stereographic plane of a global one).
+    reports : mapping of str to ShorelineSetReport
+    plane : pyproj.CRS
+        The CRS the sets and the domain are built in.
+    world : WorldLand or None
+        A global case's world land in the plane.
+    """
+
+    features: Features
+    crs: CRS
+    sets: Mapping[str, NDArray[np.object_]] = field(default_factory=dict)
+    reports: Mapping[str, ShorelineSetReport] = field(default_factory=dict)
+    plane: CRS | None = None
+    world: WorldLand | None = None
+
+
+@dataclass(frozen=True)
+class DomainState:
+    """The domain meshed, what was drawn on the way, and the CRSs of the mesh.
+
+    Attributes
+    ----------
+    domain : Domain
+        The sea polygon and its tagged boundary segments.
+    report : DomainReport
+    stitch : StitchReport
+        Joining the shoreline sets at the region seams.
+    regions : tuple of (name, id, geometry or None)
+        Where each shoreline set is used.
+    open_boundaries : tuple of OpenBoundary
+        The open boundaries as drawn, before trimming at the coast.
+    land : ndarray of shapely geometries
+        The stitched land, before any closed water was added to it.
+    mesh_crs, output_crs : pyproj.CRS
+        The CRS meshed in, and the CRS of the written nodes.
+    closing : Closing
+        What was closed as land before the size field.
+    """
+
+    domain: Domain
+    report: DomainReport
+    stitch: StitchReport
+    regions: tuple[tuple[str, int, shapely.Geometry | None], ...]
+    open_boundaries: tuple[OpenBoundary, ...]
+    land: NDArray[np.object_]
+    mesh_crs: CRS
+    output_crs: CRS
+    closing: Closing = field(default_factory=Closing)
+
+
+@dataclass(frozen=True)
+class SizeState:
+    """The size field: its grid, its values, its report, the terms' other grids."""
+
+    grid: Grid
+    field: xr.DataArray
+    report: SizeFieldReport
+    layers: Mapping[str, xr.DataArray] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class MeshState:
+    """The mesh (in the output CRS), how the water was cut, and the cleanup."""
+
+    mesh: Mesh
+    parts: PartsReport
+
+
+@dataclass(frozen=True)
+class DepthState:
+    """The rasters the depths came from, their report, and the time-step relief."""
+
+    rasters: DepthSources
+    report: DepthReport
+    relief: ThrottleReport | None = None
+
+
+@dataclass(frozen=True)
+class CaseRun:
+    """A case being built: its config, its strategy, and what each stage made.
+
+    Each part is None until its stage has run (:data:`STAGES`).
+    """
+
+    config: CaseConfig
+    strategy: Strategy
+    shorelines: Shorelines | None = None
+    domain: DomainState | None = None
+    size: SizeState | None = None
+    mesh: MeshState | None = None
+    depth: DepthState | None = None
+    quality: QualityReport | None = None
+
+
+def missing(part: str) -> NoReturn:
+    """Raise for a stage run before the stage that makes ``part``."""
+    raise RuntimeError(f"the case has no {part} yet: its stage has not run")
+
+
+@dataclass(eq=False)
+class RunContext:
+    """Where and how a case runs: never what it makes.
+
+    Attributes
+    ----------
+    threads : int
+        Local workers (processes for the parts, threads for Gmsh).
+    runner : Runner
+        Where the parts are meshed (here, a process pool, or Dask).
+    stage : StageFactory
+        ``stage(label)`` gives a progress callback per stage (the command
+        line's progress bars).
+    figures : FigureJobs or None
+        Draws the figures as soon as what they show is made.
+    seconds : dict of str to float
+        The wall time of each timed step, by its label.
+    """
+
+    threads: int
+    runner: Runner
+    stage: StageFactory
+    figures: FigureJobs | None = None
+    seconds: dict[str, float] = field(default_factory=dict)
+    started: float = field(default_factory=time.perf_counter)
+
+    @contextlib.contextmanager
+    def timed(self, label: str) -> Iterator[Progress]:
+        """Time one step under ``label``, with its progress callback."""
+        t0 = time.perf_counter()
+        logger.info("stage: %s", label)
+        with self.stage(label) as progress:
+            yield progress
+        self.seconds[label] = round(time.perf_counter() - t0, 3)
+
+
+#: A stage: the run so far and its context in, the run with the stage's part out.
+Stage = Callable[[CaseRun, RunContext], CaseRun]

@@ -1,0 +1,241 @@
+"""Global cases: ``[domain] kind = "global"``, the whole world ocean in one mesh.
+
+The stages of a regional case, with these steps done the global way
+(:class:`Global`):
+
+1. the world shoreline layer (lon/lat) goes into the stereographic plane whose
+   singular point is ``[domain] pole`` (:func:`coastmesh.geometry.world_land`):
+   halves split at the antimeridian joined, the polar land (Antarctica) a frame
+   round the rest;
+2. the shoreline sets (PCA, ``min_area``) are made in that plane, by region as
+   in a regional case (region boxes are in lon/lat); the polar coast takes the
+   background set's PCA; water and land narrower than ``[domain] close`` are
+   closed (:func:`coastmesh.geometry.close_narrow_water`), so the coast can be
+   resolved at the gradations' sizes;
+3. the size field lives on a world lon/lat grid
+   (:class:`~coastmesh.sizing.grid.SphereGrid`): gradations by great-circle
+   distance from the sets, the tidal-wavelength term, the gradation limit on
+   the sphere; the size terms read their raster whole;
+4. Gmsh meshes the ocean in the plane with the sizes scaled by the plane's
+   scale factor (:class:`~coastmesh.meshing.gmsh.SphereSizeGrid`), in one part;
+5. the nodes go back to lon/lat; depths, time step and quality follow as in a
+   regional case.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from pyproj import CRS
+
+from coastmesh.case.config import CaseConfig, RasterConfig, ShorelineSetConfig
+from coastmesh.case.pipeline.domain import build_case_domain, region_geometry
+from coastmesh.case.pipeline.shorelines import (
+    build_shoreline_set,
+    read_shorelines,
+    set_label,
+)
+from coastmesh.case.pipeline.state import (
+    CaseRun,
+    DomainState,
+    RunContext,
+    Shorelines,
+    missing,
+)
+from coastmesh.case.pipeline.strategy import Strategy
+from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.geometry import simplify_shorelines
+from coastmesh.geometry.earth import EARTH_RADIUS, METRES_PER_DEGREE, reproject
+from coastmesh.geometry.world import WorldLand, close_narrow_water, world_land
+from coastmesh.io import read_raster
+from coastmesh.meshing.gmsh import SphereSizeGrid
+from coastmesh.sizing.grid import SphereGrid
+from coastmesh.types import Features, SizeGrid
+
+__all__ = ["DEFAULT_CELL_DEG", "Global"]
+
+logger = logging.getLogger(__name__)
+
+#: The world size grid's spacing unless ``[mesh_size] cell`` sets one: 0.25
+#: degrees, 1441 x ~680 nodes. Gmsh holds the grid's cells as its background
+#: view, 128 bytes a cell: 0.1 degrees would be 800 MB.
+DEFAULT_CELL_DEG = 0.25
+
+
+class Global(Strategy):
+    """A global case: the world ocean, meshed in a stereographic plane."""
+
+    def shorelines(self, run: CaseRun, ctx: RunContext) -> Shorelines:
+        """Read the world layer, put it in the plane, build the sets there."""
+        config = run.config
+        with ctx.timed("reading shorelines"):
+            features, crs = read_shorelines(config)
+        _check_lonlat(config, crs)
+        with ctx.timed("the world in the plane"):
+            world = _world(config, features, crs)
+        plane = world.crs
+        islands = Features(
+            world.islands,
+            plane,
+            {},
+            np.arange(len(world.islands)),
+            features.path,
+            features.layer,
+        )
+        sets, reports = {}, {}
+        for s in config.sets:
+            with ctx.timed(set_label(s)) as progress:
+                land, reports[s.name] = build_shoreline_set(
+                    s, islands, plane, config.shorelines.min_area, progress
+                )
+                sets[s.name] = _closed(config, s, world, land, crs)
+        return Shorelines(features, crs, sets, reports, plane=plane, world=world)
+
+    def domain(self, run: CaseRun, ctx: RunContext) -> DomainState:
+        """Build the ocean in the plane; mesh there, write in lon/lat."""
+        config, shorelines = run.config, run.shorelines or missing("shorelines")
+        plane = shorelines.plane or missing("the plane")
+        with ctx.timed("building the domain"):
+            return build_case_domain(
+                config,
+                shorelines.sets,
+                plane,
+                mesh_crs=plane,
+                output_crs=CRS.from_user_input(
+                    config.mesh.output_crs or shorelines.crs
+                ),
+                lonlat=shorelines.crs,
+            )
+
+    def grid(self, run: CaseRun, ctx: RunContext) -> SphereGrid:
+        """Return the world lon/lat grid, from below the ocean's southernmost point."""
+        size, state = run.config.size, run.domain or missing("domain")
+        shorelines = run.shorelines or missing("shorelines")
+        cell = DEFAULT_CELL_DEG if size.cell is None else size.cell / METRES_PER_DEGREE
+        exterior = state.domain.polygon.exterior
+        south = reproject(exterior, state.domain.crs, shorelines.crs).bounds[1]
+        world = shorelines.world or missing("the world")
+        return SphereGrid(
+            cell,
+            south=max(math.floor(south - 2 * cell), -90.0),
+            domain=state.domain,
+            pole=world.pole,
+        )
+
+    def read_depth(self, run: CaseRun, part: RasterConfig) -> object:
+        """Read the one raster whole (a world grid)."""
+        if part.sources:
+            raise ConfigError(
+                "mesh_size.bathymetry.sources: a global case takes one raster for "
+                "its size terms; give path"
+            )
+        return read_raster(part.path)
+
+    def size_grid(self, run: CaseRun) -> SphereSizeGrid:
+        """Return the field on the lon/lat grid, scaled to the plane when sampled."""
+        size = run.size or missing("size field")
+        world = (run.shorelines or missing("shorelines")).world or missing("world")
+        return SphereSizeGrid(SizeGrid.from_dataarray(size.field), world.pole)
+
+    def parts(self, config: CaseConfig) -> int:
+        """One part: the world is meshed whole."""
+        return 1
+
+
+def _check_lonlat(config: CaseConfig, crs: CRS) -> None:
+    """Check that a global case reads and writes longitude and latitude."""
+    if not crs.is_geographic:
+        raise ConfigError(
+            f"{config.label}: a global case takes its shorelines in longitude and "
+            f"latitude; [case] crs or the file gives {crs.name!r}"
+        )
+    output_crs = CRS.from_user_input(config.mesh.output_crs or crs)
+    if not output_crs.is_geographic:
+        raise ConfigError(
+            f"{config.label}: mesh.output_crs = {output_crs.name!r}: a global mesh is "
+            "written in longitude and latitude"
+        )
+
+
+def _world(config: CaseConfig, features: Features, crs: CRS) -> WorldLand:
+    try:
+        return world_land(features.geometry, crs, pole=config.domain.pole)
+    except InputDataError as exc:
+        raise InputDataError(
+            f"{config.shorelines.path}: {exc.message}",
+            path=str(config.shorelines.path),
+        ) from None
+
+
+def _closed(
+    config: CaseConfig,
+    s: ShorelineSetConfig,
+    world: WorldLand,
+    land: NDArray[np.object_],
+    lonlat: CRS,
+) -> NDArray[np.object_]:
+    """Return the set's land, framed (background set), narrow water closed."""
+    if s.name == config.background_set.name:
+        land = np.concatenate([[world.frame(_shell(world.shell, s))], land])
+    close = config.domain.close
+    if close is None:
+        close = min((g.h_min for g in config.size.gradations), default=None)
+    if not close:
+        return land
+    land, merged = _close(
+        land, close, 1.05 * world.reach, _zone(config, s, world.crs, lonlat)
+    )
+    logger.info("%s: %d polygons joined across water under %g m", s.name, merged, close)
+    return land
+
+
+def _zone(
+    config: CaseConfig, s: ShorelineSetConfig, plane: CRS, lonlat: CRS
+) -> shapely.Geometry | None:
+    """Return where a set is used (its regions, in the plane); None: everywhere."""
+    if s.name == config.background_set.name:
+        return None
+    zones = []
+    for k, r in enumerate(config.regions):
+        if r.set == s.name:
+            region = region_geometry(r, k, plane, config)
+            if r.path is None:  # a box or polygon in lon/lat
+                region = reproject(shapely.segmentize(region, 0.1), lonlat, plane)
+            zones.append(region)
+    return shapely.union_all(zones) if zones else None
+
+
+def _close(
+    land: NDArray[np.object_],
+    width: float,
+    reach: float,
+    zone: shapely.Geometry | None,
+) -> tuple[NDArray[np.object_], int]:
+    """Close narrow water, only near ``zone`` (a region set's regions) if given.
+
+    A set made for regions is used only there: its land farther than a margin
+    of a few closing widths (at the plane's scale there) is kept as it is.
+    """
+    if zone is None:
+        return close_narrow_water(land, width, within=reach)
+    far = float(np.hypot(*np.abs(np.reshape(zone.bounds, (2, 2))).max(axis=0)))
+    scale = 1.0 + (far / (2.0 * EARTH_RADIUS)) ** 2  # the plane's k there
+    near = zone.buffer(4.0 * width * scale)
+    inside = shapely.intersection(land, near)
+    inside = inside[~shapely.is_empty(inside)]
+    outside = shapely.difference(land, near)
+    closed, merged = close_narrow_water(inside, width, within=reach)
+    return np.concatenate([closed, outside[~shapely.is_empty(outside)]]), merged
+
+
+def _shell(shell: shapely.Polygon, s: ShorelineSetConfig) -> shapely.Polygon:
+    """Return the polar coast, with the set's PCA when it has one."""
+    if not s.pca:
+        return shell
+    out, _ = simplify_shorelines([shell], s.window, s.modes)
+    parts = shapely.get_parts(out[0]) if out[0] is not None else []
+    return max(parts, key=lambda p: p.area) if len(parts) else shell

@@ -1,0 +1,473 @@
+"""The grid a size field lives on: :class:`PlaneGrid` and :class:`SphereGrid`.
+
+A grid is a value: its nodes (``x``, ``y``), its CRS, its spacing, which nodes
+lie in the sea (``sea``), and the scale factor of the map at each node
+(``scale``). Each size term computes on the grid it is given and never asks
+which kind it is: the grid measures distances to lines (:meth:`graded`),
+samples the depth (:meth:`depth`) and limits the field's gradation
+(:meth:`limit`) in its own way.
+
+* :class:`PlaneGrid`: regular in the projected, conformal CRS a regional domain
+  is meshed in, every ``spacing`` metres, two cells beyond the domain.
+* :class:`SphereGrid`: a longitude/latitude grid of the whole world, whose last
+  column is its first (longitude -180 and 180), for a global case.
+
+The sea mask and the scale factors are measured the first time they are asked
+for (a term that needs neither costs nothing for them), and once.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from pyproj import CRS
+
+from coastmesh.depth import DepthSources, depth_on_grid
+from coastmesh.errors import ConfigError
+from coastmesh.geometry.earth import (
+    EARTH_RADIUS,
+    METRES_PER_DEGREE,
+    reproject,
+    transformer,
+)
+from coastmesh.geometry.projection import scale_factor
+from coastmesh.geometry.sphere import stereographic_scale
+from coastmesh.sizing.bands import graded_sizes
+from coastmesh.sizing.channel import domain_width
+from coastmesh.sizing.gradation import Gradation, gradation_size, limit_gradation
+from coastmesh.sizing.sphere import limit_gradation_sphere, sphere_distance, wrapped
+from coastmesh.types import Domain, Runner
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+__all__ = ["CELLS_ACROSS", "PAD_CELLS", "Grid", "PlaneGrid", "SphereGrid", "grid_axes"]
+
+#: The default spacing of a plane grid, and the densification of the domain's
+#: outline before it is projected, are the domain's extent over this.
+CELLS_ACROSS = 1000
+#: A plane grid extends this many cells beyond the domain on every side.
+PAD_CELLS = 2
+_LONLAT = CRS.from_epsg(4326)
+
+
+def grid_axes(
+    bounds: tuple[float, float, float, float], cell: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Return the node coordinates ``x``, ``y`` of a grid covering ``bounds``.
+
+    From the lower-left corner of ``bounds`` every ``cell``, until the nodes
+    cover them.
+
+    Examples
+    --------
+    >>> x, y = grid_axes((0.0, 0.0, 250.0, 100.0), 100.0)
+    >>> x.tolist(), y.tolist()
+    ([0.0, 100.0, 200.0, 300.0], [0.0, 100.0])
+    """
+    minx, miny, maxx, maxy = (float(v) for v in bounds)
+    nx = int(np.ceil((maxx - minx) / cell)) + 1
+    ny = int(np.ceil((maxy - miny) / cell)) + 1
+    return minx + cell * np.arange(nx), miny + cell * np.arange(ny)
+
+
+class Grid:
+    """The nodes of a size field and what terms measure on them (a base class).
+
+    Attributes
+    ----------
+    x, y : ndarray
+        The nodes' coordinates in ``crs``, ascending.
+    crs : pyproj.CRS
+        The CRS of the nodes.
+    spacing : float
+        The spacing asked for, in ``crs`` units (metres in a plane, degrees on
+        the sphere): the unit of the gradation limit.
+    cell : float
+        The spacing as the nodes lie, ``x[1] - x[0]`` (floating point may put
+        it a hair off ``spacing``): what the terms measure widths and areas in.
+    cell_m : float
+        The spacing in metres on the Earth, for reports.
+    domain : Domain or None
+        The domain whose sea :attr:`sea` is.
+    """
+
+    x: NDArray[np.float64]
+    y: NDArray[np.float64]
+    crs: CRS
+    spacing: float
+    domain: Domain | None
+
+    def __init__(self) -> None:
+        self._lock = threading.Lock()
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """``(ny, nx)``: the nodes in rows of equal y."""
+        return (len(self.y), len(self.x))
+
+    @property
+    def cell(self) -> float:
+        """The nodes' spacing as they lie, ``x[1] - x[0]``."""
+        return float(self.x[1] - self.x[0])
+
+    @property
+    def cell_m(self) -> float:
+        """The spacing in metres, for reports."""
+        return self.cell
+
+    @property
+    def sea(self) -> NDArray[np.bool_]:
+        """The nodes inside the domain (measured once)."""
+        return self._once("sea", self._sea)
+
+    @property
+    def scale(self) -> NDArray[np.float64]:
+        """The map scale factor at the nodes: a length of ``h`` m is ``k h`` there."""
+        return self._once("scale", self._scale)
+
+    def _once(self, name: str, measure: Any) -> Any:
+        """Measure a property once, also when several threads ask at once."""
+        with self._lock:
+            if name not in self.__dict__:
+                self.__dict__[name] = measure()
+            return self.__dict__[name]
+
+    def km2(self, nodes: NDArray[np.bool_]) -> float:
+        """Return the area the ``nodes`` stand for, km2 (a cell each)."""
+        return float(nodes.sum()) * self.cell * self.cell / 1e6
+
+    def widths(self, domain: Domain, *, max_width: float) -> NDArray[np.float64] | None:
+        """Return the width of the domain's water at the nodes, metres.
+
+        None where the grid does not measure it (:class:`SphereGrid`).
+        """
+        return None
+
+    def graded(
+        self,
+        gradations: list[Gradation],
+        *,
+        lines_crs: CRS,
+        h_max: float,
+        runner: Runner | None = None,
+    ) -> NDArray[np.float64]:
+        """Return the gradations' sizes, combined by minimum (metres)."""
+        raise NotImplementedError
+
+    def depth(
+        self, raster: xr.DataArray | DepthSources, positive: str = "up"
+    ) -> NDArray[np.float64]:
+        """Return a raster's depth at the nodes, metres, positive down."""
+        raise NotImplementedError
+
+    def limit(self, values: NDArray[np.float64], rate: float) -> NDArray[np.float64]:
+        """Return ``values`` with no step growing faster than ``rate`` m per m."""
+        raise NotImplementedError
+
+    def field(self, values: NDArray[np.float64], history: str) -> xr.DataArray:
+        """Return sizes on the grid as a DataArray (dims ``("y", "x")``, metres)."""
+        import xarray as xr
+
+        return xr.DataArray(
+            values,
+            dims=("y", "x"),
+            coords={"y": self.y, "x": self.x},
+            name="size",
+            attrs={"crs": self.crs.to_wkt(), "units": "m", "history": history},
+        )
+
+    def _sea(self) -> NDArray[np.bool_]:
+        raise NotImplementedError
+
+    def _scale(self) -> NDArray[np.float64]:
+        raise NotImplementedError
+
+
+class PlaneGrid(Grid):
+    """A size grid regular in a projected CRS: nodes every ``spacing`` metres.
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Node coordinates in ``crs``, ascending, ``spacing`` apart.
+    crs : pyproj.CRS or CRS-like
+        A projected CRS in metres: the conformal CRS the mesh is made in.
+    spacing : float
+        The spacing, metres.
+    domain : Domain, optional
+        The domain meshed (for :attr:`sea`).
+    threads : int
+        Threads for the scale factors.
+
+    Raises
+    ------
+    ConfigError
+        If ``crs`` is not projected, or the spacing is not > 0.
+
+    Examples
+    --------
+    >>> g = PlaneGrid.from_bounds((0.0, 0.0, 1000.0, 500.0), 250.0, "EPSG:32630")
+    >>> g.shape, g.cell
+    ((3, 5), 250.0)
+    """
+
+    def __init__(
+        self,
+        x: NDArray[np.float64],
+        y: NDArray[np.float64],
+        crs: Any,
+        spacing: float,
+        domain: Domain | None = None,
+        *,
+        threads: int = 1,
+    ) -> None:
+        super().__init__()
+        self.crs = CRS.from_user_input(crs)
+        if not self.crs.is_projected:
+            raise ConfigError(
+                f"size grid: crs {self.crs.name!r} is not projected; mesh in metres"
+            )
+        if not spacing > 0:
+            raise ConfigError(f"cell = {spacing}: must be > 0 metres")
+        self.x, self.y, self.spacing = x, y, float(spacing)
+        self.domain, self.threads = domain, threads
+
+    @classmethod
+    def from_bounds(
+        cls, bounds: tuple[float, float, float, float], spacing: float, crs: Any
+    ) -> PlaneGrid:
+        """Return the grid whose nodes cover ``bounds`` (in ``crs``)."""
+        minx, miny, maxx, maxy = (float(v) for v in bounds)
+        if not (maxx > minx and maxy > miny):
+            raise ConfigError(f"bounds = {bounds}: need minx < maxx and miny < maxy")
+        if not spacing > 0:
+            raise ConfigError(f"cell = {spacing}: must be > 0 metres")
+        return cls(*grid_axes((minx, miny, maxx, maxy), spacing), crs, spacing)
+
+    @classmethod
+    def around(
+        cls,
+        domain: Domain,
+        crs: Any,
+        *,
+        spacing: float | None,
+        smallest: float,
+        threads: int = 1,
+    ) -> PlaneGrid:
+        """Return the grid of a domain's size field, in ``crs``.
+
+        It covers the domain with :data:`PAD_CELLS` cells to spare. The spacing
+        is ``spacing``, else the extent over :data:`CELLS_ACROSS`, but not below
+        ``smallest`` (metres: the smallest size asked for).
+        """
+        crs = CRS.from_user_input(crs)
+        step = _extent(domain.polygon.bounds) / CELLS_ACROSS
+        outline = reproject(
+            shapely.segmentize(domain.polygon.exterior, step), domain.crs, crs
+        )
+        minx, miny, maxx, maxy = outline.bounds
+        if spacing is None:
+            spacing = max(_extent((minx, miny, maxx, maxy)) / CELLS_ACROSS, smallest)
+        pad = PAD_CELLS * spacing
+        bounds = (minx - pad, miny - pad, maxx + pad, maxy + pad)
+        x, y = grid_axes(bounds, spacing)
+        return cls(x, y, crs, spacing, domain, threads=threads)
+
+    def graded(
+        self,
+        gradations: list[Gradation],
+        *,
+        lines_crs: CRS,
+        h_max: float,
+        runner: Runner | None = None,
+    ) -> NDArray[np.float64]:
+        """Return the gradations' sizes: distances in bands of rows on ``runner``.
+
+        The lines are reprojected from ``lines_crs`` to the grid's CRS.
+        """
+        _check_h_max(gradations, h_max)
+        graded = [
+            Gradation(
+                reproject(g.lines, lines_crs, self.crs),
+                g.h_min,
+                g.d_hold,
+                g.d_grade,
+                g.name,
+            )
+            for g in gradations
+        ]
+        return graded_sizes(
+            self.x,
+            self.y,
+            graded,
+            crs=self.crs,
+            h_max=h_max,
+            resolution=self.spacing / 4,
+            runner=runner,
+        )
+
+    def widths(self, domain: Domain, *, max_width: float) -> NDArray[np.float64]:
+        """Return the width of the water (:func:`~.channel.domain_width`)."""
+        return domain_width(self, domain, max_width=max_width)
+
+    def depth(
+        self, raster: xr.DataArray | DepthSources, positive: str = "up"
+    ) -> NDArray[np.float64]:
+        """Return the depth at the nodes (bilinear; the rasters' own CRS)."""
+        return depth_on_grid(raster, self.x, self.y, crs=self.crs, positive=positive)
+
+    def limit(self, values: NDArray[np.float64], rate: float) -> NDArray[np.float64]:
+        """Limit the gradation in 8 directions, ``spacing`` apart."""
+        return limit_gradation(values, (self.spacing, self.spacing), rate)
+
+    def _sea(self) -> NDArray[np.bool_]:
+        if self.domain is None:
+            return np.ones(self.shape, dtype=bool)
+        polygon = densified(self.domain, [self.domain.polygon], self.crs)[0]
+        shapely.prepare(polygon)
+        xx, yy = np.meshgrid(self.x, self.y)
+        return shapely.contains_xy(polygon, xx, yy)
+
+    def _scale(self) -> NDArray[np.float64]:
+        gx, gy = np.meshgrid(self.x, self.y)
+        return scale_factor(gx, gy, self.crs, threads=self.threads)
+
+
+class SphereGrid(Grid):
+    """A longitude/latitude grid of the world, for a global case's size field.
+
+    ``x`` runs from -180 to 180 (the last column is the first meridian again)
+    and ``y`` from ``south`` to the North Pole, ``spacing`` degrees apart (360
+    and ``90 - south`` rounded to whole numbers of cells). Sizes are lengths on
+    the sphere; the domain and lines are in the stereographic plane ``plane``
+    whose singular point is ``pole``.
+
+    Examples
+    --------
+    >>> g = SphereGrid(2.0, south=-80.0)
+    >>> g.shape, float(g.x[0]), float(g.x[-1]), g.cell_m > 2e5
+    ((86, 181), -180.0, 180.0, True)
+    """
+
+    def __init__(
+        self,
+        spacing: float,
+        *,
+        south: float = -90.0,
+        domain: Domain | None = None,
+        pole: tuple[float, float] = (0.0, -90.0),
+    ) -> None:
+        super().__init__()
+        if not spacing > 0:
+            raise ConfigError(f"cell = {spacing}: must be > 0 degrees")
+        if not -90.0 <= south < 90.0:
+            raise ConfigError(f"south = {south}: must be a latitude below 90")
+        nx = max(round(360.0 / spacing), 4)
+        ny = max(round((90.0 - south) / spacing), 2)
+        self.x = np.linspace(-180.0, 180.0, nx + 1)
+        self.y = np.linspace(south, 90.0, ny + 1)
+        self.crs, self.spacing = _LONLAT, float(spacing)
+        self.domain, self.pole = domain, pole
+
+    @property
+    def cell(self) -> float:
+        """The spacing asked for, degrees (the grid's axes are ``linspace``)."""
+        return self.spacing
+
+    @property
+    def cell_m(self) -> float:
+        """The spacing in metres of great-circle arc."""
+        return self.spacing * METRES_PER_DEGREE
+
+    def km2(self, nodes: NDArray[np.bool_]) -> float:
+        """Return the area on the sphere the ``nodes`` stand for, km2."""
+        cell = math.radians(self.spacing)
+        area = (EARTH_RADIUS * cell) ** 2 * np.cos(np.radians(self.y))[:, None]
+        return float((area * nodes)[:, :-1].sum()) / 1e6
+
+    def graded(
+        self,
+        gradations: list[Gradation],
+        *,
+        lines_crs: CRS,
+        h_max: float,
+        runner: Runner | None = None,
+    ) -> NDArray[np.float64]:
+        """Return the gradations' sizes by great-circle distance from the lines."""
+        _check_h_max(gradations, h_max)
+        size = np.full(self.shape, float(h_max))
+        nx = len(self.x) - 1
+        resolution = min(math.radians(360.0 / nx) * EARTH_RADIUS / 4, 5_000.0)
+        for g in gradations:
+            lines = np.asarray(g.lines, dtype=object)
+            if len(lines) == 0 or shapely.is_empty(lines).all():
+                continue
+            distance = sphere_distance(
+                lines, lines_crs, self.x[:-1], self.y, resolution, g.d_hold + g.d_grade
+            )  # the last column is the first meridian again
+            graded = gradation_size(distance, g.h_min, h_max, g.d_hold, g.d_grade)
+            np.minimum(size, np.hstack([graded, graded[:, :1]]), out=size)
+        return size
+
+    def depth(
+        self, raster: xr.DataArray | DepthSources, positive: str = "up"
+    ) -> NDArray[np.float64]:
+        """Return the depth at the nodes; a world raster wraps round."""
+        depth = depth_on_grid(
+            wrapped(raster), self.x[:-1], self.y, crs=_LONLAT, positive=positive
+        )
+        return np.hstack([depth, depth[:, :1]])
+
+    def limit(self, values: NDArray[np.float64], rate: float) -> NDArray[np.float64]:
+        """Limit the gradation with each step's true length on the sphere."""
+        return limit_gradation_sphere(values, self.y, rate)
+
+    def _sea(self) -> NDArray[np.bool_]:
+        if self.domain is None:
+            return np.ones(self.shape, dtype=bool)
+        glon, glat = np.meshgrid(self.x, self.y)
+        with np.errstate(all="ignore"):  # the pole of the plane goes to infinity
+            px, py = transformer(_LONLAT, self.domain.crs).transform(glon, glat)
+        polygon = self.domain.polygon
+        shapely.prepare(polygon)
+        return shapely.contains_xy(polygon, px, py)
+
+    def _scale(self) -> NDArray[np.float64]:
+        glon, glat = np.meshgrid(self.x, self.y)
+        return stereographic_scale(glon, glat, self.pole)
+
+
+def densified(
+    domain: Domain, geometries: list[shapely.Geometry], crs: CRS | str
+) -> NDArray[np.object_]:
+    """Return geometries of the domain in ``crs``, densified first.
+
+    Vertices go in every 1/4000 of the domain's extent, so that straight
+    edges in the domain's CRS (a meridian, a loxodrome) keep their shape.
+    """
+    b = domain.polygon.bounds
+    step = max(b[2] - b[0], b[3] - b[1]) / 4000
+    return reproject(
+        shapely.segmentize(np.array(geometries, dtype=object), step),
+        domain.crs,
+        crs,
+    )
+
+
+def _extent(bounds: tuple[float, ...]) -> float:
+    minx, miny, maxx, maxy = bounds
+    return max(maxx - minx, maxy - miny)
+
+
+def _check_h_max(gradations: list[Gradation], h_max: float) -> None:
+    for g in gradations:
+        if g.h_min > h_max:
+            raise ConfigError(
+                f"gradation {g.name!r}: h_min = {g.h_min} > h_max = {h_max}"
+            )
