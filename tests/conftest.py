@@ -110,6 +110,21 @@ def mesh_with_islands():
 
 
 @pytest.fixture(scope="session")
+def coarse_case():
+    """The example case with coarser sizes, built in memory once a session.
+
+    Tests that share it are grouped on one worker (``xdist_group("coarse")``),
+    so a run on several workers builds it once.
+    """
+    from coastmesh import CoastmeshWarning
+    from coastmesh.case import build_case, parse_case
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoastmeshWarning)
+        return build_case(parse_case(coarse_example_text(), EXAMPLE), workers=1)
+
+
+@pytest.fixture(scope="session")
 def example_run(tmp_path_factory):
     """The Orkney example case, run once for the whole test session."""
     from coastmesh.case import run_case

@@ -11,6 +11,7 @@ import ast
 import shutil
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import pytest
@@ -79,12 +80,51 @@ def test_no_private_names_across_packages(path):
 
 
 def test_modules_are_small():
+    """Over about 500 lines, a module may hold more than one idea: a warning.
+
+    A warning, not a failure: a module is split along what it does, never to
+    fit a line count.
+    """
     sizes = {
         str(p.relative_to(PACKAGE)): len(p.read_text(encoding="utf-8").splitlines())
         for p in _modules()
     }
     large = {name: n for name, n in sizes.items() if n > MAX_LINES}
-    assert not large, f"modules over {MAX_LINES} lines: {large}"
+    if large:
+        warnings.warn(
+            f"modules over {MAX_LINES} lines (does each hold one idea?): {large}",
+            UserWarning,
+            stacklevel=1,
+        )
+    assert all(n > 0 for n in sizes.values())
+
+
+FUNCTION_LINES = 80
+
+
+@pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_functions_are_short(path):
+    """No function has more than 80 lines of code (its docstring aside)."""
+    text = path.read_text(encoding="utf-8")
+    lines = text.splitlines()
+    for node in ast.walk(ast.parse(text)):
+        if not isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            continue
+        body = node.body
+        doc = 0
+        if body and isinstance(body[0], ast.Expr) and isinstance(
+            getattr(body[0], "value", None), ast.Constant
+        ):
+            doc = body[0].end_lineno - body[0].lineno + 1
+        code = [
+            line
+            for line in lines[node.lineno - 1 : node.end_lineno]
+            if line.strip() and not line.strip().startswith("#")
+        ]
+        assert len(code) - doc <= FUNCTION_LINES, (
+            f"{path.relative_to(ROOT)}:{node.lineno} {node.name} has "
+            f"{len(code) - doc} lines of code (at most {FUNCTION_LINES})"
+        )
 
 
 def test_no_loose_modules_beside_the_stage_packages():

@@ -16,12 +16,13 @@ from coastmesh.case import CaseResult, build_case, parse_case, read_case
 from coastmesh.errors import ConfigError, OutputExistsError
 
 
-@pytest.fixture(scope="module")
-def coarse():
-    """The example with coarser sizes, built in memory once."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", coastmesh.CoastmeshWarning)
-        return build_case(parse_case(coarse_example_text(), EXAMPLE))
+pytestmark = pytest.mark.xdist_group("coarse")
+
+
+@pytest.fixture
+def coarse(coarse_case):
+    """The example with coarser sizes, built in memory once a session."""
+    return coarse_case
 
 
 def test_build_case_writes_nothing(tmp_path, monkeypatch):
@@ -43,6 +44,7 @@ def test_build_case_writes_nothing(tmp_path, monkeypatch):
     assert result.nodes == len(result.mesh.points) > 1000
 
 
+@pytest.mark.slow
 def test_same_mesh_as_run(example_run):
     """build_case on the example gives the nodes and triangles coastmesh run wrote."""
     ran, out = example_run

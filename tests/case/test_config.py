@@ -199,3 +199,15 @@ def test_case_kinds():
     study = '[case]\nname = "s"\nkind = "shorelines"\n'
     with pytest.raises(ConfigError, match=r"study: is missing"):
         parse(study)
+
+
+def test_a_depth_sign_for_a_format_without_depth_is_refused():
+    text = BASE.replace(
+        "[mesh_size]", "[output]\npositive = { msh2 = 'up' }\n[mesh_size]"
+    )
+    with pytest.raises(ConfigError, match=r"output.positive.msh2: the msh2 format"):
+        parse(text)
+    ok = BASE.replace(
+        "[mesh_size]", "[output]\npositive = { mike = 'down' }\n[mesh_size]"
+    )
+    assert parse(ok).outputs.positive == {"mike": "down"}

@@ -28,6 +28,7 @@ def _on_1_and_2_workers(tmp_path):
         ]
 
 
+@pytest.mark.slow
 def test_figures_on_processes_are_the_same_files(tmp_path, monkeypatch):
     monkeypatch.setattr(figures, "POOL_MIN_TRIANGLES", 0)  # a pool for this one too
     one, two = _on_1_and_2_workers(tmp_path)
@@ -69,6 +70,7 @@ def test_small_meshes_and_one_worker_draw_here(tmp_path):
             (tmp_path / "figures").rmdir()
 
 
+@pytest.mark.slow
 def test_each_figure_starts_once_what_it_shows_is_made(tmp_path, monkeypatch):
     """With a pool, run_case starts the figures as the case is built.
 
@@ -148,6 +150,7 @@ def test_a_figure_started_again_is_drawn_from_its_new_arguments(tmp_path):
         assert png == figures.render("mesh_figure", (mesh,), {"title": title})
 
 
+@pytest.mark.slow
 def test_figures_follow_a_relief_that_changes_the_mesh(tmp_path, monkeypatch):
     """The mesh's figures are drawn again when the time-step relief changes it.
 

@@ -3,15 +3,24 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 from coastmesh.data import path as data_path
 from coastmesh.io import read_mesh, read_msh, write_mesh, write_msh
 from coastmesh.io.adcirc import read_fort14
 
 
-def test_convert_to_fort14_with_bathymetry(run_cli, example_run, tmp_path):
-    _, out = example_run
-    src = out / "pentland_firth.msh"
+@pytest.fixture
+def case_msh(coarse_case, tmp_path):
+    """The coarse Orkney case's mesh as msh 2.2 (boundary names and kinds kept)."""
+    path = tmp_path / "pentland_firth.msh"
+    write_mesh(path, coarse_case.mesh)
+    return path
+
+
+@pytest.mark.xdist_group("coarse")
+def test_convert_to_fort14_with_bathymetry(run_cli, case_msh, tmp_path):
+    src = case_msh
     raster = data_path("etopo1_0.1deg_orkney_wide.tif")
     dst = tmp_path / "fort.14"
     result = run_cli("convert", src, dst, "--bathymetry", raster, "--min-depth", "2")
@@ -53,13 +62,13 @@ def test_convert_needs_kinds_for_plain_msh(run_cli, tmp_path):
     assert wrong.exit_code == 2 and "no such boundary ids" in wrong.output
 
 
-def test_unknown_extension_and_existing_output(run_cli, example_run, tmp_path):
-    _, out = example_run
-    bad = run_cli("convert", out / "pentland_firth.msh", tmp_path / "mesh.xyz")
+@pytest.mark.xdist_group("coarse")
+def test_unknown_extension_and_existing_output(run_cli, case_msh, tmp_path):
+    bad = run_cli("convert", case_msh, tmp_path / "mesh.xyz")
     assert bad.exit_code == 1 and "unknown mesh format" in bad.output
     target = tmp_path / "m.vtu"
     target.write_text("mine")
-    again = run_cli("convert", out / "pentland_firth.msh", target)
+    again = run_cli("convert", case_msh, target)
     assert again.exit_code == 1 and "--overwrite" in again.output
     assert target.read_text() == "mine"
 

@@ -13,6 +13,9 @@ import pytest
 import coastmesh
 from coastmesh.case import executor
 
+#: a whole case, end to end: run by `pytest -m slow` (and .ci/run)
+pytestmark = pytest.mark.slow
+
 SHELF = (
     Path(__file__).parents[2] / "examples" / "nw_european_shelf" / "intermediate.toml"
 )
@@ -69,7 +72,6 @@ def test_a_cluster_makes_the_mesh_a_local_run_makes(run_cli, scheduler, tmp_path
     assert runs["dask"][0] == runs["local"][0]  # byte for byte
 
 
-@pytest.mark.slow
 @pytest.mark.filterwarnings("ignore::UserWarning")
 def test_the_intermediate_shelf_on_a_cluster_is_the_local_mesh(
     run_cli, scheduler, tmp_path

@@ -243,7 +243,7 @@ def test_source_in_another_crs_and_resolution_on_real_data(orkney_tif):
         [rng.uniform(-4.5, -1.0, 3000), rng.uniform(58.0, 59.5, 3000)]
     )
     s = stack.sample(pts, "EPSG:4326")
-    for k in rng.choice(len(pts), 150, replace=False):
+    for k in rng.choice(len(pts), 40, replace=False):  # the reference is slow
         ref, src = _ref_sample([survey, etopo], [-1, -1], [4e3, 0.0], *pts[k])
         assert s.source[k] == src
         assert s.depth[k] == pytest.approx(ref, abs=1e-9)

@@ -15,6 +15,9 @@ import pytest
 
 from coastmesh.case import run_case
 
+#: a whole case, end to end: run by `pytest -m slow` (and .ci/run)
+pytestmark = pytest.mark.slow
+
 CASE = Path(__file__).parents[2] / "examples" / "norway" / "fjords_mesh.toml"
 
 

@@ -11,6 +11,9 @@ import pytest
 
 from coastmesh.io.msh import read_msh
 
+#: a whole case, end to end: run by `pytest -m slow` (and .ci/run)
+pytestmark = pytest.mark.slow
+
 
 @pytest.fixture(scope="module")
 def reference(example_run):

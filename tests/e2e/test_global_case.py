@@ -17,6 +17,9 @@ from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.io import read_mesh
 
+#: a whole case, end to end: run by `pytest -m slow` (and .ci/run)
+pytestmark = pytest.mark.slow
+
 CASE = """
 [case]
 name = "world_coarse"

@@ -14,6 +14,9 @@ from coastmesh.case import run_case
 from coastmesh.geometry import densify_long_edges
 from coastmesh.io.msh import read_msh
 
+#: a whole case, end to end: run by `pytest -m slow` (and .ci/run)
+pytestmark = pytest.mark.slow
+
 CASES = Path(__file__).parents[2] / "examples" / "nw_european_shelf"
 
 
@@ -54,7 +57,6 @@ def test_coarse_mesh(tmp_path):
     assert not domain.contains(shapely.Point(2.5, 47.0))  # France
 
 
-@pytest.mark.slow
 def test_intermediate_mesh(tmp_path):
     result = _run("intermediate", tmp_path)
     mesh = read_msh(tmp_path / "intermediate" / "nw_shelf_intermediate.msh")

@@ -25,6 +25,9 @@ from coastmesh.depth import DepthSource, DepthSources
 from coastmesh.errors import ConfigError, FormatError, InputDataError
 from coastmesh.io import read_raster
 
+#: a whole case, end to end: run by `pytest -m slow` (and .ci/run)
+pytestmark = pytest.mark.slow
+
 ETOPO = data_path("etopo1_0.1deg_orkney_wide.tif")
 NODE_DEPTH = """[bathymetry]
 path = "../../src/coastmesh/data/etopo1_0.1deg_orkney_wide.tif"

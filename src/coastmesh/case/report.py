@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 from pyproj import CRS
 
-from coastmesh.case.pipeline.state import CaseRun, ShorelineSetReport, missing
+from coastmesh.case.pipeline.state import CaseRun, ShorelineSetReport
 from coastmesh.depth import DepthReport
 from coastmesh.geometry import DomainReport, StitchReport
 from coastmesh.meshing import CleanupReport, QualityReport, ThrottleReport
@@ -130,10 +130,7 @@ class CaseReport(Report):
         from coastmesh import __version__
 
         config = run.config
-        shorelines = run.shorelines or missing("shorelines")
-        domain = run.domain or missing("domain")
-        size = run.size or missing("size field")
-        mesh = run.mesh or missing("mesh")
+        shorelines, domain, size, mesh = run.built()
         return cls(
             case=config.name,
             source=None if config.source is None else str(config.source),

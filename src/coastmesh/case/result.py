@@ -22,7 +22,7 @@ from coastmesh import __version__
 from coastmesh.case.config import CaseConfig, OutputConfig
 from coastmesh.case.dump import dump_case
 from coastmesh.case.figures import FigureJobs, figure_jobs
-from coastmesh.case.pipeline.state import CaseRun, missing
+from coastmesh.case.pipeline.state import CaseRun
 from coastmesh.case.report import CaseReport
 from coastmesh.geometry import OpenBoundary
 from coastmesh.io import (
@@ -99,10 +99,7 @@ class CaseResult:
 
         ``seconds``: the time of each timed step; ``elapsed``: the whole build.
         """
-        shorelines = run.shorelines or missing("shorelines")
-        domain = run.domain or missing("domain")
-        size = run.size or missing("size field")
-        mesh = run.mesh or missing("mesh")
+        shorelines, domain, size, mesh = run.built()
         return cls(
             config=run.config,
             mesh=mesh.mesh,
@@ -314,7 +311,11 @@ def write_case_copy(folder: Path, config: CaseConfig | Any) -> None:
 
 
 def _write_models(result: CaseResult, folder: Path, outputs: OutputConfig) -> list[str]:
-    """Write the mesh in each format of ``[output] formats``."""
+    """Write the mesh in each format of ``[output] formats``, and its companions.
+
+    What each format can hold (nodes on the sphere, a depth sign, files written
+    beside it) comes from the format registry, never from its name.
+    """
     name = result.name
     files: list[str] = []
     taken: set[str] = set()
@@ -325,15 +326,14 @@ def _write_models(result: CaseResult, folder: Path, outputs: OutputConfig) -> li
         if filename in taken:
             filename = f"{name}-{fmt_name}{suffix}"
         taken.add(filename)
-        options = {}
+        options: dict[str, object] = {}
         if outputs.positive and fmt_name in outputs.positive:
             options["positive"] = outputs.positive[fmt_name]
-        if outputs.sphere_xyz and fmt_name in ("msh2", "msh4"):
+        if outputs.sphere_xyz and "sphere_xyz" in fmt.holds:
             options["sphere_xyz"] = True
         write_mesh(folder / filename, result.mesh, format=fmt_name, **options)
         files.append(filename)
-        if fmt_name == "selafin":  # the boundary-conditions file written with it
-            files.append(f"{Path(filename).stem}.cli")
+        files += [f"{Path(filename).stem}{ext}" for ext in fmt.companions]
     return files
 
 

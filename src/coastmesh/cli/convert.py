@@ -30,7 +30,8 @@ def _ids(ctx: click.Context, param: click.Parameter, value: str | None):
     "--format",
     "fmt",
     metavar="NAME",
-    help="Output format by name (e.g. msh4); by default OUT's extension decides.",
+    help="Output format by name ('coastmesh formats' lists them); by default "
+    "OUT's extension decides.",
 )
 @click.option(
     "--bathymetry",

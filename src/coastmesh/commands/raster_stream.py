@@ -172,34 +172,14 @@ def stream_raster(
     import dask
     import dask.array as da
 
-    size = window[0] * window[1]
     plan = plan or plan_chunks(source.shape, window)
     chunks = plan.chunks
     report = progress or (lambda done, total: None)
     steps = 2 * len(chunks)
     logger.debug("%s: %d chunks, tiles %s", source.source, len(chunks), plan.tile)
-    gram = dask.delayed(gram_task, pure=True)
-    parts = da.concatenate(
-        [
-            da.from_delayed(
-                gram(source, rows, columns, window),
-                shape=(1, size * size + 4),
-                dtype=np.float64,
-            )
-            for rows, columns in chunks
-        ]
+    vectors, shift, missing = _modes(
+        source, chunks, window, modes, client, (report, steps)
     )
-    parts = client.persist(parts)  # the cluster keeps the rows until summed
-    _wait(client, parts, report, steps)
-    sums = parts[:, : size * size + 2].sum(axis=0, split_every=_SPLIT_EVERY)
-    sums, firsts = client.compute([sums, parts[:, size * size + 2 :]], sync=True)
-    del parts
-    count, missing = int(sums[-2]), int(sums[-1])
-    vectors = None
-    if count:
-        vectors = chunk_modes(sums[: size * size].reshape(size, size), count, modes)
-    has_data = firsts[:, 0] > 0
-    shift = float(firsts[np.argmax(has_data), 1]) if has_data.any() else 0.0
     nodata = _output_nodata(source, missing, target)
 
     rebuild = dask.delayed(rebuild_task, pure=True, nout=2)
@@ -243,6 +223,48 @@ def stream_raster(
         square_change=float(stats_of[:, 2].sum()),
         max_change=float(stats_of[:, 3].max()),
     )
+
+
+def _modes(
+    source: RasterSource,
+    chunks: list,
+    window: tuple[int, int],
+    modes: int,
+    client: Any,
+    progress: tuple[Progress, int],
+) -> tuple[Any, float, int]:
+    """Run the first pass: the windows' covariance over every chunk, its modes.
+
+    Returns the leading eigenvectors (None if no window has data), the shift
+    the values were centred on, and the count of missing cells.
+    """
+    import dask
+    import dask.array as da
+
+    size = window[0] * window[1]
+    gram = dask.delayed(gram_task, pure=True)
+    parts = da.concatenate(
+        [
+            da.from_delayed(
+                gram(source, rows, columns, window),
+                shape=(1, size * size + 4),
+                dtype=np.float64,
+            )
+            for rows, columns in chunks
+        ]
+    )
+    parts = client.persist(parts)  # the cluster keeps the rows until summed
+    _wait(client, parts, *progress)
+    sums = parts[:, : size * size + 2].sum(axis=0, split_every=_SPLIT_EVERY)
+    sums, firsts = client.compute([sums, parts[:, size * size + 2 :]], sync=True)
+    del parts
+    count, missing = int(sums[-2]), int(sums[-1])
+    vectors = None
+    if count:
+        vectors = chunk_modes(sums[: size * size].reshape(size, size), count, modes)
+    has_data = firsts[:, 0] > 0
+    shift = float(firsts[np.argmax(has_data), 1]) if has_data.any() else 0.0
+    return vectors, shift, missing
 
 
 def _wait(client: Any, persisted: Any, report: Progress, steps: int) -> None:

@@ -11,6 +11,7 @@
 :func:`read_mesh`        msh, fort.14, gr3, UGRID, ... -> :class:`~coastmesh.types.Mesh`
 :func:`write_mesh`       :class:`~coastmesh.types.Mesh` -> msh, fort.14, UGRID, ...
 :func:`mesh_formats`     the mesh formats, by name, with their readers and writers
+:func:`formats_table`    the formats as a Markdown table: what each holds
 :func:`write_domain`     :class:`~coastmesh.types.Domain` -> GeoPackage
 :func:`write_report`     a report -> JSON (``to_dict()``) and text (``summary()``)
 :func:`check_on_sphere`  a lon/lat mesh's triangles rebuilt and measured on the
@@ -40,6 +41,7 @@ if TYPE_CHECKING:
     from coastmesh.io._mesh_format import MeshFormat
     from coastmesh.io._registry import (
         format_for_path,
+        formats_table,
         mesh_format,
         mesh_formats,
         read_mesh,
@@ -76,6 +78,7 @@ __all__ = [
     "check_output",
     "encode_cells",
     "format_for_path",
+    "formats_table",
     "mesh_format",
     "mesh_formats",
     "open_raster_source",
@@ -124,6 +127,7 @@ _HOME = {
     "write_msh": "coastmesh.io.msh",
     "MeshFormat": "coastmesh.io._mesh_format",
     "format_for_path": "coastmesh.io._registry",
+    "formats_table": "coastmesh.io._registry",
     "mesh_format": "coastmesh.io._registry",
     "mesh_formats": "coastmesh.io._registry",
     "read_mesh": "coastmesh.io._registry",

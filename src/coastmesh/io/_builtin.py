@@ -64,63 +64,105 @@ def _msh_writer(version: str) -> Callable[..., None]:
     return write
 
 
+_TOPOLOGY = frozenset({"ids", "names", "kinds"})
+
 BUILT_IN = (
     MeshFormat(
         "msh2",
         (".msh",),
         _msh_writer("2.2"),
-        "Gmsh msh 2.2 (Fluidity, Thetis); default .msh",
+        "Gmsh msh 2.2: triangles, boundary lines with physical ids, physical "
+        "names `open:NAME` / `shoreline:NAME`; default .msh",
         read=read_msh,
+        model="Fluidity, Thetis/Firedrake",
+        holds=_TOPOLOGY | {"sphere_xyz"},
     ),
-    MeshFormat("msh4", (".msh",), _msh_writer("4.1"), "Gmsh msh 4.1", read=read_msh),
+    MeshFormat(
+        "msh4",
+        (".msh",),
+        _msh_writer("4.1"),
+        "Gmsh msh 4.1 with ids (meshio cannot read back names in 4.1, so none "
+        "are written)",
+        read=read_msh,
+        model="Gmsh 4",
+        holds=frozenset({"ids", "sphere_xyz"}),
+    ),
     MeshFormat(
         "gpkg",
         (".gpkg",),
         write_mesh_gpkg,
-        "GeoPackage: layers 'nodes' (id, depth, size), 'triangles' (id) and "
-        "'boundaries' (physical_id, name, kind)",
+        "GeoPackage: layers `nodes` (id, depth, size), `triangles` (id) and "
+        "`boundaries` (physical_id, name, kind)",
         read=read_mesh_gpkg,
+        model="QGIS",
+        holds=_TOPOLOGY | {"depth", "node_data", "crs"},
+        positive="down",
     ),
     MeshFormat(
         "fort14",
         (".14", ".grd"),
         write_fort14,
-        "ADCIRC fort.14: depth positive down, open and land boundary segments",
+        "ADCIRC fort.14: nodes with depth, elements, open boundary node strings "
+        "(`IBTYPEE 0`), land strings: mainland `IBTYPE 0`, islands `IBTYPE 1` "
+        "closed by repeating the first node",
         read=read_fort14_mesh,
+        model="ADCIRC",
+        holds=_TOPOLOGY | {"depth", "crs"},
+        positive="down",
     ),
     MeshFormat(
         "gr3",
         (".gr3", ".ll"),
         write_gr3,
-        "SCHISM hgrid.gr3: depth positive down, open and land boundary segments",
+        "SCHISM hgrid.gr3: the fort.14 layout; islands type 1, not closed",
         read=read_fort14_mesh,
+        model="SCHISM",
+        holds=_TOPOLOGY | {"depth", "crs"},
+        positive="down",
     ),
     MeshFormat(
         "selafin",
         (".slf", ".selafin"),
         write_selafin,
-        "Telemac SELAFIN geometry (BOTTOM = bed elevation) + .cli boundary file",
+        "Telemac SELAFIN geometry with `BOTTOM` (bed elevation) and `IPOBO`, and "
+        "the `.cli` boundary file in boundary order: land `2 2 2`, open `5 4 4` "
+        "(prescribed elevation)",
+        model="Telemac-2D",
+        holds=frozenset({"ids", "depth"}),
+        companions=(".cli",),
+        positive="up",
     ),
     MeshFormat(
         "mike",
         (".mesh",),
         write_mike_mesh,
-        "DHI MIKE .mesh: z positive up, node codes 1 land, 2.. open ids in order",
+        "DHI MIKE .mesh: node codes 0 inside, 1 land, 2, 3, ... for the open ids "
+        "in increasing order; `z`",
         read=read_mike_mesh,
+        model="MIKE 21 FM",
+        holds=frozenset({"ids", "kinds", "depth", "crs"}),
+        positive="up",
     ),
     MeshFormat(
         "ugrid",
         (".nc",),
         write_ugrid,
-        "UGRID-1.0 netCDF: mesh2d, depth on nodes, boundary_id on edges",
+        "UGRID-1.0 netCDF: `mesh2d`, `depth` and every node field on the nodes, "
+        "`boundary_id` on edges, the CRS",
         read=read_ugrid,
+        model="xugrid, QGIS, Delft3D FM tools",
+        holds=_TOPOLOGY | {"depth", "node_data", "crs"},
+        positive="down",
     ),
     MeshFormat(
         "vtu",
         (".vtu",),
         write_vtu,
-        "VTK unstructured grid: triangles + boundary lines, point data",
+        "VTK unstructured grid: triangles and boundary lines, every node field",
         read=read_vtu,
+        model="ParaView",
+        holds=frozenset({"ids", "depth", "node_data"}),
+        positive="down",
     ),
 )
 

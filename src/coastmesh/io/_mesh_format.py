@@ -15,7 +15,19 @@ from typing import Any
 
 from coastmesh.types import Mesh
 
-__all__ = ["MeshFormat"]
+__all__ = ["HOLDS", "MeshFormat"]
+
+#: What a format's files can hold besides nodes, triangles and boundary edges.
+HOLDS = {
+    "ids": "boundary ids",
+    "names": "boundary names",
+    "kinds": "each boundary's kind (open or shoreline)",
+    "depth": "depth at the nodes",
+    "node_data": "every node field (depth, size, depth_source, ...)",
+    "crs": "the CRS",
+    "sphere_xyz": "nodes as x, y, z on the sphere (option sphere_xyz)",
+    "regions": "a region id per element",
+}
 
 # the keyword each role must take, and how it is called: the first two parameters
 # of a writer are the path and the mesh, the first of a reader the path
@@ -48,6 +60,17 @@ class MeshFormat:
     read : callable, optional
         ``read(path, *, crs, **options) -> Mesh``; ``crs`` is the CRS for files
         that store none. None (the default) for a format that is write only.
+    model : str
+        The models and tools that read it.
+    holds : frozenset of str
+        What its files hold besides nodes, triangles and boundary edges, from
+        :data:`HOLDS`: a writer of cases asks, never the format's name.
+    companions : tuple of str
+        Endings of the files the writer writes beside the mesh (Telemac's
+        ``.cli``), with the same stem.
+    positive : {"up", "down"} or None
+        The sign its depths are written with by default (the writer's
+        ``positive`` option overrides it); None for a format without depth.
 
     Raises
     ------
@@ -68,6 +91,10 @@ class MeshFormat:
     write: Callable[..., None] | None
     description: str
     read: Callable[..., Mesh] | None = None
+    model: str = ""
+    holds: frozenset[str] = frozenset()
+    companions: tuple[str, ...] = ()
+    positive: str | None = None
 
     def __post_init__(self) -> None:
         name = self.name
@@ -92,6 +119,24 @@ class MeshFormat:
                 )
         if self.write is None and self.read is None:
             raise ValueError(f"mesh format {name!r}: give a writer, a reader or both")
+        unknown = sorted(set(self.holds) - set(HOLDS))
+        if unknown:
+            raise ValueError(
+                f"mesh format {name!r}: holds {unknown}: expected some of "
+                f"{', '.join(HOLDS)}"
+            )
+        if self.positive not in (None, "up", "down"):
+            raise ValueError(
+                f"mesh format {name!r}: positive = {self.positive!r}: expected "
+                "'up', 'down' or None"
+            )
+        for ext in self.companions:
+            if not isinstance(ext, str) or not ext.startswith("."):
+                raise ValueError(
+                    f"mesh format {name!r}: companion {ext!r} must start with '.'"
+                )
+        object.__setattr__(self, "holds", frozenset(self.holds))
+        object.__setattr__(self, "companions", tuple(self.companions))
         for role in _ROLES:
             self._options(role)
         object.__setattr__(self, "name", name.lower())

@@ -35,6 +35,7 @@ from coastmesh.types import Mesh
 
 __all__ = [
     "format_for_path",
+    "formats_table",
     "mesh_format",
     "mesh_formats",
     "read_mesh",
@@ -117,8 +118,9 @@ def mesh_format(name: str) -> MeshFormat:
 
     Examples
     --------
-    >>> mesh_format("MSH4").description
-    'Gmsh msh 4.1'
+    >>> fmt = mesh_format("MSH4")
+    >>> fmt.name, fmt.model, sorted(fmt.holds)
+    ('msh4', 'Gmsh 4', ['ids', 'sphere_xyz'])
     """
     formats = _registry()
     key = name.lower() if isinstance(name, str) else name
@@ -320,6 +322,35 @@ def write_mesh(
         len(mesh.points),
         len(mesh.triangles),
     )
+
+
+def formats_table() -> str:
+    """Return the registered mesh formats as a Markdown table.
+
+    One row per format: its name, extensions, the models that read it, what its
+    files hold, the sign of its depths and whether it is read back. It is the
+    table of ``docs/formats.md`` and what ``coastmesh formats`` prints.
+
+    Examples
+    --------
+    >>> print(formats_table().splitlines()[2])  # doctest: +ELLIPSIS
+    | `msh2` | `.msh` | Fluidity, Thetis/Firedrake | Gmsh msh 2.2: ...
+    """
+    rows = [
+        "| name | extensions | model | the file | holds | depth sign | read |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for fmt in _registry().values():
+        extensions = ", ".join(f"`{e}`" for e in fmt.extensions)
+        extensions += "".join(f" (+ `{e}`)" for e in fmt.companions)
+        holds = ", ".join(sorted(fmt.holds)) or "-"
+        sign = {"down": "down", "up": "up (elevation)", None: "(no depth)"}
+        read = "yes" if fmt.read is not None else "no (write only)"
+        rows.append(
+            f"| `{fmt.name}` | {extensions} | {fmt.model} | {fmt.description} | "
+            f"{holds} | {sign[fmt.positive]} | {read} |"
+        )
+    return "\n".join(rows) + "\n"
 
 
 def _check_options(

@@ -309,9 +309,6 @@ def _ugrid_dataset(mesh: Mesh, name: str) -> Any:
 
     from coastmesh import __version__
 
-    n = len(mesh.points)
-    index = index_dtype(n)
-    edges, boundary_id = _edges(mesh, name)
     grid_mapping = {} if mesh.crs is None else {"grid_mapping": _CRS}
     coords = {
         var: (
@@ -326,7 +323,28 @@ def _ugrid_dataset(mesh: Mesh, name: str) -> Any:
         )
         for k, (var, axis) in enumerate(((_X, "X"), (_Y, "Y")))
     }
-    data_vars: dict[str, Any] = {
+    data_vars = _topology_vars(mesh, name, grid_mapping)
+    data_vars |= _node_vars(mesh, name, set(coords), grid_mapping)
+    if mesh.crs is not None:
+        data_vars[_CRS] = ((), np.int32(0), grid_mapping_attrs(mesh.crs))
+    return xr.Dataset(
+        data_vars,
+        coords=coords,
+        attrs={
+            "Conventions": "CF-1.8 UGRID-1.0",
+            "title": "coastmesh mesh",
+            "source": f"coastmesh {__version__}",
+        },
+    )
+
+
+def _topology_vars(
+    mesh: Mesh, name: str, grid_mapping: dict[str, str]
+) -> dict[str, Any]:
+    """Return the mesh topology, its faces and edges, and the edges' boundary ids."""
+    index = index_dtype(len(mesh.points))
+    edges, boundary_id = _edges(mesh, name)
+    return {
         TOPOLOGY: (
             (),
             np.int32(0),
@@ -374,6 +392,14 @@ def _ugrid_dataset(mesh: Mesh, name: str) -> Any:
             },
         ),
     }
+
+
+def _node_vars(
+    mesh: Mesh, name: str, coords: set[str], grid_mapping: dict[str, str]
+) -> dict[str, Any]:
+    """Return every node field of the mesh as a variable on the nodes."""
+    n = len(mesh.points)
+    data_vars: dict[str, Any] = {}
     for key, values in mesh.point_data.items():
         if key in _RESERVED or key in coords:
             raise FormatError(
@@ -390,17 +416,7 @@ def _ugrid_dataset(mesh: Mesh, name: str) -> Any:
                 "positive": "down",
             }
         data_vars[key] = (dims, array, attrs)
-    if mesh.crs is not None:
-        data_vars[_CRS] = ((), np.int32(0), grid_mapping_attrs(mesh.crs))
-    return xr.Dataset(
-        data_vars,
-        coords=coords,
-        attrs={
-            "Conventions": "CF-1.8 UGRID-1.0",
-            "title": "coastmesh mesh",
-            "source": f"coastmesh {__version__}",
-        },
-    )
+    return data_vars
 
 
 def _edges(mesh: Mesh, name: str) -> tuple[NDArray[np.int64], NDArray[np.int32]]:

@@ -253,17 +253,7 @@ def mesh_in_parts(
 
     started = time.perf_counter()
     map_size = to_map_units(size, mesh_crs, threads=threads)
-    rings, ids = project_rings(domain, mesh_crs)
-    resampled, dropped = resample_rings(rings, lambda xy: sample_size(map_size, xy))
-    ids = [ring_ids for r, ring_ids in enumerate(ids) if r not in set(dropped)]
-    check_boundary(resampled)
-    logger.info(
-        "boundary: %d rings, %d -> %d nodes, %d islands dropped",
-        len(rings),
-        sum(len(c) for ring in rings for c in ring),
-        sum(len(p) - 1 for ring in resampled for seg in ring for p in seg),
-        len(dropped),
-    )
+    rings, resampled, ids = _boundary(domain, mesh_crs, map_size)
     step(1)
     with ThreadPoolExecutor(1) as side:  # while Gmsh makes the boundary nodes
         warming = side.submit(start_workers, runner, parts, rings, map_size)
@@ -286,8 +276,58 @@ def mesh_in_parts(
         results = (runner or serial_runner)(mesh_part, tasks)
     else:
         results = [mesh_part(tasks[0])]
-    points, triangles, edges, edge_ids, moved = _joined(results, cleanup)
+    joined = _joined(results, cleanup)
     step(3)
+    mesh, cleaned = _mesh(
+        domain, size, results, joined, cleanup, threads, (mesh_crs, output_crs)
+    )
+
+    step(total)
+    logger.info(
+        "mesh: %d nodes, %d triangles, %d boundary edges in %.1f s",
+        len(mesh.points),
+        len(mesh.triangles),
+        len(mesh.boundary_edges),
+        time.perf_counter() - started,
+    )
+    report = _parts_report(
+        parts, wanted, tasks, results, faces, cleaned, (mesh_crs, output_crs)
+    )
+    return mesh, report
+
+
+def _boundary(domain: Domain, mesh_crs: CRS, map_size: Any) -> tuple[list, list, list]:
+    """Project the domain's rings and resample them to the local size.
+
+    Returns the rings as projected, resampled, and the ids of the rings kept
+    (an island whose perimeter is under three target edges is dropped).
+    """
+    rings, ids = project_rings(domain, mesh_crs)
+    resampled, dropped = resample_rings(rings, lambda xy: sample_size(map_size, xy))
+    ids = [ring_ids for r, ring_ids in enumerate(ids) if r not in set(dropped)]
+    check_boundary(resampled)
+    logger.info(
+        "boundary: %d rings, %d -> %d nodes, %d islands dropped",
+        len(rings),
+        sum(len(c) for ring in rings for c in ring),
+        sum(len(p) - 1 for ring in resampled for seg in ring for p in seg),
+        len(dropped),
+    )
+    return rings, resampled, ids
+
+
+def _mesh(
+    domain: Domain,
+    size: Any,
+    results: list,
+    joined: tuple,
+    cleanup: CleanupOptions | None,
+    threads: int,
+    crss: tuple[CRS, CRS],
+) -> tuple[Mesh, Any]:
+    """Make the joined parts the mesh (in the output CRS); its cleanup's report."""
+    mesh_crs, output_crs = crss
+    points, triangles, edges, edge_ids, moved = joined
     with ThreadPoolExecutor(1) as side:
         # measured in a thread while the triangles are oriented, the nodes
         # projected and the boundary checked, with more than one worker
@@ -304,19 +344,6 @@ def mesh_in_parts(
         points = project_points(points, mesh_crs, output_crs, what="mesh nodes")
         edges, edge_ids = _check_edges(triangles, edges, edge_ids)
         cleaned, target = cleaned.result(), target.result()
-    step(total)
-    logger.info(
-        "mesh: %d nodes, %d triangles, %d boundary edges in %.1f s",
-        len(points),
-        len(triangles),
-        len(edges),
-        time.perf_counter() - started,
-    )
-    cuts = tuple(
-        project_points(c, mesh_crs, output_crs, what="cuts")
-        for c, pid in zip(faces.curves, faces.ids, strict=True)
-        if pid is None
-    )
     mesh = Mesh(
         points,
         triangles,
@@ -328,6 +355,25 @@ def mesh_in_parts(
         {s.physical_id: s.name for s in domain.segments},
         {s.physical_id: s.kind for s in domain.segments},
     )
+    return mesh, cleaned
+
+
+def _parts_report(
+    parts: int | str,
+    wanted: int,
+    tasks: list,
+    results: list,
+    faces: Any,
+    cleaned: Any,
+    crss: tuple[CRS, CRS],
+) -> PartsReport:
+    """How the water was cut into parts (the cuts and centres in the output CRS)."""
+    mesh_crs, output_crs = crss
+    cuts = tuple(
+        project_points(c, mesh_crs, output_crs, what="cuts")
+        for c, pid in zip(faces.curves, faces.ids, strict=True)
+        if pid is None
+    )
     if len(tasks) == 1:
         tasks, results = [], []  # one part: nothing to report but the aim
     centres = (
@@ -337,7 +383,7 @@ def mesh_in_parts(
         if tasks
         else np.empty((0, 2))
     )
-    report = PartsReport.of(
+    return PartsReport.of(
         parts,
         wanted,
         tasks,
@@ -346,7 +392,6 @@ def mesh_in_parts(
         tuple(map(tuple, centres.tolist())),
         cleaned,
     )
-    return mesh, report
 
 
 def _joined(results: list, cleanup: CleanupOptions | None) -> tuple:

@@ -157,26 +157,11 @@ def size_figure(field: xr.DataArray, *, title: str | None = None) -> Figure:
     -------
     matplotlib.figure.Figure
     """
-    from matplotlib.colors import LogNorm
-    from matplotlib.figure import Figure
-    from pyproj import CRS
-
-    figure = Figure(figsize=(9, 8), layout="constrained")
-    ax = figure.add_subplot()
-    x, y = field["x"].values, field["y"].values
-    values = np.asarray(field.values, dtype=float)
+    figure, ax, x, y, values = _grid_axes(field, (9, 8))
     low, high = float(np.nanmin(values)), float(np.nanmax(values))
-    image = ax.pcolormesh(
-        x,
-        y,
-        values,
-        shading="nearest",
-        cmap="viridis",
-        norm=LogNorm(low, high) if high > low > 0 else None,
-    )
+    image = _log_image(ax, x, y, values, (low, high), "viridis")
     figure.colorbar(image, ax=ax, label="target element size (m)")
-    crs = CRS.from_user_input(field.attrs["crs"]) if "crs" in field.attrs else None
-    _frame(ax, (x.min(), y.min(), x.max(), y.max()), crs)
+    _grid_frame(ax, field, x, y)
     if title:
         ax.set_title(title)
     return figure
@@ -204,28 +189,14 @@ def channel_figure(
     -------
     matplotlib.figure.Figure
     """
-    from matplotlib.colors import LogNorm
-    from matplotlib.figure import Figure
-    from pyproj import CRS
-
-    figure = Figure(figsize=(10, 6), layout="constrained")
-    ax = figure.add_subplot()
-    x, y = width["x"].values, width["y"].values
-    values = np.asarray(width.values, dtype=float)
+    figure, ax, x, y, values = _grid_axes(width, (10, 6))
     finite = values[np.isfinite(values) & (values > 0)]
     wide = np.where(np.isinf(values), 1.0, np.nan)
     ax.pcolormesh(x, y, wide, shading="nearest", cmap="Greys", vmin=0, vmax=4)
     if len(finite):
         low, high = float(finite.min()), float(finite.max())
         shown = np.where(np.isfinite(values), values, np.nan)
-        image = ax.pcolormesh(
-            x,
-            y,
-            shown,
-            shading="nearest",
-            cmap="magma",
-            norm=LogNorm(low, high) if high > low > 0 else None,
-        )
+        image = _log_image(ax, x, y, shown, (low, high), "magma")
         figure.colorbar(image, ax=ax, label="width of the water (m); grey: wider")
     if report is not None:
         floor = 2 * report.h_min
@@ -246,11 +217,45 @@ def channel_figure(
             f"{report.limited_km2:,.0f} km2"
         )
         title = f"{title}\n{note}" if title else note
-    crs = CRS.from_user_input(width.attrs["crs"]) if "crs" in width.attrs else None
-    _frame(ax, (x.min(), y.min(), x.max(), y.max()), crs)
+    _grid_frame(ax, width, x, y)
     if title:
         ax.set_title(title, fontsize=10)
     return figure
+
+
+def _grid_axes(field: xr.DataArray, size: tuple[float, float]) -> tuple:
+    """Return a figure of ``size`` inches, its axes, and a grid's x, y, values."""
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=size, layout="constrained")
+    x, y = field["x"].values, field["y"].values
+    return figure, figure.add_subplot(), x, y, np.asarray(field.values, dtype=float)
+
+
+def _log_image(
+    ax: Axes,
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    values: NDArray[np.float64],
+    span: tuple[float, float],
+    cmap: str,
+) -> Any:
+    """Draw a grid's cells, coloured on a log scale over ``span`` where it is > 0."""
+    from matplotlib.colors import LogNorm
+
+    low, high = span
+    norm = LogNorm(low, high) if high > low > 0 else None
+    return ax.pcolormesh(x, y, values, shading="nearest", cmap=cmap, norm=norm)
+
+
+def _grid_frame(
+    ax: Axes, field: xr.DataArray, x: NDArray[np.float64], y: NDArray[np.float64]
+) -> None:
+    """Frame the axes on a grid, with its CRS's graticule where it has one."""
+    from pyproj import CRS
+
+    crs = CRS.from_user_input(field.attrs["crs"]) if "crs" in field.attrs else None
+    _frame(ax, (x.min(), y.min(), x.max(), y.max()), crs)
 
 
 def _draw_mesh(

@@ -118,30 +118,21 @@ def to_metres_per_second(value: str | float, *, name: str = "speed") -> float:
     >>> to_metres_per_second("1.5 m/s"), round(to_metres_per_second("2 kn"), 4)
     (1.5, 1.0289)
     """
-    if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == 0:
-        return 0.0
-    match = _SPEED.match(value) if isinstance(value, str) else None
-    if match is None:
-        raise ConfigError(
-            f"{name} = {value!r}: write a number and a unit, e.g. '1 m/s', '2 kn' "
-            "or '5 km/h'"
-        )
-    number_text, unit = match.groups()
-    try:
-        number = float(number_text)
-    except ValueError:
-        raise ConfigError(
-            f"{name} = {value!r}: {number_text!r} is not a number"
-        ) from None
-    return _scaled(number, unit, _SPEED_UNITS, name, value)
+    example = "'1 m/s', '2 kn' or '5 km/h'"
+    return _with_unit(value, _SPEED_UNITS, name, example, pattern=_SPEED)
 
 
 def _with_unit(
-    value: str | float, units: dict[str, float], name: str, example: str
+    value: str | float,
+    units: dict[str, float],
+    name: str,
+    example: str,
+    *,
+    pattern: re.Pattern[str] = _PATTERN,
 ) -> float:
     if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == 0:
         return 0.0
-    match = _PATTERN.match(value) if isinstance(value, str) else None
+    match = pattern.match(value) if isinstance(value, str) else None
     if match is None:
         raise ConfigError(
             f"{name} = {value!r}: write a number and a unit, e.g. {example}"

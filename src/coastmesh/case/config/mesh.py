@@ -277,6 +277,12 @@ def _signs(value: Any, key: str) -> dict[str, str]:
             raise ConfigError(
                 f"{key}.{name}: unknown format; known: {', '.join(known)}"
             )
+        if known[name].positive is None:
+            signed = [n for n, f in known.items() if f.positive is not None]
+            raise ConfigError(
+                f"{key}.{name}: the {name} format writes no depth; formats with "
+                f"a depth sign: {', '.join(signed)}"
+            )
         schema.choice(UP_DOWN)(sign, f"{key}.{name}")
     return dict(value)
 
@@ -325,6 +331,6 @@ class OutputConfig:
         False,
         check=schema.boolean,
         doc="write the nodes as x, y, z on the sphere (radius 6,371,008.8 m) in "
-        "the formats that can (`msh2`, `msh4`), for Fluidity and Thetis meshes "
-        "of the globe",
+        "the formats that hold `sphere_xyz` (`coastmesh formats`), for Fluidity "
+        "and Thetis meshes of the globe",
     )

@@ -17,7 +17,7 @@ import logging
 import time
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, NoReturn
+from typing import TYPE_CHECKING, NamedTuple, NoReturn
 
 import numpy as np
 import shapely
@@ -49,6 +49,7 @@ if TYPE_CHECKING:
     from coastmesh.case.pipeline.strategy import Strategy
 
 __all__ = [
+    "Built",
     "CaseRun",
     "DepthState",
     "DomainState",
@@ -207,6 +208,24 @@ class CaseRun:
     mesh: MeshState | None = None
     depth: DepthState | None = None
     quality: QualityReport | None = None
+
+    def built(self) -> Built:
+        """Return the parts every built case has; raise if a stage has not run."""
+        return Built(
+            self.shorelines or missing("shorelines"),
+            self.domain or missing("domain"),
+            self.size or missing("size field"),
+            self.mesh or missing("mesh"),
+        )
+
+
+class Built(NamedTuple):
+    """The parts of a run that every built case has (:meth:`CaseRun.built`)."""
+
+    shorelines: Shorelines
+    domain: DomainState
+    size: SizeState
+    mesh: MeshState
 
 
 def missing(part: str) -> NoReturn:

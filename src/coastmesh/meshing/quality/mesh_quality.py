@@ -35,6 +35,7 @@ from coastmesh.meshing.quality.report import (
     histograms,
 )
 from coastmesh.meshing.quality.time_step import (
+    TimeStepStats,
     check_time_step_options,
     node_depth,
     time_step_arrays,
@@ -252,17 +253,8 @@ def mesh_quality(
     away = shape["radius_ratio"][~at_corner]
     time_step = None
     if depth is not None:
-        arrays = time_step_arrays(
-            shape["r_in"], shape["mean_edge"], depth[mesh.triangles], velocity, dt
-        )
-        time_step = time_step_stats(
-            mesh,
-            arrays,
-            velocity=velocity,
-            dt=dt,
-            courant_max=courant_max,
-            courant_min=courant_min,
-            at_corner=at_corner,
+        time_step = _time_step(
+            mesh, shape, depth, at_corner, velocity, dt, (courant_min, courant_max)
         )
     ids, counts = np.unique(mesh.boundary_ids, return_counts=True)
     report = QualityReport(
@@ -306,6 +298,30 @@ def mesh_quality(
         logger.info("quality: %s", time_step.summary())
     logger.debug("quality measured in %.2f s", time.perf_counter() - started)
     return report
+
+
+def _time_step(
+    mesh: Mesh,
+    shape: dict[str, NDArray[np.float64]],
+    depth: NDArray[np.float64],
+    at_corner: NDArray[np.bool_],
+    velocity: float,
+    dt: float | None,
+    window: tuple[float | None, float | None],
+) -> TimeStepStats:
+    """Return each triangle's stable time step (and Courant number), summed up."""
+    arrays = time_step_arrays(
+        shape["r_in"], shape["mean_edge"], depth[mesh.triangles], velocity, dt
+    )
+    return time_step_stats(
+        mesh,
+        arrays,
+        velocity=velocity,
+        dt=dt,
+        courant_max=window[1],
+        courant_min=window[0],
+        at_corner=at_corner,
+    )
 
 
 def _channel_spanning(
