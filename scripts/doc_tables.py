@@ -20,7 +20,7 @@ import re
 import sys
 from pathlib import Path
 
-from coastmesh.case.config import DOCUMENTED
+from coastmesh.case.config import DOCUMENTED, reference_blocks
 from coastmesh.case.schema.reference import update_reference
 from coastmesh.io import formats_table
 
@@ -31,7 +31,7 @@ FORMATS = re.compile(r"(<!-- formats -->\n).*?(<!-- /formats -->)", re.DOTALL)
 
 def rewritten(text: str) -> str:
     """Return a page's text with its generated tables written anew."""
-    text = update_reference(text, DOCUMENTED)
+    text = update_reference(text, DOCUMENTED, reference_blocks())
     return FORMATS.sub(lambda m: m.group(1) + formats_table() + m.group(2), text)
 
 

@@ -112,8 +112,10 @@ def test_functions_are_short(path):
             continue
         body = node.body
         doc = 0
-        if body and isinstance(body[0], ast.Expr) and isinstance(
-            getattr(body[0], "value", None), ast.Constant
+        if (
+            body
+            and isinstance(body[0], ast.Expr)
+            and isinstance(getattr(body[0], "value", None), ast.Constant)
         ):
             doc = body[0].end_lineno - body[0].lineno + 1
         code = [

@@ -15,7 +15,6 @@ import coastmesh
 from coastmesh.case import CaseResult, build_case, parse_case, read_case
 from coastmesh.errors import ConfigError, OutputExistsError
 
-
 pytestmark = pytest.mark.xdist_group("coarse")
 
 

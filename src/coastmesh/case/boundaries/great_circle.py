@@ -1,4 +1,8 @@
-"""``kind = "great_circle"``: the geodesic from ``start`` to ``end`` on WGS84."""
+"""``kind = "great_circle"``: the geodesic from ``start`` to ``end`` on WGS84.
+
+The shortest line on the Earth between two points given in longitude and
+latitude, sampled every ``spacing``.
+"""
 
 from __future__ import annotations
 

@@ -1,4 +1,9 @@
-"""``kind = "polyline"``: a line given point by point, or read from a file."""
+"""``kind = "polyline"``: a line given point by point, or read from a file.
+
+Exactly one of ``points`` (in the case CRS) and ``path`` (with ``layer``): a
+vector file holding one line, in its own CRS. The line keeps its vertices; as
+every boundary, it is resampled to the local size before meshing.
+"""
 
 from __future__ import annotations
 

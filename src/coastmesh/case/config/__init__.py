@@ -60,16 +60,12 @@ __all__ = [
     "SizeConfig",
     "StudyCase",
     "floor",
+    "reference_blocks",
 ]
 
 
 def _documented() -> dict[str, type]:
-    from coastmesh.case.boundaries import (
-        BOUNDARY_KINDS,
-        BoundaryConfig,
-        LoxodromeConfig,
-    )
-    from coastmesh.case.terms import TERMS
+    from coastmesh.case.boundaries import BoundaryConfig, LoxodromeConfig
 
     classes: list[type] = [
         CaseKeys,
@@ -79,10 +75,8 @@ def _documented() -> dict[str, type]:
         RegionConfig,
         DomainConfig,
         BoundaryConfig,
-        *BOUNDARY_KINDS.values(),
         LoxodromeConfig,
         SizeConfig,
-        *(term.config for term in TERMS),
         MeshConfig,
         RunConfig,
         CleanupConfig,
@@ -93,5 +87,29 @@ def _documented() -> dict[str, type]:
     return {kind.__name__: kind for kind in classes}
 
 
-#: The config classes whose keys ``docs/case-files.md`` lists, by class name.
+#: The config classes whose keys ``docs/case-files.md`` lists, by class name (the
+#: size terms and the kinds of open boundary have sections of their own:
+#: :func:`reference_blocks`).
 DOCUMENTED: dict[str, type] = _documented()
+
+
+def reference_blocks() -> dict[str, str]:
+    """Return the generated sections of ``docs/case-files.md``, by marker name.
+
+    ``TERMS``: a section per size term, from its module's docstring and its
+    keys; ``BOUNDARY_KINDS``: a section per kind of open boundary, with the
+    keys it adds. A new term or kind gets its section from its own module.
+    """
+    import sys
+
+    from coastmesh.case.boundaries import BOUNDARY_KINDS
+    from coastmesh.case.schema.reference import section
+    from coastmesh.case.terms import TERMS
+
+    def doc(kind: type) -> tuple[str, str]:
+        title, _, body = (sys.modules[kind.__module__].__doc__ or "").partition("\n")
+        return title.strip(), body
+
+    terms = [section(*doc(type(t)), t.config) for t in TERMS]
+    kinds = [section(*doc(k), k, own=True) for k in BOUNDARY_KINDS.values()]
+    return {"TERMS": "\n".join(terms), "BOUNDARY_KINDS": "\n".join(kinds)}

@@ -11,8 +11,10 @@ grid the mesher is handed), a stage asks the run's strategy:
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import shapely
+import xarray as xr
 from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig, RasterConfig
@@ -31,6 +33,9 @@ from coastmesh.depth import DepthSources
 from coastmesh.geometry.projection import default_mesh_crs
 from coastmesh.sizing.grid import Grid
 from coastmesh.types import SizeGrid
+
+if TYPE_CHECKING:
+    from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
 
 __all__ = ["Regional", "Strategy"]
 
@@ -54,11 +59,13 @@ class Strategy:
         """Return the grid of the size field."""
         raise NotImplementedError
 
-    def read_depth(self, run: CaseRun, part: RasterConfig) -> object:
+    def read_depth(
+        self, run: CaseRun, part: RasterConfig
+    ) -> xr.DataArray | DepthSources:
         """Read a ``[bathymetry]``-like part's rasters for the size terms."""
         raise NotImplementedError
 
-    def size_grid(self, run: CaseRun) -> object:
+    def size_grid(self, run: CaseRun) -> SizeGrid | SphereSizeGrid:
         """Return the size field as the mesher takes it."""
         raise NotImplementedError
 

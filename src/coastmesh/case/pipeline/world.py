@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 import shapely
+import xarray as xr
 from numpy.typing import NDArray
 from pyproj import CRS
 
@@ -126,7 +127,7 @@ class Global(Strategy):
             pole=world.pole,
         )
 
-    def read_depth(self, run: CaseRun, part: RasterConfig) -> object:
+    def read_depth(self, run: CaseRun, part: RasterConfig) -> xr.DataArray:
         """Read the one raster whole (a world grid)."""
         if part.sources:
             raise ConfigError(

@@ -12,7 +12,7 @@ class (``own``: only the keys the class adds to its base's)::
 (their names, defaults and docs), :func:`key_table` writes one, and
 :func:`renamed_table` the table of ``docs/python-api.md`` that gives the Python
 field of each key named otherwise (marker ``<!-- keys: renamed -->``).
-``scripts/case_keys.py`` updates the docs; a test checks that they are current.
+``scripts/doc_tables.py`` updates the docs; a test checks that they are current.
 """
 
 from __future__ import annotations
@@ -24,7 +24,14 @@ from typing import Any
 
 from coastmesh.case.schema.keys import UNITS, Key, is_required, keys_of
 
-__all__ = ["MARKER", "key_table", "renamed_table", "update_reference"]
+__all__ = [
+    "MARKER",
+    "key_table",
+    "markdown",
+    "renamed_table",
+    "section",
+    "update_reference",
+]
 
 #: The markers around a generated table: the class's name is the group.
 MARKER = re.compile(r"(<!-- keys: (\w+)( own)? -->\n)(.*?)(<!-- /keys -->)", re.DOTALL)
@@ -51,17 +58,23 @@ def key_table(kind: type, *, own: bool = False) -> str:
     return "\n".join(rows) + "\n"
 
 
-def update_reference(text: str, classes: Mapping[str, type]) -> str:
+def update_reference(
+    text: str, classes: Mapping[str, type], blocks: Mapping[str, str] | None = None
+) -> str:
     """Return ``text`` with every marked key table written anew.
 
-    ``classes`` gives the config class of each marker's name; a marker naming
-    no class is an error.
+    ``classes`` gives the config class of each marker's name, ``blocks`` the
+    text of markers that stand for more than one table (the size terms); a
+    marker naming neither is an error.
     """
+    blocks = blocks or {}
 
     def table(match: re.Match[str]) -> str:
         name = match.group(2)
         if name == "renamed":
             body = renamed_table(classes.values())
+        elif name in blocks:
+            body = blocks[name]
         elif name in classes:
             body = key_table(classes[name], own=bool(match.group(3)))
         else:
@@ -69,6 +82,25 @@ def update_reference(text: str, classes: Mapping[str, type]) -> str:
         return match.group(1) + body + match.group(5)
 
     return MARKER.sub(table, text)
+
+
+def markdown(doc: str) -> str:
+    """Return a docstring's text as Markdown: roles and double backticks as code.
+
+    Examples
+    --------
+    >>> markdown("the ``h_min`` of :func:`~coastmesh.case.config.floor`")
+    'the `h_min` of `floor`'
+    """
+    text = re.sub(r":\w+:`~[\w.]*?\.?(\w+)`", r"`\1`", doc)
+    text = re.sub(r":\w+:`([^`]+)`", r"`\1`", text)
+    return text.replace("``", "`")
+
+
+def section(title: str, doc: str, kind: type, *, own: bool = False) -> str:
+    """Return a Markdown section: a title, a docstring's text, a key table."""
+    parts = [f"#### {markdown(title).rstrip('.')}", markdown(doc).strip()]
+    return "\n\n".join([p for p in parts if p] + [key_table(kind, own=own)])
 
 
 def renamed_table(classes: Iterable[type]) -> str:

@@ -1,10 +1,12 @@
 """``[mesh_size.bathymetry]``: size terms from the depth: tidal wavelength, slope.
 
-``per_wavelength``: elements per tidal wavelength, ``h = T sqrt(g d) / n``;
-``per_slope``: elements per ``2 pi`` topographic length scales,
-``h = 2 pi d / (n |grad d|)`` (:mod:`coastmesh.sizing.bathymetry`). The depth is
-one raster (``path``) or a stack (``[[mesh_size.bathymetry.sources]]``), read over
-the domain's box.
+Sizes from a raster (``path``), or from a stack of them
+(``[[mesh_size.bathymetry.sources]]``, the keys of ``[[bathymetry.sources]]``),
+read over the domain's box; a global case takes one ``path``, read whole.
+``per_wavelength`` asks for ``h = T sqrt(g d) / n``, ``n`` elements per tidal
+wavelength; ``per_slope`` for ``h = 2 pi d / (n |grad d|)``, ``n`` elements per
+``2 pi`` topographic length scales (not on a global case's grid). At least one
+of the two.
 """
 
 from __future__ import annotations

@@ -1,10 +1,13 @@
 """``[mesh_size.channels]``: elements across every channel, on by default.
 
 The width of the water at a point is the diameter of the largest disk in the
-water that holds it (:func:`coastmesh.sizing.channel.local_width`); the size is
-at most ``width / elements_across``, and at least the field's floor ``h_min``.
-Channels narrower than two elements of ``h_min`` are kept (and reported, with a
-warning) or closed: taken out of the domain as land before meshing.
+water that holds it: in a channel ``w`` wide it is ``w`` right across, and open
+boundaries are not walls (:func:`coastmesh.sizing.channel.local_width`). The
+size is at most ``width / elements_across``, and at least the field's floor
+``h_min``. ``enabled = false`` turns the term off. Channels narrower than two
+elements of ``h_min`` are kept (and reported, with a warning) or closed: taken
+out of the domain as land before meshing. A global case's grid does not measure
+widths: there ``[domain] close`` closes narrow water instead.
 """
 
 from __future__ import annotations

@@ -1,9 +1,11 @@
 """``[mesh_size.courant]``: sizes a model runs at its time step.
 
 The Courant number is ``C = dt (sqrt(g d) + u) / h``, with ``d`` the depth (from
-``[mesh_size.bathymetry]``, else ``[bathymetry]``) and ``h`` the size; the size
-is kept between ``dt (sqrt(g d) + u) / courant_max`` and
-``dt (sqrt(g d) + u) / courant_min``.
+``[mesh_size.bathymetry]``, else ``[bathymetry]``; one of them is required) and
+``h`` the size. The size is kept between ``dt (sqrt(g d) + u) / courant_max`` (a
+floor, which beats ``h_min``) and ``dt (sqrt(g d) + u) / courant_min`` (a cap).
+Where no size in ``[h_min, h_max]`` meets the window, a warning gives the area.
+Not in global cases yet.
 """
 
 from __future__ import annotations

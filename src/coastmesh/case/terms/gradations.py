@@ -1,9 +1,10 @@
 """``[[mesh_size.gradations]]``: the paper's gradations from named lines.
 
-The size is ``h_min`` at the named ``lines`` (shoreline sets and open boundaries,
-as they lie on the domain's boundary), kept for ``d_hold``, then growing
-linearly to ``h_max`` over ``d_grade``; several gradations combine by their
-minimum. Distances are true distances on the Earth.
+The size is ``h_min`` at the named ``lines`` (shoreline sets and/or open
+boundaries, as they lie on the domain boundary). It is kept for ``d_hold``, then
+grows linearly to ``h_max`` over ``d_grade``. Several gradations combine by their
+minimum. Distances are true distances on the Earth (great-circle distances on a
+global case's grid).
 """
 
 from __future__ import annotations
