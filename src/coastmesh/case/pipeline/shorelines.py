@@ -14,7 +14,6 @@ A global case builds its sets in the stereographic plane
 from __future__ import annotations
 
 import logging
-from typing import Any
 
 import numpy as np
 import shapely
@@ -119,7 +118,7 @@ def build_shoreline_set(
     report : ShorelineSetReport
     """
     points_in = int(shapely.get_num_coordinates(features.geometry).sum())
-    pca: dict[str, Any] = {}
+    pca: dict[str, int] = {}
     if not s.pca:
         land = features.geometry
     else:

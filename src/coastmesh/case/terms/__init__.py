@@ -34,4 +34,9 @@ __all__ = [
 ]
 
 #: The size terms, in the order their sizes are applied.
-TERMS: tuple[SizeTerm, ...] = (Gradations(), Bathymetry(), Channels(), Courant())
+TERMS: tuple[SizeTerm, ...] = (
+    Gradations(),
+    Bathymetry(),
+    Channels(),
+    Courant(),
+)
