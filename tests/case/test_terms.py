@@ -112,6 +112,33 @@ def test_h_min_defaults_to_the_smallest_gradation_when_channels_are_on():
     assert float(sized.field.min()) == pytest.approx(400.0, abs=1e-6)
 
 
+def test_a_term_taken_away_by_the_default_floor_is_named():
+    """No h_min, no gradations: the floor is h_max, so finer sizes are lost."""
+    size = {"h_max": 3000.0, "channels": OFF, "cell": 500.0}
+    courant = CourantConfig(dt=10.0, courant_min=0.5)  # a cap of about 650 m
+    depth = _flat_raster(100.0)
+    with pytest.warns(CoastmeshWarning, match=r"the courant term\(s\) cannot make"):
+        floored = domain_size_field(
+            _bay(),
+            SizeConfig(**size, courant=courant),
+            mesh_crs="EPSG:32631",
+            bathymetry=DEPTH,
+            depth=depth,
+        )
+    assert float(floored.field.min()) == pytest.approx(3000.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CoastmeshWarning)
+        given_floor = domain_size_field(
+            _bay(),
+            SizeConfig(**size, h_min=100.0, courant=courant),
+            mesh_crs="EPSG:32631",
+            bathymetry=DEPTH,
+            depth=depth,
+        )
+    cap = 10.0 * (np.sqrt(GRAVITY * 100.0) + 1.0) / 0.5
+    assert float(given_floor.field.max()) == pytest.approx(cap, rel=1e-6)
+
+
 @settings(max_examples=40, deadline=None)
 @given(
     st.floats(0.0, 5000.0),

@@ -43,7 +43,7 @@ _FIELD_KEYS: list[tuple[str, Any, Any]] = [
             None,
             check=schema.length(),
             unit="length",
-            default_doc="the smallest gradation `h_min`",
+            default_doc="the smallest gradation `h_min`; without gradations, `h_max`",
             doc="a floor for the whole field (the channel term never goes below it)",
         ),
     ),

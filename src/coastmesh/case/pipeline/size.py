@@ -11,11 +11,13 @@ combines them in the one order its docs give, with the floor
 from __future__ import annotations
 
 import logging
+import warnings
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import replace
 from functools import partial
 from typing import TYPE_CHECKING
 
+import numpy as np
 import shapely
 from pyproj import CRS
 
@@ -27,8 +29,9 @@ from coastmesh.case.schema import Check, check_part
 from coastmesh.case.terms import TERMS
 from coastmesh.case.terms.base import SizeCase, SizeTables
 from coastmesh.depth import DepthSources
+from coastmesh.errors import CoastmeshWarning
 from coastmesh.geometry.projection import default_mesh_crs
-from coastmesh.sizing.combine import combine
+from coastmesh.sizing.combine import TermSizes, combine
 from coastmesh.sizing.grid import Grid, PlaneGrid
 from coastmesh.types import Domain, Progress, Runner
 
@@ -85,6 +88,7 @@ def size_field(
             if progress is not None:
                 progress(k + 1, total)
     size = case.config.size
+    _warn_if_floored_away(size, done)
     combined = combine(
         grid,
         done,
@@ -97,6 +101,29 @@ def size_field(
         progress(total, total)
     logger.info("size field: %s", combined.report.summary())
     return SizeState(grid, combined.field, combined.report, combined.layers)
+
+
+def _warn_if_floored_away(
+    size: SizeConfig, done: list[tuple[str, TermSizes | None]]
+) -> None:
+    """Warn when the default floor, ``h_max``, takes away a term's refinement."""
+    if size.h_min is not None or size.gradations:
+        return
+    finer = [
+        key
+        for key, sizes in done
+        if sizes is not None
+        and sizes.upper is not None
+        and float(np.nanmin(sizes.upper)) < size.h_max
+    ]
+    if finer:
+        warnings.warn(
+            f"mesh_size: no h_min and no gradations, so the floor is h_max = "
+            f"{size.h_max:g} m and the {', '.join(finer)} term(s) cannot make the "
+            "mesh finer anywhere; give mesh_size.h_min",
+            CoastmeshWarning,
+            stacklevel=3,
+        )
 
 
 def domain_size_field(
