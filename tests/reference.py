@@ -195,3 +195,34 @@ def write_fort14_loop(path, mesh, depth, open_strings, land_strings):
             f.write(f"{len(s)} 0\n")
             for n in s:
                 f.write(f"{n + 1}\n")
+
+
+def bilinear_wet_loop(rx, ry, depth, px, py):
+    """Bilinear interpolation over the wet cells alone, one point at a time.
+
+    The literal reference of ``coastmesh.depth.raster.interpolate_wet``: the
+    weights of the four cells around a point, renormalised over the cells with
+    ``depth > 0``; 0 where every weighted cell is dry; NaN outside the cell
+    centres or where a weighted cell is missing.
+    """
+    out = np.full(len(px), np.nan)
+    for k, (x, y) in enumerate(zip(px, py, strict=True)):
+        if not (rx[0] <= x <= rx[-1] and ry[0] <= y <= ry[-1]):
+            continue
+        i = min(int(np.searchsorted(rx, x, side="right")) - 1, len(rx) - 2)
+        j = min(int(np.searchsorted(ry, y, side="right")) - 1, len(ry) - 2)
+        tx = (x - rx[i]) / (rx[i + 1] - rx[i])
+        ty = (y - ry[j]) / (ry[j + 1] - ry[j])
+        corners = [
+            ((1 - tx) * (1 - ty), depth[j, i]),
+            (tx * (1 - ty), depth[j, i + 1]),
+            ((1 - tx) * ty, depth[j + 1, i]),
+            (tx * ty, depth[j + 1, i + 1]),
+        ]
+        weighted = [(w, v) for w, v in corners if w > 0]
+        if any(np.isnan(v) for _, v in weighted):
+            continue
+        wet = [(w, v) for w, v in weighted if v > 0]
+        total = sum(w for w, _ in wet)
+        out[k] = sum(w * v for w, v in wet) / total if wet else 0.0
+    return out

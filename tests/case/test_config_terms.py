@@ -47,8 +47,21 @@ def parsed(extra: str):
 
 def test_channels_are_on_by_default_with_three_elements_across():
     case = parsed("")
-    assert case.size.channels == ChannelConfig(True, 3.0, "keep")
-    assert case.size.courant is None
+    assert case.size.channels == ChannelConfig(True, 3.0, "close")
+    # the Courant term is on, with the time step worked out (dt = "auto")
+    assert case.size.courant == CourantConfig(None, 0.5, None, 1.0, True)
+    assert parsed('[mesh_size.courant]\ndt = "auto"').size.courant == (
+        case.size.courant
+    )
+
+
+def test_auto_dt_needs_courant_max_alone_and_is_off_without_a_depth():
+    with pytest.raises(ConfigError, match='dt = "auto" takes the time step'):
+        parsed("[mesh_size.courant]\ncourant_min = 0.4\n" + DEPTH)
+    # no bathymetry: a given dt is an error, the default is quietly off
+    with pytest.raises(ConfigError, match="the Courant term needs the depth"):
+        parsed('[mesh_size.courant]\ndt = "30 s"\n')
+    assert parsed("").bathymetry is None
 
 
 def test_channel_and_courant_tables_parse_with_units():

@@ -26,9 +26,11 @@ from coastmesh.case import (
     SizeConfig,
     domain_size_field,
 )
+from coastmesh.case.terms.courant import AUTO_PERCENTILE, AUTO_SHARE, auto_time_step
 from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.geometry.earth import GRAVITY
 from coastmesh.sizing import courant_bounds, domain_slots
+from coastmesh.sizing.courant import round_step
 from coastmesh.types import BoundarySegment, Domain
 
 
@@ -51,10 +53,16 @@ GRADE = [GradationConfig(("coast",), h_min=400.0, d_grade=5000.0)]
 #: the Courant term's depth: a case's [bathymetry] (read from ``depth`` here)
 DEPTH = NodeDepthConfig(path="in_memory.tif")
 OFF = ChannelConfig(enabled=False)
+#: channels narrower than 2 h_min kept (a case closes them before the size field)
+KEEP = ChannelConfig(narrow="keep")
 
 
 def _sized(domain, depth=None, **size):
-    """The size stage on ``domain`` in UTM 31N, with [mesh_size] ``size``."""
+    """The size stage on ``domain`` in UTM 31N, with [mesh_size] ``size``.
+
+    The Courant term (on by default, dt = "auto") only where a test gives it.
+    """
+    size.setdefault("courant", CourantConfig(enabled=False))
     size = SizeConfig(h_max=3000.0, gradations=GRADE, **size)
     return domain_size_field(
         domain, size, mesh_crs="EPSG:32631", bathymetry=DEPTH, depth=depth
@@ -68,7 +76,7 @@ def _at(field: xr.DataArray, x: float, y: float) -> float:
 def test_the_channel_term_is_on_by_default_and_puts_elements_across():
     off = _sized(_bay(), channels=OFF, h_min=100.0, cell=50.0).field
     with pytest.warns(CoastmeshWarning, match="narrower than 2 elements") as caught:
-        on = _sized(_bay(150.0), h_min=100.0, cell=50.0).field
+        on = _sized(_bay(150.0), h_min=100.0, cell=50.0, channels=KEEP).field
     assert "kept" in str(caught[0].message)
     default = _sized(_bay(), h_min=100.0, cell=50.0).field
     # a 600 m inlet: 556 m from the gradation alone (300 m from the shore), at
@@ -89,7 +97,7 @@ def test_the_channel_term_is_on_by_default_and_puts_elements_across():
 
 def test_the_channel_report_counts_narrow_channels_and_gives_their_place():
     with pytest.warns(CoastmeshWarning):
-        sized = _sized(_bay(150.0), h_min=100.0, cell=25.0)
+        sized = _sized(_bay(150.0), h_min=100.0, cell=25.0, channels=KEEP)
     ch = sized.report.channels
     assert ch.narrow_channels == 1 and ch.narrow == "keep"
     assert 9_000 < ch.worst[0].y < 26_000 and ch.worst[0].width_m < 200.0
@@ -230,3 +238,87 @@ def test_domain_slots_are_closed_but_never_at_an_open_boundary():
     minx, _, maxx, maxy = found[0].bounds
     assert 4_980 < minx < 4_990 and 5_010 < maxx < 5_020 and maxy > 22_000
     assert len(domain_slots(domain, "EPSG:32631", 10.0)) == 0
+
+
+def _auto_dt_loop(h, speed, courant_max):
+    """dt = "auto", literally: sort the steps, walk the elements to the 1 %."""
+    steps = sorted(
+        (courant_max * hk / ck, 1.0 / hk**2) for hk, ck in zip(h, speed, strict=True)
+    )
+    total = sum(w for _, w in steps)
+    seen = 0.0
+    for step, w in steps:
+        seen += w
+        if seen >= AUTO_PERCENTILE / 100 * total:
+            return round_step(AUTO_SHARE * step)
+    return round_step(AUTO_SHARE * steps[-1][0])
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 400))
+def test_auto_time_step_is_the_element_weighted_first_percentile(seed, n):
+    rng = np.random.default_rng(seed)
+    h = rng.uniform(50.0, 5000.0, n)
+    speed = rng.uniform(2.0, 200.0, n)
+    sea = rng.random(n) < 0.9
+    got = auto_time_step(h, speed, sea, 0.5)
+    if not sea.any():
+        assert got == math.inf
+        return
+    assert got == _auto_dt_loop(h[sea], speed[sea], 0.5)
+
+
+def test_auto_dt_floors_the_slowest_percent_and_sites_keep_theirs():
+    # a bay 10 m deep with a 1000 m hole (0.5 km2, a few of its ~1,000 elements)
+    # by the north shore: there the waves are fast and the 400 m elements would
+    # set the time step; dt = "auto" makes them larger
+    hole = (slice(23, 25), slice(7, 9))  # rows y 18 to 19 km, cols x 2 to 3 km
+    raster = _flat_raster(10.0)
+    raster.values[hole] = -1000.0
+    auto = CourantConfig()
+    sized = _sized(_bay(600.0), raster, cell=100.0, courant=auto)
+    report = sized.report.courant
+    assert report.auto and report.raised_km2 > 0.2
+    fast = math.sqrt(GRAVITY * 1000.0) + 1.0
+    floor = report.dt * fast / (0.5 * AUTO_SHARE)
+    # the step is the one worked out from the field without the floor
+    off = _sized(_bay(600.0), raster, cell=100.0)
+    # over the hole the floor (eased by the gradation limit next to the shore)
+    assert _at(sized.field, 2_500, 19_000) > _at(off.field, 2_500, 19_000)
+    assert _at(sized.field, 2_500, 19_000) == pytest.approx(floor, rel=0.02)
+    assert _at(sized.field, 15_000, 19_900) == _at(off.field, 15_000, 19_900)
+    speed = sized.grid.depth(raster)
+    speed = np.sqrt(GRAVITY * np.maximum(speed, 1.0)) + 1.0
+    assert report.dt == auto_time_step(off.field.values, speed, sized.grid.sea, 0.5)
+    # the hole marked as a site keeps the gradation's 400 m
+    sited = domain_size_field(
+        _bay(600.0),
+        SizeConfig(h_max=3000.0, gradations=GRADE, cell=100.0, courant=auto),
+        mesh_crs="EPSG:32631",
+        bathymetry=DEPTH,
+        depth=raster,
+        sites=shapely.box(1_500, 17_500, 3_500, 20_000),
+    )
+    assert _at(sited.field, 2_500, 19_000) == _at(off.field, 2_500, 19_000) < floor
+
+
+def test_a_narrow_channel_in_a_site_gets_two_elements_across_below_the_floor():
+    inlet = shapely.box(9_000, 19_000, 11_000, 26_500)  # the inlet and its mouth
+    size = SizeConfig(
+        h_max=3000.0,
+        gradations=GRADE,
+        h_min=100.0,
+        cell=25.0,
+        courant=CourantConfig(enabled=False),
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CoastmeshWarning)  # nothing narrow is left
+        sized = domain_size_field(
+            _bay(150.0), size, mesh_crs="EPSG:32631", bathymetry=DEPTH, sites=inlet
+        )
+    # a 150 m inlet: 3 elements of 50 m across (widths err narrow by up to a
+    # cell and 15 %), below h_min = 100 m
+    assert 150.0 / 1.15 / 3 - 25.0 <= _at(sized.field, 10_000, 23_000) <= 50.0
+    assert sized.report.channels.narrow_channels == 0
+    # outside the site the floor holds
+    assert float(sized.field.values[:, :100].min()) >= 100.0 - 1e-9

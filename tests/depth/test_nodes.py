@@ -10,8 +10,8 @@ from pyproj import Geod
 from scipy.interpolate import RegularGridInterpolator
 
 from coastmesh.data import path as data_path
-from coastmesh.depth.nodes import depth_at_nodes, limit_slope
-from coastmesh.errors import ConfigError
+from coastmesh.depth.nodes import CoarseRasterWarning, depth_at_nodes, limit_slope
+from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.io import read_raster
 from coastmesh.meshing import generate_mesh
 from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
@@ -42,7 +42,8 @@ def etopo():
 
 
 def test_bilinear_matches_scipy(orkney_mesh, etopo):
-    depth, report = depth_at_nodes(orkney_mesh, etopo, outside="nearest")
+    # land = "keep": plain bilinear interpolation, land heights and all
+    depth, report = depth_at_nodes(orkney_mesh, etopo, outside="nearest", land="keep")
     r = etopo.sortby("y")
     interp = RegularGridInterpolator(
         (r.y.values, r.x.values), r.values, bounds_error=False, fill_value=np.nan
@@ -213,7 +214,7 @@ def _grid_mesh(lon0, lon1, lat0, lat1, n=40):
 
 def test_land_nodes_take_the_nearest_wet_cell(etopo):
     mesh = _grid_mesh(-3.4, -2.6, 58.7, 59.2)  # over mainland Orkney
-    plain, report = depth_at_nodes(mesh, etopo)
+    plain, report = depth_at_nodes(mesh, etopo, land="keep")
     land = plain <= 0
     assert report.land == int(land.sum()) > 20
     sea, report = depth_at_nodes(mesh, etopo, land="nearest_sea")
@@ -252,3 +253,97 @@ def test_smooth_land_tapers_to_min_depth_at_the_coast(etopo):
     np.testing.assert_allclose(smooth, expected, rtol=1e-12)
     assert smooth[coast].max() == 2.0
     assert report.tapered == int(((d < width) & (sea > 2.0)).sum()) > 50
+
+
+def test_wet_rule_never_gives_a_sea_node_a_land_value(etopo):
+    # the default: nodes beside land cells read the wet cells alone; nodes with
+    # no wet cell around take the nearest wet cell (brute force below)
+    from reference import bilinear_wet_loop
+
+    mesh = _grid_mesh(-3.4, -2.6, 58.7, 59.2)  # over mainland Orkney
+    plain, _ = depth_at_nodes(mesh, etopo, land="keep")
+    depth, report = depth_at_nodes(mesh, etopo)
+    assert report.land_treatment == "wet" and report.land_values == 0
+    r = etopo.sortby("y")
+    lon, lat = mesh.points.T
+    expected = bilinear_wet_loop(r.x.values, r.y.values, -r.values, lon, lat)
+    around = expected > 0
+    np.testing.assert_allclose(depth[around], expected[around], rtol=1e-12)
+    assert report.coast_cells == int((around & (expected != plain)).sum()) > 10
+    none = expected == 0
+    assert report.took_wet == int(none.sum()) > 5
+    gx, gy = np.meshgrid(r.x.values, r.y.values)
+    wet = r.values.ravel() < 0
+    for k in np.flatnonzero(none)[:10]:
+        _, _, d = GEOD.inv(
+            np.full(wet.sum(), lon[k]), np.full(wet.sum(), lat[k]),
+            gx.ravel()[wet], gy.ravel()[wet],
+        )  # fmt: skip
+        assert depth[k] == pytest.approx(-r.values.ravel()[wet][np.argmin(d)])
+    assert (depth > 0).all()
+    # the old default kept land heights where no min_depth was given
+    _, old = depth_at_nodes(mesh, etopo, land="min_depth")
+    beside = (plain <= 0) | (around & (expected != plain))
+    assert old.land_values == int(beside.sum()) > report.coast_cells
+
+
+def test_wet_rule_tapers_to_min_depth_across_the_land_strip_only(etopo):
+    from coastmesh.geometry.earth import earth_centred
+
+    mesh = _grid_mesh(-3.4, -2.6, 58.7, 59.2)
+    untapered, _ = depth_at_nodes(mesh, etopo)
+    depth, report = depth_at_nodes(mesh, etopo, min_depth=2.0)
+    r = etopo.sortby("y")
+    lon, lat = mesh.points.T
+    from reference import bilinear_wet_loop
+
+    strip = bilinear_wet_loop(r.x.values, r.y.values, -r.values, lon, lat) == 0
+    # off the strip: the raster's own (wet) depths, floored
+    np.testing.assert_array_equal(depth[~strip], np.maximum(untapered[~strip], 2.0))
+    xyz = earth_centred(mesh.points, mesh.crs)
+    coast = np.unique(mesh.boundary_edges[mesh.boundary_ids == 1])
+    gx, gy = np.meshgrid(r.x.values, r.y.values)
+    wet = r.values.ravel() < 0
+    cells = earth_centred(np.column_stack([gx.ravel()[wet], gy.ravel()[wet]]), 4326)
+    for k in np.flatnonzero(strip)[:12]:
+        s = np.linalg.norm(xyz[coast] - xyz[k], axis=1).min()
+        to_cells = np.linalg.norm(cells - xyz[k], axis=1)
+        d_w, rr = -r.values.ravel()[wet][np.argmin(to_cells)], to_cells.min()
+        want = 2.0 + (d_w - 2.0) * s / (s + rr) if d_w > 2.0 else max(d_w, 2.0)
+        assert depth[k] == pytest.approx(max(want, 2.0), rel=1e-9)
+    assert report.tapered > 0 and depth[coast].min() >= 2.0
+
+
+def test_a_raster_that_puts_most_nodes_on_land_is_an_error_unless_land_is_given(
+    etopo,
+):
+    mesh = _grid_mesh(-4.6, -4.0, 58.2, 58.5)  # Caithness and Sutherland: all land
+    _, report = depth_at_nodes(mesh, etopo)
+    share = report.took_wet / report.nodes
+    assert share == 1.0
+    with pytest.raises(InputDataError, match=r"lie on land in .*orkney_wide.tif") as e:
+        depth_at_nodes(mesh, etopo, max_land_share=0.5)
+    assert f"({share:.0%})" in str(e.value) and "[bathymetry] land" in str(e.value)
+    # a third of the Orkney grid's nodes on land: under the limit, fine
+    depth_at_nodes(_grid_mesh(-3.4, -2.6, 58.7, 59.2), etopo, max_land_share=0.5)
+
+
+def test_keep_with_min_depth_is_refused_and_coarse_rasters_warn(etopo):
+    mesh = _grid_mesh(-3.4, -2.6, 58.7, 59.2)
+    with pytest.raises(ConfigError, match="land = 'keep' keeps the land heights"):
+        depth_at_nodes(mesh, etopo, land="keep", min_depth=5.0)
+    with pytest.warns(
+        CoarseRasterWarning, match=r"orkney_wide.tif \(cells of 11.1 km\)"
+    ):
+        _, report = depth_at_nodes(mesh, etopo)
+    # this grid mesh's elements (~1.4 to 2.4 km) are finer than 0.1 deg cells
+    plain, _ = depth_at_nodes(mesh, etopo, land="keep")
+    r = etopo.sortby("y")
+    from reference import bilinear_wet_loop
+
+    lon, lat = mesh.points.T
+    wet = bilinear_wet_loop(r.x.values, r.y.values, -r.values, lon, lat)
+    with np.errstate(invalid="ignore"):
+        beside = (plain <= 0) | ((wet > 0) & (wet != plain))
+    assert report.coarse == int(beside.sum()) > 0
+    assert f"{report.coarse:,} (" in report.summary()

@@ -5,9 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import xarray as xr
-from reference import bilinear_loop
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from reference import bilinear_loop, bilinear_wet_loop
 
-from coastmesh.depth.raster import interpolate_bilinear, raster_grid
+from coastmesh.depth.raster import interpolate_bilinear, interpolate_wet, raster_grid
 from coastmesh.errors import ConfigError
 
 
@@ -72,3 +74,32 @@ def test_bilinear_on_a_grid_one_cell_wide_is_nan():
         np.array([0.0]), np.array([0.0, 1.0]), np.ones((2, 1)), [0.0], [0.5]
     )
     assert np.isnan(out).all() and out.shape == (1,)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    land=st.floats(0.0, 1.0),
+    nodata=st.floats(0.0, 0.2),
+)
+def test_wet_interpolation_matches_the_loop(seed, land, nodata):
+    rng = np.random.default_rng(seed)
+    x = np.cumsum(rng.uniform(0.5, 1.5, 9))
+    y = np.cumsum(rng.uniform(0.5, 1.5, 7))
+    depth = rng.uniform(0.5, 100.0, (7, 9))
+    depth[rng.random(depth.shape) < land] *= -1  # land heights
+    depth[rng.random(depth.shape) < nodata] = np.nan
+    px = rng.uniform(x[0] - 1, x[-1] + 1, 300)
+    py = rng.uniform(y[0] - 1, y[-1] + 1, 300)
+    px[:20], py[:20] = x[rng.integers(0, 9, 20)], y[rng.integers(0, 7, 20)]
+    got = interpolate_wet(x, y, depth, px, py)
+    expected = bilinear_wet_loop(x, y, depth, px, py)
+    np.testing.assert_array_equal(np.isnan(got), np.isnan(expected))
+    np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12)
+    # never a land value: every finite result is a wet depth or exactly 0
+    ok = np.isfinite(got)
+    assert ((got[ok] > 0) | (got[ok] == 0)).all()
+    wet = depth[np.isfinite(depth) & (depth > 0)]
+    if wet.size:
+        assert (got[ok & (got > 0)] >= wet.min() - 1e-9).all()
+        assert (got[ok] <= wet.max() + 1e-9).all()

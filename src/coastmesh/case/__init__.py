@@ -44,6 +44,7 @@ from coastmesh.case.config import (
     RunConfig,
     ShorelinesConfig,
     ShorelineSetConfig,
+    SiteConfig,
     SizeConfig,
     StudyCase,
 )
@@ -86,6 +87,7 @@ __all__ = [
     "ShorelineSetConfig",
     "ShorelineSetReport",
     "ShorelinesConfig",
+    "SiteConfig",
     "SizeConfig",
     "StudyCase",
     "build_case",

@@ -108,19 +108,24 @@ def parts_jobs(name: str, domain: Any, parts: Any, crs: Any) -> list[Job]:
 
 
 def mesh_jobs(
-    name: str, mesh: Any, domain: Any, config: CaseConfig, depth: Any = None
+    name: str,
+    mesh: Any,
+    domain: Any,
+    config: CaseConfig,
+    depth: Any = None,
+    courant: Any = None,
 ) -> list[Job]:
     """Return the figures of the finished mesh: mesh, depth, time step, globe.
 
     And the detail figure, with ``[output] detail``. ``depth`` is the depth
-    report (its ``sources`` name the bathymetry of each node).
+    report (its ``sources`` name the bathymetry of each node); ``courant`` the
+    Courant term's report (the model's time step).
     """
     names = {s.physical_id: s.name for s in domain.segments}
     jobs: list[Job] = [
         ("mesh", "mesh_figure", (mesh,), {"names": names, "title": name})
     ]
     if "depth" in mesh.point_data:
-        courant = config.size.courant
         jobs.append(("depth", "depth_figure", (mesh,), {"title": f"{name}: depth"}))
         if "depth_source" in mesh.point_data and depth:
             jobs.append(
@@ -191,7 +196,12 @@ def figure_jobs(result: CaseResult) -> list[Job]:
         ),
         *parts_jobs(result.name, result.domain, report.parts, result.mesh.crs),
         *mesh_jobs(
-            result.name, result.mesh, result.domain, result.config, report.depth
+            result.name,
+            result.mesh,
+            result.domain,
+            result.config,
+            report.depth,
+            report.size_field.courant,
         ),
         *quality_jobs(result.name, result.mesh, report.quality),
     ]
@@ -311,7 +321,9 @@ class FigureJobs:
         if deep and drawn is not state.mesh:
             self.followed["mesh"] = state.mesh
             depth = None if run.depth is None else run.depth.report
-            jobs = mesh_jobs(name, state.mesh, domain.domain, run.config, depth)
+            jobs = mesh_jobs(
+                name, state.mesh, domain.domain, run.config, depth, run.time_step
+            )
             self.start(jobs, triangles, again=drawn is not None)
         if run.quality is not None and "quality" not in self.followed:
             self.followed["quality"] = run.quality

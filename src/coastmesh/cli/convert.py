@@ -65,11 +65,14 @@ def _ids(ctx: click.Context, param: click.Parameter, value: str | None):
 )
 @click.option(
     "--land",
-    type=click.Choice(["min_depth", "nearest_sea", "smooth"]),
-    default="min_depth",
-    show_default=True,
-    help="Nodes the rasters put on land: the depth floor, the nearest wet cell, "
-    "or that and a taper to --min-depth over --land-distance from the coast.",
+    type=click.Choice(["wet", "min_depth", "nearest_sea", "smooth", "keep"]),
+    default=None,
+    help="Nodes beside or on land in the rasters. Default wet: read the wet cells "
+    "alone, and give nodes with none around the nearest wet cell, tapered to "
+    "--min-depth at the coast; with it, more than half the nodes on land is an "
+    "error. min_depth: the depth floor; nearest_sea: the nearest wet cell; "
+    "smooth: that and a taper to --min-depth over --land-distance; keep: land "
+    "heights as negative depths (wetting and drying).",
 )
 @click.option(
     "--land-distance",
@@ -119,7 +122,7 @@ def convert(
     raster_positive: tuple[str, ...],
     blend: tuple[float, ...],
     outside: str,
-    land: str,
+    land: str | None,
     land_distance: float | None,
     method: str,
     min_depth: float | None,

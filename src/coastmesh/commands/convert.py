@@ -80,7 +80,7 @@ def convert_mesh(
     max_slope: float | None = None,
     blend: float | Sequence[float] = 0.0,
     outside: str = "error",
-    land: str = "min_depth",
+    land: str | None = None,
     land_distance: float | None = None,
     positive: str | None = None,
     overwrite: bool = False,
@@ -114,7 +114,9 @@ def convert_mesh(
         one each).
     method, min_depth, max_slope, outside, land, land_distance
         As in :func:`coastmesh.depth.nodes.depth_at_nodes`; ``outside``
-        defaults to an error for nodes beyond every raster.
+        defaults to an error for nodes beyond every raster. ``land`` defaults
+        to ``"wet"``, and then more than half the nodes on land in the rasters
+        is an error (:data:`~coastmesh.depth.nodes.MAX_LAND_SHARE`).
     positive : {"up", "down"}, optional
         The sign written, for formats that take one; default: the format's own.
     overwrite : bool
@@ -166,7 +168,11 @@ def convert_mesh(
         mesh = _with_kinds(mesh, open_ids, os.fspath(src))
     depth_report = None
     if bathymetry is not None:
-        from coastmesh.depth.nodes import depth_at_nodes, node_sources
+        from coastmesh.depth.nodes import (
+            MAX_LAND_SHARE,
+            depth_at_nodes,
+            node_sources,
+        )
 
         stack = _stack(bathymetry, raster_positive, blend, mesh)
         depth, depth_report = depth_at_nodes(
@@ -176,8 +182,9 @@ def convert_mesh(
             min_depth=min_depth,
             max_slope=max_slope,
             outside=outside,
-            land=land,
+            land="wet" if land is None else land,
             land_distance=land_distance,
+            max_land_share=MAX_LAND_SHARE if land is None else None,
         )
         extra = {"depth_source": node_sources(mesh, stack)} if len(stack) > 1 else {}
         mesh = mesh.with_point_data(depth=depth, **extra)

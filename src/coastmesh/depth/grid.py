@@ -9,7 +9,7 @@ from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS
 
 from coastmesh.depth.raster import interpolate_bilinear, raster_grid
-from coastmesh.depth.sources import DepthSources
+from coastmesh.depth.sources import DepthSource, DepthSources
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import reproject_points
 
@@ -26,6 +26,7 @@ def depth_on_grid(
     *,
     crs: CRS | str,
     positive: str = "up",
+    sea: NDArray[np.bool_] | None = None,
 ) -> NDArray[np.float64]:
     """Interpolate a bathymetry raster bilinearly onto the nodes of a size grid.
 
@@ -43,6 +44,11 @@ def depth_on_grid(
     positive : {"up", "down"}
         Sign of the raster: ``"up"`` for elevations (GEBCO, ETOPO: depths are
         negative), ``"down"`` for depths.
+    sea : ndarray of bool of shape (ny, nx), optional
+        The nodes in the domain's sea. With it, the depths are those the mesh
+        nodes get (``land = "wet"`` of :func:`~coastmesh.depth.depth_at_nodes`):
+        the wet cells alone, and a sea node with no wet cell around takes the
+        nearest wet cell; so a size term never reads a land height in the sea.
 
     Returns
     -------
@@ -69,6 +75,16 @@ def depth_on_grid(
         raise ConfigError(f"positive = {positive!r}: use 'up' or 'down'")
     gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
     nodes = np.column_stack([gx.ravel(), gy.ravel()])
+    if sea is not None:
+        stack = raster if isinstance(raster, DepthSources) else None
+        if stack is None:
+            stack = DepthSources([DepthSource(raster, positive)])
+        depth = stack.sample(nodes, crs, wet=True).depth
+        dry = np.flatnonzero(sea.ravel() & (depth <= 0))
+        if dry.size:
+            value, _, _ = stack.nearest(nodes[dry], crs, kind="wet")
+            depth[dry] = np.where(np.isfinite(value), value, depth[dry])
+        return depth.reshape(gx.shape)
     if isinstance(raster, DepthSources):
         return raster.sample(nodes, crs).depth.reshape(gx.shape)
     rx, ry, values, raster_crs = raster_grid(raster)

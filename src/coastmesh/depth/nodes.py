@@ -20,7 +20,7 @@ from scipy.spatial import cKDTree
 
 from coastmesh.depth.sources import DepthSource, DepthSources
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
-from coastmesh.geometry.earth import mesh_earth_centred
+from coastmesh.geometry.earth import mesh_earth_centred, reproject_points
 from coastmesh.types import Mesh, Report
 from coastmesh.types.topology import unique_edges
 
@@ -30,7 +30,9 @@ if TYPE_CHECKING:
 __all__ = [
     "DEPTH_METHODS",
     "LAND_TREATMENTS",
+    "MAX_LAND_SHARE",
     "OUTSIDE_RULES",
+    "CoarseRasterWarning",
     "DepthReport",
     "depth_at_nodes",
     "limit_slope",
@@ -41,10 +43,21 @@ __all__ = [
 #: (bilinear elsewhere).
 DEPTH_METHODS = ("bilinear", "mean")
 #: What a node in the mesh's sea gets where the rasters say land (depth <= 0):
-#: ``"min_depth"`` the depth floor; ``"nearest_sea"`` the nearest wet cell;
-#: ``"smooth"`` the nearest wet cell, then a taper of every depth within
-#: ``land_distance`` of the coast to ``min_depth`` at the coast.
-LAND_TREATMENTS = ("min_depth", "nearest_sea", "smooth")
+#: ``"wet"`` (the default) reads the wet cells alone: a node with a wet cell
+#: among its four takes their renormalised bilinear mean; one with none takes
+#: the nearest wet cell, tapered to ``min_depth`` at the coast (only across
+#: the strip the raster calls land); ``"min_depth"`` the depth floor;
+#: ``"nearest_sea"`` the nearest wet cell; ``"smooth"`` the nearest wet cell,
+#: then a taper of every depth within ``land_distance`` of the coast to
+#: ``min_depth`` at the coast; ``"keep"`` the land heights as negative depths
+#: (for models that wet and dry).
+LAND_TREATMENTS = ("wet", "min_depth", "nearest_sea", "smooth", "keep")
+#: Above this share of the nodes on land in the rasters, a raster is too
+#: coarse for the coast: an error unless ``land`` is given (the case decides).
+MAX_LAND_SHARE = 0.5
+#: A node reads a raster "coarser than the mesh" where its elements are
+#: smaller than the raster's cells by this factor or more.
+COARSE_RATIO = 1.0
 #: Nodes beyond every source's cover: ``"error"`` or ``"nearest"`` valid cell.
 OUTSIDE_RULES = ("error", "nearest")
 
@@ -84,7 +97,21 @@ class DepthReport(Report):
     land_treatment : str
         What those got (:data:`LAND_TREATMENTS`).
     tapered : int
-        Nodes made shallower by the ``"smooth"`` coastal taper.
+        Nodes made shallower by a coastal taper (``"wet"``, ``"smooth"``).
+    coast_cells : int
+        Nodes with land and sea cells around them: with ``"wet"`` their depth
+        is the mean of the wet cells alone; otherwise it mixes in land.
+    took_wet : int
+        Nodes on land in the rasters given the nearest wet cell's depth.
+    land_values : int
+        Sea nodes whose depth holds a land cell's value (0 with ``"wet"``,
+        ``"nearest_sea"`` and ``"smooth"`` wherever a wet cell exists; the
+        land and coast nodes with ``"min_depth"`` before the floor, and
+        ``"keep"``).
+    coarse : int
+        Nodes at the coast (land cells around them) whose elements are
+        smaller than their raster's cells: the raster cannot tell their
+        depths apart.
     """
 
     nodes: int
@@ -100,22 +127,34 @@ class DepthReport(Report):
     blended: int = 0
     snapped: int = 0
     land: int = 0
-    land_treatment: str = "min_depth"
+    land_treatment: str = "wet"
     tapered: int = 0
+    coast_cells: int = 0
+    took_wet: int = 0
+    land_values: int = 0
+    coarse: int = 0
 
     def summary(self) -> str:
-        """Return a one-line summary."""
+        """Return a one-line summary, with the shares of the nodes."""
         shares = ", ".join(
             f"{name} {count:,}"
             for name, count in zip(self.sources, self.per_source, strict=True)
         )
+
+        def share(count: int) -> str:
+            return f"{count:,} ({count / max(self.nodes, 1):.1%})"
+
         return (
             f"depth at {self.nodes:,} nodes ({self.method}; {self.averaged:,} by cell "
             f"means): {self.min:.1f} to {self.max:.1f} m; by source: {shares}; "
-            f"{self.blended:,} blended, {self.snapped:,} within a cell of the data, "
-            f"{self.nearest:,} outside every source took the nearest cell; "
-            f"{self.land:,} on land in the rasters ({self.land_treatment}); "
-            f"{self.below_min_depth:,} raised to the minimum depth; "
+            f"{self.blended:,} blended, {share(self.snapped)} within a cell of the "
+            f"data, {self.nearest:,} outside every source took the nearest cell; "
+            f"{share(self.land)} on land in the rasters ({self.land_treatment}: "
+            f"{share(self.took_wet)} took the nearest wet cell, {self.tapered:,} "
+            f"tapered), {share(self.coast_cells)} beside land cells; "
+            f"{share(self.land_values)} hold land values; "
+            f"{share(self.below_min_depth)} raised to the minimum depth; "
+            f"{share(self.coarse)} at a coast finer than the raster; "
             f"{self.slope_limited:,} changed by the slope limit"
         )
 
@@ -129,8 +168,9 @@ def depth_at_nodes(
     min_depth: float | None = None,
     max_slope: float | None = None,
     outside: str = "error",
-    land: str = "min_depth",
+    land: str = "wet",
     land_distance: float | None = None,
+    max_land_share: float | None = None,
 ) -> tuple[NDArray[np.float64], DepthReport]:
     """Interpolate bathymetry onto the nodes of a mesh.
 
@@ -158,10 +198,22 @@ def depth_at_nodes(
     outside : {"error", "nearest"}
         Nodes beyond every source's cover (more than a cell diagonal from its
         data): an error, or the nearest valid cell on the Earth and a warning.
-    land : {"min_depth", "nearest_sea", "smooth"}
-        Nodes where the rasters say land (:data:`LAND_TREATMENTS`).
+    land : {"wet", "min_depth", "nearest_sea", "smooth", "keep"}
+        Nodes where the rasters say land, and nodes beside land cells
+        (:data:`LAND_TREATMENTS`). ``"wet"``: a node reads the wet cells
+        alone; a node with no wet cell around takes the nearest wet cell's
+        depth ``d_w`` (at ``r`` metres), tapered to ``min_depth`` (if given) at
+        the coast: ``min_depth + (d_w - min_depth) s / (s + r)``, with ``s``
+        the distance to the nearest coast node. So the taper runs only across
+        the strip the raster calls land, from the coast to the first wet cell,
+        and every depth off that strip is the raster's own.
     land_distance : float, optional
         Metres; the width of the coastal taper of ``land="smooth"``.
+    max_land_share : float, optional
+        If more than this share of the nodes lies on land in the rasters (no
+        wet cell around them), the rasters are too coarse for the coast: an
+        :class:`InputDataError` that names them and gives the share. None for
+        no limit (the caller chose ``land`` knowingly).
 
     Returns
     -------
@@ -177,7 +229,15 @@ def depth_at_nodes(
     InputDataError
         If a source has no valid cell or covers no node, or nodes lie beyond
         every source with ``outside="error"``; the message names the sources,
-        the share each covers and where the gap is.
+        the share each covers and where the gap is. If more than
+        ``max_land_share`` of the nodes lie on land in the rasters.
+
+    Warns
+    -----
+    CoarseRasterWarning
+        Where a raster's cells are larger than the elements at the coast
+        (nodes with land cells around them): it names the raster, the share of
+        nodes and where they are, and suggests a finer source.
 
     Examples
     --------
@@ -190,41 +250,34 @@ def depth_at_nodes(
     >>> depth, report = depth_at_nodes(m, r, outside="nearest")
     >>> depth.tolist(), report.nearest
     ([25.0, 10.0, 20.0], 1)
+
+    A cell of land (``5 m`` up) beside the sea: plain bilinear interpolation
+    would pull the node up by the land's height, to ``(-5 + 10 + 20 + 30) / 4
+    = 13.75`` m; the wet cells alone give it ``(10 + 20 + 30) / 3 = 20`` m.
+
+    >>> r2 = r.copy(data=[[5.0, -10.0], [-20.0, -30.0]])
+    >>> depth_at_nodes(m, r2, outside="nearest")[0].tolist()[0]
+    20.0
     """
     _check_args(mesh, method, min_depth, outside, land, land_distance)
     sources = _stack(raster, positive)
     radius = _node_radius(mesh) if method == "mean" else None
-    sample = sources.sample(mesh.points, mesh.crs, radius=radius)
-    for name, hit, k in zip(
-        sources.names, sample.hits, range(len(sources)), strict=True
-    ):
-        if hit == 0 and not (sample.source == k).any():
-            raise InputDataError(
-                f"bathymetry source {name} does not overlap the mesh: no node lies "
-                "within its data (is it the right region and CRS?)"
-            )
-    depth, source = sample.depth.copy(), sample.source.copy()
+    sample, plain, source = _sample(sources, mesh, radius, outside)
     gap = sample.uncovered
-    if gap.any():
-        if outside == "error":
-            raise InputDataError(
-                sources.uncovered_message(sample, mesh.points, mesh.crs)
-                + "; add a source that covers them, or set outside = 'nearest'"
-            )
-        depth[gap], source[gap], _ = sources.nearest(mesh.points[gap], mesh.crs)
-        warnings.warn(
-            sources.uncovered_message(sample, mesh.points, mesh.crs)
-            + ": they took the nearest valid cell (outside = 'nearest')",
-            CoastmeshWarning,
-            stacklevel=2,
-        )
+    wet = sources.sample(mesh.points, mesh.crs, radius=radius, wet=True).depth
+    wet[gap] = plain[gap]
+    with np.errstate(invalid="ignore"):
+        coast = (wet > 0) & (wet != plain)
+    land_nodes = plain <= 0
+    depth = np.where(np.isfinite(wet), wet, plain) if land == "wet" else plain
     dry = depth <= 0
-    tapered = 0
-    if dry.any() and land in ("nearest_sea", "smooth"):
-        wet, _, _ = sources.nearest(mesh.points[dry], mesh.crs, kind="wet")
-        depth[dry] = np.where(np.isfinite(wet), wet, depth[dry])
-    if land == "smooth":
-        depth, tapered = _taper(mesh, depth, min_depth, land_distance)
+    _check_land_share(sources, dry, max_land_share)
+    depth, took_wet, tapered = _treat_land(
+        mesh, sources, depth, dry, land, min_depth, land_distance
+    )
+    held = (dry & ~took_wet) | (coast if land != "wet" else False)
+    if land == "min_depth" and min_depth is not None:
+        held &= ~dry  # the floor replaced them
     shallow = 0
     if min_depth is not None:
         shallow = int((depth < min_depth).sum())
@@ -234,6 +287,7 @@ def depth_at_nodes(
         limited_depth = limit_slope(mesh, depth, max_slope)
         limited = int((limited_depth != depth).sum())
         depth = limited_depth
+    coarse = _coarse_at_coast(sources, mesh, source, coast | land_nodes)
     report = DepthReport(
         nodes=len(depth),
         method=method,
@@ -247,11 +301,171 @@ def depth_at_nodes(
         per_source=tuple(int((source == k).sum()) for k in range(len(sources))),
         blended=int(sample.blended.sum()),
         snapped=int(sample.snapped.sum()),
-        land=int(dry.sum()),
+        land=int(land_nodes.sum()),
         land_treatment=land,
         tapered=tapered,
+        coast_cells=int(coast.sum()),
+        took_wet=int(took_wet.sum()),
+        land_values=int(held.sum()),
+        coarse=int(coarse.sum()),
     )
+    if report.coarse:
+        warnings.warn(
+            _coarse_message(sources, mesh, source, coarse),
+            CoarseRasterWarning,
+            stacklevel=2,
+        )
     return depth, report
+
+
+def _sample(sources: DepthSources, mesh: Mesh, radius, outside: str):
+    """Sample the stack at the nodes; uncovered nodes by ``outside``.
+
+    Returns the sample, the depths (plain bilinear, or cell means) and the
+    source of each node.
+    """
+    sample = sources.sample(mesh.points, mesh.crs, radius=radius)
+    for name, hit, k in zip(
+        sources.names, sample.hits, range(len(sources)), strict=True
+    ):
+        if hit == 0 and not (sample.source == k).any():
+            raise InputDataError(
+                f"bathymetry source {name} does not overlap the mesh: no node lies "
+                "within its data (is it the right region and CRS?)"
+            )
+    plain, source = sample.depth.copy(), sample.source.copy()
+    gap = sample.uncovered
+    if gap.any():
+        if outside == "error":
+            raise InputDataError(
+                sources.uncovered_message(sample, mesh.points, mesh.crs)
+                + "; add a source that covers them, or set outside = 'nearest'"
+            )
+        plain[gap], source[gap], _ = sources.nearest(mesh.points[gap], mesh.crs)
+        warnings.warn(
+            sources.uncovered_message(sample, mesh.points, mesh.crs)
+            + ": they took the nearest valid cell (outside = 'nearest')",
+            CoastmeshWarning,
+            stacklevel=3,
+        )
+    return sample, plain, source
+
+
+def _treat_land(mesh, sources, depth, dry, land, min_depth, land_distance):
+    """Give the ``dry`` nodes their depth by the ``land`` rule.
+
+    Returns the depths, the nodes that took the nearest wet cell, and the
+    number tapered.
+    """
+    tapered, took_wet = 0, np.zeros(len(depth), dtype=bool)
+    if dry.any() and land in ("wet", "nearest_sea", "smooth"):
+        value, _, distance = sources.nearest(mesh.points[dry], mesh.crs, kind="wet")
+        found = np.isfinite(value)
+        took_wet[np.flatnonzero(dry)[found]] = True
+        if land == "wet" and min_depth is not None:
+            value, tapered = _taper_across(mesh, dry, value, distance, min_depth)
+        depth = depth.copy()
+        depth[dry] = np.where(found, value, depth[dry])
+    if land == "smooth":
+        depth, tapered = _taper(mesh, depth, min_depth, land_distance)
+    return depth, took_wet, tapered
+
+
+class CoarseRasterWarning(CoastmeshWarning):
+    """A bathymetry raster's cells are larger than the mesh's elements at the coast."""
+
+
+def _check_land_share(
+    sources: DepthSources, dry: NDArray[np.bool_], limit: float | None
+) -> None:
+    """Refuse rasters that put more than ``limit`` of the nodes on land."""
+    share = float(dry.mean()) if len(dry) else 0.0
+    if limit is None or share <= limit:
+        return
+    cells = ", ".join(
+        f"{name} (cells of {cell / 1e3:.3g} km)"
+        for name, cell in zip(sources.names, sources.cells_m, strict=True)
+    )
+    raise InputDataError(
+        f"bathymetry: {dry.sum():,} of {len(dry):,} mesh nodes ({share:.0%}) lie on "
+        f"land in {cells}, with no wet cell around them: the raster is too coarse "
+        "for this coast. Add a finer source above it ([[bathymetry.sources]]: a "
+        "survey, EMODnet or GEBCO), or set [bathymetry] land to say what those "
+        "nodes get ('wet': the nearest wet cell)"
+    )
+
+
+def _taper_across(mesh: Mesh, dry, value, distance, min_depth: float):
+    """Taper the nearest wet depths of the ``dry`` nodes to ``min_depth`` at the coast.
+
+    ``min_depth + (value - min_depth) * s / (s + r)``: ``s`` the distance to
+    the nearest coast node, ``r`` (``distance``) to the wet cell. Only makes
+    depths shallower, and only across the strip the raster calls land.
+    """
+    s = _coast_distance(mesh, np.flatnonzero(dry))
+    if s is None:
+        return value, 0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = np.where(s + distance > 0, s / (s + distance), 1.0)
+        deeper = np.isfinite(value) & (value > min_depth) & (t < 1.0)
+    out = value.copy()
+    out[deeper] = min_depth + (value[deeper] - min_depth) * t[deeper]
+    return out, int(deeper.sum())
+
+
+def _coast_nodes(mesh: Mesh) -> NDArray[np.int64]:
+    """Return the nodes of the shoreline boundary edges (all, if no kinds)."""
+    coast_ids = [k for k, kind in mesh.boundary_kinds.items() if kind == "shoreline"]
+    on_coast = np.isin(mesh.boundary_ids, coast_ids)
+    if not mesh.boundary_kinds:  # no kinds known: every boundary is coast
+        on_coast[:] = True
+    return np.unique(mesh.boundary_edges[on_coast])
+
+
+def _coast_distance(mesh: Mesh, nodes: NDArray[np.int64]):
+    """Return the distances (metres, chords) from ``nodes`` to the coast."""
+    coast = _coast_nodes(mesh)
+    if coast.size == 0:
+        return None
+    xyz, _ = mesh_earth_centred(mesh)
+    d, _ = cKDTree(xyz[coast]).query(xyz[nodes])
+    return d
+
+
+def _coarse_at_coast(
+    sources: DepthSources, mesh: Mesh, source, at_coast
+) -> NDArray[np.bool_]:
+    """Return the nodes beside land cells with elements finer than their cells."""
+    if not at_coast.any():
+        return at_coast
+    edge = 2.0 * _node_radius(mesh)
+    cells = np.asarray(sources.cells_m)[np.maximum(source, 0)]
+    return at_coast & (source >= 0) & (COARSE_RATIO * edge < cells)
+
+
+def _coarse_message(sources: DepthSources, mesh: Mesh, source, coarse) -> str:
+    """Name the coarse rasters, the share of nodes, where, and a finer source."""
+    n = len(coarse)
+    parts = []
+    for k, (name, cell) in enumerate(zip(sources.names, sources.cells_m, strict=True)):
+        mine = coarse & (source == k)
+        if not mine.any():
+            continue
+        lon, lat = reproject_points(mesh.points[mine], mesh.crs, "EPSG:4326").T
+        edge = 2.0 * float(np.median(_node_radius(mesh)[mine]))
+        parts.append(
+            f"bathymetry raster {name} (cells of {cell / 1e3:.3g} km) is coarser than "
+            f"the mesh at the coast: {mine.sum():,} of {n:,} nodes ({mine.mean():.1%}) "
+            f"with land cells around them have elements of {edge:,.0f} m (median), "
+            f"at lon {lon.min():.3f} to {lon.max():.3f}, lat {lat.min():.3f} to "
+            f"{lat.max():.3f}"
+        )
+    return (
+        "; ".join(parts) + ". Their depths come from the wet cells near them, which "
+        "cannot see channels and bays narrower than a cell: add a finer source "
+        "above it as [[bathymetry.sources]] (a survey, EMODnet 1/16' ~ 115 m, GEBCO "
+        '15" ~ 460 m) for true depths there'
+    )
 
 
 def node_sources(mesh: Mesh, raster: xr.DataArray | DepthSources) -> NDArray:
@@ -282,6 +496,12 @@ def _check_args(mesh, method, min_depth, outside, land, land_distance) -> None:
         raise ConfigError(f"outside = {outside!r}: use one of {OUTSIDE_RULES}")
     if land not in LAND_TREATMENTS:
         raise ConfigError(f"land = {land!r}: use one of {LAND_TREATMENTS}")
+    if land == "keep" and min_depth is not None:
+        raise ConfigError(
+            f"land = 'keep' keeps the land heights as negative depths (for a model "
+            f"that wets and dries); min_depth = {min_depth:g} would raise them: give "
+            "one of the two"
+        )
     if land == "smooth":
         if min_depth is None:
             raise ConfigError("land = 'smooth' tapers to min_depth: give min_depth")
@@ -301,11 +521,7 @@ def _taper(mesh: Mesh, depth, min_depth: float, width: float):
     on the Earth) is the distance to the nearest coast node (the nodes of the
     boundary edges of kind ``"shoreline"``). Only makes depths shallower.
     """
-    coast_ids = [k for k, kind in mesh.boundary_kinds.items() if kind == "shoreline"]
-    on_coast = np.isin(mesh.boundary_ids, coast_ids)
-    if not mesh.boundary_kinds:  # no kinds known: every boundary is coast
-        on_coast[:] = True
-    coast = np.unique(mesh.boundary_edges[on_coast])
+    coast = _coast_nodes(mesh)
     if coast.size == 0:
         return depth, 0
     xyz, _ = mesh_earth_centred(mesh)

@@ -4,7 +4,8 @@ A raster here is an :class:`xarray.DataArray` with dims ``("y", "x")``, 1-D
 cell-centre coordinates and a ``crs`` attribute (WKT), as
 :func:`coastmesh.io.read_raster` returns it; NaN marks missing cells. The sizing
 and node-depth steps unpack it once with :func:`raster_grid` and sample it with
-:func:`interpolate_bilinear`.
+:func:`interpolate_bilinear` (or, for depths at a coast,
+:func:`interpolate_wet`, which never mixes a land cell into the sea).
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ from coastmesh.errors import ConfigError
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["interpolate_bilinear", "raster_grid"]
+__all__ = ["interpolate_bilinear", "interpolate_wet", "raster_grid"]
 
 
 def raster_grid(
@@ -149,5 +150,77 @@ def interpolate_bilinear(
         used = weight > 0
         bad |= used & np.isnan(corner)
         out += np.where(used, corner * weight, 0.0)
+    out[bad] = np.nan
+    return out.reshape(px.shape)
+
+
+def interpolate_wet(
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    depth: NDArray[np.float64],
+    px: ArrayLike,
+    py: ArrayLike,
+) -> NDArray[np.float64]:
+    """Interpolate depths bilinearly over the wet cells only.
+
+    At a coast the four cells around a point mix land heights with sea depths,
+    and plain bilinear interpolation gives a sea point a depth pulled towards
+    (or past) zero by the land. Here the bilinear weights are renormalised over
+    the wet cells (``depth > 0``, depths positive down), so a point with any wet
+    cell around it takes a weighted mean of wet depths alone.
+
+    Parameters
+    ----------
+    x, y : ndarray of shape (nx,), (ny,)
+        Cell-centre coordinates, increasing.
+    depth : ndarray of shape (ny, nx)
+        Depths, positive down; NaN where missing.
+    px, py : array_like of the same shape
+        Where to interpolate, in the grid's CRS.
+
+    Returns
+    -------
+    ndarray of the shape of ``px``
+        The wet-weighted depth; ``0.0`` where every cell with a weight is dry
+        (the point is on land in the raster); NaN where
+        :func:`interpolate_bilinear` gives NaN (outside, or a missing cell
+        with a weight).
+
+    Examples
+    --------
+    >>> depth = np.array([[-30.0, 10.0], [20.0, 30.0]])  # one land cell
+    >>> interpolate_wet(np.array([0.0, 1.0]), np.array([0.0, 1.0]), depth,
+    ...                 [0.5, 0.0], [0.5, 0.0]).tolist()
+    [20.0, 0.0]
+    """
+    px, py = np.broadcast_arrays(
+        np.asarray(px, dtype=np.float64), np.asarray(py, dtype=np.float64)
+    )
+    if len(x) < 2 or len(y) < 2:
+        return np.full(px.shape, np.nan)
+    qx, qy = px.ravel(), py.ravel()
+    with np.errstate(invalid="ignore"):
+        bad = ~((qx >= x[0]) & (qx <= x[-1]) & (qy >= y[0]) & (qy <= y[-1]))
+    i = np.clip(np.searchsorted(x, qx, side="right") - 1, 0, len(x) - 2)
+    j = np.clip(np.searchsorted(y, qy, side="right") - 1, 0, len(y) - 2)
+    tx = (qx - x[i]) / (x[i + 1] - x[i])
+    ty = (qy - y[j]) / (y[j + 1] - y[j])
+    total = np.zeros(len(qx))
+    weights = np.zeros(len(qx))
+    for dj, di, weight in (
+        (0, 0, (1.0 - tx) * (1.0 - ty)),
+        (0, 1, tx * (1.0 - ty)),
+        (1, 0, (1.0 - tx) * ty),
+        (1, 1, tx * ty),
+    ):
+        corner = depth[j + dj, i + di]
+        used = weight > 0
+        bad |= used & np.isnan(corner)
+        with np.errstate(invalid="ignore"):
+            wet = used & (corner > 0)
+        total += np.where(wet, corner * weight, 0.0)
+        weights += np.where(wet, weight, 0.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = np.where(weights > 0, total / weights, 0.0)
     out[bad] = np.nan
     return out.reshape(px.shape)

@@ -36,7 +36,7 @@ from pyproj import CRS
 from scipy.ndimage import binary_erosion
 from scipy.spatial import cKDTree
 
-from coastmesh.depth.raster import interpolate_bilinear, raster_grid
+from coastmesh.depth.raster import interpolate_bilinear, interpolate_wet, raster_grid
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry.earth import (
     METRES_PER_DEGREE,
@@ -182,22 +182,36 @@ class _Prepared:
         #: the ramp's width; a blend under half a cell is a step at the half cell
         self.ramp = max(self.blend - self.delta, 1e-6)
         self._trees: dict[str, tuple[cKDTree, NDArray[np.float64]] | None] = {}
-        self._sums: tuple[NDArray, NDArray] | None = None
+        self._sums: dict[bool, tuple[NDArray, NDArray]] = {}
+        #: the cell size, metres: what the raster can tell apart
+        self.cell_m = float(max(dx_m, dy_m))
 
     def values_at(
-        self, points: NDArray[np.float64], crs: CRS, radius: NDArray | None
+        self,
+        points: NDArray[np.float64],
+        crs: CRS,
+        radius: NDArray | None,
+        wet: bool = False,
     ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-        """Bilinear values, or cell means where ``radius`` spans several cells."""
+        """Bilinear values, or cell means where ``radius`` spans several cells.
+
+        ``wet``: over the wet cells only (:func:`interpolate_wet`; 0 where
+        every cell around is dry).
+        """
         px, py = _reproject(points, crs, self.crs)
-        z = interpolate_bilinear(self.x, self.y, self.depth, px, py)
+        interpolate = interpolate_wet if wet else interpolate_bilinear
+        z = interpolate(self.x, self.y, self.depth, px, py)
         if radius is None:
             return z, np.zeros(len(z), dtype=bool)
-        means, used = self._box_means(px, py, radius)
+        means, used = self._box_means(px, py, radius, wet)
         used &= np.isfinite(z)
         return np.where(used, means, z), used
 
-    def _box_means(self, px, py, radius):
-        """Mean of the valid cells within ``radius`` of each point (summed areas)."""
+    def _box_means(self, px, py, radius, wet=False):
+        """Mean of the valid (wet) cells within ``radius`` of each point.
+
+        By summed-area tables, one per kind of cell.
+        """
         rx, ry, values = self.x, self.y, self.depth
         if len(rx) < 2 or len(ry) < 2:
             return np.full(len(px), np.nan), np.zeros(len(px), dtype=bool)
@@ -212,14 +226,17 @@ class _Prepared:
         cj = np.rint(np.nan_to_num((py - ry[0]) / dy, nan=-1.0)).astype(np.int64)
         ny, nx = values.shape
         used &= (ci >= 0) & (ci < nx) & (cj >= 0) & (cj < ny)
-        if self._sums is None:
+        if wet not in self._sums:
             valid = np.isfinite(values)
+            if wet:
+                with np.errstate(invalid="ignore"):
+                    valid &= values > 0
             sums = np.zeros((ny + 1, nx + 1))
             sums[1:, 1:] = np.where(valid, values, 0.0).cumsum(0).cumsum(1)
             counts = np.zeros((ny + 1, nx + 1))
             counts[1:, 1:] = valid.cumsum(0).cumsum(1)
-            self._sums = (sums, counts)
-        sums, counts = self._sums
+            self._sums[wet] = (sums, counts)
+        sums, counts = self._sums[wet]
         i0, i1 = np.clip(ci - kx, 0, nx), np.clip(ci + kx + 1, 0, nx)
         j0, j1 = np.clip(cj - ky, 0, ny), np.clip(cj + ky + 1, 0, ny)
 
@@ -297,18 +314,26 @@ class DepthSources:
     def __len__(self) -> int:
         return len(self.sources)
 
+    @property
+    def cells_m(self) -> tuple[float, ...]:
+        """Each source's cell size (the larger side), metres."""
+        return tuple(p.cell_m for p in self._prepared)
+
     def sample(
         self,
         points: ArrayLike,
         crs: CRS | str,
         *,
         radius: ArrayLike | None = None,
+        wet: bool = False,
     ) -> SourceSample:
         """Return the depth at ``points`` (in ``crs``) from the stack.
 
         ``radius`` (metres, one per point), if given, replaces a source's
         bilinear value by the mean of its valid cells within that distance
-        wherever that spans more than one cell (``method="mean"``).
+        wherever that spans more than one cell (``method="mean"``). ``wet``
+        samples each source over its wet cells only (no land cell mixes into
+        a depth; a point whose cells are all dry gets 0 from that source).
         """
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         crs = CRS.from_user_input(crs)
@@ -323,7 +348,7 @@ class DepthSources:
         xyz = None
         for k in range(len(self) - 1, -1, -1):
             prep = self._prepared[k]
-            z, means = prep.values_at(pts, crs, radius)
+            z, means = prep.values_at(pts, crs, radius, wet)
             ok = np.flatnonzero(np.isfinite(z))
             hits[k] = ok.size
             if ok.size == 0:

@@ -94,7 +94,11 @@ def water_mask(
 
 
 def local_width(
-    water: NDArray[np.bool_], cell: float, *, max_width: float
+    water: NDArray[np.bool_],
+    cell: float,
+    *,
+    max_width: float,
+    step: float = RADIUS_STEP,
 ) -> NDArray[np.float64]:
     """Return the width of the water at each grid node (metres).
 
@@ -106,6 +110,9 @@ def local_width(
         Grid spacing, metres.
     max_width : float
         Widths at or above this are not resolved: they come out as ``inf``.
+    step : float
+        The ratio of successive radii (> 1): a larger step is quicker, and
+        rounds widths down further.
 
     Returns
     -------
@@ -131,7 +138,7 @@ def local_width(
     top = max_width / (2 * cell)
     radii = [0.5]
     while radii[-1] < top:
-        radii.append(radii[-1] * RADIUS_STEP)
+        radii.append(radii[-1] * step)
     # from the widest down: a node takes the largest radius whose opening holds
     # it; those held by the widest (at least max_width across) stay inf
     done = _opening(depth, radii[-1])
@@ -192,7 +199,7 @@ def over_land(term: NDArray[np.float64], water: NDArray[np.bool_]) -> NDArray:
 
 
 def domain_width(
-    grid: PlaneGrid, domain: Domain, *, max_width: float
+    grid: PlaneGrid, domain: Domain, *, max_width: float, step: float = RADIUS_STEP
 ) -> NDArray[np.float64]:
     """Return the width of the domain's water at the grid's nodes (metres).
 
@@ -208,7 +215,7 @@ def domain_width(
     shore = _touched(densified(domain, lines["shoreline"], grid.crs), grid)
     opened = _touched(densified(domain, lines["open"], grid.crs), grid)
     water = water_mask(grid.sea, shore, opened)
-    return local_width(water, grid.cell, max_width=max_width)
+    return local_width(water, grid.cell, max_width=max_width, step=step)
 
 
 def _touched(lines: NDArray[np.object_], grid: PlaneGrid) -> NDArray[np.bool_]:

@@ -6,9 +6,12 @@ that beats the floor (a model's time step). They combine in one order, the same
 for every term and every grid:
 
 1. the upper bounds, from ``h_max`` down, by minimum, term after term;
-2. the floor ``h_min`` raises that (so no term goes below it);
+2. the floor ``h_min`` raises that (so no term goes below it), except where a
+   term lowers the floor (``floor``: the channels of a ``[[sites]]`` region,
+   two elements across);
 3. the lower bounds raise it again (over ``h_min``: a model must run at its
-   time step);
+   time step); a term may work its lower bound out from the field so far
+   (``lower_from``: the Courant term's ``dt = "auto"``);
 4. ``h_max`` caps everything (a lower bound above it is a window no size
    meets, which the term warns of);
 5. the gradation limit ``rate`` lowers sizes last (it may go below the floors
@@ -64,6 +67,13 @@ class TermSizes:
         The field is at most this (combined by minimum with the other terms).
     lower : ndarray or None
         The field is at least this, over the floor ``h_min``.
+    floor : ndarray or None
+        Where finite and below ``h_min``, the floor there instead (the term
+        asks for finer elements than ``h_min`` on purpose).
+    lower_from : callable, optional
+        ``lower_from(floored) -> ndarray``: a lower bound worked out from the
+        field after every upper bound and the floor (a time step the field
+        itself sets), applied as ``lower`` is.
     report : callable, optional
         ``report(applied) -> Report``: the term's report, given what the field
         was when its sizes were applied (:class:`Applied`).
@@ -76,6 +86,8 @@ class TermSizes:
 
     upper: NDArray[np.float64] | None = None
     lower: NDArray[np.float64] | None = None
+    floor: NDArray[np.float64] | None = None
+    lower_from: Callable[[NDArray[np.float64]], NDArray[np.float64]] | None = None
     report: Callable[[Applied], Report | None] | None = None
     history: str = ""
     layers: Mapping[str, NDArray[np.float64]] = field(default_factory=dict)
@@ -203,11 +215,17 @@ def combine(
         if sizes.upper is not None:
             values = np.minimum(values, sizes.upper)
     if h_min is not None:
-        values = np.maximum(values, h_min)
+        floor: float | NDArray[np.float64] = h_min
+        for _, sizes, _ in applied:
+            if sizes.floor is not None:
+                floor = np.fmin(floor, sizes.floor)
+        values = np.maximum(values, floor)
     floored = values
     for _, sizes, _ in applied:
         if sizes.lower is not None:
             values = np.maximum(values, sizes.lower)
+        if sizes.lower_from is not None:
+            values = np.maximum(values, sizes.lower_from(floored))
     values = np.minimum(values, h_max)
     if rate is not None:
         values = grid.limit(values, rate)

@@ -9,6 +9,7 @@ ADCIRC asks for about 0.5 to 0.9) and a cap (SCHISM asks for 0.4 or more).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -17,7 +18,7 @@ from numpy.typing import NDArray
 from coastmesh.geometry.earth import GRAVITY
 from coastmesh.types import Report
 
-__all__ = ["CourantReport", "courant_bounds", "wave_speed"]
+__all__ = ["CourantReport", "courant_bounds", "round_step", "wave_speed"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -36,6 +37,8 @@ class CourantReport(Report):
         Area where ``courant_min`` lowered it.
     unmet_km2 : float
         Area where no size in ``[h_min, h_max]`` meets the window.
+    auto : bool
+        ``dt`` was worked out from the field (``dt = "auto"``).
     """
 
     dt: float
@@ -45,6 +48,7 @@ class CourantReport(Report):
     raised_km2: float
     lowered_km2: float
     unmet_km2: float
+    auto: bool = False
 
     def summary(self) -> str:
         """Return a one-line summary."""
@@ -53,7 +57,8 @@ class CourantReport(Report):
             f"{self.courant_max if self.courant_max is not None else 'inf'}"
         )
         return (
-            f"Courant {window} at dt {self.dt:g} s (u {self.velocity:g} m/s): "
+            f"Courant {window} at dt {self.dt:g} s"
+            f"{' (auto)' if self.auto else ''} (u {self.velocity:g} m/s): "
             f"raised on {self.raised_km2:,.1f} km2, lowered on "
             f"{self.lowered_km2:,.1f} km2, unmet on {self.unmet_km2:,.1f} km2"
         )
@@ -112,3 +117,17 @@ def courant_bounds(
     no_cap = np.full_like(speed, np.inf)
     cap = no_cap if courant_min is None else speed / courant_min
     return floor, cap
+
+
+def round_step(seconds: float) -> float:
+    """Round a time step down to two significant figures (a step a model takes).
+
+    Examples
+    --------
+    >>> round_step(5.678), round_step(0.1234), round_step(123.0)
+    (5.6, 0.12, 120.0)
+    """
+    if not (math.isfinite(seconds) and seconds > 0):
+        return seconds
+    digits = 1 - math.floor(math.log10(seconds))
+    return round(math.floor(seconds * 10**digits + 1e-9) / 10**digits, max(digits, 0))

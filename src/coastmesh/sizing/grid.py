@@ -38,7 +38,7 @@ from coastmesh.geometry.earth import (
 from coastmesh.geometry.projection import scale_factor
 from coastmesh.geometry.sphere import stereographic_scale
 from coastmesh.sizing.bands import graded_sizes
-from coastmesh.sizing.channel import domain_width
+from coastmesh.sizing.channel import RADIUS_STEP, domain_width
 from coastmesh.sizing.gradation import Gradation, gradation_size, limit_gradation
 from coastmesh.sizing.sphere import limit_gradation_sphere, sphere_distance, wrapped
 from coastmesh.types import Domain, Runner
@@ -142,10 +142,13 @@ class Grid:
         """Return the area the ``nodes`` stand for, km2 (a cell each)."""
         return float(nodes.sum()) * self.cell * self.cell / 1e6
 
-    def widths(self, domain: Domain, *, max_width: float) -> NDArray[np.float64] | None:
+    def widths(
+        self, domain: Domain, *, max_width: float, step: float | None = None
+    ) -> NDArray[np.float64] | None:
         """Return the width of the domain's water at the nodes, metres.
 
-        None where the grid does not measure it (:class:`SphereGrid`).
+        None where the grid does not measure it (:class:`SphereGrid`). ``step``:
+        the ratio of the radii measured (:func:`~.channel.local_width`).
         """
         return None
 
@@ -312,15 +315,26 @@ class PlaneGrid(Grid):
             runner=runner,
         )
 
-    def widths(self, domain: Domain, *, max_width: float) -> NDArray[np.float64]:
+    def widths(
+        self, domain: Domain, *, max_width: float, step: float | None = None
+    ) -> NDArray[np.float64]:
         """Return the width of the water (:func:`~.channel.domain_width`)."""
-        return domain_width(self, domain, max_width=max_width)
+        if step is None:
+            step = RADIUS_STEP
+        return domain_width(self, domain, max_width=max_width, step=step)
 
     def depth(
         self, raster: xr.DataArray | DepthSources, positive: str = "up"
     ) -> NDArray[np.float64]:
-        """Return the depth at the nodes (bilinear; the rasters' own CRS)."""
-        return depth_on_grid(raster, self.x, self.y, crs=self.crs, positive=positive)
+        """Return the depth at the nodes, as the mesh's nodes will get it.
+
+        Bilinear over the wet cells alone, in the rasters' own CRS; a sea node
+        with no wet cell around takes the nearest wet cell
+        (:func:`~coastmesh.depth.grid.depth_on_grid` with ``sea``).
+        """
+        return depth_on_grid(
+            raster, self.x, self.y, crs=self.crs, positive=positive, sea=self.sea
+        )
 
     def limit(self, values: NDArray[np.float64], rate: float) -> NDArray[np.float64]:
         """Limit the gradation in 8 directions, ``spacing`` apart."""

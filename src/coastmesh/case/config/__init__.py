@@ -36,6 +36,7 @@ from coastmesh.case.config.shorelines import (
     RegionConfig,
     ShorelinesConfig,
     ShorelineSetConfig,
+    SiteConfig,
 )
 from coastmesh.case.config.sizes import SizeConfig, floor
 from coastmesh.case.config.sources import DepthSourceConfig, RasterConfig
@@ -57,6 +58,7 @@ __all__ = [
     "RunConfig",
     "ShorelineSetConfig",
     "ShorelinesConfig",
+    "SiteConfig",
     "SizeConfig",
     "StudyCase",
     "floor",

@@ -21,6 +21,7 @@ from coastmesh.case.config.shorelines import (
     RegionConfig,
     ShorelinesConfig,
     ShorelineSetConfig,
+    SiteConfig,
 )
 from coastmesh.case.config.sizes import SizeConfig
 from coastmesh.case.schema import Check, key, keys_of
@@ -112,6 +113,12 @@ class CaseConfig:
     size: SizeConfig = key(name="mesh_size", part=SizeConfig, doc="the size field")
     regions: tuple[RegionConfig, ...] = key(
         (), part=RegionConfig, many=True, doc="where each set is used"
+    )
+    sites: tuple[SiteConfig, ...] = key(
+        (),
+        part=SiteConfig,
+        many=True,
+        doc="regions meshed finely on purpose: channels kept, no Courant floor",
     )
     domain: DomainConfig = key(
         DomainConfig(), part=DomainConfig, doc="the sea region meshed"
@@ -214,9 +221,11 @@ def _check_global(case: dict[str, Any], label: str) -> None:
     Its ``boundaries`` are the ``[[cuts]]``: lines that cut seas off the ocean.
     """
     size = case["size"]
-    if size.courant is not None:
+    if size.courant is not None and size.courant.dt is not None:
         raise ConfigError(
-            f"{label}: [mesh_size.courant] is not available in a global case yet"
+            f"{label}: mesh_size.courant.dt = {size.courant.dt:g} s: the Courant "
+            "term is not available in a global case yet (the default, dt = 'auto', "
+            "is off there)"
         )
     if size.bathymetry is not None and size.bathymetry.per_slope is not None:
         raise ConfigError(
@@ -264,6 +273,8 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
     courant = case["size"].courant
     if (
         courant is not None
+        and courant.enabled
+        and courant.dt is not None
         and case["size"].bathymetry is None
         and case.get("bathymetry") is None
     ):

@@ -40,8 +40,9 @@ class NodeDepthConfig(RasterConfig):
         None,
         check=schema.length(signed=True),
         unit="length",
-        doc='shallower nodes are set to this (e.g. `"5 m"` for a model without '
-        "wetting and drying)",
+        doc="a floor for dry-prone shallows: shallower nodes are set to this "
+        '(e.g. `"5 m"` for a model without wetting and drying). Not the depth of '
+        "a sea the raster cannot see: `land` gives those theirs",
     )
     max_slope: float | None = key(
         None,
@@ -65,16 +66,23 @@ class NodeDepthConfig(RasterConfig):
         'the gap is; or `"nearest"`: the nearest valid cell on the Earth, with a '
         "warning that counts them",
     )
-    land: str = key(
-        "min_depth",
+    land: str | None = key(
+        None,
         check=schema.choice(LAND_TREATMENTS),
-        doc="nodes in the mesh's sea where the rasters say land (depth <= 0 m, "
-        'common near the coast on coarse grids): `"min_depth"` (they take the '
-        'depth floor, as any shallow node), `"nearest_sea"` (the nearest wet '
-        'cell on the Earth) or `"smooth"` (the nearest wet cell, then every '
-        "depth within `land_distance` of the coast is tapered linearly to "
-        "`min_depth` at the coast: `min_depth + (d - min_depth) * distance / "
-        "land_distance`)",
+        default_doc='`"wet"`; then more than half the nodes on land in the rasters '
+        "is an error",
+        doc="nodes beside or on land in the rasters (depth <= 0 m, common near "
+        'the coast on coarse grids). `"wet"`: a node reads the wet cells alone '
+        "(the bilinear weights of its four cells renormalised over the wet "
+        "ones), so no sea node takes a land cell's value; a node with no wet "
+        "cell around takes the nearest wet cell on the Earth, tapered to "
+        "`min_depth` (if given) at the coast across the strip the raster calls "
+        'land. `"min_depth"`: the depth floor; `"nearest_sea"`: the nearest wet '
+        'cell; `"smooth"`: the nearest wet cell, then every depth within '
+        "`land_distance` of the coast tapered linearly to `min_depth` at the "
+        'coast; `"keep"`: the land heights as negative depths, for a model that '
+        "wets and dries (no `min_depth`). Giving `land` accepts a raster that "
+        "puts most nodes on land",
     )
     land_distance: float | None = key(
         None,
@@ -90,6 +98,12 @@ class NodeDepthConfig(RasterConfig):
             )
         if self.window is not None and self.modes > self.window**2:
             raise c.error("modes", f"= {self.modes} is more than window**2")
+        if self.land == "keep" and self.min_depth is not None:
+            raise c.error(
+                "min_depth",
+                "would raise the land heights that land = 'keep' keeps for wetting "
+                "and drying: give one of the two",
+            )
         if self.land == "smooth" and (
             self.min_depth is None or self.land_distance is None
         ):

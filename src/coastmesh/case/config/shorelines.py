@@ -82,8 +82,9 @@ class ShorelinesConfig:
         read=_height,
         dump=lambda v: f"{v!r} m",
         default_doc='`"0 m"`',
-        doc="`raster` only: the height of the coast, positive up whatever "
-        '`positive` is (`"-0.5 m"`, or a number of metres)',
+        doc="`raster` only: the height of the coast above the raster's datum, "
+        'positive up whatever `positive` is: the land is above it (`"2 m"`, '
+        '`"-0.5 m"`, or a number of metres)',
     )
     positive: str = key(
         "up",
@@ -201,6 +202,41 @@ class RegionConfig:
     )
 
     def _validate(self, c: Check) -> RegionConfig:
+        given = [k for k in ("box", "polygon", "path") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise c.error("box", "give exactly one of box, polygon and path")
+        if self.polygon is not None and len(self.polygon) < 3:
+            raise c.error("polygon", "needs at least three points")
+        return self
+
+
+@dataclass(frozen=True)
+class SiteConfig:
+    """``[[sites]]``: a region the user meshes finely on purpose (a tidal site).
+
+    Inside a site, narrow channels are kept (with at least two elements across,
+    below the floor ``h_min`` if need be) rather than closed, and the Courant
+    floor of ``dt = "auto"`` does not apply: the user's sizes win, and the
+    quality report names the elements that then set the time step. Exactly one
+    of ``box`` and ``polygon`` (lon/lat, as the seed and open boundaries) and
+    ``path`` (a vector file of polygons in its own CRS, with ``layer``).
+    """
+
+    name: str = key(check=schema.string, doc="names the site in reports")
+    box: tuple[float, float, float, float] | None = key(
+        None, check=schema.box, doc="`[lon_min, lat_min, lon_max, lat_max]`"
+    )
+    polygon: tuple[tuple[float, float], ...] | None = key(
+        None, check=schema.points, doc="a list of `[lon, lat]` points"
+    )
+    path: Path | None = key(
+        None, check=schema.path, path=True, doc="a vector file of polygons"
+    )
+    layer: str | None = key(
+        None, check=schema.string, default_doc="the only layer", doc="its layer"
+    )
+
+    def _validate(self, c: Check) -> SiteConfig:
         given = [k for k in ("box", "polygon", "path") if getattr(self, k) is not None]
         if len(given) != 1:
             raise c.error("box", "give exactly one of box, polygon and path")

@@ -16,6 +16,8 @@ from coastmesh.case.pipeline.state import CaseRun, RunContext, missing
 from coastmesh.errors import CoastmeshWarning
 from coastmesh.meshing import QualityReport, mesh_quality
 from coastmesh.meshing.quality.measure import places
+from coastmesh.meshing.quality.time_step import element_time_steps
+from coastmesh.sizing.courant import CourantReport, round_step
 from coastmesh.types import Mesh
 
 __all__ = ["quality_stage", "warn_avoidable_corners", "warn_spanning"]
@@ -29,11 +31,11 @@ def quality_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     config, state = run.config, run.mesh or missing("mesh")
     if not config.outputs.quality:
         return run
-    courant = config.size.courant
+    courant = run.time_step
     with ctx.timed("mesh quality"):
         quality = mesh_quality(
             state.mesh,
-            dt=None if courant is None else courant.dt,
+            dt=None if courant is None else model_time_step(state.mesh, courant),
             velocity=0.0 if courant is None else courant.velocity,
             courant_max=None if courant is None else courant.courant_max,
             courant_min=None if courant is None else courant.courant_min,
@@ -48,6 +50,28 @@ def quality_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
         narrow=config.size.channels.narrow,
     )
     return replace(run, quality=quality)
+
+
+def model_time_step(mesh: Mesh, courant: CourantReport) -> float:
+    """Return the time step the mesh is checked at: ``dt``, or for ``"auto"`` less.
+
+    A given ``dt`` is the user's. With ``dt = "auto"`` the size field's step is
+    lowered, if need be, until no element of the mesh made has a Courant number
+    above ``courant_max`` (an element smaller than its target size), and rounded
+    down to two figures: the step the model can run this mesh at.
+    """
+    dt = courant.dt
+    if (
+        not courant.auto
+        or courant.courant_max is None
+        or "depth" not in (mesh.point_data)
+    ):
+        return dt
+    numbers = element_time_steps(mesh, velocity=courant.velocity, dt=dt)["courant"]
+    worst = float(np.nanmax(numbers)) if np.isfinite(numbers).any() else 0.0
+    if worst <= courant.courant_max:
+        return dt
+    return round_step(dt * courant.courant_max / worst)
 
 
 def warn_avoidable_corners(quality: QualityReport, mesh: Mesh) -> None:

@@ -5,11 +5,12 @@ With the channel term on (``[mesh_size.channels]``, on by default):
 * ``narrow = "keep"``: slots of water narrower than ``h_min / 2`` (spikes of a
   coastline, thinner than any element) become land
   (:func:`~coastmesh.sizing.slots.domain_slots`);
-* ``narrow = "close"``: the slots and the channels narrower than two elements of
-  ``h_min``, found by the width of the water on the size field's grid, become
-  land. A cut can leave new narrow water next to it, so this is done up to
-  :data:`CLOSE_PASSES` times; what is narrow after the last pass is kept, and the
-  channel term warns of it.
+* ``narrow = "close"`` (the default): the slots and the channels narrower
+  than two elements of ``h_min`` outside the ``[[sites]]``, found by the width
+  of the water on the size field's grid, become land. A cut can leave new
+  narrow water next to it, so this is done up to :data:`CLOSE_PASSES` times,
+  and the slivers the last cut leaves at the coast close too; what is narrow
+  after the last pass is kept, and the channel term warns of it.
 
 The domain is then built again from the same stitched shorelines
 (:func:`~coastmesh.case.pipeline.domain.with_land`).
@@ -25,12 +26,13 @@ import shapely
 from numpy.typing import NDArray
 
 from coastmesh.case.config import CaseConfig, SizeConfig, floor
-from coastmesh.case.pipeline.domain import with_land
+from coastmesh.case.pipeline.domain import site_area, with_land
 from coastmesh.case.pipeline.state import CaseRun, DomainState, RunContext, missing
 from coastmesh.case.terms.base import Closing
 from coastmesh.geometry import reproject
 from coastmesh.sizing.grid import PlaneGrid
 from coastmesh.sizing.narrow import (
+    NARROW_ELEMENTS,
     ChannelReport,
     channel_polygons,
     narrow_channels,
@@ -44,7 +46,7 @@ __all__ = ["CLOSE_PASSES", "close_water", "size_grid", "smallest_size"]
 logger = logging.getLogger(__name__)
 
 #: Most times narrow channels are closed and the domain built again.
-CLOSE_PASSES = 2
+CLOSE_PASSES = 3
 
 
 def close_water(run: CaseRun, ctx: RunContext) -> DomainState:
@@ -104,6 +106,11 @@ def _close_channels(state: DomainState, config: CaseConfig) -> DomainState:
         passes += 1
     if report is None:
         return state
+    # the last cut can leave slivers where it meets the coast: close those too
+    slivers = domain_slots(state.domain, state.mesh_crs, floor(config.size) / 2)
+    if len(slivers):
+        land.extend(slivers)
+        state = with_land(state, config, np.array(land, dtype=object))
     closed = replace(report, narrow_channels=closed_count, narrow_km2=closed_km2)
     warn_narrow(closed, closed=True)
     return replace(state, closing=Closing(channels=closed, passes=passes))
@@ -122,8 +129,23 @@ def _narrow_water(
     """
     domain, channels, h_min = state.domain, config.size.channels, floor(config.size)
     grid = size_grid(state, config)
-    width = grid.widths(domain, max_width=channels.elements_across * config.size.h_max)
-    labels, found = narrow_channels(width, grid.sea, h_min=h_min, cell=grid.cell)
+    if grid.cell > h_min / 2:  # widths to half a floor element, or 2 h_min is a guess
+        grid = PlaneGrid.around(
+            domain,
+            state.mesh_crs,
+            spacing=max(h_min, grid.cell) / 2,
+            smallest=smallest_size(config.size),
+        )
+    # only whether water is narrower than NARROW_ELEMENTS h_min matters here:
+    # wider water comes out inf, and the few radii are quick
+    width = grid.widths(domain, max_width=1.05 * NARROW_ELEMENTS * h_min)
+    sea = grid.sea
+    sites = site_area(config, state.mesh_crs)
+    if sites is not None:  # channels in a site are kept (and refined)
+        shapely.prepare(sites)
+        xx, yy = np.meshgrid(grid.x, grid.y)
+        sea = sea & ~shapely.contains_xy(sites, xx, yy)
+    labels, found = narrow_channels(width, sea, h_min=h_min, cell=grid.cell)
     report = ChannelReport(
         elements_across=float(channels.elements_across),
         h_min=float(h_min),

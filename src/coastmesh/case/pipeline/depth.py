@@ -30,7 +30,7 @@ from coastmesh.case.config import CaseConfig, NodeDepthConfig
 from coastmesh.case.config.sources import DepthSourceConfig
 from coastmesh.case.pipeline.state import CaseRun, DepthState, RunContext, missing
 from coastmesh.depth import DepthReport, DepthSource, DepthSources, depth_at_nodes
-from coastmesh.depth.nodes import node_sources
+from coastmesh.depth.nodes import MAX_LAND_SHARE, node_sources
 from coastmesh.depth.sources import check_blend, no_crs
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry.earth import METRES_PER_DEGREE, reproject
@@ -77,7 +77,7 @@ def time_step_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     if state is None or depth is None or not (c.enabled and c.time_step):
         return run
     cleanup = state.parts.cleanup
-    courant = config.size.courant
+    courant = run.time_step
     with ctx.timed("time step") as progress:
         relieved, report = relieve_time_step(
             state.mesh,
@@ -109,8 +109,9 @@ def node_depths(
         min_depth=b.min_depth,
         max_slope=b.max_slope,
         outside=b.outside,
-        land=b.land,
+        land="wet" if b.land is None else b.land,
         land_distance=b.land_distance,
+        max_land_share=MAX_LAND_SHARE if b.land is None else None,
     )
     progress(2, 2)
     logger.info("%s", report.summary())

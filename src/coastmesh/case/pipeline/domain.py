@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.case.boundaries import BoundaryConfig
-from coastmesh.case.config import CaseConfig, RegionConfig
+from coastmesh.case.config import CaseConfig, RegionConfig, SiteConfig
 from coastmesh.case.config.case import boundary_key
 from coastmesh.case.pipeline.state import DomainState
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
@@ -168,17 +168,41 @@ def _seed(
     return (point.x, point.y)
 
 
+def site_area(config: CaseConfig, crs: CRS) -> shapely.Geometry | None:
+    """Return the union of the ``[[sites]]`` in ``crs``; None without sites.
+
+    Boxes and polygons are lon/lat; a file's polygons are in the file's CRS.
+    """
+    if not config.sites:
+        return None
+    lonlat = CRS.from_epsg(4326)
+    parts = []
+    for k, site in enumerate(config.sites):
+        area = region_geometry(site, k, crs, config, table="sites")
+        if site.path is None:
+            area = reproject(shapely.segmentize(area, 0.01), lonlat, crs)
+        parts.append(area)
+    return shapely.union_all(parts)
+
+
 def region_geometry(
-    r: RegionConfig, k: int, crs: CRS, config: CaseConfig
+    r: RegionConfig | SiteConfig,
+    k: int,
+    crs: CRS,
+    config: CaseConfig,
+    table: str = "regions",
 ) -> shapely.Geometry:
-    """Return ``[[regions]]`` entry ``k`` as a geometry (a file's in ``crs``)."""
+    """Return ``[[regions]]`` (or ``[[sites]]``) entry ``k`` as a geometry.
+
+    A box or polygon as given; a file's polygons in ``crs``.
+    """
     if r.box is not None:
         return shapely.box(*r.box)
     if r.polygon is not None:
         polygon = shapely.Polygon(r.polygon)
         if not polygon.is_valid:
             raise ConfigError(
-                f"{config.label}: regions[{k}].polygon is not a valid polygon "
+                f"{config.label}: {table}[{k}].polygon is not a valid polygon "
                 f"({shapely.is_valid_reason(polygon)})"
             )
         return polygon
@@ -187,7 +211,7 @@ def region_geometry(
     polygonal = shapely.get_dimensions(geometry) == 2
     if not polygonal.any():
         raise InputDataError(
-            f"{r.path}: regions[{k}] needs polygons; the file has none",
+            f"{r.path}: {table}[{k}] needs polygons; the file has none",
             path=str(r.path),
         )
     region = shapely.union_all(shapely.make_valid(geometry[polygonal]))

@@ -24,6 +24,7 @@ from pyproj import CRS
 from coastmesh.case.config import PYTHON_SOURCE, NodeDepthConfig, SizeConfig, floor
 from coastmesh.case.pipeline.closing import smallest_size
 from coastmesh.case.pipeline.depth import read_sources
+from coastmesh.case.pipeline.domain import site_area
 from coastmesh.case.pipeline.state import CaseRun, RunContext, SizeState, missing
 from coastmesh.case.schema import Check, check_part
 from coastmesh.case.terms import TERMS
@@ -54,6 +55,7 @@ def size_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
             read_depth=partial(run.strategy.read_depth, run),
             runner=ctx.runner,
             closing=state.closing,
+            site_area=site_area(config, state.mesh_crs),
         )
         size = size_field(run.strategy.grid(run, ctx), case, progress)
     return replace(run, size=size)
@@ -134,6 +136,7 @@ def domain_size_field(
     bathymetry: NodeDepthConfig | None = None,
     depth: xr.DataArray | DepthSources | None = None,
     runner: Runner | None = None,
+    sites: shapely.Geometry | None = None,
 ) -> SizeState:
     """Make the size field of a domain built in Python: the size stage alone.
 
@@ -156,6 +159,10 @@ def domain_size_field(
         instead of the files their tables name.
     runner : Runner, optional
         Where the gradations' distances run, in bands of rows.
+    sites : shapely geometry, optional
+        Regions meshed finely on purpose (``[[sites]]``), in ``mesh_crs``:
+        channels there get two elements across or more, below the floor if
+        need be, and the Courant floor does not apply.
 
     Returns
     -------
@@ -191,5 +198,7 @@ def domain_size_field(
         return read_sources(part.stack, shapely.get_coordinates(ring), domain.crs)
 
     tables = SizeTables(size, bathymetry)
-    case = SizeCase(tables, domain, floor(size), read_depth=read, runner=runner)
+    case = SizeCase(
+        tables, domain, floor(size), read_depth=read, runner=runner, site_area=sites
+    )
     return size_field(grid, case)

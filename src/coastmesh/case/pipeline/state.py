@@ -31,6 +31,7 @@ from coastmesh.geometry import DomainReport, OpenBoundary, StitchReport
 from coastmesh.geometry.world import WorldLand
 from coastmesh.meshing import PartsReport, QualityReport, ThrottleReport
 from coastmesh.sizing.combine import SizeFieldReport
+from coastmesh.sizing.courant import CourantReport
 from coastmesh.sizing.grid import Grid
 from coastmesh.types import (
     Domain,
@@ -208,6 +209,17 @@ class CaseRun:
     mesh: MeshState | None = None
     depth: DepthState | None = None
     quality: QualityReport | None = None
+
+    @property
+    def time_step(self) -> CourantReport | None:
+        """The model's time step and Courant window, once the size field has one.
+
+        The Courant term's report (``dt`` as given, or worked out with
+        ``dt = "auto"``); None without the term or before the size stage.
+        """
+        if self.size is None:
+            return None
+        return self.size.report.terms.get("courant")
 
     def built(self) -> Built:
         """Return the parts every built case has; raise if a stage has not run."""

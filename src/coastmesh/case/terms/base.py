@@ -17,8 +17,12 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ClassVar
 
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+
 from coastmesh.sizing.combine import TermSizes
-from coastmesh.sizing.grid import Grid
+from coastmesh.sizing.grid import Grid, PlaneGrid
 from coastmesh.types import Domain, Runner
 
 if TYPE_CHECKING:
@@ -85,6 +89,8 @@ class SizeCase:
         Where the distance terms run, in bands (a Dask cluster).
     closing : Closing
         What was closed before the size field.
+    site_area : shapely geometry, optional
+        The ``[[sites]]``, in the grid's CRS (:meth:`sites`).
     """
 
     config: CaseConfig | SizeTables
@@ -93,8 +99,20 @@ class SizeCase:
     read_depth: Callable[[RasterConfig], xr.DataArray | DepthSources]
     runner: Runner | None = None
     closing: Closing = field(default_factory=Closing)
+    site_area: shapely.Geometry | None = None
     _read: dict[Any, Any] = field(default_factory=dict, repr=False)
     _lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
+
+    def sites(self, grid: Grid) -> NDArray[np.bool_] | None:
+        """Return the grid's nodes inside a ``[[sites]]`` region; None without sites.
+
+        Only on a plane grid (global cases have no sites yet).
+        """
+        if self.site_area is None or not isinstance(grid, PlaneGrid):
+            return None
+        shapely.prepare(self.site_area)
+        xx, yy = np.meshgrid(grid.x, grid.y)
+        return shapely.contains_xy(self.site_area, xx, yy)
 
     def depth(self, part: RasterConfig) -> xr.DataArray | DepthSources:
         """Return a part's rasters, read once however many terms ask."""

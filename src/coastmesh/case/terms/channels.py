@@ -5,14 +5,19 @@ water that holds it: in a channel ``w`` wide it is ``w`` right across, and open
 boundaries are not walls (:func:`coastmesh.sizing.channel.local_width`). The
 size is at most ``width / elements_across``, and at least the field's floor
 ``h_min``. ``enabled = false`` turns the term off. Channels narrower than two
-elements of ``h_min`` are kept (and reported, with a warning) or closed: taken
-out of the domain as land before meshing. A global case's grid does not measure
-widths: there ``[domain] close`` closes narrow water instead.
+elements of ``h_min`` are closed by default: taken out of the domain as land
+before meshing, and reported with their places and areas (``narrow = "keep"``
+keeps them one element wide, with a warning). Inside ``[[sites]]`` they are
+kept, and meshed with ``max(elements_across, 2)`` elements across, below
+``h_min`` if need be. A global case's grid does not measure widths: there
+``[domain] close`` closes narrow water instead.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+
+import numpy as np
 
 from coastmesh.case import schema
 from coastmesh.case.schema import Check, key
@@ -22,6 +27,7 @@ from coastmesh.sizing.combine import Applied, TermSizes
 from coastmesh.sizing.grid import Grid
 from coastmesh.sizing.narrow import (
     NARROW_CHOICES,
+    NARROW_ELEMENTS,
     ChannelReport,
     narrow_channels,
     narrow_places,
@@ -40,13 +46,14 @@ class ChannelConfig:
         3.0, check=schema.number, doc="elements across the water; at least 1"
     )
     narrow: str = key(
-        "keep",
+        "close",
         check=schema.choice(NARROW_CHOICES),
-        doc='channels narrower than two elements of `h_min`: `"keep"` them (they '
-        "are one element wide: a warning gives their number, area and places, "
-        'and `report.json` lists them) or `"close"` them (they become land; the '
-        "domain is built again, twice at most; the report counts what closed and "
-        "what was left)",
+        doc="channels narrower than two elements of `h_min`, outside `[[sites]]`: "
+        '`"close"` them (they become land; the domain is built again, twice at '
+        "most; a warning and `report.json` give what closed, with places and "
+        'areas, and what was left) or `"keep"` them (they are one element wide: '
+        "a warning gives their number, area and places). Inside `[[sites]]` "
+        "they are kept, with at least two elements across",
     )
 
     def _validate(self, c: Check) -> ChannelConfig:
@@ -86,7 +93,16 @@ class Channels(SizeTerm):
             channel_size(width, elements_across=ch.elements_across, h_min=h_min),
             width > 0,
         )
-        _, found = narrow_channels(width, grid.sea, h_min=h_min, cell=grid.cell)
+        sites = case.sites(grid)
+        outside = grid.sea if sites is None else grid.sea & ~sites
+        _, found = narrow_channels(width, outside, h_min=h_min, cell=grid.cell)
+        floor = None
+        if sites is not None:  # channels in sites: two elements across, at least
+            narrow = (width > 0) & (width < NARROW_ELEMENTS * h_min)
+            inside = sites & grid.sea & narrow
+            across = max(ch.elements_across, NARROW_ELEMENTS)
+            floor = np.where(inside, width / across, np.nan)
+            term = np.where(inside, np.minimum(term, width / across), term)
         closed = case.closing.channels
         found_report = ChannelReport(
             elements_across=float(ch.elements_across),
@@ -109,6 +125,7 @@ class Channels(SizeTerm):
 
         return TermSizes(
             upper=term,
+            floor=floor,
             report=report,
             history=f"channels ({ch.elements_across:g} across)",
             layers={"width": width},

@@ -1,40 +1,97 @@
-"""``[mesh_size.courant]``: sizes a model runs at its time step.
+"""``[mesh_size.courant]``: sizes a model runs at its time step, on by default.
 
 The Courant number is ``C = dt (sqrt(g d) + u) / h``, with ``d`` the depth (from
-``[mesh_size.bathymetry]``, else ``[bathymetry]``; one of them is required) and
-``h`` the size. The size is kept between ``dt (sqrt(g d) + u) / courant_max`` (a
-floor, which beats ``h_min``) and ``dt (sqrt(g d) + u) / courant_min`` (a cap).
+``[mesh_size.bathymetry]``, else ``[bathymetry]``) and ``h`` the size. The size
+is kept between ``dt (sqrt(g d) + u) / courant_max`` (a floor, which beats
+``h_min``) and ``dt (sqrt(g d) + u) / courant_min`` (a cap).
+
+``dt = "auto"`` (the default) takes the time step from the mesh the other terms
+ask for: the stable step ``courant_max h / (sqrt(g d) + u)`` of each cell of
+their field, weighted by the elements the cell will hold (its area over
+``h^2``); the 1st percentile of these, times :data:`AUTO_SHARE`, rounded down
+to two figures. The floor is then ``dt (sqrt(g d) + u) / (courant_max
+AUTO_SHARE)``: the 1 % of the elements that would step slowest are made as
+large as the 1st percentile's, so that no handful of elements in shallow,
+narrow water sets the time step, and an element down to :data:`AUTO_SHARE` of
+its target size still has ``C <= courant_max`` at ``dt``. Inside
+``[[mesh_size.sites]]`` the floor does not apply: the user's fine regions keep
+their sizes (and the quality report names the elements that then set the
+time step).
+
+The term is on by default wherever the case has a depth; it is off in global
+cases, and without any bathymetry (an explicit ``dt`` there is an error).
 Where no size in ``[h_min, h_max]`` meets the window, a warning gives the area.
-Not in global cases yet.
 """
 
 from __future__ import annotations
 
+import math
 import warnings
 from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
 
 from coastmesh.case import schema
 from coastmesh.case.schema import Check, key
 from coastmesh.case.terms.base import SizeCase, SizeTerm
 from coastmesh.errors import CoastmeshWarning
 from coastmesh.sizing.combine import Applied, TermSizes
-from coastmesh.sizing.courant import CourantReport, courant_bounds
-from coastmesh.sizing.grid import Grid
+from coastmesh.sizing.courant import (
+    CourantReport,
+    courant_bounds,
+    round_step,
+    wave_speed,
+)
+from coastmesh.sizing.grid import Grid, SphereGrid
 
-__all__ = ["DEFAULT_COURANT_MAX", "Courant", "CourantConfig"]
+__all__ = [
+    "AUTO_PERCENTILE",
+    "AUTO_SHARE",
+    "DEFAULT_COURANT_MAX",
+    "Courant",
+    "CourantConfig",
+    "auto_time_step",
+]
 
 #: ``courant_max`` when neither bound is given (explicit models).
 DEFAULT_COURANT_MAX = 0.5
+#: ``dt = "auto"``: the percentile (of the elements) of the field's stable steps.
+AUTO_PERCENTILE = 1.0
+#: ``dt = "auto"``: the share of that percentile's step the model runs at; an
+#: element down to this share of its target size keeps ``C <= courant_max``.
+AUTO_SHARE = 0.7
+
+
+def _dt(value: Any, key: str) -> float | None:
+    """``dt``: a duration > 0, or ``"auto"`` (None)."""
+    if value is None or value == "auto":
+        return None
+    return schema.duration(value, key)
+
+
+def _read_dt(value: Any, key: str) -> Any:
+    """``dt`` in a case file: ``"auto"``, or a duration with its unit."""
+    if value == "auto":
+        return None
+    return schema.duration_with_unit(value, key)
 
 
 @dataclass(frozen=True)
 class CourantConfig:
     """``[mesh_size.courant]``."""
 
-    dt: float = key(
-        check=schema.duration,
+    dt: float | None = key(
+        None,
+        check=_dt,
+        read=_read_dt,
         unit="duration",
-        doc='the model\'s time step (`"30 s"`, `"1 min"`)',
+        dump=lambda v: "auto" if v is None else f"{v!r} s",
+        default_doc='`"auto"`',
+        doc='the model\'s time step (`"30 s"`, `"1 min"`), or `"auto"`: the '
+        "1st percentile (by elements) of the stable steps of the field the other "
+        "terms ask for, times 0.7, rounded down to two figures (below)",
     )
     courant_max: float | None = key(
         None,
@@ -45,7 +102,7 @@ class CourantConfig:
     courant_min: float | None = key(
         None,
         check=schema.positive,
-        doc="the smallest (SCHISM asks for 0.4 or more)",
+        doc="the smallest (SCHISM asks for 0.4 or more); needs a given `dt`",
     )
     velocity: float = key(
         1.0,
@@ -53,6 +110,7 @@ class CourantConfig:
         unit="speed",
         doc='the flow speed `u` added to the wave speed (`"m/s"`, `"kn"`, `"km/h"`)',
     )
+    enabled: bool = key(True, check=schema.boolean, doc="the term at all")
 
     def _validate(self, c: Check) -> CourantConfig:
         high, low = self.courant_max, self.courant_min
@@ -64,7 +122,42 @@ class CourantConfig:
                 f"= {low:g} is not below courant_max = {high:g}: no Courant number "
                 "fits between them",
             )
+        if self.dt is None and (low is not None or high is None):
+            raise c.error(
+                "dt",
+                '= "auto" takes the time step from courant_max alone: give dt '
+                "(seconds) with courant_min",
+            )
         return replace(self, courant_max=high)
+
+
+def auto_time_step(
+    field: NDArray[np.float64],
+    speed: NDArray[np.float64],
+    sea: NDArray[np.bool_],
+    courant_max: float,
+) -> float:
+    """Return the ``dt = "auto"`` time step of a size field, seconds.
+
+    The stable step of each sea cell, ``courant_max h / speed``, weighted by the
+    elements it holds (``1 / h^2``: the grid's cells are of one area in its
+    plane); the :data:`AUTO_PERCENTILE` of these, times :data:`AUTO_SHARE`,
+    rounded down to two significant figures.
+
+    Examples
+    --------
+    >>> h = np.array([100.0, 1000.0, 1000.0])
+    >>> float(auto_time_step(h, np.full(3, 10.0), np.ones(3, bool), 0.5))
+    3.5
+    """
+    h, c = field[sea], speed[sea]
+    if h.size == 0:
+        return math.inf
+    steps = courant_max * h / c
+    order = np.argsort(steps)
+    weights = np.cumsum(1.0 / h[order] ** 2)
+    k = np.searchsorted(weights, AUTO_PERCENTILE / 100.0 * weights[-1])
+    return round_step(AUTO_SHARE * float(steps[order][min(k, len(order) - 1)]))
 
 
 class Courant(SizeTerm):
@@ -73,31 +166,63 @@ class Courant(SizeTerm):
     key = "courant"
     config = CourantConfig
     many = False
-    default = None
-    doc = "sizes a model runs at its time step (below)"
+    default = CourantConfig()
+    doc = 'sizes a model runs at its time step, on by default (`dt = "auto"`)'
+
     reports = True
 
     def sizes(self, grid: Grid, case: SizeCase) -> TermSizes | None:
         """Cap and floor the size so the Courant number stays in its window.
 
         The depth is ``[mesh_size.bathymetry]``'s, else ``[bathymetry]``'s.
-        Warns of the area where no size in ``[h_min, h_max]`` meets the window.
+        With ``dt = "auto"`` the floor follows from the field of the other
+        terms (:func:`auto_time_step`). Warns of the area where no size in
+        ``[h_min, h_max]`` meets the window.
         """
         co = case.config.size.courant
-        if co is None:
-            return None
         source = case.config.size.bathymetry or case.config.bathymetry
+        if co is None or not co.enabled or source is None:
+            return None
+        if isinstance(grid, SphereGrid):  # not in global cases yet
+            return None
         min_depth = source.min_depth
         depth = grid.depth(case.depth(source), source.positive)
-        floor, cap = courant_bounds(
-            depth,
-            dt=co.dt,
-            courant_max=co.courant_max,
-            courant_min=co.courant_min,
-            velocity=co.velocity,
-            min_depth=min_depth if min_depth is not None and min_depth > 0 else 1.0,
-        )
+        depth_floor = min_depth if min_depth is not None and min_depth > 0 else 1.0
+        speed = wave_speed(np.maximum(depth, depth_floor), co.velocity)
+        sites = case.sites(grid)
         h_min, h_max = case.floor, case.config.size.h_max
+
+        def bounds(dt: float, share: float = 1.0):
+            high = None if co.courant_max is None else co.courant_max * share
+            floor, cap = courant_bounds(
+                depth,
+                dt=dt,
+                courant_max=high,
+                courant_min=co.courant_min,
+                velocity=co.velocity,
+                min_depth=depth_floor,
+            )
+            if sites is not None:
+                floor = np.where(sites, 0.0, floor)
+            return floor, cap
+
+        if co.dt is None:
+
+            def time_step(floored: NDArray[np.float64]) -> float:
+                return auto_time_step(floored, speed, grid.sea, co.courant_max)
+
+            def lower(floored: NDArray[np.float64]) -> NDArray[np.float64]:
+                return bounds(time_step(floored), AUTO_SHARE)[0]
+
+            def report(applied: Applied) -> CourantReport:
+                dt = time_step(applied.floored)
+                floor = lower(applied.floored)
+                return _report(co, dt, grid, floor, None, applied, 0.0, auto=True)
+
+            return TermSizes(
+                lower_from=lower, report=report, history="Courant at dt auto"
+            )
+        floor, cap = bounds(co.dt)
         unmet = grid.km2(grid.sea & ((floor > h_max) | (cap < h_min)))
         if unmet > 0:
             warnings.warn(
@@ -110,17 +235,24 @@ class Courant(SizeTerm):
                 stacklevel=2,
             )
 
-        def report(applied: Applied) -> CourantReport:
-            return CourantReport(
-                dt=co.dt,
-                velocity=co.velocity,
-                courant_min=co.courant_min,
-                courant_max=co.courant_max,
-                raised_km2=grid.km2(grid.sea & (floor > applied.floored)),
-                lowered_km2=grid.km2(grid.sea & (cap < applied.before)),
-                unmet_km2=unmet,
-            )
+        def given(applied: Applied) -> CourantReport:
+            return _report(co, co.dt, grid, floor, cap, applied, unmet, auto=False)
 
         return TermSizes(
-            upper=cap, lower=floor, report=report, history=f"Courant at dt {co.dt:g} s"
+            upper=cap, lower=floor, report=given, history=f"Courant at dt {co.dt:g} s"
         )
+
+
+def _report(co, dt, grid, floor, cap, applied, unmet, *, auto) -> CourantReport:
+    """Return the term's report: the step, and where its bounds set the size."""
+    lowered = 0.0 if cap is None else grid.km2(grid.sea & (cap < applied.before))
+    return CourantReport(
+        dt=dt,
+        velocity=co.velocity,
+        courant_min=co.courant_min,
+        courant_max=co.courant_max,
+        raised_km2=grid.km2(grid.sea & (floor > applied.floored)),
+        lowered_km2=lowered,
+        unmet_km2=unmet,
+        auto=auto,
+    )
