@@ -13,6 +13,7 @@ from coastmesh.case.pipeline.state import CaseRun, ShorelineSetReport
 from coastmesh.depth import DepthReport
 from coastmesh.geometry import DomainReport, StitchReport
 from coastmesh.meshing import CleanupReport, QualityReport, ThrottleReport
+from coastmesh.meshing.cleanup.peel import PeelReport
 from coastmesh.meshing.parts.report import PartsReport
 from coastmesh.sizing import SizeFieldReport
 from coastmesh.types import Mesh, Report
@@ -85,6 +86,9 @@ class CaseReport(Report):
     parts : PartsReport or None
         How the water was cut into parts and what each cost
         (:class:`~coastmesh.meshing.parts.report.PartsReport`).
+    channels : PeelReport or None
+        The dead-end channels one element wide closed after meshing
+        (:func:`~coastmesh.meshing.cleanup.peel.peel_channels`).
     time_step : ThrottleReport or None
         The elements that throttled the time step, relieved
         (:func:`~coastmesh.meshing.relieve_time_step`); with ``[bathymetry]``
@@ -118,6 +122,7 @@ class CaseReport(Report):
     files: tuple[str, ...] = ()
     time_step: ThrottleReport | None = None
     parts: PartsReport | None = None
+    channels: PeelReport | None = None
 
     @classmethod
     def of(
@@ -151,6 +156,7 @@ class CaseReport(Report):
             files=files,
             time_step=None if run.depth is None else run.depth.relief,
             parts=mesh.parts,
+            channels=mesh.channels,
         )
 
     def summary(self) -> str:
@@ -173,7 +179,7 @@ class CaseReport(Report):
         lines.append(f"size field: {self.size_field.summary()}")
         if self.parts is not None and self.parts.parts > 1:
             lines.append(f"parts: {self.parts.summary()}")
-        for name in ("cleanup", "time_step", "depth"):
+        for name in ("cleanup", "channels", "time_step", "depth"):
             part = getattr(self, name)
             if part is not None:
                 lines.append(f"{name}: {part.summary()}")

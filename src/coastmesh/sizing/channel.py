@@ -54,6 +54,7 @@ __all__ = [
     "local_width",
     "over_land",
     "water_mask",
+    "window_width",
 ]
 
 #: Ratio of one radius to the next in :func:`local_width`.
@@ -216,6 +217,35 @@ def domain_width(
     opened = _touched(densified(domain, lines["open"], grid.crs), grid)
     water = water_mask(grid.sea, shore, opened)
     return local_width(water, grid.cell, max_width=max_width, step=step)
+
+
+def window_width(
+    grid: PlaneGrid,
+    water: shapely.Geometry,
+    shore: NDArray[np.object_],
+    opened: NDArray[np.object_],
+    *,
+    max_width: float,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Return the width of the water on a small grid, and its sea mask.
+
+    As :func:`domain_width`, from geometries already in the grid's CRS (the
+    domain's polygon, its shoreline and open-boundary lines), clipped to the
+    grid first: the cost follows the window, not the whole coast.
+    """
+    pad = 2 * grid.cell
+    box = (grid.x[0] - pad, grid.y[0] - pad, grid.x[-1] + pad, grid.y[-1] + pad)
+    xx, yy = np.meshgrid(grid.x, grid.y)
+    local = shapely.clip_by_rect(water, *box)
+    shapely.prepare(local)
+    sea = shapely.contains_xy(local, xx, yy)
+    inside = shapely.box(*box)
+    shore = shapely.clip_by_rect(shore[shapely.intersects(shore, inside)], *box)
+    opened = shapely.clip_by_rect(opened[shapely.intersects(opened, inside)], *box)
+    touched_shore = _touched(shore[~shapely.is_empty(shore)], grid)
+    touched_open = _touched(opened[~shapely.is_empty(opened)], grid)
+    mask = water_mask(sea, touched_shore, touched_open)
+    return local_width(mask, grid.cell, max_width=max_width), sea
 
 
 def _touched(lines: NDArray[np.object_], grid: PlaneGrid) -> NDArray[np.bool_]:

@@ -297,3 +297,57 @@ def test_a_mesh_without_depth_is_refused():
     )
     with pytest.raises(ValueError, match="depth"):
         relieve_time_step(bare)
+
+
+def _square_grid(n=12, step=100.0):
+    pts = np.mgrid[0:n, 0:n].reshape(2, -1).T[:, ::-1] * step
+    q = (np.arange(n - 1)[:, None] * n + np.arange(n - 1)).ravel()
+    tri = np.vstack(
+        [np.column_stack([q, q + 1, q + n + 1]), np.column_stack([q, q + n + 1, q + n])]
+    )
+    edges, count = unique_edges(tri, n * n)
+    return pts.astype(float), tri, edges[count == 1]
+
+
+def _with_ids(pts, tri, hull, short_id=None):
+    """The grid with its bottom node 5 moved 80 m east: a 20 m coast edge."""
+    pts = pts.copy()
+    pts[5, 0] += 80.0
+    ids = np.ones(len(hull), dtype=int)
+    short = [k for k, e in enumerate(np.sort(hull, axis=1).tolist()) if e == [5, 6]]
+    kinds = {1: "shoreline"}
+    if short_id is not None:
+        ids[short] = short_id
+        kinds[short_id] = "open"
+    depth = np.full(len(pts), 50.0)
+    return Mesh(pts, tri, hull, ids, 1, None, {"depth": depth}, boundary_kinds=kinds)
+
+
+def test_a_short_edge_of_a_straight_coast_is_collapsed_along_it():
+    mesh = _with_ids(*_square_grid())
+    relieved, report = relieve_time_step(mesh)
+    assert report.accepted and report.min_over_p1_after >= 0.6
+    # one node of the coast went (node 5 into its neighbour), none moved
+    assert len(relieved.points) == len(mesh.points) - 1
+    kept = {tuple(p) for p in relieved.points.tolist()}
+    assert kept <= {tuple(p) for p in mesh.points.tolist()}
+    # the coast is still the straight line y = 0, closed, one triangle per side
+    edges, count = unique_edges(relieved.triangles, len(relieved.points))
+    hull = {tuple(e) for e in edges[count == 1].tolist()}
+    assert hull == {tuple(sorted(e)) for e in relieved.boundary_edges.tolist()}
+    ends = relieved.points[relieved.boundary_edges][:, :, 1]
+    assert (np.isclose(ends, 0.0).all(axis=1)).sum() == 10  # 11 bottom edges before
+
+
+def test_the_last_edge_of_a_boundary_id_and_sharp_coasts_stay():
+    # the short edge alone has id 3 (an open boundary): it may not go
+    mesh = _with_ids(*_square_grid(), short_id=3)
+    relieved, _ = relieve_time_step(mesh)
+    assert 3 in relieved.boundary_ids.tolist()
+    # a corner: node 5 pushed 40 m into the sea as well (more than 15 % of
+    # the new edge's 200 m from it): the coast keeps it
+    pts, tri, hull = _square_grid()
+    pts[5, 1] = 40.0
+    bent = _with_ids(pts, tri, hull)
+    out, _ = relieve_time_step(bent)
+    assert [580.0, 40.0] in out.points.tolist()

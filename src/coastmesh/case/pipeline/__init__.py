@@ -15,6 +15,7 @@ stage                       makes
 :func:`closing_stage`       water too narrow to mesh closed as land
 :func:`size_stage`          the size field: every size term, combined
 :func:`mesh_stage`          the mesh, in parts, cleaned
+:func:`channel_stage`       dead-end channels one element wide closed
 :func:`depth_stage`         depths at the nodes
 :func:`time_step_stage`     the elements that throttle the time step relieved
 :func:`quality_stage`       the quality report, and advice
@@ -28,7 +29,7 @@ from dataclasses import replace
 from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline.advice import quality_stage
 from coastmesh.case.pipeline.depth import depth_stage, time_step_stage
-from coastmesh.case.pipeline.mesh import mesh_stage
+from coastmesh.case.pipeline.mesh import channel_stage, mesh_stage
 from coastmesh.case.pipeline.size import size_stage
 from coastmesh.case.pipeline.state import CaseRun, RunContext, Stage
 from coastmesh.case.pipeline.strategy import Regional, Strategy
@@ -68,6 +69,7 @@ STAGES: tuple[Stage, ...] = (
     closing_stage,
     size_stage,
     mesh_stage,
+    channel_stage,
     depth_stage,
     time_step_stage,
     quality_stage,

@@ -24,13 +24,15 @@ from dataclasses import replace
 import numpy as np
 import shapely
 from numpy.typing import NDArray
+from scipy import ndimage
 
 from coastmesh.case.config import CaseConfig, SizeConfig, floor
 from coastmesh.case.pipeline.domain import site_area, with_land
 from coastmesh.case.pipeline.state import CaseRun, DomainState, RunContext, missing
 from coastmesh.case.terms.base import Closing
 from coastmesh.geometry import reproject
-from coastmesh.sizing.grid import PlaneGrid
+from coastmesh.sizing.channel import window_width
+from coastmesh.sizing.grid import PlaneGrid, densified, grid_axes
 from coastmesh.sizing.narrow import (
     NARROW_ELEMENTS,
     ChannelReport,
@@ -46,7 +48,7 @@ __all__ = ["CLOSE_PASSES", "close_water", "size_grid", "smallest_size"]
 logger = logging.getLogger(__name__)
 
 #: Most times narrow channels are closed and the domain built again.
-CLOSE_PASSES = 3
+CLOSE_PASSES = 2
 
 
 def close_water(run: CaseRun, ctx: RunContext) -> DomainState:
@@ -122,30 +124,27 @@ def _narrow_water(
     """Find the narrow channels and slots of the domain, as polygons to close.
 
     The channels are found by the width of the water alone (no gradation or
-    bathymetry term: the width needs neither), on the size field's grid. Each
-    channel is its cells, one cell wider (into the land, and past its mouth)
-    and simplified, so that the cut is clean; none that touches an open
-    boundary is closed.
+    bathymetry term: the width needs neither). The size field's grid finds the
+    candidates; where its cells are coarser than half of ``h_min`` (widths
+    there err narrow by up to a cell), each candidate is measured again on a
+    grid of ``h_min / 2`` around it (:func:`_confirmed`), so that water two
+    elements wide is not closed for the coarse grid's sake. Each channel is
+    its cells, one cell wider (into the land, and past its mouth) and
+    simplified, so that the cut is clean; none that touches an open boundary
+    is closed.
     """
     domain, channels, h_min = state.domain, config.size.channels, floor(config.size)
     grid = size_grid(state, config)
-    if grid.cell > h_min / 2:  # widths to half a floor element, or 2 h_min is a guess
-        grid = PlaneGrid.around(
-            domain,
-            state.mesh_crs,
-            spacing=max(h_min, grid.cell) / 2,
-            smallest=smallest_size(config.size),
-        )
-    # only whether water is narrower than NARROW_ELEMENTS h_min matters here:
-    # wider water comes out inf, and the few radii are quick
-    width = grid.widths(domain, max_width=1.05 * NARROW_ELEMENTS * h_min)
-    sea = grid.sea
     sites = site_area(config, state.mesh_crs)
-    if sites is not None:  # channels in a site are kept (and refined)
-        shapely.prepare(sites)
-        xx, yy = np.meshgrid(grid.x, grid.y)
-        sea = sea & ~shapely.contains_xy(sites, xx, yy)
-    labels, found = narrow_channels(width, sea, h_min=h_min, cell=grid.cell)
+    labels, found = _channels(grid, domain, h_min, sites)
+    pieces = [(grid, labels, found)]
+    if found and grid.cell > h_min / 2:
+        pieces = _confirmed(grid, labels, domain, h_min, sites)
+    found = sorted((f for _, _, fs in pieces for f in fs), key=lambda f: -f[2])
+    places = sorted(
+        (p for g, _, fs in pieces for p in narrow_places(fs, g.x, g.y, g.crs)),
+        key=lambda p: -p.area_m2,
+    )
     report = ChannelReport(
         elements_across=float(channels.elements_across),
         h_min=float(h_min),
@@ -153,14 +152,14 @@ def _narrow_water(
         limited_km2=0.0,
         narrow_channels=len(found),
         narrow_km2=sum(a for _, _, a, _ in found) / 1e6,
-        worst=narrow_places(found, grid.x, grid.y, grid.crs),
+        worst=tuple(places[:20]),
     )
     polygons = domain_slots(domain, state.mesh_crs, h_min / 2)
-    if found:
-        cells = channel_polygons(labels, grid.x, grid.y)
-        grown = shapely.simplify(
-            shapely.buffer(cells, grid.cell, quad_segs=2), grid.cell
-        )
+    for g, lab, fs in pieces:
+        if not fs:
+            continue
+        cells = channel_polygons(lab, g.x, g.y)
+        grown = shapely.simplify(shapely.buffer(cells, g.cell, quad_segs=2), g.cell)
         grown = shapely.make_valid(grown)
         polygons = np.concatenate(
             [polygons, reproject(grown, state.mesh_crs, domain.crs)]
@@ -168,3 +167,68 @@ def _narrow_water(
     if len(polygons):
         polygons = off_open_boundaries(polygons, domain)
     return report, polygons
+
+
+def _channels(grid: PlaneGrid, domain, h_min: float, sites):
+    """Label the water narrower than two elements of ``h_min`` on ``grid``.
+
+    Only whether water is narrower than ``NARROW_ELEMENTS h_min`` matters here:
+    wider water comes out inf, and the few radii are quick. Not in ``sites``.
+    """
+    width = grid.widths(domain, max_width=1.05 * NARROW_ELEMENTS * h_min)
+    sea = grid.sea
+    if sites is not None:  # channels in a site are kept (and refined)
+        shapely.prepare(sites)
+        xx, yy = np.meshgrid(grid.x, grid.y)
+        sea = sea & ~shapely.contains_xy(sites, xx, yy)
+    return narrow_channels(width, sea, h_min=h_min, cell=grid.cell)
+
+
+def _confirmed(grid: PlaneGrid, labels, domain, h_min: float, sites):
+    """Measure each candidate channel again on a grid of ``h_min / 2`` around it.
+
+    The candidates' boxes, merged where their windows overlap, each on its own
+    fine grid: the margin (the widest disk measured, and a cell) keeps the
+    window's frame from making water look narrow inside the box, since a disk
+    that holds a node of the box lies within the margin. The domain's polygon
+    and lines are moved to the grid's CRS once, and clipped to each window
+    (:func:`~coastmesh.sizing.channel.window_width`). Returns ``(grid, labels,
+    found)`` per window.
+    """
+    max_width = 1.05 * NARROW_ELEMENTS * h_min
+    margin = max_width + h_min
+    boxes = []
+    for sl in ndimage.find_objects(labels):
+        if sl is None:
+            continue
+        rows, cols = sl
+        boxes.append(
+            shapely.box(
+                grid.x[cols.start] - grid.cell,
+                grid.y[rows.start] - grid.cell,
+                grid.x[cols.stop - 1] + grid.cell,
+                grid.y[rows.stop - 1] + grid.cell,
+            )
+        )
+    merged = shapely.get_parts(shapely.union_all(shapely.buffer(boxes, margin)))
+    water = densified(domain, [domain.polygon], grid.crs)[0]
+    lines = {"shoreline": [], "open": []}
+    for s in domain.segments:
+        lines[s.kind].append(shapely.LineString(s.coords))
+    shore = densified(domain, lines["shoreline"], grid.crs)
+    opened = densified(domain, lines["open"], grid.crs)
+    pieces = []
+    for window in merged:
+        core = shapely.buffer(window, -margin, join_style="mitre")
+        fine = PlaneGrid(*grid_axes(window.bounds, h_min / 2), grid.crs, h_min / 2)
+        width, sea = window_width(
+            fine, water, np.asarray(shore), np.asarray(opened), max_width=max_width
+        )
+        xx, yy = np.meshgrid(fine.x, fine.y)
+        shapely.prepare(core)
+        sea &= shapely.contains_xy(core, xx, yy)
+        if sites is not None:
+            sea &= ~shapely.contains_xy(sites, xx, yy)
+        found = narrow_channels(width, sea, h_min=h_min, cell=fine.cell)
+        pieces.append((fine, *found))
+    return pieces

@@ -5,12 +5,16 @@ from __future__ import annotations
 import logging
 from dataclasses import replace
 
+import shapely
+
 from coastmesh.case.config import CaseConfig
+from coastmesh.case.pipeline.domain import site_area
 from coastmesh.case.pipeline.state import CaseRun, MeshState, RunContext, missing
 from coastmesh.meshing import CleanupOptions, mesh_in_parts
+from coastmesh.meshing.cleanup.peel import peel_channels
 from coastmesh.meshing.gmsh import release_memory
 
-__all__ = ["cleanup_options", "mesh_stage"]
+__all__ = ["channel_stage", "cleanup_options", "mesh_stage"]
 
 logger = logging.getLogger(__name__)
 
@@ -37,6 +41,31 @@ def mesh_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     if parts.parts > 1:
         logger.info("parts: %s", parts.summary())
     return replace(run, mesh=MeshState(mesh, parts))
+
+
+def channel_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+    """Close the dead-end channels the mesh left one element wide.
+
+    With the channel term on and ``narrow = "close"`` (the default): what the
+    closing before meshing could not see on its grid, peeled back from the
+    channel's end (:func:`~coastmesh.meshing.cleanup.peel.peel_channels`);
+    never inside ``[[sites]]``.
+    """
+    config, state = run.config, run.mesh or missing("mesh")
+    channels = config.size.channels
+    if not (channels.enabled and channels.narrow == "close"):
+        return run
+    with ctx.timed("channels one element wide"):
+        mesh = state.mesh
+        keep = None
+        sites = site_area(config, mesh.crs) if mesh.crs is not None else None
+        if sites is not None:
+            centres = mesh.points[mesh.triangles].mean(axis=1)
+            keep = shapely.contains_xy(sites, centres[:, 0], centres[:, 1])
+        peeled, report = peel_channels(mesh, keep)
+    if report.removed:
+        logger.info("channels: %s", report.summary())
+    return replace(run, mesh=replace(state, mesh=peeled, channels=report))
 
 
 def cleanup_options(config: CaseConfig) -> CleanupOptions | None:

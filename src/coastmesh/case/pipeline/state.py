@@ -30,6 +30,7 @@ from coastmesh.depth import DepthReport, DepthSources
 from coastmesh.geometry import DomainReport, OpenBoundary, StitchReport
 from coastmesh.geometry.world import WorldLand
 from coastmesh.meshing import PartsReport, QualityReport, ThrottleReport
+from coastmesh.meshing.cleanup.peel import PeelReport
 from coastmesh.sizing.combine import SizeFieldReport
 from coastmesh.sizing.courant import CourantReport
 from coastmesh.sizing.grid import Grid
@@ -179,10 +180,15 @@ class SizeState:
 
 @dataclass(frozen=True)
 class MeshState:
-    """The mesh (in the output CRS), how the water was cut, and the cleanup."""
+    """The mesh (in the output CRS), how the water was cut, and the cleanup.
+
+    ``channels``: the dead-end channels one element wide closed after
+    meshing (:func:`~coastmesh.meshing.cleanup.peel.peel_channels`).
+    """
 
     mesh: Mesh
     parts: PartsReport
+    channels: PeelReport | None = None
 
 
 @dataclass(frozen=True)

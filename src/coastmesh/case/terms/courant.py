@@ -142,7 +142,8 @@ def auto_time_step(
     The stable step of each sea cell, ``courant_max h / speed``, weighted by the
     elements it holds (``1 / h^2``: the grid's cells are of one area in its
     plane); the :data:`AUTO_PERCENTILE` of these, times :data:`AUTO_SHARE`,
-    rounded down to two significant figures.
+    rounded down to two significant figures. Cells without a depth (beyond
+    the rasters) do not count; none at all gives ``inf``.
 
     Examples
     --------
@@ -150,7 +151,8 @@ def auto_time_step(
     >>> float(auto_time_step(h, np.full(3, 10.0), np.ones(3, bool), 0.5))
     3.5
     """
-    h, c = field[sea], speed[sea]
+    known = sea & np.isfinite(speed)
+    h, c = field[known], speed[known]
     if h.size == 0:
         return math.inf
     steps = courant_max * h / c
@@ -202,6 +204,9 @@ class Courant(SizeTerm):
                 velocity=co.velocity,
                 min_depth=depth_floor,
             )
+            unknown = ~np.isfinite(depth)  # beyond the rasters: no bound
+            floor = np.where(unknown, 0.0, floor)
+            cap = np.where(unknown, np.inf, cap)
             if sites is not None:
                 floor = np.where(sites, 0.0, floor)
             return floor, cap
@@ -212,7 +217,10 @@ class Courant(SizeTerm):
                 return auto_time_step(floored, speed, grid.sea, co.courant_max)
 
             def lower(floored: NDArray[np.float64]) -> NDArray[np.float64]:
-                return bounds(time_step(floored), AUTO_SHARE)[0]
+                dt = time_step(floored)
+                if not math.isfinite(dt):  # no depth in the sea: no floor
+                    return np.zeros_like(floored)
+                return bounds(dt, AUTO_SHARE)[0]
 
             def report(applied: Applied) -> CourantReport:
                 dt = time_step(applied.floored)

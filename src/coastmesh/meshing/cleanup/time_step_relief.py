@@ -10,8 +10,15 @@ conformal plane the cleanup works in (angles there are angles on the Earth).
 
 Each pass takes the triangles below ``ratio`` times the 1st percentile of the
 time steps, smallest first, and collapses the shortest of their edges that
-passes: into its boundary node (boundary nodes never move or go), else at the
-midpoint, with the deeper depth. A collapse passes if the mesh stays valid
+passes: into its boundary node, else at the midpoint, with the deeper depth.
+Boundary nodes never move; one goes only by a *coast collapse*: a boundary
+edge collapsed into its other end, where the node has two boundary edges and
+lies within :data:`COAST_TOLERANCE` times the new edge's length of it (the
+boundary moves by at most that: 15 m for a 100 m edge). Along a shoreline the
+new edge keeps its id; where ids change (a short piece of an open boundary
+between two pieces of coast, left where the open boundary was trimmed at a
+spit) the piece goes, and the new edge takes the id of the edge beyond, but
+never the last edge of an id. A collapse passes if the mesh stays valid
 (link condition, positive areas, no new edge between boundary nodes, no node
 left bare), no angle falls below both ``min_angle`` and the smallest it
 replaces, and the smallest time step around rises. The result is kept only if,
@@ -41,13 +48,16 @@ from coastmesh.meshing.quality.time_step import (
 from coastmesh.sizing.courant import wave_speed
 from coastmesh.types import Mesh, Report
 
-__all__ = ["THROTTLE_RATIO", "ThrottleReport", "relieve_time_step"]
+__all__ = ["COAST_TOLERANCE", "THROTTLE_RATIO", "ThrottleReport", "relieve_time_step"]
 
 logger = logging.getLogger(__name__)
 #: Goal: no element's time step below this fraction of the 1st percentile of
 #: them (the target :data:`~coastmesh.meshing.quality.time_step.MIN_OVER_P1_TARGET` is
 #: 0.6: a margin for the re-sampled depth).
 THROTTLE_RATIO = 0.65
+#: A coast collapse removes a shoreline node only if it lies within this share
+#: of the new boundary edge's length of it: the coast's shape changes by less.
+COAST_TOLERANCE = 0.15
 
 
 @dataclass(frozen=True, slots=True)
@@ -180,6 +190,10 @@ def relieve_time_step(
     fixed = smoothing.boundary_nodes(mesh.triangles, len(xy))
     fixed[mesh.boundary_edges.ravel()] = True
     work = _Collapser(xy, mesh.triangles, fixed, depth, velocity)
+    work.coast = _coast_links(mesh)
+    ids, counts = np.unique(mesh.boundary_ids, return_counts=True)
+    work.edges_of = dict(zip(ids.tolist(), counts.tolist(), strict=True))
+    work.open_ids = {k for k, kind in mesh.boundary_kinds.items() if kind == "open"}
     collapses = 0
     for _ in range(passes):
         made = work.run_pass(ratio, min_angle)
@@ -205,6 +219,21 @@ def relieve_time_step(
         accepted=accepted,
     )
     return new, report
+
+
+def _coast_links(mesh: Mesh) -> dict[int, dict[int, int]]:
+    """Map each boundary node to its neighbours along the boundary and the ids.
+
+    Nodes with other than two boundary edges (pinched) are left out: they
+    never go.
+    """
+    links: dict[int, dict[int, int]] = {}
+    for (a, b), sid in zip(
+        mesh.boundary_edges.tolist(), mesh.boundary_ids.tolist(), strict=True
+    ):
+        links.setdefault(a, {})[b] = sid
+        links.setdefault(b, {})[a] = sid
+    return {n: nb for n, nb in links.items() if len(nb) == 2}
 
 
 def _check_options(velocity: float, ratio: float, min_angle: float, passes: int):
@@ -266,6 +295,11 @@ class _Collapser:
         self.alive = np.ones(len(self.tri), dtype=bool)
         self.removed = np.zeros(len(xy), dtype=bool)
         self.merges: list[tuple[int, int]] = []  # (kept, removed), in order
+        #: boundary node -> {neighbour along the boundary: edge id}, for the
+        #: coast collapses; the edges of each id; the open boundaries' ids
+        self.coast: dict[int, dict[int, int]] = {}
+        self.edges_of: dict[int, int] = {}
+        self.open_ids: set[int] = set()
         m = len(self.tri)
         csr = sparse.csr_array(
             (np.ones(3 * m, np.int8), (self.tri.ravel(), np.repeat(np.arange(m), 3))),
@@ -338,15 +372,46 @@ class _Collapser:
             return kept, gone, position, merged, deleted, ids, new, dt
         return None
 
+    def _coast_pair(self, a: int, b: int) -> tuple[int, int, int] | None:
+        """Return (kept, gone, next) if shoreline edge ``(a, b)`` may collapse.
+
+        ``gone`` has two shoreline edges of one id (to ``kept`` and to
+        ``next``) and lies within :data:`COAST_TOLERANCE` of edge
+        ``(kept, next)``'s length from it.
+        """
+        for kept, gone in ((a, b), (b, a)):
+            links = self.coast.get(gone)
+            if links is None or kept not in links or len(links) != 2:
+                continue
+            after = next(n for n in links if n != kept)
+            own = links[kept]
+            if own != links[after] and self.edges_of[own] < 2:
+                continue  # the last edge of a boundary id
+            if own == links[after] and own in self.open_ids:
+                continue  # an open boundary keeps its nodes
+            p, q, r = self.xy[kept], self.xy[after], self.xy[gone]
+            span = float(np.linalg.norm(q - p))
+            if span == 0 or after == kept:
+                continue
+            cross = abs((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]))
+            if cross / span <= COAST_TOLERANCE * span:
+                return kept, gone, after
+        return None
+
     def _relinked(self, a: int, b: int) -> tuple | None:
         """Return the new triangles if collapsing ``(a, b)`` leaves a valid mesh.
 
         As (kept, removed, deleted, changed, their nodes, all affected).
         """
+        along = None
         if self.fixed[a] and self.fixed[b]:
-            return None
-        fixed_b = self.fixed[b] or (not self.fixed[a] and b < a)
-        kept, gone = (b, a) if fixed_b else (a, b)
+            along = self._coast_pair(a, b)
+            if along is None:
+                return None
+            kept, gone, after = along
+        else:
+            fixed_b = self.fixed[b] or (not self.fixed[a] and b < a)
+            kept, gone = (b, a) if fixed_b else (a, b)
         own, other = self.star(kept), self.star(gone)
         deleted = own & other
         near_kept, near_gone = self._nodes(own) - {kept}, self._nodes(other) - {gone}
@@ -355,9 +420,11 @@ class _Collapser:
             not deleted
             or near_kept & near_gone != opposite  # the link condition
             or any(self.star(c) <= deleted for c in opposite)  # a node left bare
-            or (  # a new edge between two boundary nodes
+            or (  # a new edge between two boundary nodes (but the coast's)
                 self.fixed[kept]
-                and self.fixed[list(near_gone - near_kept - {kept})].any()
+                and self.fixed[
+                    list(near_gone - near_kept - {kept} - ({after} if along else set()))
+                ].any()
             )
         ):
             return None
@@ -368,6 +435,8 @@ class _Collapser:
         repeated = len(np.unique(np.sort(new, axis=1), axis=0)) < len(new)
         if repeated or self.fixed[new[len(ids) - len(changed) :]].all(axis=1).any():
             return None  # a repeated triangle, or a new all-boundary one
+        if along is not None and len(deleted) != 1:
+            return None  # a shoreline edge has one triangle
         return kept, gone, deleted, ids, new, np.array(sorted(own | other))
 
     def apply(self, kept, gone, position, merged, deleted, ids, new, dt) -> None:
@@ -383,6 +452,15 @@ class _Collapser:
         self.xy[kept], self.depth[kept] = position, merged
         self.removed[gone] = True
         self.merges.append((kept, gone))
+        links = self.coast.pop(gone, None)
+        if links is not None:  # a coast collapse: kept and next now meet
+            after = next(n for n in links if n != kept)
+            sid = links[after]
+            self.edges_of[links[kept]] -= 1
+            for node, other in ((kept, after), (after, kept)):
+                if node in self.coast:
+                    self.coast[node].pop(gone, None)
+                    self.coast[node][other] = sid
 
     def result(self, mesh: Mesh, to_plane) -> Mesh:
         """Return ``mesh`` with the collapses: removed nodes dropped, renumbered."""
@@ -395,10 +473,18 @@ class _Collapser:
                 full[kept] = (full[kept] + full[gone]) / 2
             point_data[name] = full[keep]
         points = smoothing.moved_points(mesh.points, self.xy0, self.xy, to_plane)
+        into = np.arange(len(keep))
+        for kept, gone in self.merges:
+            into[gone] = kept
+        while (into[into] != into).any():  # a node merged into one merged later
+            into = into[into]
+        edges = into[mesh.boundary_edges]
+        whole = edges[:, 0] != edges[:, 1]  # a coast collapse's edge is gone
         return smoothing.mesh_with(
             mesh,
             points=points[keep],
             triangles=index[self.tri[self.alive]],
-            boundary_edges=index[mesh.boundary_edges],
+            boundary_edges=index[edges[whole]],
+            boundary_ids=mesh.boundary_ids[whole],
             point_data=point_data,
         )

@@ -1,0 +1,259 @@
+"""Dead-end channels one element wide, peeled back until they are two wide.
+
+A triangle whose three nodes all lie on the boundary, with at most one
+boundary side, spans a channel one element wide: an ocean model has a single
+velocity across it, and the channel neither flows nor drains right. Where such
+a channel ends (a dock, the head of a narrow inlet, the wedge where an open
+boundary meets the coast at a sharp angle), its last triangle is an *ear*: two
+boundary sides. :func:`peel_channels` removes ears whose one inner neighbour
+also has all its nodes on the boundary, again and again, so a dead-end strip
+one element wide is taken back, from its end, to where the water is two
+elements wide. That closes the channel as land, as ``narrow = "close"`` does
+before meshing for the channels the size grid can see.
+
+The new boundary side (the ear's inner side) takes the id of the sides it
+replaces: an open boundary's if one of them is open (the open boundary is cut
+back along the strip), else the shoreline's. Ears whose two boundary sides are
+both open, and triangles of ``keep`` (a site's), are left. A strait one
+element wide has no end to peel from: it is counted, not changed.
+
+No maintained library edits a mesh's boundary this way; the loop is written
+here, over plain Python dicts, and touches only the all-boundary triangles.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from coastmesh.types import Mesh, Report
+
+__all__ = ["PeelReport", "peel_channels"]
+
+
+@dataclass(frozen=True, slots=True)
+class PeelReport(Report):
+    """What :func:`peel_channels` did.
+
+    Attributes
+    ----------
+    removed : int
+        Triangles taken out (dead-end strips one element wide).
+    nodes_removed : int
+        Nodes left without a triangle, taken out too.
+    strips : int
+        Dead-end strips peeled.
+    left : int
+        Triangles still spanning a channel one element wide (straits, sites).
+    """
+
+    removed: int
+    nodes_removed: int
+    strips: int
+    left: int
+
+    def summary(self) -> str:
+        """Return a one-line summary."""
+        return (
+            f"{self.removed:,} triangles of {self.strips:,} dead-end channels one "
+            f"element wide closed ({self.nodes_removed:,} nodes); {self.left:,} "
+            "spanning triangles left"
+        )
+
+
+def _edge(a: int, b: int) -> tuple[int, int]:
+    return (a, b) if a < b else (b, a)
+
+
+def peel_channels(
+    mesh: Mesh, keep: NDArray[np.bool_] | None = None
+) -> tuple[Mesh, PeelReport]:
+    """Close the dead-end channels one element wide by peeling their ears.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        The mesh, with ``boundary_kinds`` (``"open"`` or ``"shoreline"`` per
+        id; without them every boundary is shoreline).
+    keep : ndarray of bool, shape (M,), optional
+        Triangles never removed (inside ``[[sites]]``).
+
+    Returns
+    -------
+    mesh : Mesh
+        Without the peeled triangles and the nodes they alone held.
+    report : PeelReport
+
+    Examples
+    --------
+    A square with a node inside, and a strip one element wide (three
+    triangles) running east from it: the strip is peeled from its end until
+    its last triangle, which now has two boundary sides (a corner, not a
+    channel) and a neighbour with a node inside.
+
+    >>> pts = [[0, 0], [1, 0], [1, 1], [0, 1], [0.5, 0.5],
+    ...        [2, 0], [2, 1], [3, 0], [3, 1]]
+    >>> tri = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4],
+    ...        [1, 5, 2], [5, 6, 2], [5, 7, 6], [7, 8, 6]]
+    >>> ring = [[0, 1], [1, 5], [5, 7], [7, 8], [8, 6], [6, 2], [2, 3], [3, 0]]
+    >>> m = Mesh(pts, tri, ring, [1] * 8, 1, None)
+    >>> peeled, report = peel_channels(m)
+    >>> len(peeled.triangles), report.removed, report.nodes_removed, report.left
+    (5, 3, 3, 0)
+    """
+    tris = mesh.triangles
+    n = len(mesh.points)
+    on_boundary = np.zeros(n, dtype=bool)
+    on_boundary[mesh.boundary_edges.ravel()] = True
+    candidates = np.flatnonzero(on_boundary[tris].all(axis=1))
+    if candidates.size == 0:
+        return mesh, PeelReport(0, 0, 0, 0)
+    kinds = mesh.boundary_kinds
+    side_id = {
+        _edge(int(a), int(b)): int(i)
+        for (a, b), i in zip(mesh.boundary_edges, mesh.boundary_ids, strict=True)
+    }
+    # the all-boundary triangles and, for their sides, the triangles on each
+    alive = {int(t): tuple(int(v) for v in tris[t]) for t in candidates}
+    if keep is not None:
+        kept = set(np.flatnonzero(keep).tolist())
+        alive_ids = [t for t in alive if t not in kept]
+    else:
+        kept, alive_ids = set(), list(alive)
+    near = np.isin(tris, np.unique(tris[candidates])).any(axis=1)
+    by_side: dict[tuple[int, int], list[int]] = {}
+    for t in np.flatnonzero(near).tolist():
+        a, b, c = (int(v) for v in tris[t])
+        for side in (_edge(a, b), _edge(b, c), _edge(c, a)):
+            by_side.setdefault(side, []).append(t)
+    removed: set[int] = set()
+
+    def open_(side: tuple[int, int]) -> bool:
+        return kinds.get(side_id.get(side, -1)) == "open"
+
+    def ear(t: int) -> tuple[tuple[int, int], list[tuple[int, int]]] | None:
+        """Return the inner side and the boundary sides of an ear, else None."""
+        a, b, c = alive[t]
+        sides = (_edge(a, b), _edge(b, c), _edge(c, a))
+        outer = [s for s in sides if s in side_id]
+        inner = [s for s in sides if s not in side_id]
+        if len(outer) != 2 or len(inner) != 1:
+            return None
+        if all(open_(s) for s in outer):
+            return None
+        return inner[0], outer
+
+    queue = list(alive_ids)
+    while queue:
+        t = queue.pop()
+        if t in removed or t in kept:
+            continue
+        found = ear(t)
+        if found is None:
+            continue
+        inner, outer = found
+        others = [u for u in by_side[inner] if u != t and u not in removed]
+        if len(others) != 1 or others[0] not in alive or others[0] in kept:
+            continue  # the neighbour has a node inside: the water is wider
+        removed.add(t)
+        opened = [s for s in outer if open_(s)]
+        side_id[inner] = side_id[opened[0]] if opened else side_id[outer[0]]
+        for s in outer:
+            del side_id[s]
+        queue.append(others[0])
+    if not removed:
+        return mesh, PeelReport(0, 0, 0, _spanning(alive, side_id, set()))
+    left = _spanning(alive, side_id, removed)
+    return _without(mesh, removed, side_id, _strips(alive, removed), left)
+
+
+def _strips(alive, removed: set[int]) -> int:
+    """Count the strips peeled: the removed triangles joined by a side."""
+    parent = {t: t for t in removed}
+
+    def root(t: int) -> int:
+        while parent[t] != t:
+            parent[t] = parent[parent[t]]
+            t = parent[t]
+        return t
+
+    owner: dict[tuple[int, int], int] = {}
+    for t in removed:
+        a, b, c = alive[t]
+        for side in (_edge(a, b), _edge(b, c), _edge(c, a)):
+            if side in owner:
+                parent[root(t)] = root(owner[side])
+            else:
+                owner[side] = t
+    return len({root(t) for t in removed})
+
+
+def _spanning(alive, side_id, removed) -> int:
+    """Count the all-boundary triangles with at most one boundary side."""
+    count = 0
+    for t, (a, b, c) in alive.items():
+        if t in removed:
+            continue
+        sides = (_edge(a, b), _edge(b, c), _edge(c, a))
+        if sum(s in side_id for s in sides) <= 1:
+            count += 1
+    return count
+
+
+def _without(
+    mesh: Mesh, removed: set[int], side_id: dict, strips: int, left: int
+) -> tuple[Mesh, PeelReport]:
+    """Return the mesh without the ``removed`` triangles; boundary from ``side_id``."""
+    keep = np.ones(len(mesh.triangles), dtype=bool)
+    keep[list(removed)] = False
+    tris = mesh.triangles[keep]
+    used = np.zeros(len(mesh.points), dtype=bool)
+    used[tris.ravel()] = True
+    new_index = np.cumsum(used) - 1
+    # each boundary side oriented as in its one triangle (as the mesh has them)
+    oriented = {}
+    for a, b, c in tris.tolist():
+        for u, v in ((a, b), (b, c), (c, a)):
+            if _edge(u, v) in side_id:
+                oriented[_edge(u, v)] = (u, v)
+    flip = _flipped(mesh)
+    edges, ids = [], []
+    for side, sid in side_id.items():
+        u, v = oriented[side]
+        edges.append((v, u) if flip else (u, v))
+        ids.append(sid)
+    order = np.lexsort(np.asarray(edges).T[::-1])
+    edges_arr = new_index[np.asarray(edges)[order]]
+    point_data = {k: np.asarray(v)[used] for k, v in mesh.point_data.items()}
+    peeled = Mesh(
+        mesh.points[used],
+        new_index[tris],
+        edges_arr,
+        np.asarray(ids)[order],
+        mesh.surface_id,
+        mesh.crs,
+        point_data,
+        dict(mesh.boundary_names),
+        dict(mesh.boundary_kinds),
+    )
+    report = PeelReport(
+        removed=len(removed),
+        nodes_removed=int((~used).sum()),
+        strips=strips,
+        left=left,
+    )
+    return peeled, report
+
+
+def _flipped(mesh: Mesh) -> bool:
+    """Whether the mesh's boundary sides run against their triangles' order."""
+    a, b = (int(v) for v in mesh.boundary_edges[0])
+    for t in mesh.triangles[(mesh.triangles == a).any(axis=1)].tolist():
+        for u, v in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+            if (u, v) == (a, b):
+                return False
+            if (u, v) == (b, a):
+                return True
+    return False
