@@ -223,3 +223,33 @@ def test_mesh_parts_are_auto_by_default_or_a_count():
         parse_case(dump_case(case), "/x/t.toml"), source=None, text=""
     )
     assert again.mesh.parts == 3
+
+
+def test_sites_parse_and_become_one_area_in_the_mesh_crs():
+    from pyproj import CRS
+
+    from coastmesh.case.pipeline.domain import site_area
+
+    case = parsed(
+        '[[sites]]\nname = "a"\nbox = [-3.2, 58.6, -3.0, 58.7]\n'
+        '[[sites]]\nname = "b"\npolygon = [[-2.9, 58.6], [-2.8, 58.6], [-2.8, 58.7]]\n'
+    )
+    assert [s.name for s in case.sites] == ["a", "b"]
+    area = site_area(case, CRS.from_epsg(32630))
+    # the box: 0.2 deg x 0.1 deg at 58.65 N, about 11.6 km x 11.1 km
+    assert 120e6 < area.area < 140e6 + 70e6
+    assert site_area(parsed(""), CRS.from_epsg(32630)) is None
+    with pytest.raises(ConfigError, match=r"sites\[0\].box: give exactly one of"):
+        parsed(
+            '[[sites]]\nname = "a"\nbox = [0, 0, 1, 1]\n'
+            "polygon = [[0, 0], [1, 0], [1, 1]]\n"
+        )
+    with pytest.raises(ConfigError, match=r"sites\[0\].polygon: needs at least"):
+        parsed('[[sites]]\nname = "a"\npolygon = [[0, 0], [1, 0]]\n')
+
+
+def test_keep_and_min_depth_together_are_refused():
+    with pytest.raises(ConfigError, match=r"bathymetry\.min_depth: would raise"):
+        parsed(
+            '[bathymetry]\npath = "/data/depth.tif"\nland = "keep"\nmin_depth = "5 m"\n'
+        )

@@ -327,6 +327,7 @@ def test_a_short_edge_of_a_straight_coast_is_collapsed_along_it():
     mesh = _with_ids(*_square_grid())
     relieved, report = relieve_time_step(mesh)
     assert report.accepted and report.min_over_p1_after >= 0.6
+    assert report.coast_collapses == 1 and "1 along the boundary" in report.summary()
     # one node of the coast went (node 5 into its neighbour), none moved
     assert len(relieved.points) == len(mesh.points) - 1
     kept = {tuple(p) for p in relieved.points.tolist()}

@@ -75,6 +75,7 @@ def _documented() -> dict[str, type]:
         ShorelinesConfig,
         ShorelineSetConfig,
         RegionConfig,
+        SiteConfig,
         DomainConfig,
         BoundaryConfig,
         LoxodromeConfig,

@@ -8,15 +8,17 @@ is kept between ``dt (sqrt(g d) + u) / courant_max`` (a floor, which beats
 ``dt = "auto"`` (the default) takes the time step from the mesh the other terms
 ask for: the stable step ``courant_max h / (sqrt(g d) + u)`` of each cell of
 their field, weighted by the elements the cell will hold (its area over
-``h^2``); the 1st percentile of these, times :data:`AUTO_SHARE`, rounded down
-to two figures. The floor is then ``dt (sqrt(g d) + u) / (courant_max
-AUTO_SHARE)``: the 1 % of the elements that would step slowest are made as
-large as the 1st percentile's, so that no handful of elements in shallow,
-narrow water sets the time step, and an element down to :data:`AUTO_SHARE` of
-its target size still has ``C <= courant_max`` at ``dt``. Inside
-``[[mesh_size.sites]]`` the floor does not apply: the user's fine regions keep
-their sizes (and the quality report names the elements that then set the
-time step).
+``h^2``); the 1st percentile of these, times 0.7, rounded down to two
+figures. The floor is then ``dt (sqrt(g d) + u) / (0.7 courant_max)``: the
+1 % of the elements that would step slowest are made as large as the 1st
+percentile's, so that no handful of elements sets the time step, and an
+element down to 0.7 of its target size still has ``C <= courant_max`` at
+``dt``. After meshing, the quality report checks every element at ``dt``;
+with ``"auto"`` the step is lowered (to two figures) until no element is above
+``courant_max``, and that is the ``dt`` reported (``quality.time_step.courant``)
+and drawn: the step the model can run the mesh at. Inside ``[[sites]]`` the
+floor does not apply: the user's fine regions keep their sizes, and the
+quality report names the elements that then set the time step.
 
 The term is on by default wherever the case has a depth; it is off in global
 cases, and without any bathymetry (an explicit ``dt`` there is an error).

@@ -76,6 +76,8 @@ class ThrottleReport(Report):
     accepted : bool
         Whether the mesh returned differs from the input; False when nothing
         throttles, no collapse passes, or their result is rejected.
+    coast_collapses : int
+        Of the collapses, those that took a boundary node along the boundary.
     """
 
     throttling_before: int
@@ -88,6 +90,7 @@ class ThrottleReport(Report):
     min_angle_p1_before: float
     min_angle_p1_after: float
     accepted: bool
+    coast_collapses: int = 0
 
     def summary(self) -> str:
         """Return a one-line summary.
@@ -97,14 +100,16 @@ class ThrottleReport(Report):
         >>> print(ThrottleReport(3, 0, 2, 0.45, 0.7, 20, 21, 30, 30, True).summary())
         ... # doctest: +NORMALIZE_WHITESPACE
         time step relieved: min / p1 0.45 -> 0.70 (target >= 0.6), throttling 3 -> 0
-        (2 collapses); min angle 20.0 -> 21.0 deg, 1st percentile 30.0 -> 30.0 deg
+        (2 collapses, 0 along the boundary); min angle 20.0 -> 21.0 deg, 1st
+        percentile 30.0 -> 30.0 deg
         """
         return (
             f"time step {'relieved' if self.accepted else 'unchanged'}: min / p1 "
             f"{self.min_over_p1_before:.2f} -> {self.min_over_p1_after:.2f} "
             f"(target >= {MIN_OVER_P1_TARGET:g}), throttling "
             f"{self.throttling_before} -> {self.throttling_after} "
-            f"({self.collapses} collapses); min angle {self.min_angle_before:.1f} "
+            f"({self.collapses} collapses, {self.coast_collapses} along the "
+            f"boundary); min angle {self.min_angle_before:.1f} "
             f"-> {self.min_angle_after:.1f} deg, 1st percentile "
             f"{self.min_angle_p1_before:.1f} -> {self.min_angle_p1_after:.1f} deg"
         )
@@ -217,6 +222,7 @@ def relieve_time_step(
         **{f"{name}_after": value for name, value in after.items()},
         collapses=collapses,
         accepted=accepted,
+        coast_collapses=work.coast_collapses if accepted else 0,
     )
     return new, report
 
@@ -300,6 +306,7 @@ class _Collapser:
         self.coast: dict[int, dict[int, int]] = {}
         self.edges_of: dict[int, int] = {}
         self.open_ids: set[int] = set()
+        self.coast_collapses = 0
         m = len(self.tri)
         csr = sparse.csr_array(
             (np.ones(3 * m, np.int8), (self.tri.ravel(), np.repeat(np.arange(m), 3))),
@@ -454,6 +461,7 @@ class _Collapser:
         self.merges.append((kept, gone))
         links = self.coast.pop(gone, None)
         if links is not None:  # a coast collapse: kept and next now meet
+            self.coast_collapses += 1
             after = next(n for n in links if n != kept)
             sid = links[after]
             self.edges_of[links[kept]] -= 1
