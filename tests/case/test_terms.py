@@ -322,3 +322,31 @@ def test_a_narrow_channel_in_a_site_gets_two_elements_across_below_the_floor():
     assert sized.report.channels.narrow_channels == 0
     # outside the site the floor holds
     assert float(sized.field.values[:, :100].min()) >= 100.0 - 1e-9
+
+
+def test_a_dt_no_element_can_meet_names_the_depth_and_the_size():
+    # 100 m deep: c = 32.3 m/s; dt 600 s at courant_max 0.5 needs 38.8 km
+    c = CourantConfig(dt=600.0)
+    speed = math.sqrt(GRAVITY * 100.0) + 1.0
+    with pytest.raises(ConfigError, match="no element of the sea can meet it") as e:
+        _sized(_bay(), _flat_raster(100.0), cell=500.0, courant=c)
+    assert "(100.0 m deep)" in str(e.value)
+    assert f"at least {600.0 * speed / 0.5:,.0f} m, above h_max = 3000 m" in str(
+        e.value
+    )
+
+
+def test_closing_every_channel_is_refused_with_a_clear_message():
+    from types import SimpleNamespace
+
+    from coastmesh.case.pipeline.closing import _refuse_closing_all
+
+    inlet = _bay(100.0)
+    state = SimpleNamespace(domain=inlet, mesh_crs=inlet.crs)
+    config = SimpleNamespace(label="t.toml")
+    sea = inlet.polygon.area / 1e6
+    few = SimpleNamespace(narrow_km2=0.5 * sea, h_min=300.0)
+    _refuse_closing_all(state, config, few)  # some channels: fine
+    every = SimpleNamespace(narrow_km2=0.95 * sea, h_min=300.0)
+    with pytest.raises(ConfigError, match=r"would leave no sea.*\[\[sites\]\]"):
+        _refuse_closing_all(state, config, every)

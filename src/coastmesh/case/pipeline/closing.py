@@ -30,6 +30,7 @@ from coastmesh.case.config import CaseConfig, SizeConfig, floor
 from coastmesh.case.pipeline.domain import site_area, with_land
 from coastmesh.case.pipeline.state import CaseRun, DomainState, RunContext, missing
 from coastmesh.case.terms.base import Closing
+from coastmesh.errors import ConfigError
 from coastmesh.geometry import reproject
 from coastmesh.sizing.channel import window_width
 from coastmesh.sizing.grid import PlaneGrid, densified, grid_axes
@@ -100,6 +101,7 @@ def _close_channels(state: DomainState, config: CaseConfig) -> DomainState:
         found, polygons = _narrow_water(state, config)
         if not len(polygons):
             break
+        _refuse_closing_all(state, config, found)
         report = found
         closed_count += len(polygons)
         closed_km2 += found.narrow_km2
@@ -116,6 +118,23 @@ def _close_channels(state: DomainState, config: CaseConfig) -> DomainState:
     closed = replace(report, narrow_channels=closed_count, narrow_km2=closed_km2)
     warn_narrow(closed, closed=True)
     return replace(state, closing=Closing(channels=closed, passes=passes))
+
+
+def _refuse_closing_all(state: DomainState, config: CaseConfig, found) -> None:
+    """Raise if the narrow channels are (nearly) all of the domain's water."""
+    sea_km2 = state.domain.polygon.area
+    if state.domain.crs.is_geographic:  # degrees squared: measure on the plane
+        sea_km2 = reproject(state.domain.polygon, state.domain.crs, state.mesh_crs).area
+    sea_km2 /= 1e6
+    if found.narrow_km2 < 0.9 * sea_km2:
+        return
+    raise ConfigError(
+        f"{config.label}: mesh_size.channels: {found.narrow_km2:,.1f} of the "
+        f"{sea_km2:,.1f} km2 of water are channels narrower than 2 elements of "
+        f"h_min = {found.h_min:g} m: closing them (narrow = 'close') would leave no "
+        "sea. Lower h_min (or the gradations' h_min), mark the water as a "
+        '[[sites]] region to keep it, or set narrow = "keep"'
+    )
 
 
 def _narrow_water(

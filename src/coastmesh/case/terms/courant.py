@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 from coastmesh.case import schema
 from coastmesh.case.schema import Check, key
 from coastmesh.case.terms.base import SizeCase, SizeTerm
-from coastmesh.errors import CoastmeshWarning
+from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.sizing.combine import Applied, TermSizes
 from coastmesh.sizing.courant import (
     CourantReport,
@@ -233,6 +233,7 @@ class Courant(SizeTerm):
                 lower_from=lower, report=report, history="Courant at dt auto"
             )
         floor, cap = bounds(co.dt)
+        _refuse_impossible(co, grid, floor, depth, h_max)
         unmet = grid.km2(grid.sea & ((floor > h_max) | (cap < h_min)))
         if unmet > 0:
             warnings.warn(
@@ -251,6 +252,21 @@ class Courant(SizeTerm):
         return TermSizes(
             upper=cap, lower=floor, report=given, history=f"Courant at dt {co.dt:g} s"
         )
+
+
+def _refuse_impossible(co, grid: Grid, floor, depth, h_max: float) -> None:
+    """Raise if no element of the sea can meet ``dt``: the floor is above h_max."""
+    sea = grid.sea & np.isfinite(depth)
+    if not sea.any() or not (floor[sea] > h_max).all():
+        return
+    k = np.argmin(np.where(sea, floor, np.inf))
+    d, h = float(depth.flat[k]), float(floor.flat[k])
+    raise ConfigError(
+        f"mesh_size.courant.dt = {co.dt:g} s: no element of the sea can meet it "
+        f"at courant_max = {co.courant_max:g}: even the shallowest water "
+        f"({max(d, 0.0):.1f} m deep) needs elements of at least {h:,.0f} m, above "
+        f'h_max = {h_max:g} m; give a smaller dt, dt = "auto", or a larger h_max'
+    )
 
 
 def _report(co, dt, grid, floor, cap, applied, unmet, *, auto) -> CourantReport:
