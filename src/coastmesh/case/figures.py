@@ -62,6 +62,7 @@ _ORDER = (
     "quality",
     "depth",
     "depth_sources",
+    "depth_rules",
     "time_step",
     "globe",
     "mesh_mercator",
@@ -134,6 +135,15 @@ def mesh_jobs(
                     "depth_source_figure",
                     (mesh, depth.sources),
                     {"title": f"{name}: bathymetry source of each node"},
+                )
+            )
+        if depth is not None and depth.rules is not None:
+            jobs.append(
+                (
+                    "depth_rules",
+                    "depth_rule_figure",
+                    (mesh, depth.rules),
+                    {"title": f"{name}: what each node's depth is"},
                 )
             )
         jobs.append(

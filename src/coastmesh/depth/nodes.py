@@ -11,7 +11,7 @@ positive down.
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -32,6 +32,7 @@ __all__ = [
     "LAND_TREATMENTS",
     "MAX_LAND_SHARE",
     "OUTSIDE_RULES",
+    "RULES",
     "CoarseRasterWarning",
     "DepthReport",
     "depth_at_nodes",
@@ -52,6 +53,20 @@ DEPTH_METHODS = ("bilinear", "mean")
 #: ``min_depth`` at the coast; ``"keep"`` the land heights as negative depths
 #: (for models that wet and dry).
 LAND_TREATMENTS = ("wet", "min_depth", "nearest_sea", "smooth", "keep")
+#: What a node's depth is, in ``DepthReport.rules`` (later codes win): the
+#: raster's own; the wet cells around it alone; the nearest wet cell (the
+#: raster calls the place land); that, tapered to the coast; raised to
+#: ``min_depth``; a land cell's value (``"keep"``, ``"min_depth"`` without it);
+#: beyond every source (``outside = "nearest"``).
+RULES = (
+    "raster",
+    "wet cells around",
+    "nearest wet cell",
+    "tapered",
+    "min_depth",
+    "land value",
+    "outside the rasters",
+)
 #: Above this share of the nodes on land in the rasters, a raster is too
 #: coarse for the coast: an error unless ``land`` is given (the case decides).
 MAX_LAND_SHARE = 0.5
@@ -112,6 +127,9 @@ class DepthReport(Report):
         Nodes at the coast (land cells around them) whose elements are
         smaller than their raster's cells: the raster cannot tell their
         depths apart.
+    rules : ndarray of int8, shape (N,), optional
+        What each node got, by :data:`RULES` (not in ``to_dict``): for
+        ``figures/depth_rules.png``.
     """
 
     nodes: int
@@ -133,6 +151,9 @@ class DepthReport(Report):
     took_wet: int = 0
     land_values: int = 0
     coarse: int = 0
+    rules: NDArray[np.int8] | None = field(
+        default=None, repr=False, compare=False, metadata={"to_dict": False}
+    )
 
     def summary(self) -> str:
         """Return a one-line summary, with the shares of the nodes."""
@@ -272,15 +293,16 @@ def depth_at_nodes(
     depth = np.where(np.isfinite(wet), wet, plain) if land == "wet" else plain
     dry = depth <= 0
     _check_land_share(sources, dry, max_land_share)
-    depth, took_wet, tapered = _treat_land(
+    depth, took_wet, tapered_nodes = _treat_land(
         mesh, sources, depth, dry, land, min_depth, land_distance
     )
     held = (dry & ~took_wet) | (coast if land != "wet" else False)
     if land == "min_depth" and min_depth is not None:
         held &= ~dry  # the floor replaced them
-    shallow = 0
+    shallow, raised = 0, np.zeros(len(depth), dtype=bool)
     if min_depth is not None:
-        shallow = int((depth < min_depth).sum())
+        raised = depth < min_depth
+        shallow = int(raised.sum())
         depth = np.maximum(depth, min_depth)
     limited = 0
     if max_slope is not None:
@@ -288,6 +310,12 @@ def depth_at_nodes(
         limited = int((limited_depth != depth).sum())
         depth = limited_depth
     coarse = _coarse_at_coast(sources, mesh, source, coast | land_nodes)
+    rules = np.zeros(len(depth), dtype=np.int8)
+    for code, where in enumerate(
+        (coast & (land == "wet"), took_wet, tapered_nodes, raised, held, gap),
+        start=1,
+    ):
+        rules[where] = code
     report = DepthReport(
         nodes=len(depth),
         method=method,
@@ -303,11 +331,12 @@ def depth_at_nodes(
         snapped=int(sample.snapped.sum()),
         land=int(land_nodes.sum()),
         land_treatment=land,
-        tapered=tapered,
+        tapered=int(tapered_nodes.sum()),
         coast_cells=int(coast.sum()),
         took_wet=int(took_wet.sum()),
         land_values=int(held.sum()),
         coarse=int(coarse.sum()),
+        rules=rules,
     )
     if report.coarse:
         warnings.warn(
@@ -355,15 +384,17 @@ def _treat_land(mesh, sources, depth, dry, land, min_depth, land_distance):
     """Give the ``dry`` nodes their depth by the ``land`` rule.
 
     Returns the depths, the nodes that took the nearest wet cell, and the
-    number tapered.
+    nodes tapered.
     """
-    tapered, took_wet = 0, np.zeros(len(depth), dtype=bool)
+    tapered = np.zeros(len(depth), dtype=bool)
+    took_wet = np.zeros(len(depth), dtype=bool)
     if dry.any() and land in ("wet", "nearest_sea", "smooth"):
         value, _, distance = sources.nearest(mesh.points[dry], mesh.crs, kind="wet")
         found = np.isfinite(value)
         took_wet[np.flatnonzero(dry)[found]] = True
         if land == "wet" and min_depth is not None:
-            value, tapered = _taper_across(mesh, dry, value, distance, min_depth)
+            value, less = _taper_across(mesh, dry, value, distance, min_depth)
+            tapered[np.flatnonzero(dry)] = less
         depth = depth.copy()
         depth[dry] = np.where(found, value, depth[dry])
     if land == "smooth":
@@ -404,13 +435,13 @@ def _taper_across(mesh: Mesh, dry, value, distance, min_depth: float):
     """
     s = _coast_distance(mesh, np.flatnonzero(dry))
     if s is None:
-        return value, 0
+        return value, np.zeros(len(value), dtype=bool)
     with np.errstate(invalid="ignore", divide="ignore"):
         t = np.where(s + distance > 0, s / (s + distance), 1.0)
         deeper = np.isfinite(value) & (value > min_depth) & (t < 1.0)
     out = value.copy()
     out[deeper] = min_depth + (value[deeper] - min_depth) * t[deeper]
-    return out, int(deeper.sum())
+    return out, deeper
 
 
 def _coast_nodes(mesh: Mesh) -> NDArray[np.int64]:
@@ -523,14 +554,14 @@ def _taper(mesh: Mesh, depth, min_depth: float, width: float):
     """
     coast = _coast_nodes(mesh)
     if coast.size == 0:
-        return depth, 0
+        return depth, np.zeros(len(depth), dtype=bool)
     xyz, _ = mesh_earth_centred(mesh)
     d, _ = cKDTree(xyz[coast]).query(xyz, distance_upper_bound=width)
     near = np.isfinite(d) & (depth > min_depth)
     s = d[near] / width
     depth = depth.copy()
     depth[near] = min_depth + (depth[near] - min_depth) * s
-    return depth, int(near.sum())
+    return depth, near
 
 
 def limit_slope(

@@ -14,6 +14,7 @@
 :func:`quality_figure`             histograms of angles, ratios, edge sizes
 :func:`depth_figure`               depth at the nodes
 :func:`depth_source_figure`        which bathymetry source each node took
+:func:`depth_rule_figure`          what each node's depth is (raster, wet, nearest)
 :func:`time_step_figure`           stable time step and Courant number per element
 :func:`save_figure`                save a figure atomically
 =================================  ============================================
@@ -45,6 +46,7 @@ from coastmesh.plot.pca import (
 )
 from coastmesh.plot.quality import (
     depth_figure,
+    depth_rule_figure,
     depth_source_figure,
     quality_figure,
     time_step_figure,
@@ -53,6 +55,7 @@ from coastmesh.plot.quality import (
 __all__ = [
     "channel_figure",
     "depth_figure",
+    "depth_rule_figure",
     "depth_source_figure",
     "domain_figure",
     "globe_figure",

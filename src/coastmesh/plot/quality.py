@@ -259,6 +259,84 @@ def depth_source_figure(
     return figure
 
 
+def depth_rule_figure(
+    mesh: Mesh, rules: NDArray[np.int8], *, title: str | None = None
+) -> Figure:
+    """Draw what each node's depth is: the raster's, wet cells, nearest, floored.
+
+    Parameters
+    ----------
+    mesh : coastmesh.meshing.Mesh
+    rules : ndarray of int, shape (N,)
+        Each node's code in :data:`coastmesh.depth.nodes.RULES`
+        (``DepthReport.rules``).
+    title : str, optional
+        Figure title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One map; each triangle coloured by the highest code among its nodes
+        (the raster's own depths in grey), with a legend of node counts and
+        shares.
+
+    Examples
+    --------
+    >>> from coastmesh.types import Mesh
+    >>> m = Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]],
+    ...          [1, 1, 1], 1, "EPSG:4326")
+    >>> len(depth_rule_figure(m, np.array([0, 1, 2])).axes)
+    1
+    """
+    from matplotlib.colors import ListedColormap
+    from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
+    from matplotlib.tri import Triangulation
+
+    from coastmesh.depth.nodes import RULES
+
+    rules = np.asarray(rules, dtype=np.int64)
+    if rules.shape != (len(mesh.points),):
+        raise ValueError(
+            f"rules has shape {rules.shape}: one code per node ({len(mesh.points)})"
+        )
+    shown = rules[mesh.triangles].max(axis=1)
+    mask = across_dateline(mesh.points, mesh.triangles, mesh.crs)
+    tri = Triangulation(
+        mesh.points[:, 0],
+        mesh.points[:, 1],
+        mesh.triangles,
+        mask=mask if mask.any() else None,
+    )
+    figure = Figure(figsize=(9, 8), layout="constrained")
+    ax = figure.add_subplot()
+    colours = ["0.85", "C0", "C2", "C8", "C1", "C3", "C4"][: len(RULES)]
+    ax.tripcolor(
+        tri,
+        facecolors=shown.astype(float),
+        cmap=ListedColormap(colours),
+        vmin=-0.5,
+        vmax=len(RULES) - 0.5,
+        edgecolors="none",
+    )
+    n = max(len(rules), 1)
+    handles = [
+        Patch(
+            color=colours[k],
+            label=f"{RULES[k]}: {int((rules == k).sum()):,} "
+            f"({(rules == k).sum() / n:.1%})",
+        )
+        for k in range(len(RULES))
+        if (rules == k).any() or k == 0
+    ]
+    ax.legend(handles=handles, loc="upper left", fontsize="small", title="nodes")
+    _frame(ax, mesh.points)
+    geographic_axes(ax, mesh.crs, _bounds(mesh.points))
+    ax.ticklabel_format(useOffset=False)
+    ax.set_title(title or "what each node's depth is")
+    return figure
+
+
 def time_step_figure(
     mesh: Mesh,
     *,
