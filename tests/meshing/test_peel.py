@@ -122,17 +122,53 @@ def test_a_strip_along_an_open_boundary_cuts_the_open_boundary_back():
     mesh = generate_mesh(d, _uniform(d, 400.0))
     before = len(mesh_quality(mesh).channel_spanning_triangles)
     peeled, report = peel_channels(mesh)
-    assert report.removed > 0
-    # what is left spans where the wedge is one element wide again past a
-    # node inside (no dead end to peel from): the report counts it
-    assert report.left == len(mesh_quality(peeled).channel_spanning_triangles)
-    assert report.left < before
+    assert before > 0 and report.removed > 0
+    # the end is peeled (like the loop); the rest of the strip, one element
+    # wide again past a node inside, is a run with one mouth: closed whole
+    assert report.left == len(mesh_quality(peeled).channel_spanning_triangles) == 0
+    assert _rings_ok(peeled)
     got = {
         tuple(sorted(peeled.points[t].round(6).ravel()))
         for t in peeled.triangles.tolist()
     }
-    assert got == peel_loop(mesh)
+    assert got <= peel_loop(mesh)
     # the open boundary is cut back along the strip: the new sides are open
     west = peeled.points[peeled.boundary_edges].mean(axis=1)[:, 0].argmin()
     assert peeled.boundary_ids[west] == 2
     assert peeled.points[:, 0].min() > 300.0
+
+
+def _rings_ok(mesh: Mesh) -> bool:
+    """Every boundary side on one triangle; every boundary node on two sides."""
+    sides = _boundary_sides(mesh.triangles.tolist())
+    listed = {tuple(sorted(e)) for e in mesh.boundary_edges.tolist()}
+    degree = np.bincount(mesh.boundary_edges.ravel(), minlength=len(mesh.points))
+    return set(sides) == listed and set(degree[degree > 0].tolist()) == {2}
+
+
+def test_a_strait_one_element_wide_between_an_island_and_the_coast_is_closed():
+    # a 10 km square open to the north; an island 80 m off the south coast
+    outer = [(0, 0), (10_000, 0), (10_000, 10_000), (0, 10_000), (0, 0)]
+    island = [(3_000, 80), (3_000, 1_000), (5_000, 1_000), (5_000, 80), (3_000, 80)]
+    d = Domain(
+        shapely.Polygon(outer, [island]),
+        (
+            BoundarySegment(outer[:3], "shoreline", "coast", 1),
+            BoundarySegment(outer[2:4], "open", "north", 2),
+            BoundarySegment(outer[3:], "shoreline", "coast", 1),
+            BoundarySegment(island, "shoreline", "coast", 1),
+        ),
+        crs="EPSG:32631",
+    )
+    mesh = generate_mesh(d, _uniform(d, 300.0))
+    before = len(mesh_quality(mesh).channel_spanning_triangles)
+    assert before > 3  # the strait is one element wide
+    peeled, report = peel_channels(mesh)
+    assert report.straits == 1 and report.left == 0
+    assert len(mesh_quality(peeled).channel_spanning_triangles) == 0
+    assert _rings_ok(peeled)
+    # the strait's water is gone, the island now joined to the coast: one ring
+    centres = peeled.points[peeled.triangles].mean(axis=1)
+    strait = (centres[:, 0] > 3_000) & (centres[:, 0] < 5_000) & (centres[:, 1] < 80)
+    assert not strait.any()
+    assert set(peeled.boundary_ids.tolist()) == {1, 2}

@@ -15,7 +15,11 @@ The new boundary side (the ear's inner side) takes the id of the sides it
 replaces: an open boundary's if one of them is open (the open boundary is cut
 back along the strip), else the shoreline's. Ears whose two boundary sides are
 both open, and triangles of ``keep`` (a site's), are left. A strait one
-element wide has no end to peel from: it is counted, not changed.
+element wide has no end to peel from: its run of all-boundary triangles is
+taken out whole where it meets the rest of the mesh through one or two inner
+sides (which become coast, or open boundary for a strip along one) and no node
+is left with more than two boundary sides; water cut off from the largest
+piece by that goes too.
 
 No maintained library edits a mesh's boundary this way; the loop is written
 here, over plain Python dicts, and touches only the all-boundary triangles.
@@ -23,7 +27,7 @@ here, over plain Python dicts, and touches only the all-boundary triangles.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import NDArray
@@ -46,19 +50,28 @@ class PeelReport(Report):
     strips : int
         Dead-end strips peeled.
     left : int
-        Triangles still spanning a channel one element wide (straits, sites).
+        Triangles still spanning a channel one element wide (in sites, or
+        where closing would pinch the boundary).
+    straits : int
+        Straits one element wide closed whole (their mouths made coast).
+    cut_off : int
+        Triangles of water the closing cut off from the largest piece (a
+        lagoon behind a closed strait), taken out too.
     """
 
     removed: int
     nodes_removed: int
     strips: int
     left: int
+    straits: int = 0
+    cut_off: int = 0
 
     def summary(self) -> str:
         """Return a one-line summary."""
         return (
-            f"{self.removed:,} triangles of {self.strips:,} dead-end channels one "
-            f"element wide closed ({self.nodes_removed:,} nodes); {self.left:,} "
+            f"{self.removed:,} triangles of {self.strips:,} dead-end channels and "
+            f"{self.straits:,} straits one element wide closed ({self.cut_off:,} "
+            f"cut off behind them; {self.nodes_removed:,} nodes); {self.left:,} "
             "spanning triangles left"
         )
 
@@ -145,7 +158,21 @@ def peel_channels(
             return None
         return inner[0], outer
 
-    queue = list(alive_ids)
+    _peel_ears(alive_ids, alive, kept, removed, side_id, by_side, ear, open_)
+    strips = _strips(alive, removed) if removed else 0
+    straits = _close_straits(alive, kept, removed, side_id, by_side, open_)
+    if not removed:
+        return mesh, PeelReport(0, 0, 0, _spanning(alive, side_id, set()))
+    cut_off = _cut_off(mesh, removed)
+    removed |= cut_off
+    left = _spanning(alive, side_id, removed)
+    report = PeelReport(0, 0, strips, left, straits, len(cut_off))
+    return _without(mesh, removed, side_id, report)
+
+
+def _peel_ears(queue, alive, kept, removed, side_id, by_side, ear, open_) -> None:
+    """Remove ears whose inner neighbour is all-boundary, until none is left."""
+    queue = list(queue)
     while queue:
         t = queue.pop()
         if t in removed or t in kept:
@@ -163,10 +190,117 @@ def peel_channels(
         for s in outer:
             del side_id[s]
         queue.append(others[0])
-    if not removed:
-        return mesh, PeelReport(0, 0, 0, _spanning(alive, side_id, set()))
-    left = _spanning(alive, side_id, removed)
-    return _without(mesh, removed, side_id, _strips(alive, removed), left)
+
+
+def _close_straits(alive, kept, removed, side_id, by_side, open_) -> int:
+    """Close the straits one element wide: runs of all-boundary triangles.
+
+    A run (all-boundary triangles joined by inner sides) that spans a channel
+    and meets the rest of the mesh through one or two inner sides (its mouths)
+    is taken out whole; its mouths take the run's commonest id (of its open
+    sides, if any: a strip along an open boundary cuts it back). Not where a
+    node would be left with more than two boundary sides (the boundary must
+    stay a set of rings).
+    Returns the number of runs closed; ``removed`` and ``side_id`` are updated.
+    """
+    rest = {t for t in alive if t not in removed and t not in kept}
+    spanning = {t for t in rest if sum(s in side_id for s in _sides(alive[t])) <= 1}
+    seen: set[int] = set()
+    closed = 0
+    for start in sorted(spanning):
+        if start in seen:
+            continue
+        run = _run(start, alive, rest, side_id, by_side)
+        seen |= run
+        outer = [s for t in run for s in _sides(alive[t]) if s in side_id]
+        mouths = [
+            s
+            for t in run
+            for s in _sides(alive[t])
+            if s not in side_id
+            and any(u not in run and u not in removed for u in by_side.get(s, ()))
+        ]
+        if not 1 <= len(mouths) <= 2:
+            continue
+        # a strip along an open boundary: the open boundary is cut back
+        opened = [s for s in outer if open_(s)]
+        new_ids = _closed_sides(side_id, opened or outer, outer, mouths)
+        if not _rings(new_ids, {v for t in run for v in alive[t]}):
+            continue
+        side_id.clear()
+        side_id.update(new_ids)
+        removed |= run
+        closed += 1
+    return closed
+
+
+def _run(start, alive, rest, side_id, by_side) -> set[int]:
+    """Return the all-boundary triangles joined to ``start`` by inner sides."""
+    run, stack = {start}, [start]
+    while stack:
+        t = stack.pop()
+        for side in _sides(alive[t]):
+            if side in side_id:
+                continue
+            for u in by_side.get(side, ()):
+                if u in rest and u not in run:
+                    run.add(u)
+                    stack.append(u)
+    return run
+
+
+def _closed_sides(side_id: dict, like: list, outer: list, mouths: list) -> dict:
+    """Return the boundary sides without a run's; its mouths take ``like``'s id.
+
+    The commonest id of the sides ``like`` (the run's open sides, else all).
+    """
+    ids = [side_id[s] for s in like]
+    new_ids = dict(side_id)
+    for s in outer:
+        del new_ids[s]
+    for s in mouths:
+        new_ids[s] = max(set(ids), key=ids.count)
+    return new_ids
+
+
+def _rings(side_id: dict, nodes: set[int]) -> bool:
+    """Whether each of ``nodes`` has no boundary side or two (rings, no pinch)."""
+    degree = dict.fromkeys(nodes, 0)
+    for a, b in side_id:
+        for v in (a, b):
+            if v in degree:
+                degree[v] += 1
+    return all(d in (0, 2) for d in degree.values())
+
+
+def _sides(tri: tuple[int, int, int]) -> tuple[tuple[int, int], ...]:
+    a, b, c = tri
+    return (_edge(a, b), _edge(b, c), _edge(c, a))
+
+
+def _cut_off(mesh: Mesh, removed: set[int]) -> set[int]:
+    """Return the triangles no longer joined to the largest piece of water."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    alive = np.ones(len(mesh.triangles), dtype=bool)
+    alive[list(removed)] = False
+    index = np.flatnonzero(alive)
+    tris = mesh.triangles[index]
+    sides = np.sort(
+        np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]]), axis=1
+    )
+    owner = np.tile(np.arange(len(tris)), 3)
+    key = sides[:, 0] * len(mesh.points) + sides[:, 1]
+    order = np.argsort(key, kind="stable")
+    same = key[order][1:] == key[order][:-1]
+    a, b = owner[order][:-1][same], owner[order][1:][same]
+    graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(len(tris), len(tris)))
+    count, labels = connected_components(graph, directed=False)
+    if count <= 1:
+        return set()
+    largest = np.bincount(labels).argmax()
+    return set(index[labels != largest].tolist())
 
 
 def _strips(alive, removed: set[int]) -> int:
@@ -203,7 +337,7 @@ def _spanning(alive, side_id, removed) -> int:
 
 
 def _without(
-    mesh: Mesh, removed: set[int], side_id: dict, strips: int, left: int
+    mesh: Mesh, removed: set[int], side_id: dict, report: PeelReport
 ) -> tuple[Mesh, PeelReport]:
     """Return the mesh without the ``removed`` triangles; boundary from ``side_id``."""
     keep = np.ones(len(mesh.triangles), dtype=bool)
@@ -221,6 +355,8 @@ def _without(
     flip = _flipped(mesh)
     edges, ids = [], []
     for side, sid in side_id.items():
+        if side not in oriented:  # a side of water cut off: gone with it
+            continue
         u, v = oriented[side]
         edges.append((v, u) if flip else (u, v))
         ids.append(sid)
@@ -238,12 +374,7 @@ def _without(
         dict(mesh.boundary_names),
         dict(mesh.boundary_kinds),
     )
-    report = PeelReport(
-        removed=len(removed),
-        nodes_removed=int((~used).sum()),
-        strips=strips,
-        left=left,
-    )
+    report = replace(report, removed=len(removed), nodes_removed=int((~used).sum()))
     return peeled, report
 
 
