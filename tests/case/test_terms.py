@@ -179,9 +179,13 @@ def test_the_courant_floor_beats_h_min_and_the_channel_term_and_h_max_beats_it()
     assert sized.report.courant.raised_km2 > 3.0
     assert sized.report.courant.unmet_km2 == 0.0
     # a floor above h_max: h_max wins, with a warning giving the area
+    # a floor above h_max on part of the sea (a deep half): h_max wins there,
+    # with a warning giving the area; on all of it, an error (below)
     deep = CourantConfig(dt=60.0, courant_max=0.5)
+    half = _flat_raster(10.0)
+    half.values[:, half.x.values > 10_000] = -4000.0
     with pytest.warns(CoastmeshWarning, match=r"on \d+\.\d km2 of the domain"):
-        capped = _sized(_bay(), _flat_raster(4000.0), cell=100.0, courant=deep)
+        capped = _sized(_bay(), half, cell=100.0, courant=deep)
     assert float(capped.field.max()) == 3000.0
 
 

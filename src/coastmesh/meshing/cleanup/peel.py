@@ -27,7 +27,7 @@ here, over plain Python dicts, and touches only the all-boundary triangles.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
@@ -374,7 +374,14 @@ def _without(
         dict(mesh.boundary_names),
         dict(mesh.boundary_kinds),
     )
-    report = replace(report, removed=len(removed), nodes_removed=int((~used).sum()))
+    report = PeelReport(
+        removed=len(removed),
+        nodes_removed=int((~used).sum()),
+        strips=report.strips,
+        left=report.left,
+        straits=report.straits,
+        cut_off=report.cut_off,
+    )
     return peeled, report
 
 
