@@ -45,7 +45,16 @@ def nwshelf_nc() -> Path:
 EXAMPLE = Path(__file__).parents[1] / "examples" / "orkney" / "pentland_firth.toml"
 #: what the example case writes (its [output] formats, and the figures)
 MODEL_EXTENSIONS = ("msh", "14", "gr3", "slf", "cli", "mesh", "nc", "vtu", "gpkg")
-FIGURES = ("domain", "mesh", "size", "channels", "quality", "depth", "time_step")
+FIGURES = (
+    "domain",
+    "mesh",
+    "size",
+    "channels",
+    "quality",
+    "depth",
+    "depth_rules",
+    "time_step",
+)
 
 
 #: the example's gradations made coarser: the same case, meshed in a few seconds

@@ -112,7 +112,7 @@ def test_each_figure_starts_once_what_it_shows_is_made(tmp_path, monkeypatch):
     starts = [e for e in events if e.startswith("start ")]  # none: no parts
     assert starts[:3] == [
         "start channels domain size",
-        "start depth mesh time_step",
+        "start depth depth_rules mesh time_step",
         "start quality",
     ], events
     at = events.index

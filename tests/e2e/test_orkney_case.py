@@ -236,13 +236,13 @@ def test_polyline_boundary_and_region_from_files(tmp_path):
     assert result.boundary_edges["full (10)"] > 0
 
 
-def test_the_default_channel_term_keeps_narrow_channels_and_closes_slots(example_run):
+def test_the_default_channel_term_closes_narrow_channels(example_run):
     result, _ = example_run
     channels = result.report.size_field.channels
-    assert channels.narrow == "keep" and channels.closed == 0
-    assert channels.slots >= 1  # spikes of the coast thinner than h_min / 2
-    assert channels.narrow_channels >= 1 and channels.limited_km2 > 10.0
+    # narrow = "close" by default: closed before meshing, then peeled after
+    assert channels.narrow == "close" and channels.closed >= 1
+    assert channels.closed_km2 > 0 and channels.limited_km2 > 10.0
     quality = result.report.quality
-    # the channel term and the cleanup leave few triangles across a channel
-    assert len(quality.channel_spanning_triangles) <= 1e-3 * quality.triangles
+    assert len(quality.channel_spanning_triangles) <= 1e-4 * quality.triangles
+    assert result.report.channels is not None
     assert quality.min_angle.p1 >= 30.0 and quality.radius_ratio.below_0_25 == 0

@@ -174,12 +174,18 @@ def _narrow_water(
         worst=tuple(places[:20]),
     )
     polygons = domain_slots(domain, state.mesh_crs, h_min / 2)
+    opened = [shapely.LineString(s.coords) for s in domain.segments if s.kind == "open"]
+    opened = densified(domain, opened, state.mesh_crs) if opened else None
     for g, lab, fs in pieces:
         if not fs:
             continue
         cells = channel_polygons(lab, g.x, g.y)
         grown = shapely.simplify(shapely.buffer(cells, g.cell, quad_segs=2), g.cell)
         grown = shapely.make_valid(grown)
+        if opened is not None:  # a cut near an open boundary would leave a
+            # run of coast too short between it and the next (Telemac needs 3)
+            near = shapely.dwithin(grown[:, None], opened[None, :], h_min).any(1)
+            grown = grown[~near]
         polygons = np.concatenate(
             [polygons, reproject(grown, state.mesh_crs, domain.crs)]
         )

@@ -11,7 +11,7 @@ from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline.domain import site_area
 from coastmesh.case.pipeline.state import CaseRun, MeshState, RunContext, missing
 from coastmesh.meshing import CleanupOptions, mesh_in_parts
-from coastmesh.meshing.cleanup.peel import peel_channels
+from coastmesh.meshing.cleanup.peel import lengthen_short_runs, peel_channels
 from coastmesh.meshing.gmsh import release_memory
 
 __all__ = ["channel_stage", "cleanup_options", "mesh_stage"]
@@ -49,23 +49,30 @@ def channel_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     With the channel term on and ``narrow = "close"`` (the default): what the
     closing before meshing could not see on its grid, peeled back from the
     channel's end (:func:`~coastmesh.meshing.cleanup.peel.peel_channels`);
-    never inside ``[[sites]]``.
+    never inside ``[[sites]]``. Then, whatever ``narrow`` says, a run of coast
+    between two open boundaries with fewer than three edges gets them
+    (:func:`~coastmesh.meshing.cleanup.peel.lengthen_short_runs`): Telemac
+    cannot take a shorter one.
     """
     config, state = run.config, run.mesh or missing("mesh")
     channels = config.size.channels
-    if not (channels.enabled and channels.narrow == "close"):
-        return run
-    with ctx.timed("channels one element wide"):
-        mesh = state.mesh
-        keep = None
-        sites = site_area(config, mesh.crs) if mesh.crs is not None else None
-        if sites is not None:
-            centres = mesh.points[mesh.triangles].mean(axis=1)
-            keep = shapely.contains_xy(sites, centres[:, 0], centres[:, 1])
-        peeled, report = peel_channels(mesh, keep)
-    if report.removed:
-        logger.info("channels: %s", report.summary())
-    return replace(run, mesh=replace(state, mesh=peeled, channels=report))
+    if channels.enabled and channels.narrow == "close":
+        with ctx.timed("channels one element wide"):
+            mesh = state.mesh
+            keep = None
+            sites = site_area(config, mesh.crs) if mesh.crs is not None else None
+            if sites is not None:
+                centres = mesh.points[mesh.triangles].mean(axis=1)
+                keep = shapely.contains_xy(sites, centres[:, 0], centres[:, 1])
+            peeled, report = peel_channels(mesh, keep)
+        if report.removed:
+            logger.info("channels: %s", report.summary())
+        state = replace(state, mesh=peeled, channels=report)
+    lengthened, split = lengthen_short_runs(state.mesh)
+    if split:
+        logger.info("boundary: %d edges split in runs of coast too short", split)
+        state = replace(state, mesh=lengthened)
+    return replace(run, mesh=state)
 
 
 def cleanup_options(config: CaseConfig) -> CleanupOptions | None:

@@ -395,3 +395,115 @@ def _flipped(mesh: Mesh) -> bool:
             if (u, v) == (b, a):
                 return True
     return False
+
+
+#: The fewest edges of a run of coast between two open boundaries (Telemac
+#: turns a shorter run open, or stops: BIEF front2.f).
+MIN_RUN_EDGES = 3
+
+
+def lengthen_short_runs(mesh: Mesh, min_edges: int = MIN_RUN_EDGES) -> tuple[Mesh, int]:
+    """Split the edges of runs of coast too short between two open boundaries.
+
+    A run (consecutive boundary edges of one shoreline id) with open boundaries
+    at both ends and fewer than ``min_edges`` edges has its longest edge split
+    at its midpoint (the triangle on it split in two) until it has enough.
+    Returns the mesh and the number of edges split.
+
+    Examples
+    --------
+    A unit square, its south side coast between open boundaries, one edge:
+
+    >>> m = Mesh([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1, 2], [0, 2, 3]],
+    ...          [[0, 1], [1, 2], [2, 3], [3, 0]], [1, 2, 2, 2], 1, None,
+    ...          boundary_kinds={1: "shoreline", 2: "open"})
+    >>> out, split = lengthen_short_runs(m)
+    >>> split, int((out.boundary_ids == 1).sum()), len(out.triangles)
+    (2, 3, 4)
+    """
+    kinds = mesh.boundary_kinds
+    if not any(k == "open" for k in kinds.values()):
+        return mesh, 0
+    edges = [tuple(e) for e in mesh.boundary_edges.tolist()]
+    ids = mesh.boundary_ids.tolist()
+    runs = _short_runs(edges, ids, kinds, min_edges)
+    if not runs:
+        return mesh, 0
+    points = [tuple(p) for p in mesh.points.tolist()]
+    tris = [list(t) for t in mesh.triangles.tolist()]
+    data = {k: list(np.asarray(v, dtype=float)) for k, v in mesh.point_data.items()}
+    split = 0
+    for short in runs:
+        run = list(short)
+        while len(run) < min_edges:
+            k = max(run, key=lambda e: _length(points, edges[e]))
+            u, v = edges[k]
+            m = len(points)
+            points.append(tuple((np.asarray(points[u]) + points[v]) / 2))
+            for values in data.values():
+                values.append((values[u] + values[v]) / 2)
+            t = next(i for i, tri in enumerate(tris) if u in tri and v in tri)
+            a, b, c = tris[t]
+            order = [(a, b), (b, c), (c, a)]
+            p, q = next(o for o in order if set(o) == {u, v})
+            w = ({a, b, c} - {u, v}).pop()
+            tris[t] = [p, m, w]
+            tris.append([m, q, w])
+            edges[k] = (u, m)
+            edges.append((m, v))
+            ids.append(ids[k])
+            run.append(len(edges) - 1)
+            split += 1
+    out = Mesh(
+        np.asarray(points),
+        np.asarray(tris),
+        np.asarray(edges),
+        np.asarray(ids),
+        mesh.surface_id,
+        mesh.crs,
+        {k: np.asarray(v) for k, v in data.items()},
+        dict(mesh.boundary_names),
+        dict(kinds),
+    )
+    return out, split
+
+
+def _length(points, edge) -> float:
+    (x0, y0), (x1, y1) = points[edge[0]], points[edge[1]]
+    return float(np.hypot(x1 - x0, y1 - y0))
+
+
+def _short_runs(edges, ids, kinds, min_edges: int) -> list[list[int]]:
+    """Return the runs of coast (edge indices) too short between open ends."""
+    at: dict[int, list[int]] = {}
+    for k, (u, v) in enumerate(edges):
+        at.setdefault(u, []).append(k)
+        at.setdefault(v, []).append(k)
+    seen: set[int] = set()
+    runs = []
+    for start, sid in enumerate(ids):
+        if start in seen or kinds.get(sid) != "shoreline":
+            continue
+        run, ends, stack = {start}, [], [start]
+        while stack:  # the edges of this id joined end to end
+            k = stack.pop()
+            for node in edges[k]:
+                nxt = [j for j in at[node] if j != k]
+                if len(nxt) != 1:
+                    ends.append(None)
+                    continue
+                j = nxt[0]
+                if ids[j] == sid:
+                    if j not in run:
+                        run.add(j)
+                        stack.append(j)
+                else:
+                    ends.append(ids[j])
+        seen |= run
+        if (
+            len(run) < min_edges
+            and len(ends) == 2
+            and all(kinds.get(e) == "open" for e in ends)
+        ):
+            runs.append(sorted(run))
+    return runs

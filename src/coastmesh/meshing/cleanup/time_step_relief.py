@@ -58,6 +58,9 @@ THROTTLE_RATIO = 0.65
 #: A coast collapse removes a shoreline node only if it lies within this share
 #: of the new boundary edge's length of it: the coast's shape changes by less.
 COAST_TOLERANCE = 0.15
+#: A run of coast between two open boundaries keeps more edges than this
+#: (Telemac turns a shorter one open, or stops).
+MIN_RUN = 3
 
 
 @dataclass(frozen=True, slots=True)
@@ -404,6 +407,29 @@ class _Collapser:
             if cross / span <= COAST_TOLERANCE * span:
                 return kept, gone, after
         return None
+
+    def _short_run(self, node: int, sid: int) -> bool:
+        """Whether ``node``'s run of id ``sid`` is short, between open boundaries.
+
+        :data:`MIN_RUN` edges or fewer (Telemac needs three).
+        """
+        edges, ends = 0, []
+        for first in self.coast[node]:
+            prev, at = node, first
+            while True:
+                edges += 1
+                links = self.coast.get(at)
+                if links is None or len(links) != 2:
+                    ends.append(None)
+                    break
+                nxt = next(n for n in links if n != prev)
+                if links[nxt] != sid:
+                    ends.append(links[nxt])
+                    break
+                if nxt == node or edges > MIN_RUN + 1:  # a ring, or long enough
+                    return False
+                prev, at = at, nxt
+        return edges <= MIN_RUN and all(e in self.open_ids for e in ends)
 
     def _relinked(self, a: int, b: int) -> tuple | None:
         """Return the new triangles if collapsing ``(a, b)`` leaves a valid mesh.
