@@ -11,7 +11,7 @@ from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline.domain import site_area
 from coastmesh.case.pipeline.state import CaseRun, MeshState, RunContext, missing
 from coastmesh.meshing import CleanupOptions, mesh_in_parts
-from coastmesh.meshing.cleanup.peel import lengthen_short_runs, peel_channels
+from coastmesh.meshing.cleanup.peel import open_short_runs, peel_channels
 from coastmesh.meshing.gmsh import release_memory
 
 __all__ = ["channel_stage", "cleanup_options", "mesh_stage"]
@@ -50,9 +50,9 @@ def channel_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     closing before meshing could not see on its grid, peeled back from the
     channel's end (:func:`~coastmesh.meshing.cleanup.peel.peel_channels`);
     never inside ``[[sites]]``. Then, whatever ``narrow`` says, a run of coast
-    between two open boundaries with fewer than three edges gets them
-    (:func:`~coastmesh.meshing.cleanup.peel.lengthen_short_runs`): Telemac
-    cannot take a shorter one.
+    between two open boundaries with fewer than three edges becomes part of
+    the open boundary (:func:`~coastmesh.meshing.cleanup.peel.open_short_runs`),
+    as Telemac would make it.
     """
     config, state = run.config, run.mesh or missing("mesh")
     channels = config.size.channels
@@ -68,10 +68,10 @@ def channel_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
         if report.removed:
             logger.info("channels: %s", report.summary())
         state = replace(state, mesh=peeled, channels=report)
-    lengthened, split = lengthen_short_runs(state.mesh)
-    if split:
-        logger.info("boundary: %d edges split in runs of coast too short", split)
-        state = replace(state, mesh=lengthened)
+    opened, relabelled = open_short_runs(state.mesh)
+    if relabelled:
+        logger.info("boundary: %d edges of short coast runs made open", relabelled)
+        state = replace(state, mesh=opened)
     return replace(run, mesh=state)
 
 

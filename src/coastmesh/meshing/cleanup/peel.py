@@ -402,13 +402,15 @@ def _flipped(mesh: Mesh) -> bool:
 MIN_RUN_EDGES = 3
 
 
-def lengthen_short_runs(mesh: Mesh, min_edges: int = MIN_RUN_EDGES) -> tuple[Mesh, int]:
-    """Split the edges of runs of coast too short between two open boundaries.
+def open_short_runs(mesh: Mesh, min_edges: int = MIN_RUN_EDGES) -> tuple[Mesh, int]:
+    """Make runs of coast too short between two open boundaries open boundary.
 
     A run (consecutive boundary edges of one shoreline id) with open boundaries
-    at both ends and fewer than ``min_edges`` edges has its longest edge split
-    at its midpoint (the triangle on it split in two) until it has enough.
-    Returns the mesh and the number of edges split.
+    at both ends and fewer than ``min_edges`` edges (a spit of coast one or two
+    elements long where two open boundaries were trimmed) takes the id of the
+    open boundary at one of its ends, as Telemac would make it open: every
+    format then has the same boundaries, and no element is made smaller.
+    Returns the mesh and the number of edges relabelled.
 
     Examples
     --------
@@ -417,9 +419,9 @@ def lengthen_short_runs(mesh: Mesh, min_edges: int = MIN_RUN_EDGES) -> tuple[Mes
     >>> m = Mesh([[0, 0], [1, 0], [1, 1], [0, 1]], [[0, 1, 2], [0, 2, 3]],
     ...          [[0, 1], [1, 2], [2, 3], [3, 0]], [1, 2, 2, 2], 1, None,
     ...          boundary_kinds={1: "shoreline", 2: "open"})
-    >>> out, split = lengthen_short_runs(m)
-    >>> split, int((out.boundary_ids == 1).sum()), len(out.triangles)
-    (2, 3, 4)
+    >>> out, relabelled = open_short_runs(m)
+    >>> relabelled, out.boundary_ids.tolist()
+    (1, [2, 2, 2, 2])
     """
     kinds = mesh.boundary_kinds
     if not any(k == "open" for k in kinds.values()):
@@ -429,52 +431,25 @@ def lengthen_short_runs(mesh: Mesh, min_edges: int = MIN_RUN_EDGES) -> tuple[Mes
     runs = _short_runs(edges, ids, kinds, min_edges)
     if not runs:
         return mesh, 0
-    points = [tuple(p) for p in mesh.points.tolist()]
-    tris = [list(t) for t in mesh.triangles.tolist()]
-    data = {k: list(np.asarray(v, dtype=float)) for k, v in mesh.point_data.items()}
-    split = 0
-    for short in runs:
-        run = list(short)
-        while len(run) < min_edges:
-            k = max(run, key=lambda e: _length(points, edges[e]))
-            u, v = edges[k]
-            m = len(points)
-            points.append(tuple((np.asarray(points[u]) + points[v]) / 2))
-            for values in data.values():
-                values.append((values[u] + values[v]) / 2)
-            t = next(i for i, tri in enumerate(tris) if u in tri and v in tri)
-            a, b, c = tris[t]
-            order = [(a, b), (b, c), (c, a)]
-            p, q = next(o for o in order if set(o) == {u, v})
-            w = ({a, b, c} - {u, v}).pop()
-            tris[t] = [p, m, w]
-            tris.append([m, q, w])
-            edges[k] = (u, m)
-            edges.append((m, v))
-            ids.append(ids[k])
-            run.append(len(edges) - 1)
-            split += 1
+    new = np.asarray(ids).copy()
+    for run, ends in runs:
+        new[run] = ends[0]
     out = Mesh(
-        np.asarray(points),
-        np.asarray(tris),
-        np.asarray(edges),
-        np.asarray(ids),
+        mesh.points,
+        mesh.triangles,
+        mesh.boundary_edges,
+        new,
         mesh.surface_id,
         mesh.crs,
-        {k: np.asarray(v) for k, v in data.items()},
+        dict(mesh.point_data),
         dict(mesh.boundary_names),
         dict(kinds),
     )
-    return out, split
+    return out, sum(len(run) for run, _ in runs)
 
 
-def _length(points, edge) -> float:
-    (x0, y0), (x1, y1) = points[edge[0]], points[edge[1]]
-    return float(np.hypot(x1 - x0, y1 - y0))
-
-
-def _short_runs(edges, ids, kinds, min_edges: int) -> list[list[int]]:
-    """Return the runs of coast (edge indices) too short between open ends."""
+def _short_runs(edges, ids, kinds, min_edges: int) -> list[tuple[list[int], list]]:
+    """Return the runs of coast too short between open ends: (edges, end ids)."""
     at: dict[int, list[int]] = {}
     for k, (u, v) in enumerate(edges):
         at.setdefault(u, []).append(k)
@@ -505,5 +480,5 @@ def _short_runs(edges, ids, kinds, min_edges: int) -> list[list[int]]:
             and len(ends) == 2
             and all(kinds.get(e) == "open" for e in ends)
         ):
-            runs.append(sorted(run))
+            runs.append((sorted(run), ends))
     return runs
