@@ -132,21 +132,10 @@ def interpolate_bilinear(
     )
     if len(x) < 2 or len(y) < 2:
         return np.full(px.shape, np.nan)
-    qx, qy = px.ravel(), py.ravel()
-    with np.errstate(invalid="ignore"):
-        bad = ~((qx >= x[0]) & (qx <= x[-1]) & (qy >= y[0]) & (qy <= y[-1]))
-    i = np.clip(np.searchsorted(x, qx, side="right") - 1, 0, len(x) - 2)
-    j = np.clip(np.searchsorted(y, qy, side="right") - 1, 0, len(y) - 2)
-    tx = (qx - x[i]) / (x[i + 1] - x[i])
-    ty = (qy - y[j]) / (y[j + 1] - y[j])
-    out = np.zeros(len(qx))
-    for dj, di, weight in (
-        (0, 0, (1.0 - tx) * (1.0 - ty)),
-        (0, 1, tx * (1.0 - ty)),
-        (1, 0, (1.0 - tx) * ty),
-        (1, 1, tx * ty),
-    ):
-        corner = values[j + dj, i + di]
+    bad, corners = _corners(x, y, px.ravel(), py.ravel())
+    out = np.zeros(px.size)
+    for (j, i), weight in corners:
+        corner = values[j, i]
         used = weight > 0
         bad |= used & np.isnan(corner)
         out += np.where(used, corner * weight, 0.0)
@@ -198,22 +187,11 @@ def interpolate_wet(
     )
     if len(x) < 2 or len(y) < 2:
         return np.full(px.shape, np.nan)
-    qx, qy = px.ravel(), py.ravel()
-    with np.errstate(invalid="ignore"):
-        bad = ~((qx >= x[0]) & (qx <= x[-1]) & (qy >= y[0]) & (qy <= y[-1]))
-    i = np.clip(np.searchsorted(x, qx, side="right") - 1, 0, len(x) - 2)
-    j = np.clip(np.searchsorted(y, qy, side="right") - 1, 0, len(y) - 2)
-    tx = (qx - x[i]) / (x[i + 1] - x[i])
-    ty = (qy - y[j]) / (y[j + 1] - y[j])
-    total = np.zeros(len(qx))
-    weights = np.zeros(len(qx))
-    for dj, di, weight in (
-        (0, 0, (1.0 - tx) * (1.0 - ty)),
-        (0, 1, tx * (1.0 - ty)),
-        (1, 0, (1.0 - tx) * ty),
-        (1, 1, tx * ty),
-    ):
-        corner = depth[j + dj, i + di]
+    bad, corners = _corners(x, y, px.ravel(), py.ravel())
+    total = np.zeros(px.size)
+    weights = np.zeros(px.size)
+    for (j, i), weight in corners:
+        corner = depth[j, i]
         used = weight > 0
         bad |= used & np.isnan(corner)
         with np.errstate(invalid="ignore"):
@@ -224,3 +202,23 @@ def interpolate_wet(
         out = np.where(weights > 0, total / weights, 0.0)
     out[bad] = np.nan
     return out.reshape(px.shape)
+
+
+def _corners(x, y, qx, qy):
+    """Return the points outside the cell centres, and each corner's cells and weight.
+
+    ``((rows, cols), weight)`` for the four corners of the cell around each
+    point, as bilinear interpolation weighs them.
+    """
+    with np.errstate(invalid="ignore"):
+        bad = ~((qx >= x[0]) & (qx <= x[-1]) & (qy >= y[0]) & (qy <= y[-1]))
+    i = np.clip(np.searchsorted(x, qx, side="right") - 1, 0, len(x) - 2)
+    j = np.clip(np.searchsorted(y, qy, side="right") - 1, 0, len(y) - 2)
+    tx = (qx - x[i]) / (x[i + 1] - x[i])
+    ty = (qy - y[j]) / (y[j + 1] - y[j])
+    return bad, (
+        ((j, i), (1.0 - tx) * (1.0 - ty)),
+        ((j, i + 1), tx * (1.0 - ty)),
+        ((j + 1, i), (1.0 - tx) * ty),
+        ((j + 1, i + 1), tx * ty),
+    )

@@ -179,6 +179,16 @@ class ShorelineSetConfig:
         return replace(self, name=c(schema.string, self.name, "name"))
 
 
+def _one_area(part, c: Check):
+    """Exactly one of ``box``, ``polygon`` (three points or more) and ``path``."""
+    given = [k for k in ("box", "polygon", "path") if getattr(part, k) is not None]
+    if len(given) != 1:
+        raise c.error("box", "give exactly one of box, polygon and path")
+    if part.polygon is not None and len(part.polygon) < 3:
+        raise c.error("polygon", "needs at least three points")
+    return part
+
+
 @dataclass(frozen=True)
 class RegionConfig:
     """``[[regions]]``: where a shoreline set is used.
@@ -202,12 +212,7 @@ class RegionConfig:
     )
 
     def _validate(self, c: Check) -> RegionConfig:
-        given = [k for k in ("box", "polygon", "path") if getattr(self, k) is not None]
-        if len(given) != 1:
-            raise c.error("box", "give exactly one of box, polygon and path")
-        if self.polygon is not None and len(self.polygon) < 3:
-            raise c.error("polygon", "needs at least three points")
-        return self
+        return _one_area(self, c)
 
 
 @dataclass(frozen=True)
@@ -237,12 +242,7 @@ class SiteConfig:
     )
 
     def _validate(self, c: Check) -> SiteConfig:
-        given = [k for k in ("box", "polygon", "path") if getattr(self, k) is not None]
-        if len(given) != 1:
-            raise c.error("box", "give exactly one of box, polygon and path")
-        if self.polygon is not None and len(self.polygon) < 3:
-            raise c.error("polygon", "needs at least three points")
-        return self
+        return _one_area(self, c)
 
 
 @dataclass(frozen=True)
