@@ -172,3 +172,85 @@ def test_a_strait_one_element_wide_between_an_island_and_the_coast_is_closed():
     strait = (centres[:, 0] > 3_000) & (centres[:, 0] < 5_000) & (centres[:, 1] < 80)
     assert not strait.any()
     assert set(peeled.boundary_ids.tolist()) == {1, 2}
+
+
+def _island_with_a_spike(tip: float) -> Domain:
+    """A 10 km bay open to the north, an island whose spike reaches ``tip`` m
+    from the south coast: water on both sides of the spike, joined around."""
+    outer = [(0, 0), (10_000, 0), (10_000, 10_000), (0, 10_000), (0, 0)]
+    island = [(3_000, 1_500), (4_000, tip), (5_000, 1_500), (5_000, 3_000)]
+    island += [(3_000, 3_000), (3_000, 1_500)]
+    return Domain(
+        shapely.Polygon(outer, [island]),
+        (
+            BoundarySegment(outer[:3], "shoreline", "coast", 1),
+            BoundarySegment(outer[2:4], "open", "north", 2),
+            BoundarySegment(outer[3:], "shoreline", "coast", 1),
+            BoundarySegment(island, "shoreline", "coast", 1),
+        ),
+        crs="EPSG:32631",
+    )
+
+
+@pytest.mark.parametrize("tip", [100.0, 200.0])
+def test_a_strait_at_a_pinch_is_closed_with_the_smaller_fan(tip):
+    # the spike's tip and the coast below it: one triangle with one boundary
+    # side, whose closing alone would leave the tip with four boundary sides
+    d = _island_with_a_spike(tip)
+    mesh = generate_mesh(d, _uniform(d, 300.0))
+    spans = mesh_quality(mesh).channel_spanning_triangles
+    assert len(spans) >= 1
+    peeled, report = peel_channels(mesh)
+    assert report.unpinched >= 1 and report.left == 0
+    assert len(mesh_quality(peeled).channel_spanning_triangles) == 0
+    assert _rings_ok(peeled)
+    # only the strait and a fan of the tip go: a few triangles, all near it
+    gone = len(mesh.triangles) - len(peeled.triangles)
+    assert 2 <= gone <= 12
+    kept = {
+        tuple(sorted(peeled.points[t].round(6).ravel()))
+        for t in peeled.triangles.tolist()
+    }
+    centres = mesh.points[mesh.triangles].mean(axis=1)
+    lost = [
+        i
+        for i, t in enumerate(mesh.triangles.tolist())
+        if tuple(sorted(mesh.points[t].round(6).ravel())) not in kept
+    ]
+    assert np.hypot(centres[lost, 0] - 4_000, centres[lost, 1] - tip / 2).max() < 900
+    # the island is now joined to the coast: one ring of boundary less
+    assert set(peeled.boundary_ids.tolist()) == {1, 2}
+
+
+def test_a_pinch_whose_fan_is_a_site_is_left_and_reported():
+    d = _island_with_a_spike(150.0)
+    mesh = generate_mesh(d, _uniform(d, 300.0))
+    centres = mesh.points[mesh.triangles].mean(axis=1)
+    keep = np.hypot(centres[:, 0] - 4_000, centres[:, 1]) < 1_000  # the site
+    peeled, report = peel_channels(mesh, keep)
+    assert report.removed == 0 and report.left >= 1
+    assert peeled is mesh
+
+
+def test_a_strait_that_is_the_only_way_to_a_sea_of_its_own_is_left():
+    # two basins, each with its own open boundary, joined only where a spike
+    # of the north coast comes within 150 m of the south coast: closing it
+    # would cut the west basin off (and drop it), so it stays, reported
+    ring = [(0, 0), (10_000, 0), (10_000, 4_000), (5_400, 4_000), (5_000, 150)]
+    ring += [(4_600, 4_000), (0, 4_000), (0, 0)]
+    d = Domain(
+        shapely.Polygon(ring),
+        (
+            BoundarySegment(ring[:2], "shoreline", "coast", 1),
+            BoundarySegment(ring[1:3], "open", "east", 2),
+            BoundarySegment(ring[2:7], "shoreline", "coast", 1),
+            BoundarySegment(ring[6:], "open", "west", 3),
+        ),
+        crs="EPSG:32631",
+    )
+    mesh = generate_mesh(d, _uniform(d, 300.0))
+    assert len(mesh_quality(mesh).channel_spanning_triangles) >= 1
+    peeled, report = peel_channels(mesh)
+    assert report.left == len(mesh_quality(peeled).channel_spanning_triangles) >= 1
+    assert report.cut_off == 0 and set(peeled.boundary_ids.tolist()) == {1, 2, 3}
+    assert _rings_ok(peeled)

@@ -57,6 +57,10 @@ class PeelReport(Report):
     cut_off : int
         Triangles of water the closing cut off from the largest piece (a
         lagoon behind a closed strait), taken out too.
+    unpinched : int
+        Straits whose closing would have pinched the boundary at a node (the
+        water on both sides touching there), closed with the smaller fan of
+        triangles around that node.
     """
 
     removed: int
@@ -65,12 +69,14 @@ class PeelReport(Report):
     left: int
     straits: int = 0
     cut_off: int = 0
+    unpinched: int = 0
 
     def summary(self) -> str:
         """Return a one-line summary."""
         return (
             f"{self.removed:,} triangles of {self.strips:,} dead-end channels and "
-            f"{self.straits:,} straits one element wide closed ({self.cut_off:,} "
+            f"{self.straits:,} straits one element wide closed ({self.unpinched:,} "
+            f"at a pinch; {self.cut_off:,} "
             f"cut off behind them; {self.nodes_removed:,} nodes); {self.left:,} "
             "spanning triangles left"
         )
@@ -116,13 +122,49 @@ def peel_channels(
     >>> len(peeled.triangles), report.removed, report.nodes_removed, report.left
     (5, 3, 3, 0)
     """
+    report = PeelReport(0, 0, 0, 0)
+    for _ in range(MAX_PASSES):
+        mesh, keep, found = _peel_once(mesh, keep)
+        report = _added(report, found)
+        if not found.removed:
+            return mesh, report
+    # the last pass took something out: what it left may hold new strips
+    return mesh, _added(report, PeelReport(0, 0, 0, _left(mesh)))
+
+
+#: Passes of peeling: a pinch closed with its fan can leave a new strip.
+MAX_PASSES = 3
+
+
+def _added(a: PeelReport, b: PeelReport) -> PeelReport:
+    """Return the reports of two passes summed (``left``: the last pass's)."""
+    return PeelReport(
+        removed=a.removed + b.removed,
+        nodes_removed=a.nodes_removed + b.nodes_removed,
+        strips=a.strips + b.strips,
+        left=b.left,
+        straits=a.straits + b.straits,
+        cut_off=a.cut_off + b.cut_off,
+        unpinched=a.unpinched + b.unpinched,
+    )
+
+
+def _peel_once(
+    mesh: Mesh, keep: NDArray[np.bool_] | None, blocked: frozenset[int] = frozenset()
+) -> tuple[Mesh, NDArray[np.bool_] | None, PeelReport]:
+    """One pass of :func:`peel_channels`; returns ``keep`` for the new mesh.
+
+    A strait whose closing would cut off water with an open boundary of its
+    own (forced water, not a lagoon) is left: the pass is done again with its
+    triangles in ``blocked``.
+    """
     tris = mesh.triangles
     n = len(mesh.points)
     on_boundary = np.zeros(n, dtype=bool)
     on_boundary[mesh.boundary_edges.ravel()] = True
     candidates = np.flatnonzero(on_boundary[tris].all(axis=1))
     if candidates.size == 0:
-        return mesh, PeelReport(0, 0, 0, 0)
+        return mesh, keep, PeelReport(0, 0, 0, 0)
     kinds = mesh.boundary_kinds
     side_id = {
         _edge(int(a), int(b)): int(i)
@@ -130,16 +172,12 @@ def peel_channels(
     }
     # the all-boundary triangles and, for their sides, the triangles on each
     alive = {int(t): tuple(int(v) for v in tris[t]) for t in candidates}
-    if keep is not None:
-        kept = set(np.flatnonzero(keep).tolist())
-        alive_ids = [t for t in alive if t not in kept]
-    else:
-        kept, alive_ids = set(), list(alive)
+    kept = set(np.flatnonzero(keep).tolist()) if keep is not None else set()
+    alive_ids = [t for t in alive if t not in kept]
     near = np.isin(tris, np.unique(tris[candidates])).any(axis=1)
     by_side: dict[tuple[int, int], list[int]] = {}
     for t in np.flatnonzero(near).tolist():
-        a, b, c = (int(v) for v in tris[t])
-        for side in (_edge(a, b), _edge(b, c), _edge(c, a)):
+        for side in _sides(tuple(int(v) for v in tris[t])):
             by_side.setdefault(side, []).append(t)
     removed: set[int] = set()
 
@@ -148,8 +186,7 @@ def peel_channels(
 
     def ear(t: int) -> tuple[tuple[int, int], list[tuple[int, int]]] | None:
         """Return the inner side and the boundary sides of an ear, else None."""
-        a, b, c = alive[t]
-        sides = (_edge(a, b), _edge(b, c), _edge(c, a))
+        sides = _sides(alive[t])
         outer = [s for s in sides if s in side_id]
         inner = [s for s in sides if s not in side_id]
         if len(outer) != 2 or len(inner) != 1:
@@ -160,14 +197,26 @@ def peel_channels(
 
     _peel_ears(alive_ids, alive, kept, removed, side_id, by_side, ear, open_)
     strips = _strips(alive, removed) if removed else 0
-    straits = _close_straits(alive, kept, removed, side_id, by_side, open_)
+    found = _Straits(tris, alive, kept | blocked, removed, side_id, by_side, open_)
+    straits, unpinched = found.close()
     if not removed:
-        return mesh, PeelReport(0, 0, 0, _spanning(alive, side_id, set()))
-    cut_off = _cut_off(mesh, removed)
+        return mesh, keep, PeelReport(0, 0, 0, _spanning(alive, side_id, set()))
+    cut_off, forced = _cut_off(mesh, removed)
+    if forced:
+        nodes = set(tris[sorted(forced)].ravel().tolist())
+        more = {
+            t
+            for run, group in found.closed
+            for t in run
+            if nodes & set(tris[sorted(group)].ravel().tolist())
+        }
+        if more - blocked:
+            return _peel_once(mesh, keep, blocked | more)
+        cut_off -= forced  # (not reached unless a peeled ear cut it off)
     removed |= cut_off
     left = _spanning(alive, side_id, removed)
-    report = PeelReport(0, 0, strips, left, straits, len(cut_off))
-    return _without(mesh, removed, side_id, report)
+    report = PeelReport(0, 0, strips, left, straits, len(cut_off), unpinched)
+    return _without(mesh, keep, removed, side_id, report)
 
 
 def _peel_ears(queue, alive, kept, removed, side_id, by_side, ear, open_) -> None:
@@ -192,46 +241,146 @@ def _peel_ears(queue, alive, kept, removed, side_id, by_side, ear, open_) -> Non
         queue.append(others[0])
 
 
-def _close_straits(alive, kept, removed, side_id, by_side, open_) -> int:
-    """Close the straits one element wide: runs of all-boundary triangles.
+class _Straits:
+    """The straits one element wide of one pass, and their closing.
 
     A run (all-boundary triangles joined by inner sides) that spans a channel
     and meets the rest of the mesh through one or two inner sides (its mouths)
     is taken out whole; its mouths take the run's commonest id (of its open
-    sides, if any: a strip along an open boundary cuts it back). Not where a
-    node would be left with more than two boundary sides (the boundary must
-    stay a set of rings).
-    Returns the number of runs closed; ``removed`` and ``side_id`` are updated.
+    sides, if any: a strip along an open boundary cuts it back). Where that
+    would leave a node with more than two boundary sides (the water on both
+    sides of the run touching at one node: the boundary must stay a set of
+    rings), the smaller fan of triangles around that node goes too, for at
+    most :data:`MAX_FANS` nodes a run.
     """
-    rest = {t for t in alive if t not in removed and t not in kept}
-    spanning = {t for t in rest if sum(s in side_id for s in _sides(alive[t])) <= 1}
-    seen: set[int] = set()
-    closed = 0
-    for start in sorted(spanning):
-        if start in seen:
-            continue
-        run = _run(start, alive, rest, side_id, by_side)
-        seen |= run
-        outer = [s for t in run for s in _sides(alive[t]) if s in side_id]
-        mouths = [
-            s
-            for t in run
-            for s in _sides(alive[t])
-            if s not in side_id
-            and any(u not in run and u not in removed for u in by_side.get(s, ()))
-        ]
-        if not 1 <= len(mouths) <= 2:
-            continue
-        # a strip along an open boundary: the open boundary is cut back
-        opened = [s for s in outer if open_(s)]
-        new_ids = _closed_sides(side_id, opened or outer, outer, mouths)
-        if not _rings(new_ids, {v for t in run for v in alive[t]}):
-            continue
-        side_id.clear()
-        side_id.update(new_ids)
-        removed |= run
-        closed += 1
-    return closed
+
+    def __init__(self, tris, alive, kept, removed, side_id, by_side, open_):
+        self.tris, self.alive, self.kept = tris, alive, kept
+        self.removed, self.side_id, self.by_side = removed, side_id, by_side
+        self.open_ = open_
+        #: (run, triangles taken out) of each strait closed
+        self.closed: list[tuple[set[int], set[int]]] = []
+
+    def close(self) -> tuple[int, int]:
+        """Close what can be; return the runs closed and those at a pinch."""
+        alive, side_id = self.alive, self.side_id
+        rest = {t for t in alive if t not in self.removed and t not in self.kept}
+        spanning = {t for t in rest if sum(s in side_id for s in _sides(alive[t])) <= 1}
+        seen: set[int] = set()
+        closed = unpinched = 0
+        for start in sorted(spanning):
+            if start in seen:
+                continue
+            run = _run(start, alive, rest, side_id, self.by_side)
+            seen |= run
+            outer = [s for t in run for s in _sides(alive[t]) if s in side_id]
+            mouths = [
+                s
+                for t in run
+                for s in _sides(alive[t])
+                if s not in side_id
+                and any(
+                    u not in run and u not in self.removed
+                    for u in self.by_side.get(s, ())
+                )
+            ]
+            if not 1 <= len(mouths) <= 2:
+                continue
+            # a strip along an open boundary: the open boundary is cut back
+            like = [side_id[s] for s in ([s for s in outer if self.open_(s)] or outer)]
+            grown = self._closed(run, max(set(like), key=like.count))
+            if grown is None:
+                continue
+            group, new_ids = grown
+            side_id.clear()
+            side_id.update(new_ids)
+            self.removed |= group
+            self.closed.append((run, group))
+            closed += 1
+            unpinched += len(group) > len(run)
+        return closed, unpinched
+
+    def _closed(self, run: set[int], like: int) -> tuple[set[int], dict] | None:
+        """Return the triangles to take out for ``run`` and the new side ids.
+
+        None if the boundary cannot be kept a set of rings, or a fan it would
+        need holds a site's triangle.
+        """
+        group = set(run)
+        for _ in range(MAX_FANS + 1):
+            new_ids, around = self._side_ids(group, like)
+            pinched = _pinched(new_ids, {v for t in group for v in self._tri(t)})
+            if not pinched:
+                return group, new_ids
+            fan = self._smaller_fan(pinched[0], group, new_ids, around)
+            if fan is None:
+                return None
+            group |= fan
+        return None
+
+    def _tri(self, t: int) -> tuple[int, int, int]:
+        a, b, c = (int(v) for v in self.tris[t])
+        return a, b, c
+
+    def _side_ids(self, group: set[int], like: int) -> tuple[dict, dict]:
+        """Return the boundary sides once ``group`` is out, and the sides near it.
+
+        A side of the group's that was boundary goes; one with water on its
+        other side becomes boundary with the id ``like``.
+        """
+        nodes = np.unique(self.tris[sorted(group)])
+        around: dict[tuple[int, int], list[int]] = {}
+        for t in np.flatnonzero(np.isin(self.tris, nodes).any(axis=1)).tolist():
+            if t in self.removed:
+                continue
+            for side in _sides(self._tri(t)):
+                around.setdefault(side, []).append(t)
+        new_ids = dict(self.side_id)
+        for t in group:
+            for side in _sides(self._tri(t)):
+                if side in self.side_id:
+                    new_ids.pop(side, None)
+                elif any(u not in group for u in around[side]):
+                    new_ids[side] = like
+        return new_ids, around
+
+    def _smaller_fan(self, node, group, new_ids, around) -> set[int] | None:
+        """Return the smaller fan of water around ``node`` (fans part at the boundary).
+
+        None if it holds a triangle of a site.
+        """
+        fans: list[set[int]] = []
+        left = {u for s, ts in around.items() if node in s for u in ts} - group
+        while left:
+            fan, stack = set(), [left.pop()]
+            while stack:
+                t = stack.pop()
+                fan.add(t)
+                for side in _sides(self._tri(t)):
+                    if node in side and side not in new_ids:
+                        for u in around[side]:
+                            if u in left:
+                                left.discard(u)
+                                stack.append(u)
+            fans.append(fan)
+        fans.sort(key=len)
+        if len(fans) < 2 or fans[0] & self.kept:
+            return None
+        return fans[0]
+
+
+#: Pinched nodes a run may free by taking out a fan of triangles.
+MAX_FANS = 2
+
+
+def _pinched(side_id: dict, nodes: set[int]) -> list[int]:
+    """Return the ``nodes`` with boundary sides other than none or two (pinches)."""
+    degree = dict.fromkeys(nodes, 0)
+    for a, b in side_id:
+        for v in (a, b):
+            if v in degree:
+                degree[v] += 1
+    return sorted(v for v, d in degree.items() if d not in (0, 2))
 
 
 def _run(start, alive, rest, side_id, by_side) -> set[int]:
@@ -249,37 +398,22 @@ def _run(start, alive, rest, side_id, by_side) -> set[int]:
     return run
 
 
-def _closed_sides(side_id: dict, like: list, outer: list, mouths: list) -> dict:
-    """Return the boundary sides without a run's; its mouths take ``like``'s id.
-
-    The commonest id of the sides ``like`` (the run's open sides, else all).
-    """
-    ids = [side_id[s] for s in like]
-    new_ids = dict(side_id)
-    for s in outer:
-        del new_ids[s]
-    for s in mouths:
-        new_ids[s] = max(set(ids), key=ids.count)
-    return new_ids
-
-
-def _rings(side_id: dict, nodes: set[int]) -> bool:
-    """Whether each of ``nodes`` has no boundary side or two (rings, no pinch)."""
-    degree = dict.fromkeys(nodes, 0)
-    for a, b in side_id:
-        for v in (a, b):
-            if v in degree:
-                degree[v] += 1
-    return all(d in (0, 2) for d in degree.values())
-
-
 def _sides(tri: tuple[int, int, int]) -> tuple[tuple[int, int], ...]:
     a, b, c = tri
     return (_edge(a, b), _edge(b, c), _edge(c, a))
 
 
-def _cut_off(mesh: Mesh, removed: set[int]) -> set[int]:
-    """Return the triangles no longer joined to the largest piece of water."""
+#: Open boundary sides that make water cut off by a closing a sea of its own.
+FORCED_SIDES = 10
+
+
+def _cut_off(mesh: Mesh, removed: set[int]) -> tuple[set[int], set[int]]:
+    """Return the triangles no longer joined to the largest piece of water.
+
+    And, of those, the ones in pieces with an open boundary of their own (at
+    least :data:`FORCED_SIDES` sides of it: fewer are a corner of an open
+    boundary trimmed at the coast, not a sea).
+    """
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
 
@@ -291,16 +425,26 @@ def _cut_off(mesh: Mesh, removed: set[int]) -> set[int]:
         np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]]), axis=1
     )
     owner = np.tile(np.arange(len(tris)), 3)
-    key = sides[:, 0] * len(mesh.points) + sides[:, 1]
+    n = len(mesh.points)
+    key = sides[:, 0] * n + sides[:, 1]
     order = np.argsort(key, kind="stable")
     same = key[order][1:] == key[order][:-1]
     a, b = owner[order][:-1][same], owner[order][1:][same]
     graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(len(tris), len(tris)))
     count, labels = connected_components(graph, directed=False)
     if count <= 1:
-        return set()
+        return set(), set()
     largest = np.bincount(labels).argmax()
-    return set(index[labels != largest].tolist())
+    kinds = mesh.boundary_kinds
+    opened = np.isin(mesh.boundary_ids, [i for i, k in kinds.items() if k == "open"])
+    edges = np.sort(mesh.boundary_edges[opened], axis=1)
+    open_sides = np.bincount(
+        labels[owner[np.isin(key, edges[:, 0] * n + edges[:, 1])]], minlength=count
+    )
+    forced_pieces = np.flatnonzero(open_sides >= FORCED_SIDES)
+    cut = labels != largest
+    forced = cut & np.isin(labels, forced_pieces)
+    return set(index[cut].tolist()), set(index[forced].tolist())
 
 
 def _strips(alive, removed: set[int]) -> int:
@@ -324,6 +468,24 @@ def _strips(alive, removed: set[int]) -> int:
     return len({root(t) for t in removed})
 
 
+def _left(mesh: Mesh) -> int:
+    """Count the triangles of ``mesh`` that span a channel.
+
+    Those with all their nodes on the boundary and at most one boundary side.
+    """
+    n = len(mesh.points)
+    on_boundary = np.zeros(n, dtype=bool)
+    on_boundary[mesh.boundary_edges.ravel()] = True
+    tris = mesh.triangles[on_boundary[mesh.triangles].all(axis=1)]
+    edges = np.sort(mesh.boundary_edges, axis=1)
+    keys = edges[:, 0] * n + edges[:, 1]
+    sides = np.zeros(len(tris), dtype=np.int64)
+    for k in range(3):
+        i, j = tris[:, k], tris[:, (k + 1) % 3]
+        sides += np.isin(np.minimum(i, j) * n + np.maximum(i, j), keys)
+    return int((sides <= 1).sum())
+
+
 def _spanning(alive, side_id, removed) -> int:
     """Count the all-boundary triangles with at most one boundary side."""
     count = 0
@@ -337,9 +499,16 @@ def _spanning(alive, side_id, removed) -> int:
 
 
 def _without(
-    mesh: Mesh, removed: set[int], side_id: dict, report: PeelReport
-) -> tuple[Mesh, PeelReport]:
-    """Return the mesh without the ``removed`` triangles; boundary from ``side_id``."""
+    mesh: Mesh,
+    sites: NDArray[np.bool_] | None,
+    removed: set[int],
+    side_id: dict,
+    report: PeelReport,
+) -> tuple[Mesh, NDArray[np.bool_] | None, PeelReport]:
+    """Return the mesh without the ``removed`` triangles; boundary from ``side_id``.
+
+    With ``sites`` (a flag per triangle), the flags of the triangles left.
+    """
     keep = np.ones(len(mesh.triangles), dtype=bool)
     keep[list(removed)] = False
     tris = mesh.triangles[keep]
@@ -381,8 +550,9 @@ def _without(
         left=report.left,
         straits=report.straits,
         cut_off=report.cut_off,
+        unpinched=report.unpinched,
     )
-    return peeled, report
+    return peeled, None if sites is None else sites[keep], report
 
 
 def _flipped(mesh: Mesh) -> bool:
