@@ -97,8 +97,10 @@ def _close_channels(state: DomainState, config: CaseConfig) -> DomainState:
     closed_count, closed_km2, passes = 0, 0.0, 0
     land: list[shapely.Geometry] = []
     report = None
+    polygons = None
     for _ in range(CLOSE_PASSES):
-        found, polygons = _narrow_water(state, config)
+        # after a cut, new narrow water can only be next to it: look there
+        found, polygons = _narrow_water(state, config, near=polygons)
         if not len(polygons):
             break
         _refuse_closing_all(state, config, found)
@@ -138,7 +140,7 @@ def _refuse_closing_all(state: DomainState, config: CaseConfig, found) -> None:
 
 
 def _narrow_water(
-    state: DomainState, config: CaseConfig
+    state: DomainState, config: CaseConfig, near: NDArray[np.object_] | None = None
 ) -> tuple[ChannelReport, NDArray[np.object_]]:
     """Find the narrow channels and slots of the domain, as polygons to close.
 
@@ -151,14 +153,25 @@ def _narrow_water(
     its cells, one cell wider (into the land, and past its mouth) and
     simplified, so that the cut is clean; none that touches an open boundary
     is closed.
+
+    With ``near`` (the polygons the last pass closed, in the domain's CRS),
+    only the water around them is measured (on the fine grid), and the slots
+    are left to the slivers' pass: a cut changes the width of nothing further.
     """
     domain, channels, h_min = state.domain, config.size.channels, floor(config.size)
     grid = size_grid(state, config)
     sites = site_area(config, state.mesh_crs)
-    labels, found = _channels(grid, domain, h_min, sites)
-    pieces = [(grid, labels, found)]
-    if found and grid.cell > h_min / 2:
-        pieces = _confirmed(grid, labels, domain, h_min, sites)
+    if near is not None:
+        # water farther than the widest disk measured from a cut keeps its width
+        reach = 1.05 * NARROW_ELEMENTS * h_min
+        bounds = shapely.bounds(reproject(near, domain.crs, grid.crs))
+        boxes = shapely.box(*(bounds + [-reach, -reach, reach, reach]).T)
+        pieces = _confirmed(grid, boxes, domain, h_min, sites)
+    else:
+        labels, found = _channels(grid, domain, h_min, sites)
+        pieces = [(grid, labels, found)]
+        if found and grid.cell > h_min / 2:
+            pieces = _confirmed(grid, _boxes(grid, labels), domain, h_min, sites)
     found = sorted((f for _, _, fs in pieces for f in fs), key=lambda f: -f[2])
     places = sorted(
         (p for g, _, fs in pieces for p in narrow_places(fs, g.x, g.y, g.crs)),
@@ -173,7 +186,11 @@ def _narrow_water(
         narrow_km2=sum(a for _, _, a, _ in found) / 1e6,
         worst=tuple(places[:20]),
     )
-    polygons = domain_slots(domain, state.mesh_crs, h_min / 2)
+    polygons = (
+        domain_slots(domain, state.mesh_crs, h_min / 2)
+        if near is None
+        else np.empty(0, dtype=object)
+    )
     opened = [shapely.LineString(s.coords) for s in domain.segments if s.kind == "open"]
     opened = densified(domain, opened, state.mesh_crs) if opened else None
     for g, lab, fs in pieces:
@@ -209,19 +226,8 @@ def _channels(grid: PlaneGrid, domain, h_min: float, sites):
     return narrow_channels(width, sea, h_min=h_min, cell=grid.cell)
 
 
-def _confirmed(grid: PlaneGrid, labels, domain, h_min: float, sites):
-    """Measure each candidate channel again on a grid of ``h_min / 2`` around it.
-
-    The candidates' boxes, merged where their windows overlap, each on its own
-    fine grid: the margin (the widest disk measured, and a cell) keeps the
-    window's frame from making water look narrow inside the box, since a disk
-    that holds a node of the box lies within the margin. The domain's polygon
-    and lines are moved to the grid's CRS once, and clipped to each window
-    (:func:`~coastmesh.sizing.channel.window_width`). Returns ``(grid, labels,
-    found)`` per window.
-    """
-    max_width = 1.05 * NARROW_ELEMENTS * h_min
-    margin = max_width + h_min
+def _boxes(grid: PlaneGrid, labels) -> list[shapely.Polygon]:
+    """Return the box of each labelled candidate, a cell wider all round."""
     boxes = []
     for sl in ndimage.find_objects(labels):
         if sl is None:
@@ -235,6 +241,22 @@ def _confirmed(grid: PlaneGrid, labels, domain, h_min: float, sites):
                 grid.y[rows.stop - 1] + grid.cell,
             )
         )
+    return boxes
+
+
+def _confirmed(grid: PlaneGrid, boxes, domain, h_min: float, sites):
+    """Measure the water in ``boxes`` (candidates) on a grid of ``h_min / 2``.
+
+    The boxes, merged where their windows overlap, each on its own fine
+    grid: the margin (the widest disk measured, and a cell) keeps the
+    window's frame from making water look narrow inside the box, since a disk
+    that holds a node of the box lies within the margin. The domain's polygon
+    and lines are moved to the grid's CRS once, and clipped to each window
+    (:func:`~coastmesh.sizing.channel.window_width`). Returns ``(grid, labels,
+    found)`` per window.
+    """
+    max_width = 1.05 * NARROW_ELEMENTS * h_min
+    margin = max_width + h_min
     merged = shapely.get_parts(shapely.union_all(shapely.buffer(boxes, margin)))
     water = densified(domain, [domain.polygon], grid.crs)[0]
     lines = {"shoreline": [], "open": []}
