@@ -37,26 +37,6 @@ COASTS = ROOT / "tests" / "data" / "coasts"
 NAMES = ("vestfjorden", "shetland", "oresund")
 
 
-#: Targets not met yet (issue 31 is open): the value measured, which must not
-#: get worse; the test is an expected failure until the target is met.
-KNOWN_GAPS = {
-    ("vestfjorden", "spanning"): 3,
-    ("shetland", "spanning"): 2,
-    ("vestfjorden", "min_over_p1"): 0.58,
-}
-
-
-def _known_gap(name: str, target: str, value: float, met: bool, worse) -> None:
-    """Fail if a known gap got worse; xfail it while the target is not met."""
-    known = KNOWN_GAPS.get((name, target))
-    if known is None or met:
-        return
-    assert not worse(value, known), (
-        f"{name}: {target} = {value:g}, worse than the {known:g} measured before"
-    )
-    pytest.xfail(f"issue 31 open: {name} {target} = {value:g} (target not met yet)")
-
-
 def _bench():
     """``benchmarks/bench_model_ready.py``: its measures are the table's."""
     path = ROOT / "benchmarks" / "bench_model_ready.py"
@@ -89,7 +69,6 @@ def test_no_triangle_spans_a_channel(coast):
     result, messages = coast
     spanning = len(result.report.quality.channel_spanning_triangles)
     warned = [m for m in messages if "span a channel" in m]
-    _known_gap(result.name, "spanning", spanning, spanning == 0, lambda v, k: v > k)
     assert spanning == 0, (
         f"{result.name}: {spanning} channel-spanning triangles (target 0): {warned}"
     )
@@ -99,8 +78,6 @@ def test_no_element_throttles_the_time_step(coast):
     result, _ = coast
     ts = result.report.quality.time_step
     assert ts is not None, f"{result.name}: no time step measured"
-    ratio = ts.min_over_p1
-    _known_gap(result.name, "min_over_p1", ratio, ratio >= 0.6, lambda v, k: v < k)
     assert ts.min_over_p1 >= 0.6, (
         f"{result.name}: worst stable time step {ts.min:.3g} s is "
         f"{ts.min_over_p1:.3f} of the 1st percentile's {ts.p1:.3g} s (target "

@@ -352,3 +352,138 @@ def test_the_last_edge_of_a_boundary_id_and_sharp_coasts_stay():
     bent = _with_ids(pts, tri, hull)
     out, _ = relieve_time_step(bent)
     assert [580.0, 40.0] in out.points.tolist()
+
+
+# --- moving nodes: a literal compass search -------------------------------------
+
+
+def move_reference(xy, tris, depth, velocity, node, min_angle, steps=8):
+    """Where ``node`` goes: the compass search, by loops over the list mesh.
+
+    The neighbours' mean first, then eight directions at a step of 0.2 of the
+    shortest edge at the node, halved whenever no place beats the best
+    smallest time step of the node's triangles by a millionth; a place must
+    keep every triangle's area positive and no angle below both ``min_angle``
+    and the smallest before.
+    """
+    star = [t for t in tris if t is not None and node in t]
+    floor = min(min_angle, *(_min_angle(xy, t) for t in star))
+
+    def score(p):
+        moved = list(xy)
+        moved[node] = p
+        if any(_area(moved, t) <= 0 or _min_angle(moved, t) < floor for t in star):
+            return -math.inf
+        return min(_time_step(moved, t, depth, velocity) for t in star)
+
+    best = min(_time_step(xy, t, depth, velocity) for t in star)
+    here = xy[node]
+    near = sorted({v for t in star for v in t} - {node})
+    step = 0.2 * min(math.dist(xy[v], here) for v in near)
+    tries = [tuple(sum(xy[v][k] for v in near) / len(near) for k in range(2))]
+    for _ in range(steps):
+        places = tries + [
+            (
+                here[0] + step * math.cos(k * math.pi / 4),
+                here[1] + step * math.sin(k * math.pi / 4),
+            )
+            for k in range(8)
+        ]
+        tries = []
+        scores = [score(p) for p in places]
+        k = scores.index(max(scores))
+        if scores[k] > best * (1 + 1e-6):
+            best, here = scores[k], places[k]
+        else:
+            step /= 2
+    return here
+
+
+@given(st.integers(0, 2**32 - 1), st.integers(12, 40), st.floats(10, 40))
+@settings(max_examples=30, deadline=None)
+def test_a_move_matches_the_reference(seed, n, min_angle):
+    mesh = random_mesh(seed, n)
+    fixed = boundary_nodes(mesh.triangles, n)
+    depth = mesh.point_data["depth"]
+    work = _Collapser(mesh.points, mesh.triangles, fixed, depth, 0.5)
+    xy = [tuple(p) for p in mesh.points.tolist()]
+    tris = [tuple(t) for t in mesh.triangles.tolist()]
+    free = np.flatnonzero(~fixed)
+    if not free.size:
+        return
+    node = int(free[seed % free.size])
+    want = move_reference(xy, tris, depth.tolist(), 0.5, node, min_angle)
+    found = work.place_inside(node, min_angle)
+    assert (found is not None) == (want != xy[node])
+    if found is None:
+        return
+    np.testing.assert_allclose(found[1], want, rtol=0, atol=1e-6)
+    # the triangles' time steps follow the node
+    work._move(node, found[1])
+    star = sorted(work.star(node))
+    again = [_time_step([tuple(p) for p in work.xy], tris[t], depth, 0.5) for t in star]
+    np.testing.assert_allclose(work.dt[star], again, rtol=1e-9)
+    assert min(again) == pytest.approx(found[0], rel=1e-9)
+
+
+def test_the_move_comparison_sees_moves():
+    # not vacuous: on random meshes some free node does move
+    moved = 0
+    for seed in range(10):
+        mesh = random_mesh(seed, 30)
+        fixed = boundary_nodes(mesh.triangles, 30)
+        work = _Collapser(
+            mesh.points, mesh.triangles, fixed, mesh.point_data["depth"], 0.0
+        )
+        free = np.flatnonzero(~fixed).tolist()
+        moved += sum(work.place_inside(v, 20.0) is not None for v in free)
+    assert moved >= 10
+
+
+def test_a_pass_of_moves_lifts_a_node_squeezed_against_the_coast():
+    # the node above coast node 5 pulled 70 m down: two small triangles at
+    # the coast; a pass of moves lifts it, and nothing turns over
+    pts, tri, hull = _square_grid()
+    pts[12 + 5, 1] -= 70.0
+    fixed = np.zeros(144, dtype=bool)
+    fixed[hull.ravel()] = True
+    work = _Collapser(pts, tri, fixed, np.full(144, 50.0), 0.0)
+    before = work.dt.min() / np.percentile(work.dt, 1)
+    assert work.move_pass(THROTTLE_RATIO, 30.0) >= 1
+    assert work.xy[17, 1] > 30.0 and (work.xy[fixed] == pts[fixed]).all()
+    assert work.dt.min() / np.percentile(work.dt, 1) > max(before, 0.6)
+    assert all(_area(work.xy.tolist(), t) > 0 for t in tri.tolist())
+
+
+def test_a_coast_node_slides_along_a_straight_coast_only():
+    from coastmesh.meshing.cleanup.time_step_relief import _coast_links
+
+    # coast node 5 moved 80 m east along the straight coast y = 0: it slides
+    # back along it (west), and stays on y = 0
+    mesh = _with_ids(*_square_grid())
+    fixed = np.zeros(144, dtype=bool)
+    fixed[mesh.boundary_edges.ravel()] = True
+    depth = mesh.point_data["depth"]
+    work = _Collapser(mesh.points, mesh.triangles, fixed, depth, 0.0)
+    work.coast = _coast_links(mesh)
+    star = sorted(work.star(5))
+    before = work.dt[star].min()
+    found = work.place_on_coast(5, 30.0)
+    assert found is not None and found[0] > before
+    work._move(5, found[1])
+    assert work.xy[5, 1] == 0.0 and 500.0 <= work.xy[5, 0] < 580.0
+    assert work.dt[star].min() == pytest.approx(found[0])
+    assert work.place_on_coast(5, 30.0) is None  # a node slides once
+    # a corner (node 5 also 40 m into the sea) does not slide: the coast
+    # would move by more than 15 % of the new edge's length
+    pts, tri, hull = _square_grid()
+    pts[5, 1] = 40.0
+    bent = _with_ids(pts, tri, hull)
+    work = _Collapser(bent.points, bent.triangles, fixed, depth, 0.0)
+    work.coast = _coast_links(bent)
+    assert work.place_on_coast(5, 30.0) is None
+    # nor does a node of an open boundary
+    work = _Collapser(mesh.points, mesh.triangles, fixed, depth, 0.0)
+    work.coast = _coast_links(mesh)
+    work.open_ids = {1}
+    assert work.place_on_coast(5, 30.0) is None

@@ -1,30 +1,38 @@
-"""Edge collapses that lift the few elements capping a mesh's stable time step.
+"""Edge collapses and node moves that lift the few elements capping the time step.
 
-An explicit shallow-water model runs at the smallest element time step
-``dt_e = r_in / (sqrt(g d) + u)`` (:mod:`~coastmesh.meshing.quality.time_step`). Gmsh
+An explicit shallow-water model runs at the smallest element time step ``dt_e =
+r_in / (sqrt(g d) + u)`` (:mod:`~coastmesh.meshing.quality.time_step`). Gmsh
 makes a few elements 0.6 of the requested size; in deep water they cap the
 whole model's time step: the smallest ``dt_e`` over their 1st percentile is 0.4
 to 0.55 on the NW European shelf meshes, where 0.6 means that no element
-throttles. :func:`relieve_time_step` collapses an edge of each, in the
-conformal plane the cleanup works in (angles there are angles on the Earth).
+throttles. :func:`relieve_time_step` collapses an edge of each, or moves a
+node, in the conformal plane the cleanup works in (angles there are angles on
+the Earth).
 
 Each pass takes the triangles below ``ratio`` times the 1st percentile of the
 time steps, smallest first, and collapses the shortest of their edges that
-passes: into its boundary node, else at the midpoint, with the deeper depth.
-Boundary nodes never move; one goes only by a *coast collapse*: a boundary
-edge collapsed into its other end, where the node has two boundary edges and
-lies within :data:`COAST_TOLERANCE` times the new edge's length of it (the
-boundary moves by at most that: 15 m for a 100 m edge). Along a shoreline the
-new edge keeps its id; where ids change (a short piece of an open boundary
+passes: into its boundary node, else at the midpoint, with the deeper depth. A
+collapse never moves a boundary node; one goes only by a *coast collapse*: a
+boundary edge collapsed into its other end, where the node has two boundary
+edges and lies within :data:`COAST_TOLERANCE` times the new edge's length of it
+(the boundary moves by at most that: 15 m for a 100 m edge). Along a shoreline
+the new edge keeps its id; where ids change (a short piece of an open boundary
 between two pieces of coast, left where the open boundary was trimmed at a
 spit) the piece goes, and the new edge takes the id of the edge beyond, but
-never the last edge of an id. A collapse passes if the mesh stays valid
-(link condition, positive areas, no new edge between boundary nodes, no node
-left bare), no angle falls below both ``min_angle`` and the smallest it
-replaces, and the smallest time step around rises. The result is kept only if,
-on the Earth, the smallest time step over its 1st percentile rose and neither
-the minimum angle nor its 1st percentile fell (below ``keep_angles``, when
-given: a case gives Gmsh's own mesh's, as the cleanup does).
+never the last edge of an id. A collapse passes if the mesh stays valid (link
+condition, positive areas, no new edge between boundary nodes, no node left
+bare), no angle falls below both ``min_angle`` and the smallest it replaces,
+and the smallest time step around rises. After the collapses of a pass, each
+triangle still below ``ratio`` times the 1st percentile has a node moved: of
+its nodes, the one whose move lifts the smallest time step of its own triangles
+most, while the triangle throttles. A node inside goes where that time step is
+largest (a compass search, under the same angle rule, no triangle turned over);
+a shoreline node between two edges of one id slides along one of them, once,
+where its first place stays within :data:`COAST_TOLERANCE` times the new edges'
+length of the new coast (open boundaries never move). The result is kept only
+if, on the Earth, the smallest time step over its 1st percentile rose and
+neither the minimum angle nor its 1st percentile fell (below ``keep_angles``,
+when given: a case gives Gmsh's own mesh's, as the cleanup does).
 """
 
 from __future__ import annotations
@@ -81,6 +89,9 @@ class ThrottleReport(Report):
         throttles, no collapse passes, or their result is rejected.
     coast_collapses : int
         Of the collapses, those that took a boundary node along the boundary.
+    moves : int
+        Nodes inside the mesh moved (a node of a throttling triangle, where
+        the smallest time step of its triangles rose).
     """
 
     throttling_before: int
@@ -94,6 +105,7 @@ class ThrottleReport(Report):
     min_angle_p1_after: float
     accepted: bool
     coast_collapses: int = 0
+    moves: int = 0
 
     def summary(self) -> str:
         """Return a one-line summary.
@@ -103,8 +115,8 @@ class ThrottleReport(Report):
         >>> print(ThrottleReport(3, 0, 2, 0.45, 0.7, 20, 21, 30, 30, True).summary())
         ... # doctest: +NORMALIZE_WHITESPACE
         time step relieved: min / p1 0.45 -> 0.70 (target >= 0.6), throttling 3 -> 0
-        (2 collapses, 0 along the boundary); min angle 20.0 -> 21.0 deg, 1st
-        percentile 30.0 -> 30.0 deg
+        (2 collapses, 0 along the boundary, 0 nodes moved); min angle 20.0 -> 21.0
+        deg, 1st percentile 30.0 -> 30.0 deg
         """
         return (
             f"time step {'relieved' if self.accepted else 'unchanged'}: min / p1 "
@@ -112,9 +124,10 @@ class ThrottleReport(Report):
             f"(target >= {MIN_OVER_P1_TARGET:g}), throttling "
             f"{self.throttling_before} -> {self.throttling_after} "
             f"({self.collapses} collapses, {self.coast_collapses} along the "
-            f"boundary); min angle {self.min_angle_before:.1f} "
-            f"-> {self.min_angle_after:.1f} deg, 1st percentile "
-            f"{self.min_angle_p1_before:.1f} -> {self.min_angle_p1_after:.1f} deg"
+            f"boundary, {self.moves} nodes moved); min angle "
+            f"{self.min_angle_before:.1f} -> {self.min_angle_after:.1f} deg, 1st "
+            f"percentile {self.min_angle_p1_before:.1f} -> "
+            f"{self.min_angle_p1_after:.1f} deg"
         )
 
 
@@ -202,15 +215,16 @@ def relieve_time_step(
     ids, counts = np.unique(mesh.boundary_ids, return_counts=True)
     work.edges_of = dict(zip(ids.tolist(), counts.tolist(), strict=True))
     work.open_ids = {k for k, kind in mesh.boundary_kinds.items() if kind == "open"}
-    collapses = 0
+    collapses = moves = 0
     for _ in range(passes):
         made = work.run_pass(ratio, min_angle)
-        collapses += made
-        if not made:
+        moved = work.move_pass(ratio, min_angle)
+        collapses, moves = collapses + made, moves + moved
+        if not made and not moved:
             break
     before = after = _measures(mesh, xy, velocity, ratio)
     new, accepted = mesh, False
-    if collapses:
+    if collapses or moves:
         new = work.result(mesh, to_plane)
         after = _measures(new, work.xy[~work.removed], velocity, ratio)
         keep = keep_angles or (before["min_angle"], before["min_angle_p1"])
@@ -219,13 +233,14 @@ def relieve_time_step(
         )
         logger.debug("throttle: %d collapses, %s -> %s", collapses, before, after)
     if not accepted:
-        new, after, collapses = mesh, before, 0
+        new, after, collapses, moves = mesh, before, 0, 0
     report = ThrottleReport(
         **{f"{name}_before": value for name, value in before.items()},
         **{f"{name}_after": value for name, value in after.items()},
         collapses=collapses,
         accepted=accepted,
         coast_collapses=work.coast_collapses if accepted else 0,
+        moves=moves,
     )
     return new, report
 
@@ -284,6 +299,24 @@ def _plane_time_steps(pts: NDArray, corner_depth: NDArray, velocity: float) -> N
     speed = wave_speed(deepest, velocity)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         return np.where(speed > 0, r_in / speed, np.inf)
+
+
+#: Steps of the compass search that moves a node (:meth:`_Collapser.try_move`).
+MOVE_STEPS = 8
+_COMPASS = np.array(
+    [[np.cos(a), np.sin(a)] for a in np.arange(8) * np.pi / 4], dtype=np.float64
+)
+
+
+#: Where a shoreline node may slide, as shares of one of its edges.
+_SLIDES = (0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4)
+
+
+def _to_segment(p: NDArray, a: NDArray, b: NDArray) -> float:
+    """Return the distance from point ``p`` to the segment ``a``-``b``."""
+    ab = b - a
+    t = np.clip(np.dot(p - a, ab) / max(float(np.dot(ab, ab)), 1e-300), 0.0, 1.0)
+    return float(np.linalg.norm(p - (a + t * ab)))
 
 
 # Edge collapse is hand-written: no maintained Python library among our
@@ -345,6 +378,141 @@ class _Collapser:
                     made += 1
         return made
 
+    def move_pass(self, ratio: float, min_angle: float) -> int:
+        """Move the nodes of each triangle below ``ratio`` x p1; return how many.
+
+        Of a triangle's nodes, the one whose move lifts the smallest time step
+        of its own triangles most goes first, and so on while the triangle
+        throttles: a node inside where that time step is largest
+        (:meth:`place_inside`), a node of a shoreline along it
+        (:meth:`place_on_coast`). The worst triangles first.
+        """
+        live = np.flatnonzero(self.alive & np.isfinite(self.dt))
+        if not live.size:
+            return 0
+        limit = ratio * np.percentile(self.dt[live], 1)
+        worst = live[self.dt[live] < limit]
+        moved = 0
+        for t in worst[np.argsort(self.dt[worst], kind="stable")].tolist():
+            for _ in range(3):
+                if not self.alive[t] or self.dt[t] >= limit:
+                    break
+                options = [self._place(node, min_angle) for node in self.tri[t]]
+                best = max((o for o in options if o is not None), default=None)
+                if best is None:
+                    break
+                _, node, place = best
+                moved += self._move(node, place)
+        return moved
+
+    def _place(self, node: int, min_angle: float) -> tuple | None:
+        """Return (time step, node, place) of ``node``'s best move; None if none."""
+        node = int(node)
+        if self.removed[node]:
+            return None
+        if not self.fixed[node]:
+            found = self.place_inside(node, min_angle)
+        elif node in self.coast:
+            found = self.place_on_coast(node, min_angle)
+        else:
+            return None
+        return None if found is None else (found[0], node, found[1])
+
+    def _star(self, node: int) -> NDArray[np.int64]:
+        return np.fromiter(self.star(node), dtype=np.int64)
+
+    def place_inside(self, node: int, min_angle: float) -> tuple | None:
+        """Return ``node``'s best place inside and its star's smallest time step.
+
+        None if no place beats where it is.
+
+        A compass search (eight directions, the step halved when none is
+        better; the neighbours' mean tried first) among the places where every
+        triangle of the star keeps a positive area and no angle falls below
+        both ``min_angle`` and the star's smallest.
+        """
+        here = self.xy[node].copy()
+        star = self._star(node)
+        near = np.unique(self.tri[star].ravel())
+        near = near[near != node]
+        step = 0.2 * np.linalg.norm(self.xy[near] - here, axis=1).min()
+        start = best = self.dt[star].min()
+        tries = [self.xy[near].mean(axis=0)[None, :]]
+        for _ in range(MOVE_STEPS):
+            places = np.concatenate([*tries, here + step * _COMPASS])
+            tries = []
+            score, k = self._best_place(node, star, places, min_angle)
+            if score > best * (1 + 1e-6):
+                best, here = score, places[k]
+            else:
+                step /= 2
+        return None if best == start else (best, here)
+
+    def place_on_coast(self, node: int, min_angle: float) -> tuple | None:
+        """Return a shoreline node's best place along its coast, and time step.
+
+        None if none helps.
+
+        Only a node not yet moved, between two shoreline edges of one id whose
+        other ends have not moved either; the place is on one of the edges,
+        where the node's first place lies within :data:`COAST_TOLERANCE` times
+        the new edges' length of the new coast (as for a coast collapse).
+        """
+        links = self.coast[node]
+        ends = list(links)
+        sids = set(links.values())
+        moved = [n for n in (node, *ends) if (self.xy[n] != self.xy0[n]).any()]
+        if len(ends) != 2 or len(sids) != 1 or sids & self.open_ids or moved:
+            return None
+        b = self.xy[node]
+        places, off = [], []
+        for end, other in ((ends[0], ends[1]), (ends[1], ends[0])):
+            for f in _SLIDES:
+                p = b + f * (self.xy[end] - b)
+                c = self.xy[other]
+                shortest = min(np.linalg.norm(self.xy[end] - p), np.linalg.norm(c - p))
+                off.append(_to_segment(b, p, c) <= COAST_TOLERANCE * shortest)
+                places.append(p)
+        places = np.asarray(places)[np.asarray(off)]
+        if not len(places):
+            return None
+        star = self._star(node)
+        score, k = self._best_place(node, star, places, min_angle)
+        if score <= self.dt[star].min() * (1 + 1e-6):
+            return None
+        return score, places[k]
+
+    def _best_place(self, node, star, places, min_angle) -> tuple[float, int]:
+        """Return the best smallest time step of ``star`` over ``node``'s places.
+
+        Places where a triangle of the star would turn over, or an angle fall
+        below both ``min_angle`` and the star's smallest, score -inf.
+        """
+        tris = self.tri[star]
+        pts, at = self.xy[tris], tris == node
+        floor = min(min_angle, triangle_angles(pts).min())
+        moved = np.repeat(pts[None], len(places), axis=0)
+        moved[:, at] = places[:, None, :]
+        flat = moved.reshape(-1, 3, 2)
+        depth = np.tile(self.depth[tris], (len(places), 1))
+        dt = _plane_time_steps(flat, depth, self.velocity).reshape(len(places), -1)
+        ok = (signed_areas(flat) > 0) & (triangle_angles(flat).min(axis=1) >= floor)
+        score = np.where(
+            ok.reshape(len(places), -1).all(axis=1), dt.min(axis=1), -np.inf
+        )
+        k = int(np.argmax(score))
+        return float(score[k]), k
+
+    def _move(self, node: int, place: NDArray) -> bool:
+        """Put ``node`` at ``place``; update the time steps of its triangles."""
+        self.xy[node] = place
+        star = self._star(node)
+        tris = self.tri[star]
+        self.dt[star] = _plane_time_steps(
+            self.xy[tris], self.depth[tris], self.velocity
+        )
+        return True
+
     def best_collapse(self, t: int, min_angle: float) -> tuple | None:
         """Return the first collapse of an edge of ``t`` that passes, shortest first.
 
@@ -387,7 +555,7 @@ class _Collapser:
 
         ``gone`` has two shoreline edges of one id (to ``kept`` and to
         ``next``) and lies within :data:`COAST_TOLERANCE` of edge
-        ``(kept, next)``'s length from it.
+        ``(kept, next)``'s length from it; none of the three has slid.
         """
         for kept, gone in ((a, b), (b, a)):
             links = self.coast.get(gone)
@@ -399,6 +567,8 @@ class _Collapser:
                 continue  # the last edge of a boundary id
             if own == links[after] and own in self.open_ids:
                 continue  # an open boundary keeps its nodes
+            if (self.xy[[kept, gone, after]] != self.xy0[[kept, gone, after]]).any():
+                continue  # slid along the coast already: the shape moves once
             p, q, r = self.xy[kept], self.xy[after], self.xy[gone]
             span = float(np.linalg.norm(q - p))
             if span == 0 or after == kept:
