@@ -16,6 +16,7 @@ from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry.domain import (
     OpenBoundary,
     build_domain,
+    domain_with_land,
     polygon_areas,
     smaller_than,
 )
@@ -125,6 +126,49 @@ def test_real_orkney_closed_by_loxodromes():
     assert sum(len(s.coords) - 1 for s in domain.segments) == sum(
         len(r.coords) - 1 for r in [domain.polygon.exterior, *domain.polygon.interiors]
     )
+
+
+def _orkney():
+    features = json.loads(data_path("orkney_gshhg_f.geojson").read_text())["features"]
+    land = [shapely.from_geojson(json.dumps(f["geometry"])) for f in features]
+    box = [(-3.5, 58.6), (-3.5, 59.45), (-2.35, 59.45), (-2.35, 58.62), (-3.5, 58.62)]
+    walls = [OpenBoundary(np.array(box), "open", 2)]
+    shorelines = [("far", 10, None), ("near", 11, shapely.box(-3.3, 58.7, -3.0, 59.0))]
+    return land, walls, shorelines
+
+
+@settings(deadline=None, max_examples=15)
+@given(st.integers(0, 2**32 - 1), st.integers(1, 12))
+def test_closing_water_is_building_the_domain_again(seed, count):
+    # small boxes of water made land, some across the coast, some joining
+    # islands, some cutting water off: the same domain, boundary and report
+    # as building it again from the land with them added
+    land, walls, shorelines = _orkney()
+    options = {"seed": (-3.1, 58.85), "min_area": 1e5, "shorelines": shorelines}
+    domain, report = build_domain(land, walls, crs="EPSG:4326", **options)
+    rng = np.random.default_rng(seed)
+    centres = rng.uniform([-3.45, 58.65], [-2.4, 59.4], (count, 2))
+    sizes = rng.uniform(0.002, 0.03, (count, 2))
+    closed = shapely.box(*(centres - sizes).T, *(centres + sizes).T)
+    if shapely.intersects(closed, shapely.Point(options["seed"])).any():
+        with pytest.raises(ConfigError, match=r"seed .* lies in water closed"):
+            domain_with_land(domain, closed, walls, report, land=land, **options)
+        return
+    again, again_report = build_domain(
+        [*land, *closed], walls, crs="EPSG:4326", **options
+    )
+    fast, fast_report = domain_with_land(
+        domain, closed, walls, report, land=land, **options
+    )
+    assert shapely.equals(fast.polygon, again.polygon)
+    if shapely.intersects(closed, domain.polygon).any():  # not vacuous
+        assert fast.polygon.area < domain.polygon.area
+    assert fast_report.holes == again_report.holes
+    assert fast_report.segments == again_report.segments
+    tagged = {(g.name, g.kind, g.physical_id, len(g.coords)) for g in fast.segments}
+    assert tagged == {
+        (g.name, g.kind, g.physical_id, len(g.coords)) for g in again.segments
+    }
 
 
 @settings(deadline=None, max_examples=30)

@@ -21,6 +21,7 @@ from coastmesh.geometry.domain import (
     DomainReport,
     OpenBoundary,
     build_domain,
+    domain_with_land,
     polygon_areas,
     smaller_than,
 )
@@ -76,6 +77,7 @@ __all__ = [
     "check_coordinates",
     "close_narrow_water",
     "densify_long_edges",
+    "domain_with_land",
     "earth_centred",
     "great_circle",
     "join_dateline",

@@ -19,6 +19,7 @@ __all__ = [
     "domain_slots",
     "off_open_boundaries",
     "slots",
+    "slots_near",
     "tiles",
 ]
 
@@ -86,6 +87,49 @@ def slots(
         pieces = np.concatenate(
             [found[~touch], merged[shapely.get_type_id(merged) == 3]]
         )
+    if not len(pieces):
+        return pieces
+    bounds = shapely.bounds(pieces)
+    length = np.hypot(bounds[:, 2] - bounds[:, 0], bounds[:, 3] - bounds[:, 1])
+    return pieces[length >= 2 * width]
+
+
+def slots_near(
+    polygon: shapely.Polygon,
+    width: float,
+    boxes: NDArray[np.float64],
+    land: shapely.Geometry | None = None,
+) -> NDArray[np.object_]:
+    """Return the slots of ``polygon`` less ``land`` that lie in ``boxes``.
+
+    As :func:`slots`, looking only in each box of ``boxes`` (rows of ``xmin,
+    ymin, xmax, ymax``) with the water within a little more than ``width`` of
+    it: after a few polygons of water are closed, the slivers they leave are
+    next to them, and the rest of the water need not be opened again. A slot
+    that crosses a box's edge is cut there (boxes around the closed polygons,
+    wider than ``width``, hold the slivers at their edges). Boxes that overlap
+    may return a slot twice.
+
+    Examples
+    --------
+    >>> bay = shapely.Polygon([(0, 0), (100, 0), (100, 100), (52, 100), (52, 300),
+    ...                        (48, 300), (48, 100), (0, 100)])
+    >>> boxes = np.array([[0.0, 50.0, 100.0, 350.0]])
+    >>> [round(p.area, -1) for p in slots_near(bay, 10.0, boxes)]
+    [800.0]
+    >>> len(slots_near(bay, 10.0, np.array([[0.0, 0.0, 100.0, 40.0]])))
+    0
+    """
+    r, margin = width / 2, 1.01 * width
+    found = []
+    for box in np.asarray(boxes, dtype=np.float64).reshape(-1, 4):
+        window = shapely.clip_by_rect(
+            polygon, *(box + [-margin, -margin, margin, margin])
+        )
+        if land is not None:
+            window = shapely.difference(window, land)
+        found.append(_thin(window, window, shapely.box(*box), r))
+    pieces = np.concatenate(found) if found else np.empty(0, dtype=object)
     if not len(pieces):
         return pieces
     bounds = shapely.bounds(pieces)

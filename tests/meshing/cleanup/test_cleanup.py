@@ -257,8 +257,10 @@ def test_real_mesh_stays_valid(tmp_path):
     # no flip raises a node above the limit
     assert report.max_valence_after <= max(7, report.max_valence_before)
     # never worse than Gmsh's mesh, in the conformal plane and on the Earth
-    # (the full pass would fix one more, at a radius ratio of 0.17 for 0.29)
-    assert report.accepted == "cleaned_partly" and report.smoothed_nodes > 0
+    # (whole, or in part where the full pass would lower the radius ratio: on
+    # one Gmsh mesh of this case it would fix one more at 0.17 for 0.29)
+    assert report.accepted in ("cleaned", "cleaned_partly")
+    assert report.smoothed_nodes > 0
     assert report.min_angle_after >= report.min_angle_before
     assert report.min_angle_p1_after >= report.min_angle_p1_before
     assert report.radius_ratio_after >= min(report.radius_ratio_before, 0.5)

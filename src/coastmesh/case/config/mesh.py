@@ -158,11 +158,14 @@ class CleanupConfig:
         "u)` is under 0.65 of the 1st-percentile element's loses its shortest "
         "edge that can go: the edge is collapsed when every new angle stays at "
         "least min(30 deg, the old smallest) and the local time step rises. "
-        "Boundary nodes never move; one may go along the boundary (into its "
-        "neighbour there) where it lies within 0.15 x the new edge's length of "
-        "it, so the coast moves by at most that (15 m for a 100 m edge); an "
+        "A collapse moves no boundary node; one may go along the boundary (into "
+        "its neighbour there) where it lies within 0.15 x the new edge's length "
+        "of it, so the coast moves by at most that (15 m for a 100 m edge); an "
         "open boundary keeps its own nodes, and no boundary id loses its last "
-        "edge. Kept only if the mesh's time step rises and "
+        "edge. An element still throttling then has a node moved: one inside "
+        "to where the smallest time step of its elements is largest, or a "
+        "shoreline node slid once along its coast, within the same 0.15 x. "
+        "Kept only if the mesh's time step rises and "
         "its minimum angle and 1st percentile do not fall; `report.json` has "
         "`time_step` with the counts and ratios before and after",
     )

@@ -9,7 +9,7 @@ With the channel term on (``[mesh_size.channels]``, on by default):
   than two elements of ``h_min`` outside the ``[[sites]]``, found by the width
   of the water on the size field's grid, become land. A cut can leave new
   narrow water next to it, so this is done up to :data:`CLOSE_PASSES` times,
-  and the slivers the last cut leaves at the coast close too; what is narrow
+  and the slivers each cut leaves at the coast close with it; what is narrow
   after the last pass is kept, and the channel term warns of it.
 
 The domain is then built again from the same stitched shorelines
@@ -42,7 +42,7 @@ from coastmesh.sizing.narrow import (
     narrow_places,
     warn_narrow,
 )
-from coastmesh.sizing.slots import domain_slots, off_open_boundaries
+from coastmesh.sizing.slots import domain_slots, off_open_boundaries, slots_near
 
 __all__ = ["CLOSE_PASSES", "close_water", "size_grid", "smallest_size"]
 
@@ -95,7 +95,6 @@ def smallest_size(size: SizeConfig) -> float:
 def _close_channels(state: DomainState, config: CaseConfig) -> DomainState:
     """Make the narrow channels land; return the domain and what closed."""
     closed_count, closed_km2, passes = 0, 0.0, 0
-    land: list[shapely.Geometry] = []
     report = None
     polygons = None
     for _ in range(CLOSE_PASSES):
@@ -107,19 +106,36 @@ def _close_channels(state: DomainState, config: CaseConfig) -> DomainState:
         report = found
         closed_count += len(polygons)
         closed_km2 += found.narrow_km2
-        land.extend(polygons)
-        state = with_land(state, config, np.array(land, dtype=object))
+        # a cut can leave slivers where it meets the coast: close them with it
+        slivers = _slivers(state, polygons, floor(config.size) / 2)
+        state = with_land(state, config, np.concatenate([polygons, slivers]))
         passes += 1
     if report is None:
         return state
-    # the last cut can leave slivers where it meets the coast: close those too
-    slivers = domain_slots(state.domain, state.mesh_crs, floor(config.size) / 2)
-    if len(slivers):
-        land.extend(slivers)
-        state = with_land(state, config, np.array(land, dtype=object))
     closed = replace(report, narrow_channels=closed_count, narrow_km2=closed_km2)
     warn_narrow(closed, closed=True)
     return replace(state, closing=Closing(channels=closed, passes=passes))
+
+
+def _slivers(
+    state: DomainState, polygons: NDArray[np.object_], width: float
+) -> NDArray[np.object_]:
+    """Return the slots narrower than ``width`` that closing ``polygons`` leaves.
+
+    Looked for around the polygons only (within ``4 width`` of their boxes),
+    in the water less them (:func:`~coastmesh.sizing.slots.slots_near`); as
+    land in the domain's CRS, none that touches an open boundary.
+    """
+    domain, crs = state.domain, state.mesh_crs
+    water = densified(domain, [domain.polygon], crs)[0]
+    cuts = reproject(np.asarray(polygons, dtype=object), domain.crs, crs)
+    reach = 4 * width  # two h_min: the slivers a cut leaves are at its edge
+    boxes = shapely.bounds(cuts) + [-reach, -reach, reach, reach]
+    thin = slots_near(water, width, boxes, shapely.union_all(cuts))
+    if not len(thin):
+        return thin
+    grown = reproject(shapely.buffer(thin, width / 10), crs, domain.crs)
+    return off_open_boundaries(grown, domain)
 
 
 def _refuse_closing_all(state: DomainState, config: CaseConfig, found) -> None:

@@ -31,6 +31,7 @@ from coastmesh.geometry import (
     ShorelineSet,
     StitchReport,
     build_domain,
+    domain_with_land,
     reproject,
     stitch_shorelines,
 )
@@ -78,20 +79,28 @@ def build_case_domain(
 def with_land(
     state: DomainState, config: CaseConfig, closed: NDArray[np.object_]
 ) -> DomainState:
-    """Build the domain again with ``closed`` (polygons of water) as land.
+    """Return the state with ``closed`` (polygons of water) made land.
 
-    The stitched shorelines and the open boundaries are the ones already made;
-    the closed polygons' edges take the shoreline set of the region they lie in.
+    The domain's sea less ``closed``, with its boundary tagged again
+    (:func:`~coastmesh.geometry.domain_with_land`, the same as building it again
+    from the stitched shorelines with ``closed`` added to their land, without
+    the whole coast again): the closed polygons' edges take the shoreline set
+    of the region they lie in. ``closed`` need hold only what is new: the
+    domain already lacks what was closed before.
     """
-    land = np.concatenate([np.asarray(state.land, dtype=object), closed])
-    domain, report = _domain(
-        config,
-        land,
-        state.open_boundaries,
-        list(state.regions),
-        state.domain.crs,
-        None,
-    )
+    try:
+        domain, report = domain_with_land(
+            state.domain,
+            closed,
+            list(state.open_boundaries),
+            state.report,
+            seed=_seed(config, state.domain.crs, None),
+            min_area=config.shorelines.min_area,
+            shorelines=list(state.regions),
+            land=state.land,
+        )
+    except (ConfigError, InputDataError) as exc:
+        raise type(exc)(f"{config.label}: domain: {exc}") from None
     return replace(state, domain=domain, report=report)
 
 
