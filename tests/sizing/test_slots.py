@@ -7,7 +7,7 @@ import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from coastmesh.sizing.slots import SLIVER, slots, tiles
+from coastmesh.sizing.slots import SLIVER, slots, slots_near, tiles
 
 
 def reference_slots(polygon: shapely.Polygon, width: float) -> list[shapely.Polygon]:
@@ -117,3 +117,33 @@ def test_no_slivers_along_straight_coasts_far_from_the_origin(radii, turn, width
     for piece in slots(water, width):
         x0, y0, x1, y1 = piece.bounds
         assert piece.area / np.hypot(x1 - x0, y1 - y0) > 0.01 * width
+
+
+@settings(max_examples=30, deadline=None)
+@given(
+    water=combs(),
+    width=st.floats(4.0, 30.0),
+    box=st.tuples(st.floats(0, 900), st.floats(0, 1200), st.floats(50, 600)),
+)
+def test_slots_near_a_box_are_the_slots_there(water, width, box):
+    # land: a block across the comb's north side, as a closing would add
+    x0, y0, size = box
+    land = shapely.box(x0, 900, x0 + 60, 1000)
+    less = water.difference(land)
+    ref = [q for part in shapely.get_parts(less) for q in reference_slots(part, width)]
+    boxes = np.array([[x0, y0, x0 + size, y0 + size]])
+    got = slots_near(water, width, boxes, land)
+    core = shapely.box(*boxes[0])
+    tol = 0.05 * width
+    # what it finds is slot water of the whole, in the box ...
+    missed = shapely.union_all(ref) if ref else shapely.Polygon()
+    for piece in got:
+        assert core.buffer(1e-6).covers(piece)
+        assert missed.buffer(tol).covers(piece)
+    # ... and every slot wholly in the box is found
+    for piece in ref:
+        if core.buffer(-tol).covers(piece):
+            assert any(p.buffer(tol).covers(piece) for p in got)
+    # a box over everything is the whole
+    every = slots_near(water, width, np.array([[-10, -10, 1010, 1500]]), land)
+    assert len(every) == len(ref)
