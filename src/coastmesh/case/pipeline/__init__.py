@@ -58,7 +58,7 @@ def domain_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
 
 
 def closing_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
-    """Close water too narrow to mesh; build the domain again."""
+    """Close water too narrow to mesh; cut the domain by it."""
     return replace(run, domain=run.strategy.close_water(run, ctx))
 
 

@@ -12,8 +12,9 @@ With the channel term on (``[mesh_size.channels]``, on by default):
   and the slivers each cut leaves at the coast close with it; what is narrow
   after the last pass is kept, and the channel term warns of it.
 
-The domain is then built again from the same stitched shorelines
-(:func:`~coastmesh.case.pipeline.domain.with_land`).
+After each pass the sea is cut by what closed and its boundary tagged again
+(:func:`~coastmesh.case.pipeline.domain.with_land`): the domain building it
+again from the same stitched shorelines would give.
 """
 
 from __future__ import annotations
@@ -48,7 +49,7 @@ __all__ = ["CLOSE_PASSES", "close_water", "size_grid", "smallest_size"]
 
 logger = logging.getLogger(__name__)
 
-#: Most times narrow channels are closed and the domain built again.
+#: Most times narrow channels are closed and the domain cut by them.
 CLOSE_PASSES = 2
 
 

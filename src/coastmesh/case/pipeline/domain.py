@@ -3,9 +3,9 @@
 :func:`build_case_domain` stitches the sets by region
 (:func:`~coastmesh.geometry.stitch_shorelines`), draws the open boundaries
 (each kind draws itself: :mod:`coastmesh.case.boundaries`) and builds the domain
-(:func:`~coastmesh.geometry.build_domain`); :func:`with_land` builds it again
-with water closed as land (narrow channels, slots), from the same stitched
-shorelines.
+(:func:`~coastmesh.geometry.build_domain`); :func:`with_land` makes water
+closed as land (narrow channels, slots) part of it: the sea is cut and tagged
+again, as building it again from the same stitched shorelines would give.
 """
 
 from __future__ import annotations

@@ -52,7 +52,7 @@ class Strategy:
         raise NotImplementedError
 
     def close_water(self, run: CaseRun, ctx: RunContext) -> DomainState:
-        """Close water too narrow to mesh, as land; the domain built again."""
+        """Close water too narrow to mesh, as land; the domain cut by it."""
         return run.domain or missing("domain")
 
     def grid(self, run: CaseRun, ctx: RunContext) -> Grid:

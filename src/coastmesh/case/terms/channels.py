@@ -49,9 +49,11 @@ class ChannelConfig:
         "close",
         check=schema.choice(NARROW_CHOICES),
         doc="channels narrower than two elements of `h_min`, outside `[[sites]]`: "
-        '`"close"` them (they become land; the domain is built again, twice at '
-        "most; a warning and `report.json` give what closed, with places and "
-        'areas, and what was left) or `"keep"` them (they are one element wide: '
+        '`"close"` them (they become land, in two passes at most, the slivers '
+        "each cut leaves with it; the dead-end strips and straits Gmsh still "
+        "makes one element wide are closed after meshing; a warning and "
+        "`report.json` give what closed, with places and areas, and what was "
+        'left) or `"keep"` them (they are one element wide: '
         "a warning gives their number, area and places). Inside `[[sites]]` "
         "they are kept, with at least two elements across",
     )
