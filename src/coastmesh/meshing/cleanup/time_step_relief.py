@@ -215,19 +215,24 @@ def relieve_time_step(
     ids, counts = np.unique(mesh.boundary_ids, return_counts=True)
     work.edges_of = dict(zip(ids.tolist(), counts.tolist(), strict=True))
     work.open_ids = {k for k, kind in mesh.boundary_kinds.items() if kind == "open"}
+    before = after = _measures(mesh, xy, velocity, ratio)
+    # the bar: the given angles, or the input's where it is already under
+    # them (measured here to rounding, it may be by 1e-6 deg)
+    own = (before["min_angle"], before["min_angle_p1"])
+    keep = tuple(map(min, keep_angles, own)) if keep_angles else own
+    # no local change may go under the bar the whole result is held to
+    floor = max(min_angle, keep[0])
     collapses = moves = 0
     for _ in range(passes):
-        made = work.run_pass(ratio, min_angle)
-        moved = work.move_pass(ratio, min_angle)
+        made = work.run_pass(ratio, floor)
+        moved = work.move_pass(ratio, floor)
         collapses, moves = collapses + made, moves + moved
         if not made and not moved:
             break
-    before = after = _measures(mesh, xy, velocity, ratio)
     new, accepted = mesh, False
     if collapses or moves:
         new = work.result(mesh, to_plane)
         after = _measures(new, work.xy[~work.removed], velocity, ratio)
-        keep = keep_angles or (before["min_angle"], before["min_angle_p1"])
         accepted = after["min_over_p1"] > before["min_over_p1"] and (
             after["min_angle"] >= keep[0] and after["min_angle_p1"] >= keep[1]
         )
