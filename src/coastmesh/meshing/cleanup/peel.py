@@ -17,9 +17,12 @@ back along the strip), else the shoreline's. Ears whose two boundary sides are
 both open, and triangles of ``keep`` (a site's), are left. A strait one
 element wide has no end to peel from: its run of all-boundary triangles is
 taken out whole where it meets the rest of the mesh through one or two inner
-sides (which become coast, or open boundary for a strip along one) and no node
-is left with more than two boundary sides; water cut off from the largest
-piece by that goes too.
+sides (which become coast, or open boundary for a strip along one). Where that
+would leave a node with more than two boundary sides (a pinch: one triangle
+from a point of one coast to the other, water on both sides of the point),
+the smaller fan of triangles around the node goes too. Water cut off from the
+largest piece by that goes too, unless it has an open boundary of its own:
+then the strait is left. The passes run again while they change something.
 
 No maintained library edits a mesh's boundary this way; the loop is written
 here, over plain Python dicts, and touches only the all-boundary triangles.
