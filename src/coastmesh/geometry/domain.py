@@ -208,9 +208,7 @@ def build_domain(
         domain = sea[np.argmax(shapely.area(sea))]
     domain, dropped = _drop_small_holes(domain, min_area, crs)
     segments = _tag_boundary(domain, open_boundaries, shorelines)
-    counts: dict[str, int] = {}
-    for s in segments:
-        counts[s.name] = counts.get(s.name, 0) + len(s.coords) - 1
+    counts = _edge_counts(segments)
     report = DomainReport(
         land_in=len(geoms),
         land_repaired=int((~shapely.is_valid(geoms)).sum()),
@@ -297,9 +295,7 @@ def domain_with_land(
     polygon = shapely.remove_repeated_points(polygon, 1e-12 * extent)
     polygon, dropped = _drop_small_holes(polygon, min_area, crs)
     segments = _tag_boundary(polygon, open_boundaries, list(shorelines))
-    counts: dict[str, int] = {}
-    for seg in segments:
-        counts[seg.name] = counts.get(seg.name, 0) + len(seg.coords) - 1
+    counts = _edge_counts(segments)
     new_report = DomainReport(
         land_in=report.land_in + len(closed),
         land_repaired=report.land_repaired,
@@ -310,6 +306,14 @@ def domain_with_land(
         segments=counts,
     )
     return Domain(polygon, tuple(segments), crs, domain.surface_id), new_report
+
+
+def _edge_counts(segments) -> dict[str, int]:
+    """Return the boundary edges (vertex to vertex) by boundary name."""
+    counts: dict[str, int] = {}
+    for seg in segments:
+        counts[seg.name] = counts.get(seg.name, 0) + len(seg.coords) - 1
+    return counts
 
 
 def _rough_area(polygons: NDArray[np.object_], crs: CRS) -> NDArray[np.float64]:

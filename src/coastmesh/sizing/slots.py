@@ -87,11 +87,7 @@ def slots(
         pieces = np.concatenate(
             [found[~touch], merged[shapely.get_type_id(merged) == 3]]
         )
-    if not len(pieces):
-        return pieces
-    bounds = shapely.bounds(pieces)
-    length = np.hypot(bounds[:, 2] - bounds[:, 0], bounds[:, 3] - bounds[:, 1])
-    return pieces[length >= 2 * width]
+    return _long(pieces, width)
 
 
 def slots_near(
@@ -130,6 +126,11 @@ def slots_near(
             window = shapely.difference(window, land)
         found.append(_thin(window, window, shapely.box(*box), r))
     pieces = np.concatenate(found) if found else np.empty(0, dtype=object)
+    return _long(pieces, width)
+
+
+def _long(pieces: NDArray[np.object_], width: float) -> NDArray[np.object_]:
+    """Return the pieces at least ``2 width`` long (their bounding box's diagonal)."""
     if not len(pieces):
         return pieces
     bounds = shapely.bounds(pieces)

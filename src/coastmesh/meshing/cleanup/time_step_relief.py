@@ -367,15 +367,20 @@ class _Collapser:
     def _nodes(self, tris: set[int]) -> set[int]:  # of the triangles
         return set(self.tri[list(tris)].ravel().tolist())
 
-    def run_pass(self, ratio: float, min_angle: float) -> int:
-        """Collapse an edge of each triangle below ``ratio`` x p1; return how many."""
+    def throttling(self, ratio: float) -> tuple[list[int], float]:
+        """Return the live triangles below ``ratio`` x p1, smallest first; the limit."""
         live = np.flatnonzero(self.alive & np.isfinite(self.dt))
         if not live.size:
-            return 0
+            return [], 0.0
         limit = ratio * np.percentile(self.dt[live], 1)
         worst = live[self.dt[live] < limit]
+        return worst[np.argsort(self.dt[worst], kind="stable")].tolist(), limit
+
+    def run_pass(self, ratio: float, min_angle: float) -> int:
+        """Collapse an edge of each triangle below ``ratio`` x p1; return how many."""
+        worst, limit = self.throttling(ratio)
         made = 0
-        for t in worst[np.argsort(self.dt[worst], kind="stable")].tolist():
+        for t in worst:
             if self.alive[t] and self.dt[t] < limit:
                 collapse = self.best_collapse(t, min_angle)
                 if collapse is not None:
@@ -392,13 +397,9 @@ class _Collapser:
         (:meth:`place_inside`), a node of a shoreline along it
         (:meth:`place_on_coast`). The worst triangles first.
         """
-        live = np.flatnonzero(self.alive & np.isfinite(self.dt))
-        if not live.size:
-            return 0
-        limit = ratio * np.percentile(self.dt[live], 1)
-        worst = live[self.dt[live] < limit]
+        worst, limit = self.throttling(ratio)
         moved = 0
-        for t in worst[np.argsort(self.dt[worst], kind="stable")].tolist():
+        for t in worst:
             for _ in range(3):
                 if not self.alive[t] or self.dt[t] >= limit:
                     break
