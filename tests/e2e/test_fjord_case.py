@@ -40,17 +40,16 @@ def test_the_channel_term_closes_narrow_channels_and_says_so(fjord):
     assert report["size_field"]["channels"]["closed"] == channels.closed
 
 
-def test_the_mesh_meets_the_angle_targets_and_spans_few_channels(fjord):
+def test_the_mesh_meets_the_model_ready_targets(fjord):
     result, _, _ = fjord
     q = result.report.quality
     assert q.min_angle.p1 >= 30.0
-    # the channel term and the cleanup leave few triangles across a channel:
-    # those left are in the stretches still narrower than 2 h_min (reported)
-    assert len(q.channel_spanning_triangles) <= 1e-3 * q.triangles
+    assert len(q.channel_spanning_triangles) == 0
     # slots thinner than the grid are closed too: no spike of the coast is left
     # to hold a sliver, so every triangle keeps a radius ratio above 0.25
     assert q.radius_ratio.below_0_25 == 0 and q.min_angle.min > 15.0
-    assert q.time_step.min_over_p1 > 0.45
+    # a notch of the coast at 6.48 E held it at 0.57 before the relief's slack
+    assert q.time_step.min_over_p1 >= 0.6
     relief = result.report.time_step  # ran; kept only if the time step rose
     assert relief is not None and relief.min_angle_p1_before >= 30.0
     if relief.accepted:

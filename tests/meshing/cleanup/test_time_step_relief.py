@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,6 +13,7 @@ from scipy.spatial import Delaunay
 
 from coastmesh.errors import ConfigError
 from coastmesh.meshing import THROTTLE_RATIO, ThrottleReport, relieve_time_step
+from coastmesh.meshing.cleanup import time_step_relief as relief
 from coastmesh.meshing.cleanup.smoothing import boundary_nodes
 from coastmesh.meshing.cleanup.time_step_relief import _Collapser
 from coastmesh.meshing.quality.time_step import element_time_steps
@@ -487,3 +489,60 @@ def test_a_coast_node_slides_along_a_straight_coast_only():
     work.coast = _coast_links(mesh)
     work.open_ids = {1}
     assert work.place_on_coast(5, 30.0) is None
+
+
+# --- a notch of a real coast ----------------------------------------------------
+
+NOTCH = Path(__file__).parents[2] / "data" / "meshes" / "sognefjord_notch.npz"
+
+
+def notch_mesh() -> Mesh:
+    """20 km of the Sognefjord example's mesh around a notch of the coast at
+    6.48 E, 61.08 N (tests/data/meshes/README.md), as the relief gets it."""
+    z = np.load(NOTCH)
+    return Mesh(
+        z["points"],
+        z["triangles"],
+        z["boundary_edges"],
+        z["boundary_ids"],
+        1,
+        "EPSG:4326",
+        {"depth": z["depth"]},
+        boundary_kinds={10: "shoreline", 99: "open"},
+    )
+
+
+def test_a_notch_of_a_real_coast_is_relieved_through_the_angle_slack(monkeypatch):
+    mesh = notch_mesh()
+    keep = (30.0, 38.0)  # as the case gives: Gmsh's own mesh's angles
+    relieved, report = relieve_time_step(mesh, velocity=1.0, keep_angles=keep)
+    assert report.accepted and report.min_over_p1_after >= 0.65
+    assert report.min_over_p1_after == pytest.approx(_min_over_p1(relieved), rel=0.05)
+    assert report.min_angle_after >= keep[0]  # the bar holds for the result
+    assert report.min_angle_p1_after >= keep[1]
+    monkeypatch.setattr(relief, "ANGLE_SLACK", (0.0,))  # every step at the bar
+    _, strict = relieve_time_step(mesh, velocity=1.0, keep_angles=keep)
+    assert strict.min_over_p1_after < 0.6 < report.min_over_p1_after
+
+
+def test_a_result_under_the_bar_is_run_again_at_the_bar(monkeypatch):
+    mesh = notch_mesh()
+
+    def run(slack, keep):
+        monkeypatch.setattr(relief, "ANGLE_SLACK", slack)
+        return relieve_time_step(mesh, velocity=1.0, keep_angles=keep)
+
+    fell_back = 0
+    for bar in (30.4, 30.45, 30.5, 30.55):  # the slack's results: 30.49, 30.72
+        keep = (bar, 38.0)
+        _, slack_only = run((2.0,), keep)
+        strict_mesh, strict = run((0.0,), keep)
+        both_mesh, both = run((2.0, 0.0), keep)
+        assert not both.accepted or both.min_angle_after >= bar
+        if slack_only.accepted:
+            assert both == slack_only
+        else:  # the slack's result went under the bar: run again at it
+            fell_back += 1
+            assert both == strict and strict.accepted
+            np.testing.assert_array_equal(both_mesh.points, strict_mesh.points)
+    assert fell_back >= 1  # not vacuous
