@@ -17,6 +17,7 @@ from coastmesh.sizing.channel import (
     channel_size,
     domain_width,
     local_width,
+    narrow_width,
     water_mask,
 )
 from coastmesh.sizing.grid import PlaneGrid
@@ -83,6 +84,60 @@ def test_local_width_on_a_real_like_mask_matches_the_reference():
     water[5:9, :] = True  # a channel through noise
     fast = local_width(water, 50.0, max_width=800.0)
     np.testing.assert_array_equal(fast, reference_width(water, 50.0, 800.0))
+
+
+def reference_narrow(water: np.ndarray, cell: float, max_width: float) -> np.ndarray:
+    """Literal: a water node is narrow if no disk of diameter max_width that
+    fits (centred on a water node at least max_width / 2 + 1/2 cells from all
+    land) has its centre within max_width / 2 + 1/2 cells of it; a narrow node
+    gets twice its own distance to the edge of the water."""
+    ny, nx = water.shape
+    land = [
+        (i, j)
+        for i in range(-1, ny + 1)
+        for j in range(-1, nx + 1)
+        if not (0 <= i < ny and 0 <= j < nx) or not water[i, j]
+    ]
+    depth = {
+        (i, j): min(math.hypot(i - a, j - b) for a, b in land) - 0.5
+        for i in range(ny)
+        for j in range(nx)
+        if water[i, j]
+    }
+    radius = max_width / (2 * cell)
+    centres = [c for c, d in depth.items() if d >= radius]
+    out = np.zeros(water.shape)
+    for (i, j), d in depth.items():
+        held = any(math.hypot(i - a, j - b) <= radius + 0.5 for a, b in centres)
+        out[i, j] = np.inf if held else 2 * d * cell
+    return out
+
+
+@settings(max_examples=25, deadline=None)
+@given(
+    arrays(bool, st.tuples(st.integers(1, 12), st.integers(1, 12))),
+    st.floats(1.0, 8.0),
+)
+def test_narrow_width_matches_the_literal_reference(water, max_cells):
+    cell = 10.0
+    fast = narrow_width(water, cell, max_width=max_cells * cell)
+    slow = reference_narrow(water, cell, max_cells * cell)
+    np.testing.assert_allclose(fast, slow, rtol=1e-12)
+
+
+@pytest.mark.parametrize("cells", [2, 3, 5, 8])
+def test_narrow_width_tells_a_channel_under_max_width_and_a_staircase_coast(cells):
+    water = np.zeros((40, cells + 2), bool)
+    water[:, 1:-1] = True  # a channel `cells` nodes across: `cells` cells wide
+    narrow = narrow_width(water, 100.0, max_width=400.0) < 400.0
+    # (4 cells, max_width itself, comes out narrow: disks are centred on nodes)
+    assert narrow[10:30, 1:-1].all() == (cells < 4)
+    assert not narrow[10:30, 1:-1].any() or cells < 4
+    # open water with a diagonal (staircase) coast holds no narrow node
+    i, j = np.mgrid[0:60, 0:80]
+    sea = j <= i + 20
+    away = sea & (i >= 10) & (i < 50)  # 30 cells and more from the frame
+    assert not (narrow_width(sea, 100.0, max_width=400.0)[away] < 400.0).any()
 
 
 @pytest.mark.parametrize("cells", [3, 6, 11, 24])

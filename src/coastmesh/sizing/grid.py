@@ -143,12 +143,19 @@ class Grid:
         return float(nodes.sum()) * self.cell * self.cell / 1e6
 
     def widths(
-        self, domain: Domain, *, max_width: float, step: float | None = None
+        self,
+        domain: Domain,
+        *,
+        max_width: float,
+        step: float | None = None,
+        narrow_only: bool = False,
     ) -> NDArray[np.float64] | None:
         """Return the width of the domain's water at the nodes, metres.
 
         None where the grid does not measure it (:class:`SphereGrid`). ``step``:
-        the ratio of the radii measured (:func:`~.channel.local_width`).
+        the ratio of the radii measured (:func:`~.channel.local_width`);
+        ``narrow_only``: only where narrower than ``max_width``
+        (:func:`~.channel.narrow_width`).
         """
         return None
 
@@ -316,12 +323,19 @@ class PlaneGrid(Grid):
         )
 
     def widths(
-        self, domain: Domain, *, max_width: float, step: float | None = None
+        self,
+        domain: Domain,
+        *,
+        max_width: float,
+        step: float | None = None,
+        narrow_only: bool = False,
     ) -> NDArray[np.float64]:
         """Return the width of the water (:func:`~.channel.domain_width`)."""
         if step is None:
             step = RADIUS_STEP
-        return domain_width(self, domain, max_width=max_width, step=step)
+        return domain_width(
+            self, domain, max_width=max_width, step=step, narrow_only=narrow_only
+        )
 
     def depth(
         self, raster: xr.DataArray | DepthSources, positive: str = "up"

@@ -232,9 +232,10 @@ def _channels(grid: PlaneGrid, domain, h_min: float, sites):
     """Label the water narrower than two elements of ``h_min`` on ``grid``.
 
     Only whether water is narrower than ``NARROW_ELEMENTS h_min`` matters here:
-    wider water comes out inf, and the few radii are quick. Not in ``sites``.
+    one opening (:func:`~coastmesh.sizing.channel.narrow_width`); wider water
+    comes out inf. Not in ``sites``.
     """
-    width = grid.widths(domain, max_width=1.05 * NARROW_ELEMENTS * h_min)
+    width = grid.widths(domain, max_width=NARROW_ELEMENTS * h_min, narrow_only=True)
     sea = grid.sea
     if sites is not None:  # channels in a site are kept (and refined)
         shapely.prepare(sites)
@@ -286,7 +287,11 @@ def _confirmed(grid: PlaneGrid, boxes, domain, h_min: float, sites):
         core = shapely.buffer(window, -margin, join_style="mitre")
         fine = PlaneGrid(*grid_axes(window.bounds, h_min / 2), grid.crs, h_min / 2)
         width, sea = window_width(
-            fine, water, np.asarray(shore), np.asarray(opened), max_width=max_width
+            fine,
+            water,
+            np.asarray(shore),
+            np.asarray(opened),
+            max_width=NARROW_ELEMENTS * h_min,
         )
         xx, yy = np.meshgrid(fine.x, fine.y)
         shapely.prepare(core)
