@@ -139,7 +139,7 @@ def test_read_back_is_the_mesh(tmp_path, write_read, request, name):
     np.testing.assert_array_equal(back.triangles, mesh.triangles)
     np.testing.assert_array_equal(back.boundary_edges, mesh.boundary_edges)
     np.testing.assert_array_equal(back.boundary_ids, mesh.boundary_ids)
-    assert back.crs == mesh.crs and back.surface_id == 1
+    assert back.crs == mesh.crs and back.surface_id == mesh.surface_id
 
 
 def test_read_back_without_boundary_edges_or_crs(tmp_path, square):

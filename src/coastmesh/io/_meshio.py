@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from coastmesh.errors import FormatError
 
-__all__ = ["flat_points", "read_with_meshio", "split_cells"]
+__all__ = ["flat_points", "read_with_meshio", "split_cells", "surface_of"]
 
 
 def read_with_meshio(read: Callable[[str], Any], name: str, what: str) -> Any:
@@ -98,8 +98,8 @@ def flat_points(data: Any, name: str) -> NDArray[np.float64]:
 
 def split_cells(
     data: Any, name: str, tags: Callable[[int], tuple[Any, Any]]
-) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], int]:
-    """Return the triangles, the lines, their ids, and the triangles' one id.
+) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
+    """Return the triangles, the lines, the lines' ids and the triangles' ids.
 
     Parameters
     ----------
@@ -117,21 +117,22 @@ def split_cells(
     triangles : ndarray of shape (M, 3)
     lines : ndarray of shape (E, 2)
     ids : ndarray of shape (E,)
-    surface_id : int
+    regions : ndarray of shape (M,)
+        Each triangle's physical id (:func:`surface_of` picks the domain's).
 
     Raises
     ------
     FormatError
-        If there are no triangles, or they carry several ids.
+        If there are no triangles.
 
     Examples
     --------
     >>> import meshio
     >>> data = meshio.Mesh([[0, 0], [1, 0], [0, 1]],
     ...                    [("triangle", [[0, 1, 2]]), ("line", [[0, 1]])])
-    >>> tri, lines, ids, surface = split_cells(data, "m", lambda k: ([7], [3]))
-    >>> tri.tolist(), lines.tolist(), ids.tolist(), surface
-    ([[0, 1, 2]], [[0, 1]], [3], 7)
+    >>> tri, lines, ids, regions = split_cells(data, "m", lambda k: ([7], [3]))
+    >>> tri.tolist(), lines.tolist(), ids.tolist(), regions.tolist()
+    ([[0, 1, 2]], [[0, 1]], [3], [7])
     """
     found: dict[str, tuple[list[Any], list[Any]]] = {
         "triangle": ([], []),
@@ -145,16 +146,28 @@ def split_cells(
     triangles, surface = found["triangle"]
     if not triangles:
         raise FormatError(f"{name}: no triangles")
-    surface_ids = np.unique(np.concatenate(surface))
-    if len(surface_ids) != 1:
-        raise FormatError(
-            f"{name}: triangles carry physical ids {surface_ids.tolist()}; "
-            "expected one surface id"
-        )
     lines, ids = found["line"]
     return (
         np.concatenate(triangles),
         np.concatenate(lines) if lines else np.empty((0, 2), dtype=np.int64),
         np.concatenate(ids).astype(np.int64) if ids else np.empty(0, dtype=np.int64),
-        int(surface_ids[0]),
+        np.concatenate(surface).astype(np.int64),
     )
+
+
+def surface_of(regions: NDArray[np.int64], named: int | None = None) -> int:
+    """Return the domain's surface id among the triangles' ids.
+
+    ``named``: the id the file names the domain (msh ``"domain"``), if that is
+    one of them; else the id of the most triangles (the sea's), the smallest
+    of a tie.
+
+    Examples
+    --------
+    >>> surface_of(np.array([20, 1, 1, 100])), surface_of(np.array([20, 1]), 20)
+    (1, 20)
+    """
+    ids, counts = np.unique(regions, return_counts=True)
+    if named is not None and named in set(ids.tolist()):
+        return int(named)
+    return int(ids[np.argmax(counts)])

@@ -89,7 +89,9 @@ def write_mesh_gpkg(
     (RFC 7946, section 3.1.9, as GDAL's ``-wrapdateline`` does). A triangle
     around a pole is the cap between its edges and the pole. The cut points
     are not nodes; :func:`read_mesh_gpkg` rebuilds each triangle from the
-    corners that are.
+    corners that are. Each triangle has its ``region`` (``mesh.regions``: a
+    farm's or a turbine footprint's id, else the domain's) and ``region_name``
+    (``domain`` for the domain's).
 
     Examples
     --------
@@ -126,7 +128,10 @@ def read_mesh_gpkg(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
         (boundary edges in feature order, as drawn); boundary ids, names and
         kinds from ``physical_id``, ``name`` and ``kind``; every numeric field of
         ``nodes`` but ``id`` as point data (``depth`` in metres, positive down);
-        the CRS of the ``triangles`` layer; ``surface_id`` 1 (not stored).
+        the CRS of the ``triangles`` layer; the triangles' ``region`` field as
+        ``regions`` (the one named ``domain`` in ``region_name`` as
+        ``surface_id``, the others' names as ``region_names``; without the
+        field, ``surface_id`` 1).
         Triangles and edges cut at the antimeridian (multi-part features) are
         rebuilt from the corners that are nodes (longitude 180 is the node at
         -180, latitude +-90 the node at that pole), each triangle turned to
@@ -177,6 +182,17 @@ def read_mesh_gpkg(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
         sphere = geographic is not None and bool(geographic.is_geographic)
         found = triangle_nodes(nodes, polygons, name, "triangles", sphere=sphere)
     triangles = _by_id(found, fields, name)
+    regions, surface, region_names = None, 1, {}
+    if "region" in fields:
+        regions = _by_id(fields["region"].astype(np.int64), fields, name)
+        labels = fields.get("region_name", np.full(len(regions), None, dtype=object))
+        labels = _by_id(np.asarray(labels, dtype=object), fields, name)
+        named = {int(i): str(v) for i, v in zip(regions, labels, strict=True) if v}
+        surface = next((i for i, v in named.items() if v == "domain"), None)
+        if surface is None:
+            ids, counts = np.unique(regions, return_counts=True)
+            surface = int(ids[np.argmax(counts)])
+        region_names = {i: v for i, v in named.items() if i != surface}
     _, lines, fields = _read_layer(name, "boundaries")
     if _plain(lines, shapely.LineString):
         corners = _corners(lines, 2, name, "boundaries")
@@ -196,11 +212,13 @@ def read_mesh_gpkg(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
         triangles,
         ends,
         ids,
-        1,
+        surface,
         resolve_crs(stored, crs, name),
         point_data,
         labels["name"],
         labels["kind"],
+        regions,
+        region_names,
     )
 
 
@@ -235,12 +253,26 @@ def _mesh_layers(mesh: Mesh) -> dict[str, Features]:
     return {
         "nodes": _layer(mesh, "nodes", shapely.points(mesh.points), node_fields),
         "triangles": _layer(
-            mesh, "triangles", polygons, {"id": np.arange(len(triangles))}
+            mesh,
+            "triangles",
+            polygons,
+            {
+                "id": np.arange(len(triangles)),
+                "region": mesh.regions,
+                "region_name": np.array(
+                    [_region_name(mesh, int(i)) for i in mesh.regions], dtype=object
+                ),
+            },
         ),
         "boundaries": _layer(
             mesh, "boundaries", lines, {"physical_id": mesh.boundary_ids, **labels}
         ),
     }
+
+
+def _region_name(mesh: Mesh, pid: int) -> str:
+    """``domain`` for the domain's surface id, else the region's name (or "")."""
+    return "domain" if pid == mesh.surface_id else mesh.region_names.get(pid, "")
 
 
 def _layer(mesh: Mesh, name: str, geometry: Any, fields: dict[str, Any]) -> Features:

@@ -34,7 +34,12 @@ from coastmesh.geometry.earth import EARTH_RADIUS, reproject_points
 from coastmesh.geometry.sphere import lonlat_to_xyz, xyz_to_lonlat
 from coastmesh.io._atomic import atomic_write
 from coastmesh.io._inputs import check_input, mesh_from_file, resolve_crs
-from coastmesh.io._meshio import flat_points, read_with_meshio, split_cells
+from coastmesh.io._meshio import (
+    flat_points,
+    read_with_meshio,
+    split_cells,
+    surface_of,
+)
 from coastmesh.io.sphere import crossing_triangles, on_sphere
 from coastmesh.types import Mesh
 
@@ -105,9 +110,14 @@ def write_msh(
     -----
     Nodes are written with z = 0 (x, y in the mesh CRS), or on the sphere with
     ``sphere_xyz``. Line elements are grouped by physical id, one
-    geometrical entity per id (entities 1, 2, ... in increasing id order); the
-    triangles are surface entity 1. In version 4.1 each node belongs to the first
-    curve entity that holds it, or to the surface.
+    geometrical entity per id (entities 1, 2, ... in increasing id order). The
+    triangles carry their region's id (``mesh.regions``: a farm's or a turbine
+    footprint's, else ``mesh.surface_id``), one surface entity per region (1
+    for the domain's); ``$PhysicalNames`` names the domain's surface
+    ``domain`` and the others by ``mesh.region_names``. ASCII msh 2.2 keeps the
+    triangles' order; msh 4.1 and binary msh 2.2 group them by region. In
+    version 4.1 each node belongs to the first curve entity that holds it, or
+    to a surface.
 
     Examples
     --------
@@ -208,15 +218,16 @@ def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
     physical = data.cell_data.get("gmsh:physical")
     if physical is None:
         raise FormatError(f"{name}: no physical ids; expected tagged elements")
-    triangles, edges, ids, surface_id = split_cells(
+    triangles, edges, ids, regions = split_cells(
         data, name, lambda k: (physical[k], physical[k])
     )
-    if surface_id <= 0 or (ids <= 0).any():
+    if (regions <= 0).any() or (ids <= 0).any():
         raise FormatError(
             f"{name}: some elements have no physical id (tag 0); tag every line and "
             "triangle with a physical group"
         )
-    names, kinds = _read_physical_names(data.field_data or {})
+    names, kinds, surfaces = _read_physical_names(data.field_data or {})
+    surface_id = surface_of(regions, surfaces.pop("domain", None))
     return mesh_from_file(
         name,
         points,
@@ -227,6 +238,8 @@ def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
         resolve_crs(None, crs, name),
         boundary_names=names,
         boundary_kinds=kinds,
+        regions=regions,
+        region_names={pid: label for label, pid in surfaces.items()},
     )
 
 
@@ -318,9 +331,54 @@ def _write_ascii_22(fh: Any, mesh: Mesh, nodes: NDArray[np.float64]) -> None:
         _write_rows(fh, first, np.arange(start, start + len(block)), *block.T)
         start += len(block)
     tri = mesh.triangles + 1
-    row = f"%d 2 2 {mesh.surface_id} 1 %d %d %d\n"
-    _write_rows(fh, row, np.arange(start, start + len(tri)), *tri.T)
+    if len(mesh.region_ids) == 1:
+        row = f"%d 2 2 {mesh.surface_id} 1 %d %d %d\n"
+        _write_rows(fh, row, np.arange(start, start + len(tri)), *tri.T)
+    else:  # each triangle its region's id, and the region's entity
+        _write_rows(
+            fh,
+            "%d 2 2 %d %d %d %d %d\n",
+            np.arange(start, start + len(tri)),
+            mesh.regions,
+            _surface_entities(mesh),
+            *tri.T,
+        )
     fh.write(b"$EndElements\n")
+
+
+def _claim_surface_nodes(mesh, entities, dim_tags, assigned, curves: int) -> None:
+    """Give each surface entity (region) nodes of its own, as msh 4.1 needs.
+
+    A node no curve holds goes to the first region (smallest first, so a
+    footprint keeps its inner nodes) whose triangle uses it; a region left
+    with none takes a node from the curve entity that holds the most.
+    """
+    regions = len(mesh.region_ids)
+    sizes = np.bincount(entities, minlength=regions + 1)
+    for entity in sorted(range(1, regions + 1), key=lambda k: (sizes[k], k)):
+        nodes = np.unique(mesh.triangles[entities == entity])
+        free = nodes[~assigned[nodes]]
+        if len(free) == 0:
+            owner = dim_tags[:, 1] * (dim_tags[:, 0] == 1)
+            counts = np.bincount(owner[nodes], minlength=curves + 1)
+            counts[0] = 0
+            richest = int(np.argmax(counts))
+            if counts[richest] < 2:
+                raise FormatError(
+                    "msh 4.1 needs a node for every boundary id and one for each "
+                    f"surface; region {mesh.region_ids[entity - 1]} has too few "
+                    "nodes of its own: write msh 2.2"
+                )
+            free = nodes[(owner[nodes] == richest)][:1]
+        dim_tags[free] = (2, entity)
+        assigned[free] = True
+
+
+def _surface_entities(mesh: Mesh) -> NDArray[np.int64]:
+    """Return each triangle's surface entity: 1 + its region's place in region_ids."""
+    ids = np.array(mesh.region_ids)
+    order = np.argsort(ids)
+    return order[np.searchsorted(ids[order], mesh.regions)] + 1
 
 
 def _write_rows(fh: Any, row: str, *columns: Any) -> None:
@@ -413,23 +471,17 @@ def _to_meshio(
             )
         dim_tags[nodes] = (1, entity + 1)
         assigned[nodes] = True
-    if assigned.all() and len(ids):  # no interior node: the surface needs one too
-        owner = dim_tags[:, 1]
-        counts = np.bincount(owner, minlength=len(ids) + 1)
-        richest = int(np.argmax(counts))
-        if counts[richest] < 2:
-            raise FormatError(
-                "msh 4.1 needs a node for every boundary id and one for the surface; "
-                "this mesh has too few nodes: write msh 2.2"
-            )
-        dim_tags[np.flatnonzero(owner == richest)[0]] = (2, 1)
+    entities = _surface_entities(mesh)
+    _claim_surface_nodes(mesh, entities, dim_tags, assigned, len(ids))
     for entity, (pid, block) in enumerate(zip(ids, blocks, strict=True), start=1):
         cells.append(meshio.CellBlock("line", block.astype(np.uint64)))
         physical.append(np.full(len(block), pid, dtype=np.int32))
         geometrical.append(np.full(len(block), entity, dtype=np.int32))
-    cells.append(meshio.CellBlock("triangle", mesh.triangles.astype(np.uint64)))
-    physical.append(np.full(len(mesh.triangles), mesh.surface_id, dtype=np.int32))
-    geometrical.append(np.ones(len(mesh.triangles), dtype=np.int32))
+    for entity, pid in enumerate(mesh.region_ids, start=1):  # a block per region
+        block = mesh.triangles[entities == entity]
+        cells.append(meshio.CellBlock("triangle", block.astype(np.uint64)))
+        physical.append(np.full(len(block), pid, dtype=np.int32))
+        geometrical.append(np.full(len(block), entity, dtype=np.int32))
     return meshio.Mesh(
         coordinates,
         cells,
@@ -451,17 +503,27 @@ def _physical_names(mesh: Mesh) -> dict[str, Any]:
         if label in names:  # names must be unique in the file
             label = f"{label}#{pid}"
         names[label] = np.array([pid, 1])
-    if names:
+    if names or len(mesh.region_ids) > 1:
         names["domain"] = np.array([mesh.surface_id, 2])
+    for pid in mesh.region_ids:
+        label = mesh.region_names.get(pid)
+        if pid != mesh.surface_id and label is not None and label != "domain":
+            names[label if label not in names else f"{label}#{pid}"] = np.array(
+                [pid, 2]
+            )
     return names
 
 
 def _read_physical_names(
     field_data: dict[str, Any],
-) -> tuple[dict[int, str], dict[int, str]]:
+) -> tuple[dict[int, str], dict[int, str], dict[str, int]]:
+    """Return the boundary names and kinds by id, and the surfaces' ids by name."""
     names: dict[int, str] = {}
     kinds: dict[int, str] = {}
+    surfaces: dict[str, int] = {}
     for label, (pid, dim) in ((k, tuple(v)[:2]) for k, v in field_data.items()):
+        if int(dim) == 2:
+            surfaces[label] = int(pid)
         if int(dim) != 1:
             continue
         kind, sep, name = label.partition(":")
@@ -469,4 +531,4 @@ def _read_physical_names(
         if sep and kind in ("open", "shoreline"):
             kinds[int(pid)] = kind
         names[int(pid)] = name if sep else label
-    return names, kinds
+    return names, kinds, surfaces

@@ -44,7 +44,9 @@ _Y = f"{TOPOLOGY}_node_y"
 _FACE_NODES = f"{TOPOLOGY}_face_nodes"
 _EDGE_NODES = f"{TOPOLOGY}_edge_nodes"
 _CRS = f"{TOPOLOGY}_crs"
-_RESERVED = frozenset({TOPOLOGY, _X, _Y, _FACE_NODES, _EDGE_NODES, _CRS, "boundary_id"})
+_RESERVED = frozenset(
+    {TOPOLOGY, _X, _Y, _FACE_NODES, _EDGE_NODES, _CRS, "boundary_id", "region_id"}
+)
 
 
 def write_ugrid(
@@ -87,6 +89,10 @@ def write_ugrid(
     - ``boundary_id`` on the edges: the boundary id of boundary edges, 0 for
       interior edges; ``flag_values``/``flag_meanings`` name them, and
       ``open_boundary_ids``/``shoreline_boundary_ids`` list the kinds;
+    - ``region_id`` on the faces: each triangle's physical surface id
+      (``mesh.regions``: a farm's or a turbine footprint's, else the domain's),
+      with ``flag_values``/``flag_meanings`` naming them (``domain`` for the
+      domain's, also given as ``domain_surface_id``);
     - ``mesh2d_crs``: the CRS (only if ``mesh.crs`` is known);
     - one node variable per ``mesh.point_data`` entry; ``depth`` in metres with
       ``positive = "down"``.
@@ -153,8 +159,11 @@ def read_ugrid(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
         ``open_boundary_ids``/``shoreline_boundary_ids``; the CRS from the grid
         mapping; every numeric variable on the nodes as point data (a ``depth``
         with ``positive = "up"`` is negated, so depths are positive down);
-        ``surface_id`` 1. A file without ``boundary_id`` gives the edges of one
-        triangle (the boundary) id 1, with no name or kind.
+        ``region_id`` on the faces as ``regions`` (its ``domain_surface_id``,
+        or the flag named ``domain``, as ``surface_id``, and the other flags'
+        names as ``region_names``); without it, ``surface_id`` 1. A file
+        without ``boundary_id`` gives the edges of one triangle (the
+        boundary) id 1, with no name or kind.
 
     Raises
     ------
@@ -207,17 +216,20 @@ def read_ugrid(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
             if on_nodes and var.dtype.kind in "iuf":
                 up = key == "depth" and var.attrs.get("positive") == "up"
                 point_data[str(key)] = -var.values if up else var.values
+        regions, surface, region_names = _regions(dataset, len(triangles), name)
     return mesh_from_file(
         name,
         points,
         triangles,
         edges,
         ids,
-        1,
+        surface,
         resolve_crs(stored, crs, name),
         point_data,
         names,
         kinds,
+        regions,
+        region_names,
     )
 
 
@@ -391,6 +403,18 @@ def _topology_vars(
                 **grid_mapping,
             },
         ),
+        "region_id": (
+            _FACE,
+            mesh.regions.astype(np.int32),
+            {
+                "long_name": "physical surface id of the face (a farm's or a "
+                "turbine footprint's, else the domain's)",
+                "mesh": TOPOLOGY,
+                "location": "face",
+                **_region_flags(mesh),
+                **grid_mapping,
+            },
+        ),
     }
 
 
@@ -445,6 +469,48 @@ def _edges(mesh: Mesh, name: str) -> tuple[NDArray[np.int64], NDArray[np.int32]]
             )
         boundary_id[where] = mesh.boundary_ids
     return edges, boundary_id
+
+
+def _region_flags(mesh: Mesh) -> dict[str, Any]:
+    """CF flag attributes naming the region ids; the domain's is ``domain``."""
+    ids = mesh.region_ids
+    meanings = [
+        "domain"
+        if i == mesh.surface_id
+        else "_".join(mesh.region_names.get(i, f"region_{i}").split()) or f"region_{i}"
+        for i in ids
+    ]
+    return {
+        "flag_values": np.array(ids, dtype=np.int32),
+        "flag_meanings": " ".join(meanings),
+        "domain_surface_id": np.int32(mesh.surface_id),
+    }
+
+
+def _regions(dataset: Any, count: int, name: str) -> tuple[Any, int, dict[int, str]]:
+    """Return the faces' region ids, the domain's id and the others' names.
+
+    A file without ``region_id``: every face the domain's, id 1.
+    """
+    if "region_id" not in dataset.variables:
+        return None, 1, {}
+    var = dataset["region_id"]
+    regions = np.asarray(var.values).astype(np.int64).reshape(-1)
+    if regions.shape != (count,):
+        raise FormatError(
+            f"{name}: region_id has {regions.size} values for {count} faces"
+        )
+    values = np.atleast_1d(var.attrs.get("flag_values", [])).astype(int).tolist()
+    meanings = str(var.attrs.get("flag_meanings", "")).split()
+    named = dict(zip(values, meanings, strict=False))
+    surface = int(var.attrs.get("domain_surface_id", 0)) or None
+    if surface is None:
+        surface = next((i for i, m in named.items() if m == "domain"), None)
+    if surface is None or surface not in set(regions.tolist()):
+        ids, counts = np.unique(regions, return_counts=True)
+        surface = int(ids[np.argmax(counts)])
+    names = {i: m for i, m in named.items() if i != surface}
+    return regions, surface, names
 
 
 def _boundary_flags(mesh: Mesh) -> dict[str, Any]:

@@ -17,7 +17,12 @@ import numpy as np
 
 from coastmesh.io._atomic import atomic_write
 from coastmesh.io._inputs import check_input, mesh_from_file, resolve_crs
-from coastmesh.io._meshio import flat_points, read_with_meshio, split_cells
+from coastmesh.io._meshio import (
+    flat_points,
+    read_with_meshio,
+    split_cells,
+    surface_of,
+)
 from coastmesh.io._model import check_mesh, index_dtype, point_values
 from coastmesh.types import Mesh
 
@@ -50,8 +55,9 @@ def write_vtu(
     Notes
     -----
     Points get z = 0. Two cell blocks: the triangles, then the boundary edges as
-    lines (left out if there are none). Cell data ``physical`` is
-    ``mesh.surface_id`` on the triangles and the boundary id on the lines;
+    lines (left out if there are none). Cell data ``physical`` is each
+    triangle's region id (``mesh.regions``: ``mesh.surface_id`` but in farms
+    and turbine footprints) and the boundary id on the lines;
     ``boundary_id`` is 0 on the triangles and the boundary id on the lines. Every
     ``mesh.point_data`` entry is point data (``depth`` positive down, as stored).
     The file is binary, zlib-compressed.
@@ -83,7 +89,7 @@ def write_vtu(
     }
     m = len(mesh.triangles)
     cells = [("triangle", mesh.triangles.astype(index_dtype(n)))]
-    physical = [np.full(m, mesh.surface_id, dtype=np.int32)]
+    physical = [mesh.regions.astype(np.int32)]
     boundary = [np.zeros(m, dtype=np.int32)]
     if len(mesh.boundary_edges):
         cells.append(("line", mesh.boundary_edges.astype(index_dtype(n))))
@@ -124,7 +130,8 @@ def read_vtu(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
     Mesh
         Points and triangles in file order; the line cells as boundary edges,
         with their ``boundary_id`` (else ``physical``, else 1) cell data as ids;
-        ``surface_id`` from the triangles' ``physical`` cell data (else 1); every
+        each triangle's ``physical`` cell data (else 1) as ``regions``, the id
+        of the most triangles as ``surface_id``; every
         numeric point data array as point data (``depth`` as stored: metres,
         positive down). No names or kinds.
 
@@ -153,7 +160,7 @@ def read_vtu(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
 
     name = check_input(path)
     data = read_with_meshio(meshio.vtu.read, name, "VTU")
-    triangles, edges, ids, surface_id = split_cells(
+    triangles, edges, ids, regions = split_cells(
         data, name, lambda k: _cell_values(data, k)
     )
     return mesh_from_file(
@@ -162,13 +169,14 @@ def read_vtu(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
         triangles,
         edges,
         ids,
-        surface_id,
+        surface_of(regions),
         resolve_crs(None, crs, name),
         {
             key: values
             for key, values in data.point_data.items()
             if np.asarray(values).dtype.kind in "iuf"
         },
+        regions=regions,
     )
 
 

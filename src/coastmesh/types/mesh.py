@@ -127,6 +127,12 @@ class Mesh:
     boundary_kinds : mapping of int to str, optional
         ``"open"`` (sea) or ``"shoreline"`` (land) for each boundary id; model
         formats that separate open from land boundaries need it.
+    regions : array_like of shape (M,), optional
+        The physical surface id of each triangle: ``surface_id`` for the sea,
+        a farm's or a turbine footprint's id inside them. Default
+        ``surface_id`` everywhere.
+    region_names : mapping of int to str, optional
+        Names of the region ids other than ``surface_id`` (e.g. ``{20: "meygen"}``).
 
     Raises
     ------
@@ -152,6 +158,8 @@ class Mesh:
     point_data: dict[str, NDArray] = field(default_factory=dict)
     boundary_names: dict[int, str] = field(default_factory=dict)
     boundary_kinds: dict[int, str] = field(default_factory=dict)
+    regions: NDArray[np.int64] | None = None
+    region_names: dict[int, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         points = np.array(self.points, dtype=np.float64)
@@ -187,7 +195,11 @@ class Mesh:
                     f"boundary_kinds[{pid}] is {kind!r}, expected one of "
                     f"{SEGMENT_KINDS}"
                 )
+        regions = _regions(self.regions, len(triangles), int(self.surface_id))
+        region_names = {int(k): str(v) for k, v in dict(self.region_names).items()}
         for name, value in (
+            ("regions", regions),
+            ("region_names", region_names),
             ("points", points),
             ("triangles", triangles),
             ("boundary_edges", edges),
@@ -220,7 +232,44 @@ class Mesh:
             {**self.point_data, **values},
             self.boundary_names,
             self.boundary_kinds,
+            self.regions,
+            self.region_names,
         )
+
+    @property
+    def region_ids(self) -> list[int]:
+        """The physical surface ids of the triangles, the domain's first.
+
+        Examples
+        --------
+        >>> m = Mesh([[0, 0], [1, 0], [0, 1], [1, 1]], [[0, 1, 2], [1, 3, 2]],
+        ...          [[0, 1], [1, 3], [3, 2], [2, 0]], [1] * 4, 1, None,
+        ...          regions=[20, 1])
+        >>> m.region_ids
+        [1, 20]
+        """
+        ids = sorted(set(np.unique(self.regions).tolist()) - {self.surface_id})
+        return (
+            [self.surface_id, *ids] if (self.regions == self.surface_id).any() else ids
+        )
+
+
+def _regions(values: object, m: int, surface_id: int) -> NDArray[np.int64]:
+    """Return the triangles' region ids: ``surface_id`` where none are given."""
+    if values is None:
+        return np.full(m, surface_id, dtype=np.int64)
+    array = np.asarray(values)
+    if array.shape != (m,):
+        raise ValueError(
+            f"regions has shape {array.shape}, expected ({m},): one physical "
+            "surface id per triangle"
+        )
+    if array.size and not np.issubdtype(array.dtype, np.integer):
+        raise ValueError(f"regions must be integers, got dtype {array.dtype}")
+    array = array.astype(np.int64)
+    if array.size and array.min() < 1:
+        raise ValueError(f"regions has id {int(array.min())}: ids are >= 1")
+    return array
 
 
 def _index_array(values: object, name: str, width: int, n: int) -> NDArray[np.int64]:

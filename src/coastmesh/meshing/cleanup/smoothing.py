@@ -323,8 +323,21 @@ def boundary_nodes(triangles: NDArray[np.int64], n_points: int) -> NDArray[np.bo
 
 
 def mesh_with(mesh: Mesh, **fields: object) -> Mesh:
-    """Return a copy of ``mesh`` with ``fields`` changed (and checked again)."""
+    """Return a copy of ``mesh`` with ``fields`` changed (and checked again).
+
+    New ``triangles`` without new ``regions`` keep the one region of a mesh
+    that has one; a mesh of several regions needs its new ``regions`` given.
+    """
     values = {f.name: getattr(mesh, f.name) for f in dataclasses.fields(mesh)}
+    if "triangles" in fields and "regions" not in fields:
+        ids = np.unique(mesh.regions)
+        if len(ids) > 1:
+            raise ValueError(
+                f"the triangles of a mesh of {len(ids)} regions changed without "
+                "their regions: give regions"
+            )
+        count = len(np.asarray(fields["triangles"]).reshape(-1, 3))
+        values["regions"] = np.full(count, ids[0]) if len(ids) else None
     return Mesh(**(values | fields))
 
 
