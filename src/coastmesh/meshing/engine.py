@@ -40,6 +40,13 @@ from coastmesh.meshing.parts.faces import (
     canonical_order,
     split_faces,
 )
+from coastmesh.meshing.parts.inner import (
+    Inner,
+    InnerPlane,
+    label_regions,
+    node_ring,
+    smallest_side,
+)
 from coastmesh.meshing.parts.junctions import join_cuts
 from coastmesh.meshing.parts.report import PartsReport
 from coastmesh.meshing.parts.seams import smooth_seams
@@ -77,6 +84,7 @@ def generate_mesh(
     runner: Runner | None = None,
     cleanup: CleanupOptions | None = None,
     progress: Progress | None = None,
+    inner: Inner | None = None,
 ) -> Mesh:
     """Mesh a domain with triangles whose edge lengths follow a size grid.
 
@@ -126,6 +134,13 @@ def generate_mesh(
         :func:`mesh_in_parts` reports what it did. Default: no cleanup.
     progress : callable, optional
         Called as ``progress(done, total)`` after each of the stages.
+    inner : Inner, optional
+        Regions (farms, turbine footprints) meshed as faces of their own, with
+        their outlines as mesh edges and their triangles tagged with their ids
+        (``mesh.regions``), and points that must be nodes (turbines), in
+        ``domain.crs`` (:mod:`~coastmesh.meshing.parts.inner`). No cut of the
+        water crosses a region: where one would, the water is meshed in one
+        part (a warning says so).
 
     Returns
     -------
@@ -207,6 +222,7 @@ def generate_mesh(
         runner=runner,
         cleanup=cleanup,
         progress=progress,
+        inner=inner,
     )[0]
 
 
@@ -224,6 +240,7 @@ def mesh_in_parts(
     runner: Runner | None = None,
     cleanup: CleanupOptions | None = None,
     progress: Progress | None = None,
+    inner: Inner | None = None,
 ) -> tuple[Mesh, PartsReport]:
     """:func:`generate_mesh`, also returning how the water was cut into parts.
 
@@ -260,8 +277,14 @@ def mesh_in_parts(
         pieces, water = boundary_nodes(resampled, ids, map_size, threads=threads)
         if (error := warming.exception()) is not None:  # a head start only
             logger.warning("workers not started ahead: %s", error)
-    pieces, chords, wanted = _cut(pieces, water, map_size, parts)
-    faces = split_faces(pieces, water, [shapely.LineString(c) for c in chords])
+    plane = _inner_plane(inner, domain.crs, mesh_crs, map_size)
+    pieces, chords, wanted = _cut(pieces, water, map_size, parts, plane)
+    faces = split_faces(
+        pieces,
+        water,
+        [shapely.LineString(c) for c in chords]
+        + [shapely.LineString(r) for r in plane.rings],
+    )
     tasks = part_tasks(
         faces,
         map_size,
@@ -269,6 +292,8 @@ def mesh_in_parts(
         algorithm=algorithm,
         optimize=optimize,
         cleanup=cleanup,
+        exact=plane.rings,
+        points=plane.points,
     )
     step(2)
     if len(tasks) > 1:
@@ -276,10 +301,10 @@ def mesh_in_parts(
         results = (runner or serial_runner)(mesh_part, tasks)
     else:
         results = [mesh_part(tasks[0])]
-    joined = _joined(results, cleanup)
+    joined = _joined(results, cleanup, _held_numbers(tasks, plane))
     step(3)
     mesh, cleaned = _mesh(
-        domain, size, results, joined, cleanup, threads, (mesh_crs, output_crs)
+        domain, size, results, joined, cleanup, threads, (mesh_crs, output_crs), plane
     )
 
     step(total)
@@ -324,6 +349,7 @@ def _mesh(
     cleanup: CleanupOptions | None,
     threads: int,
     crss: tuple[CRS, CRS],
+    plane: InnerPlane,
 ) -> tuple[Mesh, Any]:
     """Make the joined parts the mesh (in the output CRS); its cleanup's report."""
     mesh_crs, output_crs = crss
@@ -341,6 +367,9 @@ def _mesh(
         # oriented in the plane: conformal, so it is the orientation on the
         # Earth, and a triangle across the antimeridian has no sign in lon/lat
         triangles = _orient(points, triangles)
+        regions = label_regions(
+            points[triangles].mean(axis=1), plane, domain.surface_id
+        )
         points = project_points(points, mesh_crs, output_crs, what="mesh nodes")
         edges, edge_ids = _check_edges(triangles, edges, edge_ids)
         cleaned, target = cleaned.result(), target.result()
@@ -354,6 +383,8 @@ def _mesh(
         {"size": target},
         {s.physical_id: s.name for s in domain.segments},
         {s.physical_id: s.kind for s in domain.segments},
+        regions,
+        dict(zip(plane.ids, plane.names, strict=True)),
     )
     return mesh, cleaned
 
@@ -394,14 +425,22 @@ def _parts_report(
     )
 
 
-def _joined(results: list, cleanup: CleanupOptions | None) -> tuple:
-    """Join the parts; smooth the cuts; points, triangles, edges, ids, moved."""
+def _joined(results: list, cleanup: CleanupOptions | None, held: set[int]) -> tuple:
+    """Join the parts; smooth the cuts; points, triangles, edges, ids, moved.
+
+    ``held``: the shared numbers of the nodes that never move (region
+    outlines, turbines).
+    """
     points, triangles, edges, edge_ids = merge_parts(results)
     moved = 0
     if cleanup is not None and cleanup.smooth and len(results) > 1:
         # the cuts' nodes (numbered first) were held in the parts: smooth them
-        seam = np.arange(max(int(r.shared.max()) + 1 for r in results))
-        points, moved = smooth_seams(points, triangles, edges, seam)
+        count = max(int(r.shared.max()) + 1 for r in results)
+        fixed = np.zeros(len(points), dtype=bool)
+        fixed[sorted(held)] = True
+        seam = np.flatnonzero(~fixed[:count])
+        if len(seam):
+            points, moved = smooth_seams(points, triangles, edges, seam, fixed)
     points, triangles, edges, edge_ids = canonical_order(
         points, triangles, edges, edge_ids
     )
@@ -459,9 +498,17 @@ def _check_args(domain: Any, size: Any, algorithm: str, seed: Any, parts: Any) -
 
 
 def _cut(
-    pieces: list, water: shapely.Polygon, size: SizeGrid, parts: int | str
+    pieces: list,
+    water: shapely.Polygon,
+    size: SizeGrid,
+    parts: int | str,
+    plane: InnerPlane,
 ) -> tuple[list, list[NDArray[np.float64]], int]:
-    """Cut the water into parts: the pieces joined to the cuts, chords, aim."""
+    """Cut the water into parts: the pieces joined to the cuts, chords, aim.
+
+    No cut may cross a region of ``plane`` (or come within two of its
+    outline's edges of it): if one would, the water is one part.
+    """
     if parts == 1 or isinstance(size, SphereSizeGrid):  # the globe: in one part
         return pieces, [], 1
     wanted = auto_parts(water, size) if parts == "auto" else int(parts)
@@ -480,6 +527,18 @@ def _cut(
             PartsWarning,
             stacklevel=4,
         )
+    if plane.polygons and cuts:
+        keep_off = shapely.union_all(
+            [p.buffer(2 * smallest_side(plane)) for p in plane.polygons]
+        )
+        if shapely.intersects(keep_off, shapely.MultiLineString(cuts)):
+            warnings.warn(
+                f"parts = {parts}: a cut of the water would cross a farm or a "
+                "turbine footprint; meshing the water in one part",
+                PartsWarning,
+                stacklevel=4,
+            )
+            return pieces, [], 1
     pieces, chords = join_cuts(pieces, water, cuts)
     return pieces, chords, wanted
 
@@ -538,3 +597,40 @@ def _member(keys: NDArray[np.int64], sorted_keys: NDArray[np.int64]) -> NDArray:
         return np.zeros(len(keys), dtype=bool)
     at = np.minimum(np.searchsorted(sorted_keys, keys), len(sorted_keys) - 1)
     return sorted_keys[at] == keys
+
+
+def _inner_plane(
+    inner: Inner | None, crs: CRS, mesh_crs: CRS, map_size: Any
+) -> InnerPlane:
+    """Return ``inner`` in the meshing CRS, its outlines noded at the local size."""
+    if not inner:
+        return InnerPlane([], [], [], [], np.empty((0, 2)))
+    rings, polygons = [], []
+    for polygon, _, _ in inner.regions:
+        ring = np.asarray(polygon.exterior.coords)
+        projected = project_points(ring, CRS(crs), mesh_crs, what="regions")
+        noded = node_ring(projected, lambda xy: sample_size(map_size, xy))
+        rings.append(noded)
+        polygons.append(shapely.Polygon(noded))
+    points = np.asarray(inner.points, dtype=np.float64).reshape(-1, 2)
+    if len(points):
+        points = project_points(points, CRS(crs), mesh_crs, what="turbines")
+    return InnerPlane(
+        rings,
+        polygons,
+        [int(pid) for _, pid, _ in inner.regions],
+        [str(name) for _, _, name in inner.regions],
+        points,
+    )
+
+
+def _held_numbers(tasks: list, plane: InnerPlane) -> set[int]:
+    """Return the shared numbers of the region outlines' and embedded nodes."""
+    noded = {(float(x), float(y)) for ring in plane.rings for x, y in ring}
+    held: set[int] = set()
+    for task in tasks:
+        for curve, pid, numbers in zip(task.curves, task.ids, task.shared, strict=True):
+            if pid is None and all((float(x), float(y)) in noded for x, y in curve):
+                held.update(numbers.tolist())
+        held.update(task.embedded_numbers.tolist())
+    return held

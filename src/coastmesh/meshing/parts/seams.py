@@ -26,6 +26,7 @@ def smooth_seams(
     triangles: NDArray[np.int64],
     edges: NDArray[np.int64],
     seam: NDArray[np.int64],
+    held: NDArray[np.bool_] | None = None,
 ) -> tuple[NDArray[np.float64], int]:
     """Smooth the nodes ``seam`` and their neighbours; every other node stays.
 
@@ -39,6 +40,8 @@ def smooth_seams(
         The boundary edges: their nodes never move.
     seam : ndarray of int
         The nodes of the cuts.
+    held : ndarray of bool, shape (N,), optional
+        Nodes that never move either (region outlines, turbines).
 
     Returns
     -------
@@ -69,6 +72,8 @@ def smooth_seams(
     on_boundary = np.zeros(len(points), dtype=bool)
     on_boundary[edges.ravel()] = True
     fixed |= on_boundary[nodes]
+    if held is not None:
+        fixed |= held[nodes]
     xy = points[nodes]
     # the nodes of the worst 5% move, as in the parts' own smoothing
     good = max(35.0, smoothing.percentile(smoothing.min_angles(xy, local), 5))

@@ -22,7 +22,7 @@ import os
 import socket
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -89,6 +89,9 @@ class PartTask:
         puts its label (:func:`label_point`).
     cleanup : CleanupOptions or None
         Clean the part's mesh, the nodes of its cuts held (:func:`clean_part`).
+    embedded, embedded_numbers : ndarray
+        Points (k, 2) that must be nodes of the part (turbines), and their
+        shared numbers: held as the nodes of cuts are.
     """
 
     index: int
@@ -104,6 +107,12 @@ class PartTask:
     expected: float
     centre: tuple[float, float] = (0.0, 0.0)
     cleanup: CleanupOptions | None = None
+    embedded: NDArray[np.float64] = field(
+        default_factory=lambda: np.empty((0, 2), dtype=np.float64)
+    )
+    embedded_numbers: NDArray[np.int64] = field(
+        default_factory=lambda: np.empty(0, dtype=np.int64)
+    )
 
     @property
     def label(self) -> str:
@@ -144,6 +153,8 @@ def part_tasks(
     algorithm: str,
     optimize: bool,
     cleanup: CleanupOptions | None = None,
+    exact: Sequence[NDArray[np.float64]] = (),
+    points: NDArray[np.float64] | None = None,
 ) -> list[PartTask]:
     """Return one task per face of water, its cuts discretised once.
 
@@ -157,6 +168,12 @@ def part_tasks(
         As :func:`~coastmesh.meshing.generate_mesh` takes them.
     cleanup : CleanupOptions, optional
         Clean each part where it is meshed.
+    exact : sequence of ndarray of shape (k, 2)
+        Closed cuts already noded (the outlines of regions,
+        :func:`~coastmesh.meshing.parts.inner.node_ring`): their points are
+        their nodes, not resampled.
+    points : ndarray of shape (k, 2), optional
+        Points that must be nodes, each embedded in the face that holds it.
 
     Returns
     -------
@@ -169,10 +186,13 @@ def part_tasks(
 
     numbers: dict[tuple[float, float], int] = {}
     chains: dict[int, tuple[NDArray[np.float64], NDArray[np.int64]]] = {}
+    noded = {(float(x), float(y)) for ring in exact for x, y in ring}
     for i, pid in enumerate(faces.ids):
         if pid is not None:
             continue
-        chain = resample_segment(faces.curves[i], size_at, points_per_edge=1.0, up=True)
+        chain = faces.curves[i]
+        if not all((float(x), float(y)) in noded for x, y in chain):
+            chain = resample_segment(chain, size_at, points_per_edge=1.0, up=True)
         keys = [(float(x), float(y)) for x, y in chain]
         chains[i] = chain, np.array([numbers.setdefault(k, len(numbers)) for k in keys])
     tasks = []
@@ -189,6 +209,10 @@ def part_tasks(
             _ring(signed[0], curves), [_ring(h, curves) for h in signed[1:]]
         )
         window = crop_grid(size, bounds)  # the same cells, over the part only
+        inside = np.empty((0, 2))
+        if points is not None and len(points):
+            shapely.prepare(polygon)
+            inside = points[shapely.contains_xy(polygon, points[:, 0], points[:, 1])]
         tasks.append(
             PartTask(
                 index=index,
@@ -206,6 +230,14 @@ def part_tasks(
                 expected=expected_triangles(polygon, window),
                 centre=label_point(polygon),
                 cleanup=cleanup,
+                embedded=inside,
+                embedded_numbers=np.array(
+                    [
+                        numbers.setdefault((float(x), float(y)), len(numbers))
+                        for x, y in inside
+                    ],
+                    dtype=np.int64,
+                ),
             )
         )
     return tasks
@@ -258,7 +290,11 @@ def mesh_part(task: PartTask) -> PartMesh:
     with gmsh_session() as gmsh:
         try:
             set_options(gmsh, threads=1, seed=task.seed, algorithm=task.algorithm)
-            _build_part(gmsh, task)
+            surface = _build_part(gmsh, task)
+            if len(task.embedded):
+                tags = [gmsh.model.geo.addPoint(x, y, 0.0) for x, y in task.embedded]
+                gmsh.model.geo.synchronize()
+                gmsh.model.mesh.embed(0, tags, 2, surface)
             xy = np.concatenate(task.curves)
             add_size_view(gmsh, task.size, (*xy.min(axis=0), *xy.max(axis=0)))
             gmsh.model.mesh.generate(2)
@@ -279,6 +315,8 @@ def mesh_part(task: PartTask) -> PartMesh:
         else:
             edges.append(np.column_stack([nodes[:-1], nodes[1:]]))
             edge_ids.append(np.full(len(nodes) - 1, pid, dtype=np.int64))
+    if len(task.embedded):
+        shared[find(task.embedded, task)] = task.embedded_numbers
     part = PartMesh(
         task.index,
         points,
@@ -355,8 +393,8 @@ class _Finder:
         return found.astype(np.int64)
 
 
-def _build_part(gmsh: Any, task: PartTask) -> None:
-    """Add the part's points, its curves as 2-node lines, and its surface."""
+def _build_part(gmsh: Any, task: PartTask) -> int:
+    """Add the part's points, its curves as 2-node lines, and its surface (tag)."""
     geo = gmsh.model.geo
     point: dict[tuple[float, float], int] = {}
 
@@ -377,10 +415,11 @@ def _build_part(gmsh: Any, task: PartTask) -> None:
             lines = made[abs(s) - 1]
             signed += lines if s > 0 else [-t for t in reversed(lines)]
         loops.append(geo.addCurveLoop(signed))
-    geo.addPlaneSurface(loops)
+    surface = geo.addPlaneSurface(loops)
     for line in itertools.chain.from_iterable(made):
         geo.mesh.setTransfiniteCurve(line, 2)  # its two end nodes, nothing between
     geo.synchronize()
+    return surface
 
 
 def mesh_arrays(gmsh: Any) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
