@@ -71,31 +71,32 @@ BUILT_IN = (
         "msh2",
         (".msh",),
         _msh_writer("2.2"),
-        "Gmsh msh 2.2: triangles, boundary lines with physical ids, physical "
-        "names `open:NAME` / `shoreline:NAME`; default .msh",
+        "Gmsh msh 2.2: triangles (one physical surface per region: `domain`, "
+        "farms, footprints), boundary lines with physical ids, physical names "
+        "`open:NAME` / `shoreline:NAME`; default .msh",
         read=read_msh,
         model="Fluidity, Thetis/Firedrake",
-        holds=_TOPOLOGY | {"sphere_xyz"},
+        holds=_TOPOLOGY | {"sphere_xyz", "regions"},
     ),
     MeshFormat(
         "msh4",
         (".msh",),
         _msh_writer("4.1"),
-        "Gmsh msh 4.1 with ids (meshio cannot read back names in 4.1, so none "
-        "are written)",
+        "Gmsh msh 4.1 with ids, one surface entity per region (meshio cannot "
+        "read back names in 4.1, so none are written)",
         read=read_msh,
         model="Gmsh 4",
-        holds=frozenset({"ids", "sphere_xyz"}),
+        holds=frozenset({"ids", "sphere_xyz", "regions"}),
     ),
     MeshFormat(
         "gpkg",
         (".gpkg",),
         write_mesh_gpkg,
-        "GeoPackage: layers `nodes` (id, depth, size), `triangles` (id) and "
-        "`boundaries` (physical_id, name, kind)",
+        "GeoPackage: layers `nodes` (id, depth, size), `triangles` (id, region, "
+        "region_name) and `boundaries` (physical_id, name, kind)",
         read=read_mesh_gpkg,
         model="QGIS",
-        holds=_TOPOLOGY | {"depth", "node_data", "crs"},
+        holds=_TOPOLOGY | {"depth", "node_data", "crs", "regions"},
         positive="down",
     ),
     MeshFormat(
@@ -148,20 +149,21 @@ BUILT_IN = (
         (".nc",),
         write_ugrid,
         "UGRID-1.0 netCDF: `mesh2d`, `depth` and every node field on the nodes, "
-        "`boundary_id` on edges, the CRS",
+        "`boundary_id` on edges, `region_id` on faces, the CRS",
         read=read_ugrid,
         model="xugrid, QGIS, Delft3D FM tools",
-        holds=_TOPOLOGY | {"depth", "node_data", "crs"},
+        holds=_TOPOLOGY | {"depth", "node_data", "crs", "regions"},
         positive="down",
     ),
     MeshFormat(
         "vtu",
         (".vtu",),
         write_vtu,
-        "VTK unstructured grid: triangles and boundary lines, every node field",
+        "VTK unstructured grid: triangles (cell data `physical`: the region id) "
+        "and boundary lines, every node field",
         read=read_vtu,
         model="ParaView",
-        holds=frozenset({"ids", "depth", "node_data"}),
+        holds=frozenset({"ids", "depth", "node_data", "regions"}),
         positive="down",
     ),
 )

@@ -120,7 +120,7 @@ def mesh_format(name: str) -> MeshFormat:
     --------
     >>> fmt = mesh_format("MSH4")
     >>> fmt.name, fmt.model, sorted(fmt.holds)
-    ('msh4', 'Gmsh 4', ['ids', 'sphere_xyz'])
+    ('msh4', 'Gmsh 4', ['ids', 'regions', 'sphere_xyz'])
     """
     formats = _registry()
     key = name.lower() if isinstance(name, str) else name
