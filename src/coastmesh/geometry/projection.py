@@ -164,6 +164,22 @@ def sample_size(grid: SizeGrid, xy: NDArray[np.float64]) -> NDArray[np.float64]:
     if not isinstance(grid, SizeGrid):  # a SphereSizeGrid: lon/lat, wraps round
         return grid.sample(xy)
     xy = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
+    if grid.patches:
+        out = _bilinear(grid, xy)
+        for patch in grid.patches:
+            inside = (
+                (xy[:, 0] >= patch.x[0])
+                & (xy[:, 0] <= patch.x[-1])
+                & (xy[:, 1] >= patch.y[0])
+                & (xy[:, 1] <= patch.y[-1])
+            )
+            out[inside] = _bilinear(patch, xy[inside])
+        return out
+    return _bilinear(grid, xy)
+
+
+def _bilinear(grid: SizeGrid, xy: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Bilinear interpolation of one grid, clamped to its edges."""
     x = np.clip(xy[:, 0], grid.x[0], grid.x[-1])
     y = np.clip(xy[:, 1], grid.y[0], grid.y[-1])
     i = np.clip(np.searchsorted(grid.x, x, side="right") - 1, 0, grid.x.size - 2)
@@ -279,7 +295,8 @@ def to_map_units(size: SizeGrid, mesh_crs: CRS, *, threads: int = 1) -> SizeGrid
     logger.info(
         "size: scale factor %.4f to %.4f in %s", k.min(), k.max(), mesh_crs.name
     )
-    return SizeGrid(size.x, size.y, size.values * k)
+    patches = tuple(to_map_units(p, mesh_crs, threads=threads) for p in size.patches)
+    return SizeGrid(size.x, size.y, size.values * k, patches=patches)
 
 
 def project_rings(

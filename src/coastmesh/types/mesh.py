@@ -34,6 +34,13 @@ class SizeGrid:
         The meshing CRS's scale factor at the nodes, where known (a size grid
         measures it once: :attr:`coastmesh.sizing.grid.Grid.scale`); the mesher
         works it out otherwise (:func:`coastmesh.geometry.projection.to_map_units`).
+    patches : sequence of SizeGrid, optional
+        Finer grids over a few places (a tidal site: sizes of metres in a
+        field of hundreds). Each spans whole cells of this grid (its first and
+        last nodes are nodes of this grid) and has no patches of its own;
+        patches do not overlap. Inside a patch its values are the size
+        (:func:`coastmesh.geometry.projection.sample_size`, and the view Gmsh
+        gets: the cells it covers are replaced by its cells).
 
     Raises
     ------
@@ -51,8 +58,10 @@ class SizeGrid:
     y: NDArray[np.float64]
     values: NDArray[np.float64]
     scale: NDArray[np.float64] | None = None
+    patches: tuple[SizeGrid, ...] = ()
 
     def __post_init__(self) -> None:
+        _check_patches(self)
         axes = {}
         for name in ("x", "y"):
             axis = np.array(getattr(self, name), dtype=np.float64)
@@ -270,6 +279,29 @@ def _regions(values: object, m: int, surface_id: int) -> NDArray[np.int64]:
     if array.size and array.min() < 1:
         raise ValueError(f"regions has id {int(array.min())}: ids are >= 1")
     return array
+
+
+def _check_patches(grid: SizeGrid) -> None:
+    """Raise ValueError unless the patches are plain grids on whole cells, apart."""
+    patches = tuple(grid.patches)
+    object.__setattr__(grid, "patches", patches)
+    x, y = np.asarray(grid.x, dtype=np.float64), np.asarray(grid.y, dtype=np.float64)
+    boxes = []
+    for k, patch in enumerate(patches):
+        if not isinstance(patch, SizeGrid) or patch.patches:
+            raise ValueError(f"patches[{k}] must be a SizeGrid without patches")
+        for name, axis, ends in (("x", x, patch.x), ("y", y, patch.y)):
+            if not (np.isin(ends[[0, -1]], axis).all()):
+                raise ValueError(
+                    f"patches[{k}] does not start and end on nodes of the grid "
+                    f"along {name} ({ends[0]:g} to {ends[-1]:g})"
+                )
+        box = (patch.x[0], patch.y[0], patch.x[-1], patch.y[-1])
+        for j, other in enumerate(boxes):
+            if box[0] < other[2] and other[0] < box[2] and box[1] < other[3]:
+                if other[1] < box[3]:
+                    raise ValueError(f"patches[{k}] overlaps patches[{j}]")
+        boxes.append(box)
 
 
 def _index_array(values: object, name: str, width: int, n: int) -> NDArray[np.int64]:

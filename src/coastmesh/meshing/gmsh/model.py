@@ -137,7 +137,7 @@ def add_size_view(
     """
     view = gmsh.view.add("size")
     if isinstance(size, SizeGrid):
-        data = grid_view_data(size, bounds, near)
+        data = grid_view_data(size, bounds, None if size.patches else near)
         gmsh.view.addListData(view, "SQ", len(data) // 16, data)
     else:  # a SphereSizeGrid: its cells, moved into the plane
         for kind, data in size.view_data().items():
@@ -169,13 +169,17 @@ def grid_view_data(
     ny, nx = len(y) - 1, len(x) - 1
     corners = [(0, 0), (0, 1), (1, 1), (1, 0)]  # (dj, di), counter-clockwise
     if near is None:
-        cells = np.zeros((ny, nx, 16))
-        for k, (dj, di) in enumerate(corners):
-            cells[:, :, k] = x[di : di + nx]
-            cells[:, :, 4 + k] = y[dj : dj + ny, None]
-            cells[:, :, 12 + k] = v[dj : dj + ny, di : di + nx]
-        # gmsh's Python API takes a contiguous float64 array as it is
-        return cells.ravel()
+        cells = _quads(x, y, v)
+        if not size.patches:
+            # gmsh's Python API takes a contiguous float64 array as it is
+            return cells.ravel()
+        covered = np.zeros((ny, nx), dtype=bool)
+        for patch in size.patches:  # its cells stand for the cells it covers
+            i0, i1 = np.searchsorted(x, patch.x[[0, -1]])
+            j0, j1 = np.searchsorted(y, patch.y[[0, -1]])
+            covered[j0:j1, i0:i1] = True
+        fine = [_quads(p.x, p.y, p.values).ravel() for p in size.patches]
+        return np.concatenate([cells[~covered].ravel(), *fine])
     near = np.asarray(near, dtype=np.float64).reshape(-1, 2)
     hit = np.zeros((ny, nx), dtype=bool)
     i = np.clip(np.searchsorted(x, near[:, 0], side="right") - 1, 0, nx - 1)
@@ -188,6 +192,21 @@ def grid_view_data(
         cells[:, 4 + k] = y[j + dj]
         cells[:, 12 + k] = v[j + dj, i + di]
     return cells.ravel()
+
+
+def _quads(x, y, v) -> NDArray[np.float64]:
+    """Return the cells of a grid as (ny - 1, nx - 1, 16) Gmsh list quadrangles."""
+    ny, nx = len(y) - 1, len(x) - 1
+    cells = np.zeros((ny, nx, 16))
+    for k, (dj, di) in enumerate([(0, 0), (0, 1), (1, 1), (1, 0)]):
+        cells[:, :, k] = x[di : di + nx]
+        cells[:, :, 4 + k] = y[dj : dj + ny, None]
+        cells[:, :, 12 + k] = v[dj : dj + ny, di : di + nx]
+    return cells
+
+
+def _extent(grid: SizeGrid) -> tuple[float, float, float, float]:
+    return (grid.x[0], grid.y[0], grid.x[-1], grid.y[-1])
 
 
 def _padded(
@@ -230,4 +249,21 @@ def crop_grid(grid: SizeGrid, bounds: tuple[float, ...], margin: int = 2) -> Siz
     j1 = min(int(np.searchsorted(grid.y, y1, side="left")) + 1 + margin, len(grid.y))
     i1, j1 = max(i1, i0 + 2), max(j1, j0 + 2)
     i0, j0 = min(i0, len(grid.x) - 2), min(j0, len(grid.y) - 2)
-    return SizeGrid(grid.x[i0:i1], grid.y[j0:j1], grid.values[j0:j1, i0:i1])
+    x, y = grid.x[i0:i1], grid.y[j0:j1]
+    patches = tuple(  # those within the crop, whole (they start on its nodes)
+        p
+        for p in grid.patches
+        if p.x[0] >= x[0] and p.x[-1] <= x[-1] and p.y[0] >= y[0] and p.y[-1] <= y[-1]
+    )
+    if len(patches) < sum(
+        p.x[-1] > x[0] and p.x[0] < x[-1] and p.y[-1] > y[0] and p.y[0] < y[-1]
+        for p in grid.patches
+    ):  # a patch across the crop's edge: widen the crop to hold it whole
+        boxes = [
+            _extent(p)
+            for p in grid.patches
+            if p.x[-1] > x[0] and p.x[0] < x[-1] and p.y[-1] > y[0] and p.y[0] < y[-1]
+        ] + [(x[0], y[0], x[-1], y[-1])]
+        lo, hi = np.min(boxes, axis=0)[:2], np.max(boxes, axis=0)[2:]
+        return crop_grid(grid, (*lo, *hi), margin=0)
+    return SizeGrid(x, y, grid.values[j0:j1, i0:i1], patches=patches)
