@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
 import shapely
@@ -19,9 +21,9 @@ def _base(step=100.0, size=2000.0, h=100.0):
     return SizeGrid(axis, axis, np.full((len(axis), len(axis)), h))
 
 
-def _spot(cx=1000.0, cy=1000.0, radius=10.0, h=5.0):
+def _cone(cx=1000.0, cy=1000.0, radius=10.0, h=5.0, rate=0.2):
     def sizes(x, y):
-        return np.where(np.hypot(x - cx, y - cy) <= radius, h, np.inf)
+        return h + rate * np.maximum(np.hypot(x - cx, y - cy) - radius, 0.0)
 
     return sizes
 
@@ -29,65 +31,87 @@ def _spot(cx=1000.0, cy=1000.0, radius=10.0, h=5.0):
 @pytest.fixture(scope="module")
 def patched():
     base = _base()
-    patch = site_patch(base, (990, 990, 1010, 1010), _spot(), smallest=5.0, rate=0.2)
-    return base, patch, with_patches(base, [patch])
+    levels = site_patch(base, (990, 990, 1010, 1010), _cone(), smallest=5.0, rate=0.2)
+    return base, levels, with_patches(base, levels)
 
 
-def test_a_patch_meets_the_field_and_keeps_the_gradation(patched):
-    base, patch, _ = patched
-    assert patch.values.min() == pytest.approx(5.0)
-    # on its frame the patch is the field's
-    frame = np.concatenate(
-        [patch.values[0], patch.values[-1], patch.values[:, 0], patch.values[:, -1]]
-    )
-    assert np.allclose(frame, 100.0)
-    # the gradation limit holds across the patch
-    dx = np.diff(patch.x).min()
-    assert np.abs(np.diff(patch.values, axis=1)).max() <= 0.2 * dx * (1 + 1e-9)
-    assert set(patch.x[[0, -1]]).issubset(base.x)  # on the base's nodes
+def test_levels_halve_their_cells_and_nest(patched):
+    base, levels, _ = patched
+    steps = [float(p.x[1] - p.x[0]) for p in levels]
+    assert steps == [50.0, 25.0, 12.5, 6.25, 3.125, 1.5625]
+    parent = base
+    for level in levels:  # each on its parent's nodes, inside it
+        assert set(level.x[[0, -1]]).issubset(parent.x)
+        assert set(level.y[[0, -1]]).issubset(parent.y)
+        parent = level
 
 
-def test_sampling_takes_the_patch_inside_it_and_the_field_outside(patched):
-    _, patch, size = patched
+def test_the_levels_meet_the_field_and_keep_the_gradation(patched):
+    _, levels, _ = patched
+    assert levels[-1].values.min() == pytest.approx(5.0)
+    outer = levels[0].values
+    frame = np.concatenate([outer[0], outer[-1], outer[:, 0], outer[:, -1]])
+    assert np.allclose(frame, 100.0)  # on its frame the outer level is the field
+    for level in levels:
+        dx = float(np.diff(level.x).min())
+        assert np.abs(np.diff(level.values, axis=1)).max() <= 0.2 * dx * (1 + 1e-9)
+    # each level holds where its parent's cells are too coarse for the sizes
+    for parent, child in itertools.pairwise(levels):
+        step = float(parent.x[1] - parent.x[0])
+        xx, yy = np.meshgrid(parent.x, parent.y)
+        fine = parent.values < 2 * step
+        inside = (
+            (xx >= child.x[0])
+            & (xx <= child.x[-1])
+            & (yy >= child.y[0])
+            & (yy <= child.y[-1])
+        )
+        assert inside[fine].all()
+
+
+def test_sampling_takes_the_finest_level_holding_a_point(patched):
+    _, levels, size = patched
     xy = np.array([[1000.0, 1000.0], [1030.0, 1000.0], [50.0, 50.0]])
     got = sample_size(size, xy)
     assert got[0] == pytest.approx(5.0)
-    assert got[1] == pytest.approx(sample_size(patch, xy[1:2])[0])
+    holding = [p for p in levels if p.x[0] <= 1030 <= p.x[-1]]
+    assert got[1] == pytest.approx(sample_size(holding[-1], xy[1:2])[0])
     assert got[2] == pytest.approx(100.0)
 
 
 def test_the_view_tiles_the_plane_once(patched):
-    base, patch, size = patched
+    base, levels, size = patched
     bounds = (0.0, 0.0, 2000.0, 2000.0)
     cells = grid_view_data(size, bounds).reshape(-1, 16)
     area = ((cells[:, 1] - cells[:, 0]) * (cells[:, 7] - cells[:, 4])).sum()
     plain = grid_view_data(base, bounds).reshape(-1, 16)
     plain_area = ((plain[:, 1] - plain[:, 0]) * (plain[:, 7] - plain[:, 4])).sum()
     assert area == pytest.approx(plain_area)  # no gap and no overlap
-    assert len(cells) > len(plain)  # finer where the patch is
-    # the coarse cells left are those outside the patch's frame, all of them
-    fine = (cells[:, 1] - cells[:, 0]) < 5  # the patch: 2.5 m
-    coarse = cells[~fine]
-    inside = (
-        (coarse[:, 0] >= patch.x[0])
-        & (coarse[:, 1] <= patch.x[-1])
-        & (coarse[:, 4] >= patch.y[0])
-        & (coarse[:, 7] <= patch.y[-1])
-    )
-    assert not inside.any()
-    assert fine.sum() == (len(patch.x) - 1) * (len(patch.y) - 1)
+    # a quadtree: far fewer cells than one grid at the finest step
+    finest = levels[-1]
+    assert len(cells) < 0.1 * (2000 / float(finest.x[1] - finest.x[0])) ** 2
+    for level in levels:  # no cell of a level lies inside a finer level
+        step = float(level.x[1] - level.x[0])
+        mine = cells[np.isclose(cells[:, 1] - cells[:, 0], step)]
+        for finer in levels:
+            if float(finer.x[1] - finer.x[0]) < step:
+                inside = (
+                    (mine[:, 0] >= finer.x[0])
+                    & (mine[:, 1] <= finer.x[-1])
+                    & (mine[:, 4] >= finer.y[0])
+                    & (mine[:, 6] <= finer.y[-1])
+                )
+                assert not inside.any()
 
 
-def test_a_crop_keeps_a_patch_whole(patched):
-    _, patch, size = patched
-    inside = crop_grid(size, (1200, 1200, 1900, 1900))
-    assert inside.patches == () or inside.patches[0] is patch
+def test_a_crop_keeps_the_levels_whole(patched):
+    _, levels, size = patched
     across = crop_grid(size, (1000, 1000, 1900, 1900), margin=0)
-    assert across.patches == (patch,)
-    assert across.x[0] <= patch.x[0] and across.x[-1] >= patch.x[-1]
+    assert across.patches == tuple(levels)
+    assert across.x[0] <= levels[0].x[0] and across.x[-1] >= levels[0].x[-1]
 
 
-def test_map_units_scale_the_patches_too(patched):
+def test_map_units_scale_the_levels_too(patched):
     _, _, size = patched
     utm = CRS.from_epsg(32630)
     shifted = SizeGrid(

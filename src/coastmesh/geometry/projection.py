@@ -166,7 +166,7 @@ def sample_size(grid: SizeGrid, xy: NDArray[np.float64]) -> NDArray[np.float64]:
     xy = np.asarray(xy, dtype=np.float64).reshape(-1, 2)
     if grid.patches:
         out = _bilinear(grid, xy)
-        for patch in grid.patches:
+        for patch in sorted(grid.patches, key=lambda p: -(p.x[1] - p.x[0])):
             inside = (
                 (xy[:, 0] >= patch.x[0])
                 & (xy[:, 0] <= patch.x[-1])

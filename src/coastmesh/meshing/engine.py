@@ -606,15 +606,18 @@ def _inner_plane(
     if not inner:
         return InnerPlane([], [], [], [], np.empty((0, 2)))
     rings, polygons = [], []
+    crs = CRS(inner.crs) if inner.crs is not None else CRS(crs)
     for polygon, _, _ in inner.regions:
         ring = np.asarray(polygon.exterior.coords)
-        projected = project_points(ring, CRS(crs), mesh_crs, what="regions")
+        projected = ring
+        if not crs.equals(mesh_crs):
+            projected = project_points(ring, crs, mesh_crs, what="regions")
         noded = node_ring(projected, lambda xy: sample_size(map_size, xy))
         rings.append(noded)
         polygons.append(shapely.Polygon(noded))
     points = np.asarray(inner.points, dtype=np.float64).reshape(-1, 2)
-    if len(points):
-        points = project_points(points, CRS(crs), mesh_crs, what="turbines")
+    if len(points) and not crs.equals(mesh_crs):
+        points = project_points(points, crs, mesh_crs, what="turbines")
     return InnerPlane(
         rings,
         polygons,

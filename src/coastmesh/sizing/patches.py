@@ -2,11 +2,11 @@
 
 A tidal site asks for sizes of a few metres (a quarter of a rotor diameter)
 where the field around it is hundreds of metres, on a grid whose cells are
-the field's. :func:`site_patch` makes a finer grid over the site's cells
-alone (:attr:`~coastmesh.types.SizeGrid.patches`): the smaller of the coarse
-field and the site's sizes, graded at ``rate`` (the field's own gradation
-limit, :func:`~coastmesh.sizing.gradation.limit_gradation`), over a margin
-wide enough that the site's sizes have grown to the field's at its edge.
+the field's. :func:`site_patch` makes nested finer grids around the site
+alone (:attr:`~coastmesh.types.SizeGrid.patches`), each level's cells half
+its parent's, each over the water where the sizes need its cells: the
+smaller of the coarse field and the site's sizes, which grow at the field's
+``rate`` (so the patches meet the field without a step).
 """
 
 from __future__ import annotations
@@ -19,7 +19,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from coastmesh.geometry.projection import sample_size
-from coastmesh.sizing.gradation import limit_gradation
 from coastmesh.types import SizeGrid
 
 __all__ = ["site_patch", "with_patches"]
@@ -34,70 +33,74 @@ def site_patch(
     *,
     smallest: float,
     rate: float,
-) -> SizeGrid:
-    """Return a patch of ``base`` over ``box`` and a margin, with a site's sizes.
+) -> list[SizeGrid]:
+    """Return nested patches of ``base`` around ``box`` with a site's sizes.
 
     Parameters
     ----------
     base : SizeGrid
-        The field (no patches of its own over ``box``).
+        The field.
     box : (minx, miny, maxx, maxy)
         The site, in the grid's coordinates.
     sizes : callable
-        ``sizes(x, y)``: the site's sizes at arrays of points (``inf`` where it
-        asks for none).
+        ``sizes(x, y)``: the site's sizes at arrays of points, graded already
+        (``inf`` where it asks for none): at most ``rate`` of growth per metre.
     smallest : float
-        The smallest size the site asks for: the patch's cells are half of it.
+        The smallest size the site asks for.
     rate : float
-        The gradation limit (``|grad h| <= rate``).
+        The gradation limit the sizes keep (``|grad h| <= rate``).
 
     Returns
     -------
-    SizeGrid
-        From base nodes to base nodes, each base cell split evenly; ``min(base,
-        sizes)`` limited at ``rate``. The margin around ``box`` is where the
-        site's sizes have grown at ``rate`` to the largest base size over the
-        box, so the patch meets the field without a step.
+    list of SizeGrid
+        Levels of cells half as large as the last, from half the base's cell
+        down to half of ``smallest``: each covers the water where the sizes are
+        under two of its parent's cells (the site's box, grown by how far the
+        sizes take to grow to that), on whole cells of its parent. Their
+        values are ``min(base, sizes)``. A quadtree of levels, so the cells
+        follow the sizes: a turbine of metres in a field of hundreds of metres
+        takes tens of thousands of cells, not millions.
 
     Examples
     --------
     >>> base = SizeGrid(np.arange(0.0, 1001, 100), np.arange(0.0, 1001, 100),
     ...                 np.full((11, 11), 100.0))
-    >>> spot = lambda x, y: np.where(np.hypot(x - 500, y - 500) < 10, 5.0, np.inf)
-    >>> p = site_patch(base, (490, 490, 510, 510), spot, smallest=5.0, rate=0.2)
-    >>> [round(float(v), 6) for v in (p.values.min(), p.values.max(), p.x[0], p.x[-1])]
-    [5.0, 100.0, 0.0, 1000.0]
+    >>> cone = lambda x, y: 5.0 + 0.2 * np.maximum(np.hypot(x - 500, y - 500) - 10, 0)
+    >>> levels = site_patch(base, (490, 490, 510, 510), cone, smallest=5.0, rate=0.2)
+    >>> [float(p.x[1] - p.x[0]) for p in levels]
+    [50.0, 25.0, 12.5, 6.25, 3.125, 1.5625]
+    >>> round(float(levels[-1].values.min()), 6), float(levels[0].values.max())
+    (5.0, 100.0)
     """
-    x0, y0, x1, y1 = box
-    sample = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1], [(x0 + x1) / 2, y0]])
-    top = float(np.max(sample_size(base, sample)))
-    margin = max(top - smallest, 0.0) / rate + 2 * top
-    lo = _snap(base.x, x0 - margin, base.y, y0 - margin, low=True)
-    hi = _snap(base.x, x1 + margin, base.y, y1 + margin, low=False)
-    xs = _split(base.x[lo[0] : hi[0] + 1], smallest / 2)
-    ys = _split(base.y[lo[1] : hi[1] + 1], smallest / 2)
-    xx, yy = np.meshgrid(xs, ys)
-    coarse = sample_size(base, np.column_stack([xx.ravel(), yy.ravel()]))
-    values = np.minimum(coarse.reshape(xx.shape), sizes(xx, yy))
-    dx, dy = float(np.diff(xs).min()), float(np.diff(ys).min())
-    values = limit_gradation(values, (dx, dy), rate)
-    return SizeGrid(xs, ys, values)
+    step = float(np.min(np.diff(base.x)))
+    parent_x, parent_y = base.x, base.y
+    levels = []
+    while step > smallest / 2:
+        reach = max(2 * step - smallest, 0.0) / rate + 2 * step
+        x0, y0, x1, y1 = box
+        i0, i1 = _snap(parent_x, x0 - reach, x1 + reach)
+        j0, j1 = _snap(parent_y, y0 - reach, y1 + reach)
+        step /= 2
+        xs = _split(parent_x[i0 : i1 + 1], step)
+        ys = _split(parent_y[j0 : j1 + 1], step)
+        xx, yy = np.meshgrid(xs, ys)
+        coarse = sample_size(base, np.column_stack([xx.ravel(), yy.ravel()]))
+        values = np.minimum(coarse.reshape(xx.shape), sizes(xx, yy))
+        levels.append(SizeGrid(xs, ys, values))
+        parent_x, parent_y = xs, ys
+    return levels
 
 
 def with_patches(base: SizeGrid, patches: list[SizeGrid]) -> SizeGrid:
-    """Return ``base`` with ``patches`` (merged where two would overlap)."""
-    return SizeGrid(base.x, base.y, base.values, base.scale, tuple(patches))
+    """Return ``base`` with ``patches`` (and those it had)."""
+    return SizeGrid(base.x, base.y, base.values, base.scale, (*base.patches, *patches))
 
 
-def _snap(x, at_x, y, at_y, *, low: bool) -> tuple[int, int]:
-    """Return the base node indices at or beyond ``(at_x, at_y)``, clamped."""
-    if low:
-        i = int(np.clip(np.searchsorted(x, at_x, side="right") - 1, 0, len(x) - 2))
-        j = int(np.clip(np.searchsorted(y, at_y, side="right") - 1, 0, len(y) - 2))
-    else:
-        i = int(np.clip(np.searchsorted(x, at_x, side="left"), 1, len(x) - 1))
-        j = int(np.clip(np.searchsorted(y, at_y, side="left"), 1, len(y) - 1))
-    return i, j
+def _snap(axis: NDArray[np.float64], low: float, high: float) -> tuple[int, int]:
+    """Return the node indices of ``axis`` at or beyond ``low`` and ``high``."""
+    i0 = int(np.clip(np.searchsorted(axis, low, side="right") - 1, 0, len(axis) - 2))
+    i1 = int(np.clip(np.searchsorted(axis, high, side="left"), i0 + 1, len(axis) - 1))
+    return i0, i1
 
 
 def _split(nodes: NDArray[np.float64], step: float) -> NDArray[np.float64]:

@@ -36,11 +36,12 @@ class SizeGrid:
         works it out otherwise (:func:`coastmesh.geometry.projection.to_map_units`).
     patches : sequence of SizeGrid, optional
         Finer grids over a few places (a tidal site: sizes of metres in a
-        field of hundreds). Each spans whole cells of this grid (its first and
-        last nodes are nodes of this grid) and has no patches of its own;
-        patches do not overlap. Inside a patch its values are the size
+        field of hundreds). Each spans whole cells of the grid it lies in
+        (this one, or a coarser patch: patches nest, finer inside coarser,
+        and do not otherwise overlap) and has no patches of its own. Inside a
+        patch the finest patch's values are the size
         (:func:`coastmesh.geometry.projection.sample_size`, and the view Gmsh
-        gets: the cells it covers are replaced by its cells).
+        gets: the cells a finer patch covers are replaced by its cells).
 
     Raises
     ------
@@ -282,26 +283,50 @@ def _regions(values: object, m: int, surface_id: int) -> NDArray[np.int64]:
 
 
 def _check_patches(grid: SizeGrid) -> None:
-    """Raise ValueError unless the patches are plain grids on whole cells, apart."""
+    """Raise ValueError unless the patches are plain grids on whole cells, nested.
+
+    Two patches either do not overlap or one lies inside the other; a patch
+    starts and ends on nodes of the finest grid (the base or a patch) it lies
+    in.
+    """
     patches = tuple(grid.patches)
     object.__setattr__(grid, "patches", patches)
-    x, y = np.asarray(grid.x, dtype=np.float64), np.asarray(grid.y, dtype=np.float64)
-    boxes = []
+    base = (np.asarray(grid.x, dtype=np.float64), np.asarray(grid.y, dtype=np.float64))
     for k, patch in enumerate(patches):
         if not isinstance(patch, SizeGrid) or patch.patches:
             raise ValueError(f"patches[{k}] must be a SizeGrid without patches")
+    boxes = [(p.x[0], p.y[0], p.x[-1], p.y[-1]) for p in patches]
+    for k, (patch, box) in enumerate(zip(patches, boxes, strict=True)):
+        parents = [
+            j
+            for j, other in enumerate(boxes)
+            if j != k and _inside(box, other) and not _inside(other, box)
+        ]
+        for j, other in enumerate(boxes):
+            overlap = box[0] < other[2] and other[0] < box[2]
+            overlap = overlap and box[1] < other[3] and other[1] < box[3]
+            if j != k and overlap and not (_inside(box, other) or _inside(other, box)):
+                raise ValueError(f"patches[{k}] overlaps patches[{j}]")
+        parent = min(
+            parents, key=lambda j: patches[j].x[1] - patches[j].x[0], default=None
+        )
+        x, y = base if parent is None else (patches[parent].x, patches[parent].y)
         for name, axis, ends in (("x", x, patch.x), ("y", y, patch.y)):
-            if not (np.isin(ends[[0, -1]], axis).all()):
+            if not np.isin(ends[[0, -1]], axis).all():
                 raise ValueError(
                     f"patches[{k}] does not start and end on nodes of the grid "
-                    f"along {name} ({ends[0]:g} to {ends[-1]:g})"
+                    f"it lies in along {name} ({ends[0]:g} to {ends[-1]:g})"
                 )
-        box = (patch.x[0], patch.y[0], patch.x[-1], patch.y[-1])
-        for j, other in enumerate(boxes):
-            if box[0] < other[2] and other[0] < box[2] and box[1] < other[3]:
-                if other[1] < box[3]:
-                    raise ValueError(f"patches[{k}] overlaps patches[{j}]")
-        boxes.append(box)
+
+
+def _inside(box, other) -> bool:
+    """Whether ``box`` lies within ``other`` (both (x0, y0, x1, y1))."""
+    return bool(
+        box[0] >= other[0]
+        and box[1] >= other[1]
+        and box[2] <= other[2]
+        and box[3] <= other[3]
+    )
 
 
 def _index_array(values: object, name: str, width: int, n: int) -> NDArray[np.int64]:

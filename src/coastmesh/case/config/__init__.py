@@ -24,6 +24,7 @@ from coastmesh.case.config.case import (
     CaseKeys,
     StudyCase,
 )
+from coastmesh.case.config.farms import FarmConfig, RotorLength, TurbinesConfig
 from coastmesh.case.config.mesh import (
     CleanupConfig,
     MeshConfig,
@@ -50,17 +51,20 @@ __all__ = [
     "CleanupConfig",
     "DepthSourceConfig",
     "DomainConfig",
+    "FarmConfig",
     "MeshConfig",
     "NodeDepthConfig",
     "OutputConfig",
     "RasterConfig",
     "RegionConfig",
+    "RotorLength",
     "RunConfig",
     "ShorelineSetConfig",
     "ShorelinesConfig",
     "SiteConfig",
     "SizeConfig",
     "StudyCase",
+    "TurbinesConfig",
     "floor",
     "reference_blocks",
 ]
@@ -76,6 +80,8 @@ def _documented() -> dict[str, type]:
         ShorelineSetConfig,
         RegionConfig,
         SiteConfig,
+        FarmConfig,
+        TurbinesConfig,
         DomainConfig,
         BoundaryConfig,
         LoxodromeConfig,

@@ -9,6 +9,7 @@ from typing import Any
 
 from coastmesh.case import schema
 from coastmesh.case.boundaries import BOUNDARY_KINDS, BoundaryConfig
+from coastmesh.case.config.farms import FarmConfig, TurbinesConfig
 from coastmesh.case.config.mesh import (
     CleanupConfig,
     MeshConfig,
@@ -119,6 +120,15 @@ class CaseConfig:
         part=SiteConfig,
         many=True,
         doc="regions meshed finely on purpose: channels kept, no Courant floor",
+    )
+    farms: tuple[FarmConfig, ...] = key(
+        (), part=FarmConfig, many=True, doc="farm areas: regions of their own id"
+    )
+    turbines: tuple[TurbinesConfig, ...] = key(
+        (),
+        part=TurbinesConfig,
+        many=True,
+        doc="turbines: mesh nodes, or footprints of their own ids",
     )
     domain: DomainConfig = key(
         DomainConfig(), part=DomainConfig, doc="the sea region meshed"
@@ -282,6 +292,7 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
             f"{label}: mesh_size.courant.dt = {courant.dt:g} s: the Courant term "
             "needs the depth; add [mesh_size.bathymetry] or [bathymetry]"
         )
+    _check_sites(case, label, names, owners)
     for k, g in enumerate(case["size"].gradations):
         for n in g.lines:
             if n not in names:
@@ -289,3 +300,50 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
                     f"{label}: mesh_size.gradations[{k}].lines: {n!r} is neither a "
                     f"shoreline set nor an open boundary; known: {sorted(names)}"
                 )
+
+
+def _check_sites(
+    case: dict[str, Any], label: str, names: set[str], owners: dict[int, str]
+) -> None:
+    """Names and ids of farms and turbines.
+
+    Every name is new and every id too (none of a shoreline set, an open
+    boundary, the domain's surface or another farm or footprint); turbines
+    name a farm that exists.
+    """
+    if case["domain"].kind == "global" and (case["farms"] or case["turbines"]):
+        raise ConfigError(
+            f"{label}: farms and turbines are for regional cases; a global case "
+            "has none"
+        )
+    taken = dict(owners)
+    surface = case["domain"].surface_id
+    taken.setdefault(surface, "the domain's surface (domain.surface_id)")
+    seen = set(names)
+
+    def claim(where: str, name: str | None, ids: list[int]) -> None:
+        if name is not None:
+            if name in seen:
+                raise ConfigError(f"{label}: {where}: the name {name!r} is used twice")
+            seen.add(name)
+        for pid in ids:
+            if pid in taken:
+                raise ConfigError(
+                    f"{label}: {where}: id {pid} is also the id of {taken[pid]}; "
+                    "every farm and footprint needs its own id"
+                )
+            taken[pid] = repr(name) if name is not None else where
+
+    for k, f in enumerate(case["farms"]):
+        claim(f"farms[{k}]", f.name, [f.id])
+    farms = {f.name for f in case["farms"]}
+    for k, t in enumerate(case["turbines"]):
+        if t.farm is not None and t.farm not in farms:
+            raise ConfigError(
+                f"{label}: turbines[{k}].farm = {t.farm!r}: no such farm; the farms "
+                f"are {sorted(farms)}"
+            )
+        ids = list(t.ids or ())
+        if t.id is not None and t.ids is None and t.positions is not None:
+            ids = list(range(t.id, t.id + len(t.positions)))
+        claim(f"turbines[{k}]", t.name, ids)

@@ -13,6 +13,7 @@ stage                       makes
 :func:`shoreline_stage`     the shoreline layer and each shoreline set
 :func:`domain_stage`        the domain: sets stitched, open boundaries, the sea
 :func:`closing_stage`       water too narrow to mesh closed as land
+:func:`site_stage`          farms and turbines read and checked against the sea
 :func:`size_stage`          the size field: every size term, combined
 :func:`mesh_stage`          the mesh, in parts, cleaned
 :func:`channel_stage`       dead-end channels one element wide closed
@@ -29,6 +30,7 @@ from dataclasses import replace
 from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline.advice import quality_stage
 from coastmesh.case.pipeline.depth import depth_stage, time_step_stage
+from coastmesh.case.pipeline.farms import site_features
 from coastmesh.case.pipeline.mesh import channel_stage, mesh_stage
 from coastmesh.case.pipeline.size import size_stage
 from coastmesh.case.pipeline.state import CaseRun, RunContext, Stage
@@ -43,6 +45,7 @@ __all__ = [
     "closing_stage",
     "domain_stage",
     "shoreline_stage",
+    "site_stage",
     "strategy_of",
 ]
 
@@ -62,11 +65,20 @@ def closing_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     return replace(run, domain=run.strategy.close_water(run, ctx))
 
 
+def site_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+    """Read and check the farms and turbines (none: nothing to do)."""
+    if not (run.config.farms or run.config.turbines):
+        return run
+    with ctx.timed("farms and turbines"):
+        return replace(run, site=site_features(run.config, run.domain))
+
+
 #: What building a case does, in order.
 STAGES: tuple[Stage, ...] = (
     shoreline_stage,
     domain_stage,
     closing_stage,
+    site_stage,
     size_stage,
     mesh_stage,
     channel_stage,

@@ -28,6 +28,7 @@ from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig, NodeDepthConfig
 from coastmesh.case.config.sources import DepthSourceConfig
+from coastmesh.case.pipeline.farms import check_clearance, turbine_nodes
 from coastmesh.case.pipeline.state import CaseRun, DepthState, RunContext, missing
 from coastmesh.depth import DepthReport, DepthSource, DepthSources, depth_at_nodes
 from coastmesh.depth.nodes import MAX_LAND_SHARE, node_sources
@@ -62,6 +63,8 @@ def depth_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
         if b.window is not None:
             rasters = _simplified(rasters, b)
         mesh, report = node_depths(b, state.mesh, rasters, progress)
+    if run.site:
+        check_clearance(run.site, mesh)
     return replace(
         run, mesh=replace(state, mesh=mesh), depth=DepthState(rasters, report)
     )
@@ -79,10 +82,15 @@ def time_step_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     cleanup = state.parts.cleanup
     courant = run.time_step
     with ctx.timed("time step") as progress:
+        held = None
+        if run.site:
+            held = np.zeros(len(state.mesh.points), dtype=bool)
+            held[turbine_nodes(run.site, state.mesh)] = True
         relieved, report = relieve_time_step(
             state.mesh,
             velocity=0.0 if courant is None else courant.velocity,
             keep_angles=(cleanup.min_angle_before, cleanup.min_angle_p1_before),
+            held=held,
         )
         logger.info("time step: %s", report.summary())
         if not report.accepted:

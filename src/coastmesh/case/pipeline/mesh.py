@@ -9,6 +9,7 @@ import shapely
 
 from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline.domain import site_area
+from coastmesh.case.pipeline.farms import with_site_sizes
 from coastmesh.case.pipeline.state import CaseRun, MeshState, RunContext, missing
 from coastmesh.meshing import CleanupOptions, mesh_in_parts
 from coastmesh.meshing.cleanup.peel import open_short_runs, peel_channels
@@ -23,10 +24,14 @@ def mesh_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     """Mesh the domain (``[mesh]``), cleaned part by part (``[cleanup]``)."""
     config, state = run.config, run.domain or missing("domain")
     release_memory()  # what the shoreline sets and slots freed, before the workers
+    size, inner = run.strategy.size_grid(run), None
+    if run.site:
+        size = with_site_sizes(size, run.site, config.size.rate)
+        inner = run.site.inner()
     with ctx.timed("meshing") as progress:
         mesh, parts = mesh_in_parts(
             state.domain,
-            run.strategy.size_grid(run),
+            size,
             mesh_crs=state.mesh_crs,
             output_crs=state.output_crs,
             seed=config.mesh.seed,
@@ -37,6 +42,7 @@ def mesh_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
             runner=ctx.runner,
             cleanup=cleanup_options(config),
             progress=progress,
+            inner=inner,
         )
     if parts.parts > 1:
         logger.info("parts: %s", parts.summary())
@@ -64,6 +70,10 @@ def channel_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
             if sites is not None:
                 centres = mesh.points[mesh.triangles].mean(axis=1)
                 keep = shapely.contains_xy(sites, centres[:, 0], centres[:, 1])
+            if (mesh.regions != mesh.surface_id).any():  # farms, footprints
+                keep = (mesh.regions != mesh.surface_id) | (
+                    False if keep is None else keep
+                )
             peeled, report = peel_channels(mesh, keep)
         if report.removed:
             logger.info("channels: %s", report.summary())

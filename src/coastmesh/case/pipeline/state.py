@@ -17,7 +17,7 @@ import logging
 import time
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, NamedTuple, NoReturn
+from typing import TYPE_CHECKING, Any, NamedTuple, NoReturn
 
 import numpy as np
 import shapely
@@ -215,6 +215,9 @@ class CaseRun:
     mesh: MeshState | None = None
     depth: DepthState | None = None
     quality: QualityReport | None = None
+    #: the farms and turbines, checked (``pipeline.farms.SiteFeatures``); None
+    #: in a case without them
+    site: Any = None
 
     @property
     def time_step(self) -> CourantReport | None:

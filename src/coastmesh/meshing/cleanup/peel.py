@@ -545,6 +545,8 @@ def _without(
         point_data,
         dict(mesh.boundary_names),
         dict(mesh.boundary_kinds),
+        mesh.regions[keep],
+        dict(mesh.region_names),
     )
     report = PeelReport(
         removed=len(removed),
@@ -617,6 +619,8 @@ def open_short_runs(mesh: Mesh, min_edges: int = MIN_RUN_EDGES) -> tuple[Mesh, i
         dict(mesh.point_data),
         dict(mesh.boundary_names),
         dict(kinds),
+        mesh.regions,
+        dict(mesh.region_names),
     )
     return out, sum(len(run) for run, _ in runs)
 

@@ -155,6 +155,7 @@ def relieve_time_step(
     min_angle: float = 30.0,
     passes: int = 3,
     keep_angles: tuple[float, float] | None = None,
+    held: NDArray[np.bool_] | None = None,
 ) -> tuple[Mesh, ThrottleReport]:
     """Collapse an edge of each element whose time step is far below the others'.
 
@@ -176,6 +177,11 @@ def relieve_time_step(
         The minimum angle and 1st percentile of minimum angles (degrees) the
         result must keep; default the input's. A case passes Gmsh's own mesh's,
         the bar the cleanup keeps to.
+    held : ndarray of bool, shape (N,), optional
+        Nodes that neither move nor go (turbines, the outlines of farms and
+        footprints): as boundary nodes are, but never along a coast. The
+        nodes on the outline between two regions of ``mesh.regions`` are
+        held whether given or not.
 
     Returns
     -------
@@ -232,9 +238,10 @@ def relieve_time_step(
     # no result may go under the bar; a step may, by the slack, on the way
     bar = max(min_angle, keep[0])
     accepted = False
+    held = _held(mesh, held)
     for slack in ANGLE_SLACK:
         work, collapses, moves = _relieve(
-            mesh, xy, velocity, ratio, bar - slack, passes
+            mesh, xy, velocity, ratio, bar - slack, passes, held
         )
         if not collapses and not moves:
             break
@@ -259,9 +266,26 @@ def relieve_time_step(
     return new, report
 
 
-def _relieve(mesh: Mesh, xy, velocity, ratio, floor, passes) -> tuple:
+def _held(mesh: Mesh, held: NDArray[np.bool_] | None) -> NDArray[np.bool_]:
+    """Return ``held`` (or none) with the nodes between two regions added."""
+    out = np.zeros(len(mesh.points), dtype=bool)
+    if held is not None:
+        out |= np.asarray(held, dtype=bool)
+    if len(np.unique(mesh.regions)) > 1:
+        tri, reg = mesh.triangles, mesh.regions
+        edges = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
+        owner = np.tile(reg, 3)
+        key = np.sort(edges, axis=1)
+        order = np.lexsort((owner, key[:, 1], key[:, 0]))
+        key, owner = key[order], owner[order]
+        same = (key[1:] == key[:-1]).all(axis=1) & (owner[1:] != owner[:-1])
+        out[key[1:][same].ravel()] = True
+    return out
+
+
+def _relieve(mesh: Mesh, xy, velocity, ratio, floor, passes, held) -> tuple:
     """Run the passes on a fresh copy of ``mesh``; return it, collapses, moves."""
-    fixed = smoothing.boundary_nodes(mesh.triangles, len(xy))
+    fixed = smoothing.boundary_nodes(mesh.triangles, len(xy)) | held
     fixed[mesh.boundary_edges.ravel()] = True
     work = _Collapser(xy, mesh.triangles, fixed, node_depth(mesh), velocity)
     work.coast = _coast_links(mesh)
@@ -722,6 +746,7 @@ class _Collapser:
             mesh,
             points=points[keep],
             triangles=index[self.tri[self.alive]],
+            regions=mesh.regions[self.alive],
             boundary_edges=index[edges[whole]],
             boundary_ids=mesh.boundary_ids[whole],
             point_data=point_data,

@@ -173,13 +173,24 @@ def grid_view_data(
         if not size.patches:
             # gmsh's Python API takes a contiguous float64 array as it is
             return cells.ravel()
-        covered = np.zeros((ny, nx), dtype=bool)
-        for patch in size.patches:  # its cells stand for the cells it covers
-            i0, i1 = np.searchsorted(x, patch.x[[0, -1]])
-            j0, j1 = np.searchsorted(y, patch.y[[0, -1]])
-            covered[j0:j1, i0:i1] = True
-        fine = [_quads(p.x, p.y, p.values).ravel() for p in size.patches]
-        return np.concatenate([cells[~covered].ravel(), *fine])
+        # a finer patch's cells stand for the cells it covers
+        grids = [cells.reshape(-1, 16)] + [
+            _quads(p.x, p.y, p.values).reshape(-1, 16) for p in size.patches
+        ]
+        steps = [np.inf] + [float(p.x[1] - p.x[0]) for p in size.patches]
+        kept = []
+        for g, quads in enumerate(grids):
+            keep = np.ones(len(quads), dtype=bool)
+            for p, patch in enumerate(size.patches, start=1):
+                if steps[p] < steps[g]:
+                    keep &= ~(
+                        (quads[:, 0] >= patch.x[0])
+                        & (quads[:, 1] <= patch.x[-1])
+                        & (quads[:, 4] >= patch.y[0])
+                        & (quads[:, 6] <= patch.y[-1])
+                    )
+            kept.append(quads[keep].ravel())
+        return np.concatenate(kept)
     near = np.asarray(near, dtype=np.float64).reshape(-1, 2)
     hit = np.zeros((ny, nx), dtype=bool)
     i = np.clip(np.searchsorted(x, near[:, 0], side="right") - 1, 0, nx - 1)

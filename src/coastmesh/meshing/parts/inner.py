@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 import shapely
@@ -36,12 +37,15 @@ class Inner:
         entry), physical surface id and name. Regions may nest but not cross.
     points : ndarray of shape (k, 2)
         Positions that must be mesh nodes (turbines).
+    crs : pyproj.CRS or CRS-like, optional
+        The CRS of the regions and points; default the domain's.
     """
 
     regions: Sequence[tuple[shapely.Polygon, int, str]] = ()
     points: NDArray[np.float64] = field(
         default_factory=lambda: np.empty((0, 2), dtype=np.float64)
     )
+    crs: Any = None
 
     def __bool__(self) -> bool:
         return bool(len(self.regions) or len(self.points))

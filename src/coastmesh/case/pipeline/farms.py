@@ -1,0 +1,393 @@
+"""A tidal site in the mesh: ``[[farms]]`` and ``[[turbines]]`` as regions and nodes.
+
+:func:`site_features` reads the farms and turbines of a case into the meshing
+CRS and checks them against the sea: each farm is one polygon of sea, farms do
+not overlap, a turbine stands in the sea (in its farm, if it names one), its
+footprint does not cross a farm's outline, and no two turbines are closer than
+their ``spacing``. Each error names the farm or turbine. The mesh stage then
+meshes each farm and footprint as a region of its own
+(:class:`~coastmesh.meshing.parts.inner.Inner`) and sizes it through a patch
+of the size grid (:func:`~coastmesh.sizing.patches.site_patch`): the farm's
+``h`` inside it, the turbines' ``h`` over their footprints (or, for a node,
+over a disc of diameter ``D``), graded at the field's ``rate``.
+
+A disc footprint is the regular polygon of ``ceil(pi D / h)`` sides (at least
+8) inscribed in the circle of diameter ``D``: its vertices are mesh nodes, so
+the region's area is the polygon's. A square footprint has side ``D``, one pair
+of sides across ``bearing``.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import shapely
+from numpy.typing import NDArray
+from pyproj import CRS
+
+from coastmesh.case.config import CaseConfig
+from coastmesh.case.pipeline.state import DomainState
+from coastmesh.errors import ConfigError, InputDataError, MeshingError
+from coastmesh.geometry import reproject
+from coastmesh.geometry.earth import reproject_points
+from coastmesh.io.vector import read_features
+from coastmesh.meshing.parts.inner import Inner
+from coastmesh.sizing.patches import site_patch, with_patches
+from coastmesh.types import SizeGrid
+
+__all__ = [
+    "SiteFeatures",
+    "Turbine",
+    "check_clearance",
+    "site_features",
+    "turbine_nodes",
+    "with_site_sizes",
+]
+
+_LONLAT = CRS.from_epsg(4326)
+
+
+@dataclass(frozen=True)
+class Turbine:
+    """One turbine, in the meshing CRS."""
+
+    name: str
+    group: str
+    xy: tuple[float, float]
+    lonlat: tuple[float, float]
+    diameter: float
+    h: float
+    footprint: str
+    region: int | None  # the footprint's id; None for a node
+    farm: str | None
+    clearance: float = 0.0  # the shallowest water it may stand in, metres
+
+
+@dataclass(frozen=True)
+class SiteFeatures:
+    """The farms and turbines of a case, in the meshing CRS, checked.
+
+    ``farms`` are (name, id, polygon, h or None); ``footprints`` (turbine
+    name, id, polygon); ``turbines`` every turbine.
+    """
+
+    farms: tuple[tuple[str, int, shapely.Polygon, float | None], ...]
+    footprints: tuple[tuple[str, int, shapely.Polygon], ...]
+    turbines: tuple[Turbine, ...]
+    crs: CRS
+
+    def __bool__(self) -> bool:
+        return bool(self.farms or self.turbines)
+
+    def inner(self) -> Inner:
+        """Return the regions and nodes the mesher must hold."""
+        regions = [(p, pid, name) for name, pid, p, _ in self.farms]
+        regions += [(p, pid, name) for name, pid, p in self.footprints]
+        nodes = [t.xy for t in self.turbines if t.footprint == "node"]
+        return Inner(
+            tuple(regions),
+            np.array(nodes, dtype=np.float64).reshape(-1, 2),
+            crs=self.crs,
+        )
+
+    def sizes(
+        self, x: NDArray[np.float64], y: NDArray[np.float64], rate: float
+    ) -> NDArray[np.float64]:
+        """Return the site's sizes at points, growing at ``rate`` away from it.
+
+        The farm's ``h`` inside it and ``h + rate d`` at a distance ``d`` from
+        it; a turbine's ``h`` within ``D / 2 + h`` of it, growing the same
+        beyond; ``inf`` where the site asks for nothing (a farm without ``h``).
+        """
+        h = np.full(np.shape(x), np.inf)
+        points = None
+        for _, _, polygon, size in self.farms:
+            if size is None:
+                continue
+            if points is None:
+                points = shapely.points(x, y)
+            h = np.minimum(h, size + rate * shapely.distance(polygon, points))
+        for t in self.turbines:
+            d = np.hypot(x - t.xy[0], y - t.xy[1]) - (t.diameter / 2 + t.h)
+            h = np.minimum(h, t.h + rate * np.maximum(d, 0.0))
+        return h
+
+    def smallest(self) -> float:
+        """Return the smallest size the site asks for (inf if none)."""
+        given = [h for *_, h in self.farms if h is not None]
+        given += [t.h for t in self.turbines]
+        return min(given, default=math.inf)
+
+    def box(self) -> tuple[float, float, float, float]:
+        """Return the bounds of the farms and the turbines' footprints."""
+        geoms = [p for _, _, p, _ in self.farms] + [
+            shapely.Point(t.xy).buffer(t.diameter) for t in self.turbines
+        ]
+        return tuple(shapely.total_bounds(geoms).tolist())
+
+
+def site_features(config: CaseConfig, state: DomainState) -> SiteFeatures:
+    """Read and check the case's farms and turbines, in the meshing CRS."""
+    crs = state.mesh_crs
+    sea = reproject(state.domain.polygon, state.domain.crs, crs)
+    shapely.prepare(sea)
+    farms = tuple(_farms(config, crs, sea))
+    turbines, footprints = _turbines(config, crs, sea, farms)
+    return SiteFeatures(farms, tuple(footprints), tuple(turbines), crs)
+
+
+def with_site_sizes(size: SizeGrid, site: SiteFeatures, rate: float) -> SizeGrid:
+    """Return the size grid with a patch at the site's sizes; as it is without."""
+    smallest = site.smallest()
+    if not site or not math.isfinite(smallest):
+        return size
+    levels = site_patch(
+        size,
+        site.box(),
+        lambda x, y: site.sizes(x, y, rate),
+        smallest=smallest,
+        rate=rate,
+    )
+    return with_patches(size, levels)
+
+
+def _farms(config: CaseConfig, crs: CRS, sea: shapely.Geometry):
+    """Yield (name, id, polygon, h) per farm, in ``crs``; each in the sea."""
+    seen: list[tuple[str, shapely.Polygon]] = []
+    for k, f in enumerate(config.farms):
+        where = f"{config.label}: farms[{k}] ({f.name!r})"
+        if f.polygon is not None:
+            polygon = reproject(shapely.Polygon(f.polygon), _LONLAT, crs)
+        else:
+            polygon = _file_polygon(f.path, f.layer, crs, where)
+        if not polygon.is_valid or polygon.area <= 0:
+            reason = shapely.is_valid_reason(polygon)
+            raise ConfigError(f"{where}: the polygon is not valid ({reason})")
+        outside = polygon.difference(sea).area
+        if outside > 1e-6 * polygon.area:
+            raise ConfigError(
+                f"{where}: {outside / polygon.area:.1%} of the farm "
+                f"({outside / 1e6:,.4f} km2) lies on land or outside the domain; "
+                "a farm must lie in the sea that is meshed"
+            )
+        for name, other in seen:
+            if polygon.intersection(other).area > 0:
+                raise ConfigError(f"{where}: the farm overlaps farm {name!r}")
+        seen.append((f.name, polygon))
+        yield f.name, f.id, shapely.Polygon(polygon.exterior.coords), f.h
+
+
+def _file_polygon(path: Path, layer: str | None, crs: CRS, where: str):
+    """Return the one polygon (the union) of a vector file's polygons, in ``crs``."""
+    features = read_features(path, layer=layer)
+    geometry = features.geometry[~shapely.is_missing(features.geometry)]
+    polygons = geometry[shapely.get_dimensions(geometry) == 2]
+    if not len(polygons):
+        raise InputDataError(f"{where}: {path} has no polygons", path=str(path))
+    union = shapely.union_all(shapely.make_valid(polygons))
+    if features.crs is not None:
+        union = reproject(union, features.crs, crs)
+    if union.geom_type != "Polygon":
+        raise ConfigError(
+            f"{where}: the polygons of {path} make {len(shapely.get_parts(union))} "
+            "separate areas; give one farm per area"
+        )
+    return union
+
+
+def _turbines(config: CaseConfig, crs: CRS, sea, farms):
+    """Return the turbines and their footprints, checked."""
+    by_name = {name: polygon for name, _, polygon, _ in farms}
+    turbines: list[Turbine] = []
+    footprints = []
+    for k, group in enumerate(config.turbines):
+        where = f"{config.label}: turbines[{k}] ({group.name!r})"
+        rows = _positions(group, where)
+        for n, (name, lonlat, xy_src, src, diameter) in enumerate(rows):
+            d = diameter if diameter is not None else group.diameter
+            if d is None or not d > 0:
+                raise ConfigError(f"{where}: turbine {name!r} has no diameter")
+            xy = tuple(reproject_points(np.array([xy_src]), src, crs)[0].tolist())
+            h = group.h.metres(d)
+            region = None
+            if group.footprint != "node":
+                region = group.ids[n] if group.ids else (group.id or 0) + n
+            shape = _footprint(group.footprint, xy, d, h, group.bearing)
+            _check_place(name, where, shape, sea, by_name, group.farm)
+            turbine = Turbine(
+                name,
+                group.name,
+                xy,
+                lonlat,
+                d,
+                h,
+                group.footprint,
+                region,
+                group.farm,
+                group.clearance.metres(d),
+            )
+            turbines.append(turbine)
+            if region is not None:
+                footprints.append((name, region, shape))
+            _check_spacing(turbine, turbines[:-1], group.spacing.metres(d), where)
+    return turbines, footprints
+
+
+def _positions(group, where: str):
+    """Yield (name, lon/lat or None, xy, its CRS, diameter or None) per turbine."""
+    if group.positions is not None:
+        for n, (lon, lat) in enumerate(group.positions):
+            yield f"{group.name}_{n + 1}", (lon, lat), (lon, lat), _LONLAT, None
+        return
+    path = Path(group.path)
+    if path.suffix.lower() in (".csv", ".txt"):
+        yield from _csv_positions(path, group, where)
+        return
+    features = read_features(path, layer=group.layer)
+    src = features.crs or _LONLAT
+    names = features.fields.get("name") if features.fields else None
+    sizes = features.fields.get("diameter") if features.fields else None
+    for n, geom in enumerate(features.geometry):
+        if geom is None or geom.geom_type != "Point":
+            raise InputDataError(
+                f"{where}: feature {n} of {path} is not a point", path=str(path)
+            )
+        name = str(names[n]) if names is not None else f"{group.name}_{n + 1}"
+        d = float(sizes[n]) if sizes is not None else None
+        yield name, None, (geom.x, geom.y), src, d
+
+
+def _csv_positions(path: Path, group, where: str):
+    """Yield the turbines of a CSV of ``name, x, y[, diameter]``."""
+    src = CRS.from_user_input(group.crs) if group.crs else _LONLAT
+    if not path.exists():
+        raise InputDataError(f"{where}: no such file", path=str(path))
+    with path.open(newline="") as fh:
+        reader = csv.DictReader(fh)
+        missing = {"x", "y"} - set(reader.fieldnames or ())
+        if missing:
+            raise InputDataError(
+                f"{where}: the CSV has no column {sorted(missing)[0]!r}; it needs "
+                "name, x, y and optionally diameter",
+                path=str(path),
+            )
+        for n, row in enumerate(reader):
+            name = row.get("name") or f"{group.name}_{n + 1}"
+            try:
+                xy = (float(row["x"]), float(row["y"]))
+                d = float(row["diameter"]) if row.get("diameter") else None
+            except ValueError:
+                raise InputDataError(
+                    f"{where}: row {n + 2} ({name!r}) has a value that is not a "
+                    f"number: {row}",
+                    path=str(path),
+                ) from None
+            lonlat = xy if src.is_geographic else None
+            yield name, lonlat, xy, src, d
+
+
+def _footprint(kind: str, xy, diameter: float, h: float, bearing: float):
+    """Return a turbine's footprint polygon in the meshing CRS."""
+    cx, cy = xy
+    if kind == "square":
+        half = diameter / 2
+        corners = np.array([[-half, -half], [half, -half], [half, half], [-half, half]])
+        turn = math.radians(-bearing)  # clockwise from north
+        rot = np.array(
+            [[math.cos(turn), -math.sin(turn)], [math.sin(turn), math.cos(turn)]]
+        )
+        return shapely.Polygon(corners @ rot.T + [cx, cy])
+    sides = max(8, math.ceil(math.pi * diameter / h))
+    t = np.linspace(0.0, 2 * math.pi, sides, endpoint=False)
+    ring = np.column_stack(
+        [cx + diameter / 2 * np.cos(t), cy + diameter / 2 * np.sin(t)]
+    )
+    return shapely.Polygon(ring)
+
+
+def _check_place(name, where, shape, sea, farms, farm):
+    """Raise unless the footprint is in the sea (and in its farm), across no outline."""
+    if not sea.contains(shape):
+        raise ConfigError(
+            f"{where}: turbine {name!r} (its footprint of diameter D) is not in "
+            "the sea that is meshed"
+        )
+    if farm is not None and not farms[farm].contains(shape):
+        raise ConfigError(
+            f"{where}: turbine {name!r} is not inside its farm {farm!r} (its "
+            "footprint must lie wholly inside the farm's outline)"
+        )
+    for other, polygon in farms.items():
+        if polygon.boundary.intersects(shape):
+            raise ConfigError(
+                f"{where}: the footprint of turbine {name!r} crosses the outline "
+                f"of farm {other!r}"
+            )
+
+
+def _check_spacing(turbine: Turbine, others, spacing: float, where: str) -> None:
+    """Raise if ``turbine`` is closer than ``spacing`` to one of ``others``."""
+    for other in others:
+        gap = math.hypot(turbine.xy[0] - other.xy[0], turbine.xy[1] - other.xy[1])
+        both = turbine.footprint != "node" and other.footprint != "node"
+        touching = (turbine.diameter + other.diameter) / 2 if both else 0.0
+        if gap < max(spacing, touching):
+            raise ConfigError(
+                f"{where}: turbines {other.name!r} and {turbine.name!r} are "
+                f"{gap:,.1f} m apart, closer than the spacing {spacing:,.1f} m"
+            )
+
+
+def turbine_nodes(site: SiteFeatures, mesh) -> NDArray[np.int64]:
+    """Return the node of each turbine of ``site`` in ``mesh`` (its nearest).
+
+    Raises
+    ------
+    MeshingError
+        If a turbine's nearest node is more than 1 mm from it (a node turbine:
+        its node is at its place) or farther than its footprint (a footprint).
+    """
+    if not site.turbines:
+        return np.empty(0, dtype=np.int64)
+    xy = np.array([t.xy for t in site.turbines])
+    at = reproject_points(xy, site.crs, mesh.crs) if mesh.crs is not None else xy
+    out = []
+    for t, (x, y) in zip(site.turbines, at, strict=True):
+        gap = np.hypot(mesh.points[:, 0] - x, mesh.points[:, 1] - y)
+        k = int(np.argmin(gap))
+        if t.footprint == "node":
+            local = np.asarray(
+                reproject_points(mesh.points[k : k + 1], mesh.crs, site.crs)
+                if mesh.crs is not None
+                else mesh.points[k : k + 1]
+            )[0]
+            off = math.hypot(local[0] - t.xy[0], local[1] - t.xy[1])
+            if off > 1e-3:
+                raise MeshingError(
+                    f"turbine {t.name!r}: its node is {off:.4f} m from its place"
+                )
+        out.append(k)
+    return np.array(out, dtype=np.int64)
+
+
+def check_clearance(site: SiteFeatures, mesh) -> None:
+    """Raise if a turbine stands in water shallower than its ``clearance``.
+
+    The depth at the turbine's node (the nearest node of a footprint), as the
+    mesh has it (``point_data["depth"]``, positive down).
+    """
+    depth = mesh.point_data.get("depth")
+    if depth is None or not site.turbines:
+        return
+    for t, node in zip(site.turbines, turbine_nodes(site, mesh), strict=True):
+        here = float(depth[node])
+        if here < t.clearance:
+            raise ConfigError(
+                f"turbine {t.name!r} ({t.group}) stands in {here:.1f} m of water, "
+                f"shallower than its clearance of {t.clearance:.1f} m "
+                "([[turbines]] clearance, default D)"
+            )

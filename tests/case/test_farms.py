@@ -1,0 +1,195 @@
+"""[[farms]] and [[turbines]]: regions and nodes of a tidal site in a case's mesh."""
+
+from __future__ import annotations
+
+import math
+import warnings
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+import shapely
+from conftest import EXAMPLE, coarse_example_text
+from pyproj import CRS
+
+import coastmesh
+from coastmesh.case import parse_case
+from coastmesh.case.pipeline.farms import site_features
+from coastmesh.errors import ConfigError
+from coastmesh.geometry import reproject
+
+FARM = "[[-3.150, 58.655], [-3.125, 58.655], [-3.125, 58.662], [-3.150, 58.662]]"
+SITE = f"""
+[[farms]]
+name = "meygen"
+id = 20
+polygon = {FARM}
+h = "60 m"
+
+[[turbines]]
+name = "discs"
+farm = "meygen"
+diameter = "18 m"
+positions = [[-3.145, 58.6585], [-3.140, 58.6585]]
+footprint = "disc"
+id = 100
+h = "D/2"
+
+[[turbines]]
+name = "nodes"
+farm = "meygen"
+diameter = "18 m"
+positions = [[-3.132, 58.6575], [-3.128, 58.6595]]
+"""
+
+
+def _case(extra: str = SITE, **replace: str):
+    return parse_case(coarse_example_text(**replace) + extra, EXAMPLE)
+
+
+@pytest.fixture(scope="module")
+def built():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", coastmesh.CoastmeshWarning)
+        return coastmesh.build_case(_case(), workers=1)
+
+
+def _utm_areas(mesh):
+    utm = CRS.from_epsg(32630)
+    p = reproject(shapely.polygons(mesh.points[mesh.triangles]), mesh.crs, utm)
+    return shapely.area(p)
+
+
+@pytest.mark.slow  # a whole case, built once
+def test_the_farm_and_footprints_are_regions_of_their_own(built):
+    mesh = built.mesh
+    assert mesh.region_ids == [1, 20, 100, 101]
+    assert mesh.region_names == {20: "meygen", 100: "discs_1", 101: "discs_2"}
+    area = _utm_areas(mesh)
+    utm = CRS.from_epsg(32630)
+    farm = reproject(shapely.Polygon(eval(FARM)), CRS.from_epsg(4326), utm)
+    in_farm = np.isin(mesh.regions, [20, 100, 101])
+    # the outline's vertices are nodes, its sides straight in the meshing CRS
+    assert area[in_farm].sum() == pytest.approx(farm.area, rel=1e-6)
+    disc = area[mesh.regions == 100].sum()
+    sides = max(8, math.ceil(math.pi * 18 / 9))  # h = D/2: 7 sides, at least 8
+    inscribed = sides / 2 * 9.0**2 * math.sin(2 * math.pi / sides)
+    assert disc == pytest.approx(inscribed, rel=1e-6)
+
+
+@pytest.mark.slow  # a whole case, built once
+def test_node_turbines_are_mesh_nodes_at_their_place(built):
+    mesh = built.mesh
+    for lon, lat in ((-3.132, 58.6575), (-3.128, 58.6595)):
+        gap = np.hypot(mesh.points[:, 0] - lon, mesh.points[:, 1] - lat)
+        k = int(np.argmin(gap))
+        utm = CRS.from_epsg(32630)
+        a = reproject(shapely.Point(mesh.points[k]), mesh.crs, utm)
+        b = reproject(shapely.Point(lon, lat), CRS.from_epsg(4326), utm)
+        assert a.distance(b) < 1e-3
+
+
+@pytest.mark.slow  # a whole case, built once
+def test_the_regions_survive_the_written_msh(built, tmp_path):
+    path = tmp_path / "m.msh"
+    coastmesh.write_mesh(path, built.mesh, format="msh2")
+    back = coastmesh.read_mesh(path, crs=built.mesh.crs)
+    assert back.region_ids == built.mesh.region_ids
+    assert back.region_names == built.mesh.region_names
+    assert (
+        np.bincount(back.regions).tolist() == np.bincount(built.mesh.regions).tolist()
+    )
+
+
+@pytest.mark.slow  # a whole case, built once
+def test_elements_in_the_farm_follow_its_size(built):
+    mesh = built.mesh
+    edges = np.sqrt(_utm_areas(mesh) * 4 / np.sqrt(3))
+    # away from the turbines, whose sizes grow at rate 0.25 to the farm's 60 m
+    turbines = np.array(
+        [[-3.145, 58.6585], [-3.140, 58.6585], [-3.132, 58.6575], [-3.128, 58.6595]]
+    )
+    centres = mesh.points[mesh.triangles].mean(axis=1)
+    metres = np.array([math.cos(math.radians(58.66)) * 111_320, 111_320])
+    gap = np.min(
+        np.hypot(*((centres[:, None, :] - turbines[None]) * metres).transpose(2, 0, 1)),
+        axis=1,
+    )
+    farm = (mesh.regions == 20) & (gap > 300)
+    assert farm.sum() > 50
+    assert 0.8 <= np.median(edges[farm]) / 60.0 <= 1.25
+    assert 0.6 <= np.median(edges[mesh.regions == 100]) / 9.0 <= 1.25
+
+
+# --- bad input ---------------------------------------------------------------
+
+
+def test_a_turbine_naming_no_farm_is_refused():
+    with pytest.raises(ConfigError, match=r"turbines\[0\].farm = 'nowhere'"):
+        _case(SITE.replace('farm = "meygen"', 'farm = "nowhere"', 1))
+
+
+def test_an_id_used_twice_is_refused():
+    with pytest.raises(ConfigError, match="id 10 is also the id of"):
+        _case(SITE.replace("id = 20", "id = 10"))  # the example's 'full' set
+    with pytest.raises(ConfigError, match="id 20 is also the id of"):
+        _case(SITE.replace("id = 100", "id = 19"))  # 19, 20 (the farm)
+
+
+def test_a_footprint_needs_ids():
+    with pytest.raises(ConfigError, match="needs the footprints' ids"):
+        _case(SITE.replace("id = 100\n", ""))
+
+
+@pytest.mark.parametrize("text", ["D/0", "-2 D", "D/x"])
+def test_a_bad_share_of_the_diameter_is_named(text):
+    with pytest.raises(ConfigError, match=r"turbines\[0\]\.h"):
+        _case(SITE.replace('h = "D/2"', f'h = "{text}"'))
+
+
+def _state(case):
+    """A stand-in for the domain stage: the sea is the box the farm lies in."""
+    sea = shapely.box(-3.30, 58.60, -3.00, 58.72)
+    domain = SimpleNamespace(polygon=sea, crs=CRS.from_epsg(4326))
+    return SimpleNamespace(domain=domain, mesh_crs=CRS.from_epsg(32630))
+
+
+def test_site_features_read_the_farm_and_turbines():
+    site = site_features(_case(), _state(None))
+    assert [f[0] for f in site.farms] == ["meygen"]
+    assert [t.name for t in site.turbines] == [
+        "discs_1",
+        "discs_2",
+        "nodes_1",
+        "nodes_2",
+    ]
+    assert [f[1] for f in site.footprints] == [100, 101]
+    assert site.smallest() == pytest.approx(4.5)  # the nodes: D/4 by default
+
+
+def test_a_farm_on_land_is_refused():
+    case = _case()
+    state = _state(case)
+    state.domain.polygon = shapely.box(-3.30, 58.60, -3.14, 58.72)  # cuts the farm
+    with pytest.raises(ConfigError, match=r"farms\[0\] \('meygen'\): .* lies on land"):
+        site_features(case, state)
+
+
+def test_turbines_too_close_are_refused_by_name():
+    close = SITE.replace("[-3.140, 58.6585]", "[-3.1452, 58.6585]")
+    with pytest.raises(ConfigError, match=r"'discs_1' and 'discs_2' are .* apart"):
+        site_features(_case(close), _state(None))
+
+
+def test_a_footprint_across_the_farm_outline_is_refused():
+    across = SITE.replace("[-3.145, 58.6585]", "[-3.150, 58.6585]").replace(
+        'farm = "meygen"\ndiameter', "diameter", 1
+    )
+    with pytest.raises(ConfigError, match="crosses the outline of farm 'meygen'"):
+        site_features(_case(across), _state(None))
+
+
+def test_a_turbine_outside_its_farm_is_refused():
+    outside = SITE.replace("[-3.132, 58.6575]", "[-3.110, 58.6575]")
+    with pytest.raises(ConfigError, match="'nodes_1' is not inside its farm"):
+        site_features(_case(outside), _state(None))
