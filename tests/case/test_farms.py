@@ -193,3 +193,27 @@ def test_a_turbine_outside_its_farm_is_refused():
     outside = SITE.replace("[-3.132, 58.6575]", "[-3.110, 58.6575]")
     with pytest.raises(ConfigError, match="'nodes_1' is not inside its farm"):
         site_features(_case(outside), _state(None))
+
+
+@pytest.mark.slow  # a whole case, built once
+def test_turbines_csv_says_where_each_turbine_is(built, tmp_path):
+    import csv
+
+    from coastmesh.case.pipeline.farms import TURBINE_COLUMNS, write_turbines
+
+    path = tmp_path / "turbines.csv"
+    write_turbines(path, built.site, built.mesh)
+    rows = list(csv.DictReader(path.open()))
+    assert [r["name"] for r in rows] == ["discs_1", "discs_2", "nodes_1", "nodes_2"]
+    assert tuple(rows[0]) == TURBINE_COLUMNS
+    assert [int(r["region"]) for r in rows] == [100, 101, 20, 20]
+    for r in rows:
+        node = int(r["node"])
+        assert float(r["x"]) == built.mesh.points[node, 0]
+        assert float(r["depth_m"]) == pytest.approx(
+            built.mesh.point_data["depth"][node], abs=1e-3
+        )
+    for r in rows[2:]:  # the node turbines: their node is their place, to 1 mm
+        lon, lat = float(r["lon"]), float(r["lat"])
+        assert abs(lon - float(r["x"])) < 2e-8 and abs(lat - float(r["y"])) < 1e-8
+        assert float(r["element_size_m"]) == pytest.approx(4.5, rel=0.35)

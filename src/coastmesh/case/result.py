@@ -22,6 +22,7 @@ from coastmesh import __version__
 from coastmesh.case.config import CaseConfig, OutputConfig
 from coastmesh.case.dump import dump_case
 from coastmesh.case.figures import FigureJobs, figure_jobs
+from coastmesh.case.pipeline.farms import write_turbines
 from coastmesh.case.pipeline.state import CaseRun
 from coastmesh.case.report import CaseReport
 from coastmesh.geometry import OpenBoundary
@@ -76,6 +77,9 @@ class CaseResult:
     channel_width : xarray.DataArray or None
         With the channel term: the width of the water on the size grid, metres
         (NaN outside the domain, inf where wider than matters).
+    site : SiteFeatures or None
+        The case's farms and turbines, checked, in the mesh CRS
+        (:mod:`coastmesh.case.pipeline.farms`); None without them.
     """
 
     config: CaseConfig
@@ -90,6 +94,7 @@ class CaseResult:
     output: Path | None = None
     files: tuple[str, ...] = ()
     channel_width: xr.DataArray | None = None
+    site: Any = None
 
     @classmethod
     def of(
@@ -111,6 +116,7 @@ class CaseResult:
             crs=shorelines.crs,
             seconds=elapsed,
             channel_width=size.layers.get("width"),
+            site=run.site,
         )
 
     @property
@@ -267,6 +273,9 @@ def _write_case(
     ):
         figures.start(jobs, triangles)  # on the pool, while the files are written
         files = _write_models(result, partial, outputs)
+        if result.site is not None and result.site.turbines:
+            write_turbines(partial / "turbines.csv", result.site, result.mesh)
+            files.append("turbines.csv")
         if outputs.domain:
             _write_domain(partial / "domain.gpkg", result)
             files.append("domain.gpkg")

@@ -46,6 +46,7 @@ __all__ = [
     "site_features",
     "turbine_nodes",
     "with_site_sizes",
+    "write_turbines",
 ]
 
 _LONLAT = CRS.from_epsg(4326)
@@ -391,3 +392,71 @@ def check_clearance(site: SiteFeatures, mesh) -> None:
                 f"shallower than its clearance of {t.clearance:.1f} m "
                 "([[turbines]] clearance, default D)"
             )
+
+
+#: The columns of ``turbines.csv``.
+TURBINE_COLUMNS = (
+    "name",
+    "group",
+    "lon",
+    "lat",
+    "x",
+    "y",
+    "node",
+    "region",
+    "diameter_m",
+    "size_m",
+    "element_size_m",
+    "depth_m",
+)
+
+
+def turbine_rows(site: SiteFeatures, mesh) -> list[dict[str, object]]:
+    """Return a row per turbine: where it is and what the mesh has there.
+
+    ``x``, ``y`` are in the mesh's (output) CRS, ``node`` is the index of its
+    node (the nearest node of a footprint), ``region`` the physical id of its
+    footprint or of the triangles at its node, ``size_m`` the size asked,
+    ``element_size_m`` the mean length of the mesh edges at its node (metres,
+    in the meshing CRS), ``depth_m`` the depth there (empty without one).
+    """
+    nodes = turbine_nodes(site, mesh)
+    lonlat = reproject_points(
+        np.array([t.xy for t in site.turbines]), site.crs, _LONLAT
+    )
+    plane = (
+        reproject_points(mesh.points, mesh.crs, site.crs) if mesh.crs else mesh.points
+    )
+    depth = mesh.point_data.get("depth")
+    rows = []
+    for t, node, (lon, lat) in zip(site.turbines, nodes, lonlat, strict=True):
+        at = np.flatnonzero((mesh.triangles == node).any(axis=1))
+        neighbours = np.setdiff1d(np.unique(mesh.triangles[at]), [node])
+        lengths = np.hypot(*(plane[neighbours] - plane[node]).T)
+        regions = np.unique(mesh.regions[at])
+        region = t.region if t.region is not None else int(regions.min())
+        rows.append(
+            {
+                "name": t.name,
+                "group": t.group,
+                "lon": f"{lon:.8f}",
+                "lat": f"{lat:.8f}",
+                "x": repr(float(mesh.points[node, 0])),
+                "y": repr(float(mesh.points[node, 1])),
+                "node": int(node),
+                "region": region,
+                "diameter_m": f"{t.diameter:g}",
+                "size_m": f"{t.h:g}",
+                "element_size_m": f"{lengths.mean():.3f}",
+                "depth_m": "" if depth is None else f"{float(depth[node]):.3f}",
+            }
+        )
+    return rows
+
+
+def write_turbines(path: Path, site: SiteFeatures, mesh) -> None:
+    """Write ``turbines.csv``: one row per turbine (:func:`turbine_rows`)."""
+    with Path(path).open("w", newline="", encoding="utf-8") as fh:
+        writer = csv.DictWriter(fh, fieldnames=TURBINE_COLUMNS)
+        writer.writeheader()
+        writer.writerows(turbine_rows(site, mesh))
