@@ -104,11 +104,18 @@ def test_the_view_tiles_the_plane_once(patched):
                 assert not inside.any()
 
 
-def test_a_crop_keeps_the_levels_whole(patched):
+def test_a_crop_cuts_the_levels_to_it_and_samples_the_same(patched):
     _, levels, size = patched
     across = crop_grid(size, (1000, 1000, 1900, 1900), margin=0)
-    assert across.patches == tuple(levels)
-    assert across.x[0] <= levels[0].x[0] and across.x[-1] >= levels[0].x[-1]
+    assert len(across.patches) == len(levels)
+    for cut, level in zip(across.patches, levels, strict=True):
+        assert cut.x[0] >= across.x[0] and cut.x[-1] <= across.x[-1]
+        assert set(cut.x).issubset(level.x) and set(cut.y).issubset(level.y)
+    rng = np.random.default_rng(0)
+    xy = rng.uniform(across.x[0], across.x[-1], (500, 2))
+    np.testing.assert_allclose(sample_size(across, xy), sample_size(size, xy))
+    away = crop_grid(size, (1500, 1500, 1900, 1900), margin=0)
+    assert len(away.patches) < len(levels)  # the finest levels are not there
 
 
 def test_map_units_scale_the_levels_too(patched):

@@ -54,10 +54,10 @@ def site_patch(
     -------
     list of SizeGrid
         Levels of cells half as large as the last, from half the base's cell
-        down to half of ``smallest``: each covers the water where the sizes are
-        under two of its parent's cells (the site's box, grown by how far the
-        sizes take to grow to that), on whole cells of its parent. Their
-        values are ``min(base, sizes)``. A quadtree of levels, so the cells
+        down to half of ``smallest``: each covers the box of its parent's
+        cells where the sizes are under two of its parent's cells (one cell
+        more all round), on whole cells of its parent. Their values are
+        ``min(base, sizes)``. A quadtree of levels, so the cells
         follow the sizes: a turbine of metres in a field of hundreds of metres
         takes tens of thousands of cells, not millions.
 
@@ -73,21 +73,30 @@ def site_patch(
     (5.0, 100.0)
     """
     step = float(np.min(np.diff(base.x)))
-    parent_x, parent_y = base.x, base.y
+    # the base's nodes near the site, and the sizes there
+    reach = max(2 * step - smallest, 0.0) / rate + 2 * step
+    x0, y0, x1, y1 = box
+    i0, i1 = _snap(base.x, x0 - reach, x1 + reach)
+    j0, j1 = _snap(base.y, y0 - reach, y1 + reach)
+    xs, ys = base.x[i0 : i1 + 1], base.y[j0 : j1 + 1]
+    xx, yy = np.meshgrid(xs, ys)
+    values = np.minimum(base.values[j0 : j1 + 1, i0 : i1 + 1], sizes(xx, yy))
     levels = []
     while step > smallest / 2:
-        reach = max(2 * step - smallest, 0.0) / rate + 2 * step
-        x0, y0, x1, y1 = box
-        i0, i1 = _snap(parent_x, x0 - reach, x1 + reach)
-        j0, j1 = _snap(parent_y, y0 - reach, y1 + reach)
+        # the parent's cells too coarse for the sizes at a corner, one more
+        # cell all round: the next level covers them (one box)
+        rows, cols = np.nonzero(values < 2 * step)
+        if not len(rows):
+            break
+        a, b = max(cols.min() - 1, 0), min(cols.max() + 1, len(xs) - 1)
+        c, d = max(rows.min() - 1, 0), min(rows.max() + 1, len(ys) - 1)
+        b, d = max(b, a + 1), max(d, c + 1)
         step /= 2
-        xs = _split(parent_x[i0 : i1 + 1], step)
-        ys = _split(parent_y[j0 : j1 + 1], step)
+        xs, ys = _split(xs[a : b + 1], step), _split(ys[c : d + 1], step)
         xx, yy = np.meshgrid(xs, ys)
         coarse = sample_size(base, np.column_stack([xx.ravel(), yy.ravel()]))
         values = np.minimum(coarse.reshape(xx.shape), sizes(xx, yy))
         levels.append(SizeGrid(xs, ys, values))
-        parent_x, parent_y = xs, ys
     return levels
 
 
@@ -104,10 +113,15 @@ def _snap(axis: NDArray[np.float64], low: float, high: float) -> tuple[int, int]
 
 
 def _split(nodes: NDArray[np.float64], step: float) -> NDArray[np.float64]:
-    """Split each interval of ``nodes`` into equal steps of at most ``step``."""
+    """Split each interval of ``nodes`` into equal steps of at most ``step``.
+
+    Every node of ``nodes`` is kept exactly (a crop of the base grid then
+    falls on nodes of every level).
+    """
     out = [nodes[:1]]
     for a, b in itertools.pairwise(nodes):
         n = max(math.ceil((b - a) / step - 1e-9), 1)
-        out.append(a + (b - a) * np.arange(1, n + 1) / n)
-    out[-1][-1] = nodes[-1]
+        seg = a + (b - a) * np.arange(1, n + 1) / n
+        seg[-1] = b
+        out.append(seg)
     return np.concatenate(out)

@@ -216,8 +216,15 @@ def _quads(x, y, v) -> NDArray[np.float64]:
     return cells
 
 
-def _extent(grid: SizeGrid) -> tuple[float, float, float, float]:
-    return (grid.x[0], grid.y[0], grid.x[-1], grid.y[-1])
+def _cut_patch(patch: SizeGrid, x, y) -> SizeGrid | None:
+    """Return ``patch`` within the frame of axes ``x``, ``y``; None outside it."""
+    x0, x1 = max(patch.x[0], x[0]), min(patch.x[-1], x[-1])
+    y0, y1 = max(patch.y[0], y[0]), min(patch.y[-1], y[-1])
+    if x0 >= x1 or y0 >= y1:
+        return None
+    i = (patch.x >= x0) & (patch.x <= x1)
+    j = (patch.y >= y0) & (patch.y <= y1)
+    return SizeGrid(patch.x[i], patch.y[j], patch.values[np.ix_(j, i)])
 
 
 def _padded(
@@ -261,20 +268,9 @@ def crop_grid(grid: SizeGrid, bounds: tuple[float, ...], margin: int = 2) -> Siz
     i1, j1 = max(i1, i0 + 2), max(j1, j0 + 2)
     i0, j0 = min(i0, len(grid.x) - 2), min(j0, len(grid.y) - 2)
     x, y = grid.x[i0:i1], grid.y[j0:j1]
-    patches = tuple(  # those within the crop, whole (they start on its nodes)
-        p
-        for p in grid.patches
-        if p.x[0] >= x[0] and p.x[-1] <= x[-1] and p.y[0] >= y[0] and p.y[-1] <= y[-1]
+    # each patch cut to the crop: the crop's frame is on nodes of this grid,
+    # and so on nodes of every patch (a patch's cells split this grid's)
+    patches = tuple(
+        cut for p in grid.patches if (cut := _cut_patch(p, x, y)) is not None
     )
-    if len(patches) < sum(
-        p.x[-1] > x[0] and p.x[0] < x[-1] and p.y[-1] > y[0] and p.y[0] < y[-1]
-        for p in grid.patches
-    ):  # a patch across the crop's edge: widen the crop to hold it whole
-        boxes = [
-            _extent(p)
-            for p in grid.patches
-            if p.x[-1] > x[0] and p.x[0] < x[-1] and p.y[-1] > y[0] and p.y[0] < y[-1]
-        ] + [(x[0], y[0], x[-1], y[-1])]
-        lo, hi = np.min(boxes, axis=0)[:2], np.max(boxes, axis=0)[2:]
-        return crop_grid(grid, (*lo, *hi), margin=0)
     return SizeGrid(x, y, grid.values[j0:j1, i0:i1], patches=patches)
