@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from coastmesh.case.config import CaseConfig
+from coastmesh.case.pipeline.farms import turbine_rows
 
 if TYPE_CHECKING:
     from coastmesh.case.pipeline.state import CaseRun
@@ -64,6 +65,7 @@ _ORDER = (
     "depth_sources",
     "depth_rules",
     "time_step",
+    "site",
     "globe",
     "mesh_mercator",
 )
@@ -214,8 +216,20 @@ def figure_jobs(result: CaseResult) -> list[Job]:
             report.size_field.courant,
         ),
         *quality_jobs(result.name, result.mesh, report.quality),
+        *site_jobs(result),
     ]
     return sorted(jobs, key=lambda job: _ORDER.index(job[0]))
+
+
+def site_jobs(result: CaseResult) -> list[Job]:
+    """Return the site figure of a case with farms or turbines; none without."""
+    site, mesh = result.site, result.mesh
+    if site is None or (not site.turbines and len(mesh.region_ids) < 2):
+        return []
+    rows = turbine_rows(site, mesh) if site.turbines else []
+    turbines = [(r["name"], float(r["x"]), float(r["y"])) for r in rows]
+    title = f"{result.name}: farms and turbines"
+    return [("site", "site_figure", (mesh, turbines), {"title": title})]
 
 
 def render(function: str, args: tuple, kwargs: dict[str, Any]) -> bytes:

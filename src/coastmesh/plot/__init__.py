@@ -51,6 +51,7 @@ from coastmesh.plot.quality import (
     quality_figure,
     time_step_figure,
 )
+from coastmesh.plot.site import site_figure
 
 __all__ = [
     "channel_figure",
@@ -68,6 +69,7 @@ __all__ = [
     "raster_figure",
     "save_figure",
     "shoreline_figure",
+    "site_figure",
     "size_figure",
     "time_step_figure",
 ]
