@@ -217,3 +217,14 @@ def test_turbines_csv_says_where_each_turbine_is(built, tmp_path):
         lon, lat = float(r["lon"]), float(r["lat"])
         assert abs(lon - float(r["x"])) < 2e-8 and abs(lat - float(r["y"])) < 1e-8
         assert float(r["element_size_m"]) == pytest.approx(4.5, rel=0.35)
+
+
+def test_footprint_ids_from_a_file_are_checked_too(tmp_path):
+    table = tmp_path / "turbines.csv"
+    table.write_text("name,x,y\nA,-3.145,58.6585\nB,-3.140,58.6585\n")
+    text = SITE.replace(
+        "positions = [[-3.145, 58.6585], [-3.140, 58.6585]]",
+        f'path = "{table}"',
+    ).replace("id = 100", "id = 19")  # A: 19, B: 20, the farm's id
+    with pytest.raises(ConfigError, match="'B' has id 20, which is the id of farm"):
+        site_features(_case(text), _state(None))

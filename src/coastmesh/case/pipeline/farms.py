@@ -138,7 +138,27 @@ def site_features(config: CaseConfig, state: DomainState) -> SiteFeatures:
     shapely.prepare(sea)
     farms = tuple(_farms(config, crs, sea))
     turbines, footprints = _turbines(config, crs, sea, farms)
+    _check_footprint_ids(config, footprints)
     return SiteFeatures(farms, tuple(footprints), tuple(turbines), crs)
+
+
+def _check_footprint_ids(config: CaseConfig, footprints) -> None:
+    """Raise if a footprint's id is another's, a farm's or a boundary's.
+
+    The case file's check sees the ids of inline turbines; those of turbines
+    read from a file are known only here.
+    """
+    taken = {s.physical_id: f"shoreline set {s.name!r}" for s in config.sets}
+    taken |= {b.physical_id: f"open boundary {b.name!r}" for b in config.boundaries}
+    taken[config.domain.surface_id] = "the domain's surface"
+    taken |= {f.id: f"farm {f.name!r}" for f in config.farms}
+    for name, pid, _ in footprints:
+        if pid in taken:
+            raise ConfigError(
+                f"{config.label}: the footprint of turbine {name!r} has id {pid}, "
+                f"which is the id of {taken[pid]}; every footprint needs its own id"
+            )
+        taken[pid] = f"the footprint of turbine {name!r}"
 
 
 def with_site_sizes(size: SizeGrid, site: SiteFeatures, rate: float) -> SizeGrid:
