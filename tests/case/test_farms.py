@@ -228,3 +228,11 @@ def test_footprint_ids_from_a_file_are_checked_too(tmp_path):
     ).replace("id = 100", "id = 19")  # A: 19, B: 20, the farm's id
     with pytest.raises(ConfigError, match="'B' has id 20, which is the id of farm"):
         site_features(_case(text), _state(None))
+
+
+def test_a_farm_touching_the_coast_is_refused():
+    case = _case()
+    state = _state(case)
+    state.domain.polygon = shapely.box(-3.30, 58.60, -3.125, 58.72)  # its east side
+    with pytest.raises(ConfigError, match="touches the domain's boundary"):
+        site_features(case, state)

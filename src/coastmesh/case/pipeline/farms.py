@@ -195,8 +195,15 @@ def _farms(config: CaseConfig, crs: CRS, sea: shapely.Geometry):
                 f"({outside / 1e6:,.4f} km2) lies on land or outside the domain; "
                 "a farm must lie in the sea that is meshed"
             )
+        gap = sea.boundary.distance(polygon)
+        if gap <= 0:
+            raise ConfigError(
+                f"{where}: the farm's outline touches the domain's boundary (the "
+                "coast or an open boundary); keep it inside the sea, at least an "
+                "element of the coast's size away"
+            )
         for name, other in seen:
-            if polygon.intersection(other).area > 0:
+            if polygon.intersection(other).area > 0 or polygon.touches(other):
                 raise ConfigError(f"{where}: the farm overlaps farm {name!r}")
         seen.append((f.name, polygon))
         yield f.name, f.id, shapely.Polygon(polygon.exterior.coords), f.h
