@@ -233,6 +233,8 @@ def test_footprint_ids_from_a_file_are_checked_too(tmp_path):
 def test_a_farm_touching_the_coast_is_refused():
     case = _case()
     state = _state(case)
-    state.domain.polygon = shapely.box(-3.30, 58.60, -3.125, 58.72)  # its east side
+    # the sea ends at the farm's east side
+    farm = shapely.Polygon(eval(FARM))
+    state.domain.polygon = shapely.box(-3.30, 58.60, -3.15, 58.72).union(farm)
     with pytest.raises(ConfigError, match="touches the domain's boundary"):
         site_features(case, state)
