@@ -238,3 +238,25 @@ def test_a_farm_touching_the_coast_is_refused():
     state.domain.polygon = shapely.box(-3.30, 58.60, -3.15, 58.72).union(farm)
     with pytest.raises(ConfigError, match="touches the domain's boundary"):
         site_features(case, state)
+
+
+@pytest.mark.parametrize("bearing", [0.0, 30.0, 100.0])
+def test_a_square_footprint_has_side_d_turned_to_its_bearing(bearing):
+    from coastmesh.case.pipeline.farms import _footprint
+
+    square = _footprint("square", (100.0, 200.0), 18.0, 4.5, bearing)
+    assert square.area == pytest.approx(18.0**2)
+    assert square.centroid.distance(shapely.Point(100, 200)) < 1e-9
+    # one side's direction: the bearing turns it clockwise from east-west
+    a, b = np.asarray(square.exterior.coords)[:2]
+    angle = math.degrees(math.atan2(b[1] - a[1], b[0] - a[0]))
+    assert (angle + bearing) % 90 == pytest.approx(0, abs=1e-9) or (
+        (angle + bearing) % 90 == pytest.approx(90, abs=1e-9)
+    )
+
+
+def test_a_disc_footprint_has_ceil_pi_d_over_h_sides_at_least_8():
+    from coastmesh.case.pipeline.farms import _footprint
+
+    assert len(_footprint("disc", (0, 0), 18.0, 4.5, 0).exterior.coords) - 1 == 13
+    assert len(_footprint("disc", (0, 0), 18.0, 18.0, 0).exterior.coords) - 1 == 8
