@@ -260,3 +260,46 @@ def test_a_disc_footprint_has_ceil_pi_d_over_h_sides_at_least_8():
 
     assert len(_footprint("disc", (0, 0), 18.0, 4.5, 0).exterior.coords) - 1 == 13
     assert len(_footprint("disc", (0, 0), 18.0, 18.0, 0).exterior.coords) - 1 == 8
+
+
+WAKE = """
+[[wakes]]
+of = "discs"
+bearing = 90
+length = "10 D"
+h = "D/2"
+"""
+
+
+def test_a_wake_is_the_source_swept_along_the_axis():
+    site = site_features(_case(SITE + WAKE), _state(None))
+    ((source, band, h),) = site.wakes
+    assert source == "discs" and h == pytest.approx(9.0)
+    discs = [t for t in site.turbines if t.group == "discs"]
+    xs = [t.xy[0] for t in discs]
+    x0, y0, x1, y1 = band.bounds
+    assert x0 == pytest.approx(min(xs) - 9 - 180, abs=0.5)  # both ways, 10 D
+    assert x1 == pytest.approx(max(xs) + 9 + 180, abs=0.5)
+    assert y1 - y0 == pytest.approx(18.0, abs=1.0)  # a rotor (UTM turns a parallel)
+    flood = site_features(_case(SITE + WAKE + 'sides = "flood"\n'), _state(None)).wakes[
+        0
+    ][1]
+    assert flood.bounds[0] == pytest.approx(min(xs) - 9, abs=0.5)  # east only
+    # the site's sizes: h in the band, growing at rate away from it
+    x = np.array([min(xs) - 100.0, max(xs) + 5000.0])
+    y = np.array([discs[0].xy[1], discs[0].xy[1]])
+    got = site.sizes(x, y, 0.25)
+    assert got[0] == pytest.approx(9.0)
+    assert got[1] > 500.0
+
+
+def test_a_wake_of_nothing_known_is_refused():
+    with pytest.raises(ConfigError, match=r"wakes\[0\]\.of = 'nowhere'"):
+        _case(SITE + WAKE.replace('of = "discs"', 'of = "nowhere"'))
+
+
+def test_a_share_of_d_without_turbines_is_refused():
+    lone = SITE.split("[[turbines]]", maxsplit=1)[0]
+    text = lone + WAKE.replace('of = "discs"', 'of = "meygen"')
+    with pytest.raises(ConfigError, match="a share of D, but the source has no"):
+        site_features(_case(text), _state(None))

@@ -32,6 +32,7 @@ import numpy as np
 
 from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline.farms import turbine_rows
+from coastmesh.geometry import reproject_points
 
 if TYPE_CHECKING:
     from coastmesh.case.pipeline.state import CaseRun
@@ -229,7 +230,12 @@ def site_jobs(result: CaseResult) -> list[Job]:
     rows = turbine_rows(site, mesh) if site.turbines else []
     turbines = [(r["name"], float(r["x"]), float(r["y"])) for r in rows]
     title = f"{result.name}: farms and turbines"
-    return [("site", "site_figure", (mesh, turbines), {"title": title})]
+    wakes = [
+        reproject_points(np.asarray(band.exterior.coords), site.crs, mesh.crs)
+        for _, band, _ in site.wakes
+    ]
+    kwargs = {"title": title, "wakes": wakes}
+    return [("site", "site_figure", (mesh, turbines), kwargs)]
 
 
 def render(function: str, args: tuple, kwargs: dict[str, Any]) -> bytes:

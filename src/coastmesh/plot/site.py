@@ -21,6 +21,7 @@ def site_figure(
     mesh: Mesh,
     turbines: list[tuple[str, float, float]],
     *,
+    wakes: list[np.ndarray] | None = None,
     title: str | None = None,
 ) -> Figure:
     """Draw a site: its regions' elements, outlines and turbines, and one up close.
@@ -32,6 +33,8 @@ def site_figure(
         ``surface_id``).
     turbines : list of (name, x, y)
         The turbines, in ``mesh.crs``.
+    wakes : list of ndarray of shape (k, 2), optional
+        The wakes' outlines, in ``mesh.crs`` (drawn dashed).
     title : str, optional
         Figure title.
 
@@ -39,7 +42,8 @@ def site_figure(
     -------
     matplotlib.figure.Figure
         Left: the site and 30 % around it, triangles coloured by region, the
-        outlines between regions in black, the turbines as red crosses. Right:
+        outlines between regions in black, the turbines as red crosses, the
+        wakes dashed. Right:
         the first turbine and three rotor diameters around it.
     """
     from matplotlib.figure import Figure
@@ -52,9 +56,13 @@ def site_figure(
         corners = xy[mesh.triangles[site]].reshape(-1, 2)
     else:
         corners = np.array([[x, y] for _, x, y in turbines]).reshape(-1, 2)
+    if wakes:
+        corners = np.concatenate([corners, *wakes])
     lo, hi = corners.min(axis=0), corners.max(axis=0)
     pad = 0.3 * np.maximum(hi - lo, 1e-9)
     _draw(left, mesh, turbines, (*(lo - pad), *(hi + pad)))
+    for ring in wakes or []:
+        left.plot(ring[:, 0], ring[:, 1], "--", color="tab:red", lw=1.0)
     left.set_title("the site: elements by region")
     if turbines:
         name, x, y = turbines[0]

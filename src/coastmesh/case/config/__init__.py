@@ -24,7 +24,12 @@ from coastmesh.case.config.case import (
     CaseKeys,
     StudyCase,
 )
-from coastmesh.case.config.farms import FarmConfig, RotorLength, TurbinesConfig
+from coastmesh.case.config.farms import (
+    FarmConfig,
+    RotorLength,
+    TurbinesConfig,
+    WakeConfig,
+)
 from coastmesh.case.config.mesh import (
     CleanupConfig,
     MeshConfig,
@@ -65,6 +70,7 @@ __all__ = [
     "SizeConfig",
     "StudyCase",
     "TurbinesConfig",
+    "WakeConfig",
     "floor",
     "reference_blocks",
 ]
@@ -82,6 +88,7 @@ def _documented() -> dict[str, type]:
         SiteConfig,
         FarmConfig,
         TurbinesConfig,
+        WakeConfig,
         DomainConfig,
         BoundaryConfig,
         LoxodromeConfig,

@@ -9,7 +9,7 @@ from typing import Any
 
 from coastmesh.case import schema
 from coastmesh.case.boundaries import BOUNDARY_KINDS, BoundaryConfig
-from coastmesh.case.config.farms import FarmConfig, TurbinesConfig
+from coastmesh.case.config.farms import FarmConfig, TurbinesConfig, WakeConfig
 from coastmesh.case.config.mesh import (
     CleanupConfig,
     MeshConfig,
@@ -129,6 +129,9 @@ class CaseConfig:
         part=TurbinesConfig,
         many=True,
         doc="turbines: mesh nodes, or footprints of their own ids",
+    )
+    wakes: tuple[WakeConfig, ...] = key(
+        (), part=WakeConfig, many=True, doc="refinement along the tidal axis"
     )
     domain: DomainConfig = key(
         DomainConfig(), part=DomainConfig, doc="the sea region meshed"
@@ -311,7 +314,9 @@ def _check_sites(
     boundary, the domain's surface or another farm or footprint); turbines
     name a farm that exists.
     """
-    if case["domain"].kind == "global" and (case["farms"] or case["turbines"]):
+    if case["domain"].kind == "global" and (
+        case["farms"] or case["turbines"] or case["wakes"]
+    ):
         raise ConfigError(
             f"{label}: farms and turbines are for regional cases; a global case "
             "has none"
@@ -347,3 +352,10 @@ def _check_sites(
         if t.id is not None and t.ids is None and t.positions is not None:
             ids = list(range(t.id, t.id + len(t.positions)))
         claim(f"turbines[{k}]", t.name, ids)
+    groups = farms | {t.name for t in case["turbines"]}
+    for k, w in enumerate(case["wakes"]):
+        if w.of not in groups:
+            raise ConfigError(
+                f"{label}: wakes[{k}].of = {w.of!r}: no such farm or turbine group; "
+                f"known: {sorted(groups)}"
+            )

@@ -1,7 +1,8 @@
-"""``[[farms]]`` and ``[[turbines]]``: the parts of a tidal site in the mesh.
+"""``[[farms]]``, ``[[turbines]]`` and ``[[wakes]]``: a tidal site in the mesh.
 
-Farm areas (a region of elements with an id of its own) and turbines (a node
-each, or a footprint of elements). Places are lon/lat, as the seed and the open
+Farm areas (a region of elements with an id of its own), turbines (a node
+each, or a footprint of elements) and their wakes (a refinement along the
+tidal axis). Places are lon/lat, as the seed and the open
 boundaries, or read from a vector file (any CRS GDAL reads) or, for turbines,
 a CSV.
 
@@ -22,10 +23,19 @@ from coastmesh.case import schema
 from coastmesh.case.schema import Check, key
 from coastmesh.errors import ConfigError
 
-__all__ = ["FOOTPRINTS", "FarmConfig", "RotorLength", "TurbinesConfig"]
+__all__ = [
+    "FOOTPRINTS",
+    "WAKE_SIDES",
+    "FarmConfig",
+    "RotorLength",
+    "TurbinesConfig",
+    "WakeConfig",
+]
 
 #: ``[[turbines]] footprint``: a node at each turbine, or a resolved footprint.
 FOOTPRINTS = ("node", "disc", "square")
+#: ``[[wakes]] sides``: both ways along the axis, or the flood or ebb side only.
+WAKE_SIDES = ("both", "flood", "ebb")
 
 _PER_D = re.compile(
     r"^\s*(?:(?P<a>[0-9.eE+-]+)\s*\*?\s*D|D\s*/\s*(?P<b>[0-9.eE+-]+)|D)\s*$"
@@ -107,8 +117,8 @@ def _one_place(part: Any, c: Check, keys: tuple[str, ...]) -> None:
         raise c.error(keys[0], f"give exactly one of {', '.join(keys)}")
 
 
-def _dump_length(value: RotorLength) -> Any:
-    return str(value)
+def _dump_length(value: RotorLength | None) -> Any:
+    return None if value is None else str(value)
 
 
 @dataclass(frozen=True)
@@ -256,3 +266,36 @@ class TurbinesConfig:
                     f"has {len(self.ids)} ids for {len(self.positions)} positions",
                 )
         return self
+
+
+@dataclass(frozen=True)
+class WakeConfig:
+    """``[[wakes]]``: a refinement along the flow through a farm or turbines.
+
+    A band as wide as the source across ``bearing`` (the principal tidal axis,
+    degrees clockwise from north, the flood's direction), ``length`` long, at
+    size ``h``, both ways unless ``sides`` says the flood or ebb side only. It
+    grades into the field at the field's ``rate``.
+    """
+
+    of: str = key(check=schema.string, doc="the farm or turbine group it trails")
+    bearing: float = key(
+        check=_bearing, doc="the tidal axis: the flood's direction, degrees from north"
+    )
+    length: RotorLength = key(
+        check=_rotor_length,
+        dump=_dump_length,
+        doc='how far it reaches past the source: `"20 D"` or `"2 km"`',
+    )
+    h: RotorLength | None = key(
+        None,
+        check=_rotor_length,
+        dump=_dump_length,
+        default_doc='a farm\'s `h`; `"D/2"` for turbines',
+        doc="the element size in the wake",
+    )
+    sides: str = key(
+        "both",
+        check=schema.choice(WAKE_SIDES),
+        doc='`"both"`, or only the `"flood"` (along `bearing`) or `"ebb"` side',
+    )

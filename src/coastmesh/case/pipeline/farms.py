@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 import shapely
+import shapely.affinity
 from numpy.typing import NDArray
 from pyproj import CRS
 
@@ -73,13 +74,16 @@ class SiteFeatures:
     """The farms and turbines of a case, in the meshing CRS, checked.
 
     ``farms`` are (name, id, polygon, h or None); ``footprints`` (turbine
-    name, id, polygon); ``turbines`` every turbine.
+    name, id, polygon); ``turbines`` every turbine; ``wakes`` (source, band,
+    h).
     """
 
     farms: tuple[tuple[str, int, shapely.Polygon, float | None], ...]
     footprints: tuple[tuple[str, int, shapely.Polygon], ...]
     turbines: tuple[Turbine, ...]
     crs: CRS
+    #: (the source's name, the band, its size): ``[[wakes]]``
+    wakes: tuple[tuple[str, shapely.Polygon, float], ...] = ()
 
     def __bool__(self) -> bool:
         return bool(self.farms or self.turbines)
@@ -115,12 +119,16 @@ class SiteFeatures:
         for t in self.turbines:
             d = np.hypot(x - t.xy[0], y - t.xy[1]) - (t.diameter / 2 + t.h)
             h = np.minimum(h, t.h + rate * np.maximum(d, 0.0))
+        for _, band, size in self.wakes:
+            if points is None:
+                points = shapely.points(x, y)
+            h = np.minimum(h, size + rate * shapely.distance(band, points))
         return h
 
     def smallest(self) -> float:
         """Return the smallest size the site asks for (inf if none)."""
         given = [h for *_, h in self.farms if h is not None]
-        given += [t.h for t in self.turbines]
+        given += [t.h for t in self.turbines] + [h for *_, h in self.wakes]
         return min(given, default=math.inf)
 
     def box(self) -> tuple[float, float, float, float]:
@@ -128,6 +136,7 @@ class SiteFeatures:
         geoms = [p for _, _, p, _ in self.farms] + [
             shapely.Point(t.xy).buffer(t.diameter) for t in self.turbines
         ]
+        geoms += [band for _, band, _ in self.wakes]
         return tuple(shapely.total_bounds(geoms).tolist())
 
 
@@ -139,7 +148,57 @@ def site_features(config: CaseConfig, state: DomainState) -> SiteFeatures:
     farms = tuple(_farms(config, crs, sea))
     turbines, footprints = _turbines(config, crs, sea, farms)
     _check_footprint_ids(config, footprints)
-    return SiteFeatures(farms, tuple(footprints), tuple(turbines), crs)
+    wakes = tuple(_wakes(config, farms, turbines))
+    return SiteFeatures(farms, tuple(footprints), tuple(turbines), crs, wakes)
+
+
+def _wakes(config: CaseConfig, farms, turbines):
+    """Yield (source, band, h) per ``[[wakes]]``, in the meshing CRS.
+
+    The band is the source swept ``length`` along the axis (the convex hull of
+    the source and its copies moved there): a farm's polygon, or the discs
+    of diameter ``D`` of a group's turbines. Shares of ``D`` are of the
+    group's rotors, or of the largest rotor standing in a farm.
+    """
+    for k, w in enumerate(config.wakes):
+        where = f"{config.label}: wakes[{k}] (of {w.of!r})"
+        group = [t for t in turbines if t.group == w.of]
+        farm = next((f for f in farms if f[0] == w.of), None)
+        if farm is not None:
+            source = farm[2]
+            group = [t for t in turbines if t.farm == w.of]
+        else:
+            source = shapely.union_all(
+                [shapely.Point(t.xy).buffer(t.diameter / 2, 16) for t in group]
+            )
+        diameter = max((t.diameter for t in group), default=None)
+        try:
+            length = w.length.metres(_needs(diameter, w.length, "length"))
+            if w.h is not None:
+                h = w.h.metres(_needs(diameter, w.h, "h"))
+            elif farm is not None:  # a farm's wake: the farm's size
+                h = farm[3]
+            else:  # a group's wake: half a rotor
+                h = diameter / 2
+        except ValueError as exc:
+            raise ConfigError(f"{where}: {exc}") from None
+        if h is None:
+            raise ConfigError(f"{where}: give h: the farm has no h to take")
+        turn = math.radians(w.bearing)
+        step = np.array([math.sin(turn), math.cos(turn)]) * length
+        ends = {"both": (step, -step), "flood": (step,), "ebb": (-step,)}[w.sides]
+        moved = [shapely.affinity.translate(source, *end) for end in ends]
+        yield w.of, shapely.union_all([source, *moved]).convex_hull, float(h)
+
+
+def _needs(diameter: float | None, value, key: str) -> float:
+    """Return the diameter a share of D needs; raise if there is none."""
+    if value.per_d and diameter is None:
+        raise ValueError(
+            f"{key} = {value}: a share of D, but the source has no turbines to "
+            "give D; give a length"
+        )
+    return diameter or 0.0
 
 
 def _check_footprint_ids(config: CaseConfig, footprints) -> None:
