@@ -303,3 +303,32 @@ def test_a_share_of_d_without_turbines_is_refused():
     text = lone + WAKE.replace('of = "discs"', 'of = "meygen"')
     with pytest.raises(ConfigError, match="a share of D, but the source has no"):
         site_features(_case(text), _state(None))
+
+
+def test_turbines_from_a_vector_file_take_its_names_and_diameters(tmp_path):
+    import json
+
+    points = [(-3.145, 58.6585, "T1", 18.0), (-3.140, 58.6585, "T2", 20.0)]
+    path = tmp_path / "turbines.geojson"
+    path.write_text(
+        json.dumps(
+            {
+                "type": "FeatureCollection",
+                "features": [
+                    {
+                        "type": "Feature",
+                        "properties": {"name": name, "diameter": d},
+                        "geometry": {"type": "Point", "coordinates": [x, y]},
+                    }
+                    for x, y, name, d in points
+                ],
+            }
+        )
+    )
+    text = SITE.replace(
+        'diameter = "18 m"\npositions = [[-3.145, 58.6585], [-3.140, 58.6585]]',
+        f'path = "{path}"',
+    )
+    site = site_features(_case(text), _state(None))
+    read = [t for t in site.turbines if t.group == "discs"]
+    assert [(t.name, t.diameter) for t in read] == [("T1", 18.0), ("T2", 20.0)]
