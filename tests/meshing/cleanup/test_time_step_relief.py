@@ -546,3 +546,47 @@ def test_a_result_under_the_bar_is_run_again_at_the_bar(monkeypatch):
             assert both == strict and strict.accepted
             np.testing.assert_array_equal(both_mesh.points, strict_mesh.points)
     assert fell_back >= 1  # not vacuous
+
+
+def test_region_outlines_and_held_nodes_stay_where_they_are():
+    base = lattice()
+    centres = base.points[base.triangles].mean(axis=1)
+    middle = np.median(centres, axis=0)
+    # the small triangles in deep water lie in a region of their own
+    regions = np.where(np.hypot(*(centres - middle).T) < 0.02, 20, 1)
+    mesh = Mesh(
+        base.points,
+        base.triangles,
+        base.boundary_edges,
+        base.boundary_ids,
+        1,
+        base.crs,
+        base.point_data,
+        regions=regions,
+    )
+    held = np.zeros(len(mesh.points), dtype=bool)
+    held[0] = True
+    relieved, report = relieve_time_step(mesh, held=held)
+    assert report.accepted and report.collapses + report.moves > 0  # not vacuous
+    # the nodes between the two regions, and the held node, did not move or go
+    edges = {}
+    for t, tri in enumerate(mesh.triangles.tolist()):
+        for a, b in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])):
+            edges.setdefault((min(a, b), max(a, b)), set()).add(int(regions[t]))
+    outline = {n for e, r in edges.items() if len(r) > 1 for n in e}
+    kept = {tuple(p) for p in relieved.points.tolist()}
+    assert outline and all(tuple(mesh.points[n]) in kept for n in outline | {0})
+
+    # the regions keep their area
+    def area(m, rid):
+        p = m.points[m.triangles[m.regions == rid]]
+        return (
+            0.5
+            * np.abs(
+                (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1])
+                - (p[:, 2, 0] - p[:, 0, 0]) * (p[:, 1, 1] - p[:, 0, 1])
+            ).sum()
+        )
+
+    assert area(relieved, 20) == pytest.approx(area(mesh, 20), rel=1e-12)
+    assert len(relieved.regions) == len(relieved.triangles)
