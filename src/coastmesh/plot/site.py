@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from coastmesh.plot.base import geographic_axes
+from coastmesh.types.topology import region_interfaces
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -101,7 +102,8 @@ def _draw(ax: Axes, mesh: Mesh, turbines, window: tuple[float, ...]) -> None:
     ax.add_collection(
         PolyCollection(p[inside], facecolors=faces, edgecolors="0.35", linewidths=0.2)
     )
-    ax.add_collection(LineCollection(_interfaces(mesh), colors="k", linewidths=1.0))
+    outlines = mesh.points[region_interfaces(mesh)]
+    ax.add_collection(LineCollection(outlines, colors="k", linewidths=1.0))
     for _, tx, ty in turbines:
         ax.plot(tx, ty, "r+", markersize=8, mew=1.5)
     ax.set_xlim(x0, x1)
@@ -134,15 +136,3 @@ def _colours(ids: list[int], surface_id: int) -> dict[int, Any]:
         r, g, b, _ = cmap(k % 10)
         out[i] = (r, g, b, 0.35)  # light enough to see the mesh through
     return out
-
-
-def _interfaces(mesh: Mesh) -> np.ndarray:
-    """Return the edges between two regions as (k, 2, 2) segments."""
-    tri, reg = mesh.triangles, mesh.regions
-    edges = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
-    owner = np.tile(reg, 3)
-    key = np.sort(edges, axis=1)
-    order = np.lexsort((owner, key[:, 1], key[:, 0]))
-    key, owner = key[order], owner[order]
-    between = (key[1:] == key[:-1]).all(axis=1) & (owner[1:] != owner[:-1])
-    return mesh.points[key[1:][between]]

@@ -21,6 +21,7 @@ __all__ = [
     "BoundaryString",
     "boundary_rings",
     "boundary_strings",
+    "region_interfaces",
     "unique_edges",
 ]
 
@@ -241,6 +242,26 @@ def unique_edges(
     np.floor_divide(keys, n, out=edges[:, 0])
     np.subtract(keys, edges[:, 0] * n, out=edges[:, 1])
     return edges, count
+
+
+def region_interfaces(mesh: Mesh) -> NDArray[np.int64]:
+    """Return the edges between two regions of ``mesh.regions``, as node pairs (k, 2).
+
+    Examples
+    --------
+    >>> m = Mesh([[0, 0], [1, 0], [0, 1], [1, 1]], [[0, 1, 2], [1, 3, 2]],
+    ...          [[0, 1], [1, 3], [3, 2], [2, 0]], [1] * 4, 1, None,
+    ...          regions=[1, 20])
+    >>> region_interfaces(m).tolist()
+    [[1, 2]]
+    """
+    tri = mesh.triangles
+    edges = np.sort(np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]]), 1)
+    owner = np.tile(mesh.regions, 3)
+    order = np.lexsort((owner, edges[:, 1], edges[:, 0]))
+    edges, owner = edges[order], owner[order]
+    between = (edges[1:] == edges[:-1]).all(axis=1) & (owner[1:] != owner[:-1])
+    return edges[1:][between]
 
 
 def _directed_boundary(mesh: Mesh) -> NDArray[np.int64]:

@@ -59,6 +59,7 @@ from coastmesh.meshing.quality.time_step import (
 )
 from coastmesh.sizing.courant import wave_speed
 from coastmesh.types import Mesh, Report
+from coastmesh.types.topology import region_interfaces
 
 __all__ = [
     "ANGLE_SLACK",
@@ -272,14 +273,7 @@ def _held(mesh: Mesh, held: NDArray[np.bool_] | None) -> NDArray[np.bool_]:
     if held is not None:
         out |= np.asarray(held, dtype=bool)
     if len(np.unique(mesh.regions)) > 1:
-        tri, reg = mesh.triangles, mesh.regions
-        edges = np.concatenate([tri[:, [0, 1]], tri[:, [1, 2]], tri[:, [2, 0]]])
-        owner = np.tile(reg, 3)
-        key = np.sort(edges, axis=1)
-        order = np.lexsort((owner, key[:, 1], key[:, 0]))
-        key, owner = key[order], owner[order]
-        same = (key[1:] == key[:-1]).all(axis=1) & (owner[1:] != owner[:-1])
-        out[key[1:][same].ravel()] = True
+        out[region_interfaces(mesh).ravel()] = True
     return out
 
 
