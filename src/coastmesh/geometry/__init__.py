@@ -22,6 +22,7 @@ from coastmesh.geometry.domain import (
     OpenBoundary,
     build_domain,
     domain_with_land,
+    domain_with_structures,
     polygon_areas,
     smaller_than,
 )
@@ -78,6 +79,7 @@ __all__ = [
     "close_narrow_water",
     "densify_long_edges",
     "domain_with_land",
+    "domain_with_structures",
     "earth_centred",
     "great_circle",
     "join_dateline",

@@ -10,6 +10,7 @@ is tagged as shoreline or as the open boundary it lies on.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -29,6 +30,7 @@ __all__ = [
     "OpenBoundary",
     "build_domain",
     "domain_with_land",
+    "domain_with_structures",
     "polygon_areas",
     "smaller_than",
 ]
@@ -231,6 +233,7 @@ def domain_with_land(
     min_area: float = 0.0,
     shorelines: Sequence[tuple[str, int, shapely.Geometry | None]] | None = None,
     land: ArrayLike | None = None,
+    keep: ArrayLike = (),
 ) -> tuple[Domain, DomainReport]:
     """Return ``domain`` with the polygons ``closed`` made land.
 
@@ -240,9 +243,10 @@ def domain_with_land(
     ``closed`` touches (:func:`build_domain` dropped them; joined to the closed
     water they are land again); of its pieces, the one that holds ``seed``
     (else the largest: water cut off by the closing goes); islands smaller
-    than ``min_area`` dropped; the boundary tagged again (the new coast takes
-    the shoreline set of the region it lies in). ``report`` is
-    :func:`build_domain`'s; its holes and segments are updated.
+    than ``min_area`` dropped, except those that overlap a polygon of
+    ``keep`` (structures: land the user placed); the boundary tagged again
+    (the new coast takes the shoreline set of the region it lies in).
+    ``report`` is :func:`build_domain`'s; its holes and segments are updated.
 
     Raises
     ------
@@ -293,7 +297,7 @@ def domain_with_land(
     # the difference leaves twin vertices (1e-15 apart) where the coasts cross
     extent = max(np.ptp(np.asarray(polygon.exterior.coords), axis=0).max(), 1.0)
     polygon = shapely.remove_repeated_points(polygon, 1e-12 * extent)
-    polygon, dropped = _drop_small_holes(polygon, min_area, crs)
+    polygon, dropped = _drop_small_holes(polygon, min_area, crs, keep)
     segments = _tag_boundary(polygon, open_boundaries, list(shorelines))
     counts = _edge_counts(segments)
     new_report = DomainReport(
@@ -306,6 +310,99 @@ def domain_with_land(
         segments=counts,
     )
     return Domain(polygon, tuple(segments), crs, domain.surface_id), new_report
+
+
+def domain_with_structures(
+    domain: Domain,
+    structures: Sequence[tuple[str, int, shapely.Polygon]],
+    open_boundaries: list[OpenBoundary],
+    report: DomainReport,
+    *,
+    shorelines: Sequence[tuple[str, int, shapely.Geometry | None]],
+    seed: tuple[float, float] | None = None,
+) -> tuple[Domain, DomainReport]:
+    """Return ``domain`` with ``structures`` (name, id, polygon) cut out of its sea.
+
+    Each structure becomes a hole, or a notch in the coast it touches; the
+    boundary edges on its outline take its name and id (a land boundary, kind
+    ``"shoreline"``), the rest are tagged as before from ``shorelines``. No
+    hole is dropped for its size.
+
+    Raises
+    ------
+    ConfigError
+        Naming the structure: one not valid, or not in the sea; two that
+        touch; one that crosses an open boundary, covers the seed, or cuts the
+        sea in two.
+
+    Examples
+    --------
+    >>> import shapely
+    >>> land = [shapely.box(0, 0, 10, 2)]
+    >>> walls = [OpenBoundary([(1, 1), (1, 9), (9, 9), (9, 1)], "open", 2)]
+    >>> domain, report = build_domain(land, walls, crs="EPSG:3857")
+    >>> pier = ("pier", 7, shapely.box(4, 1.5, 4.5, 4))
+    >>> cut, _ = domain_with_structures(
+    ...     domain, [pier], walls, report, shorelines=[("shoreline", 1, None)]
+    ... )
+    >>> cut.polygon.area, sorted({s.name for s in cut.segments})
+    (55.0, ['open', 'pier', 'shoreline'])
+    """
+    sea = domain.polygon
+    shapes = _check_structures(sea, structures, domain.segments, seed)
+    pieces = shapely.get_parts(shapely.difference(sea, shapely.union_all(shapes)))
+    pieces = pieces[(shapely.get_type_id(pieces) == 3) & (shapely.area(pieces) > 0)]
+    if len(pieces) != 1:
+        names = [
+            n
+            for (n, _, _), p in zip(structures, shapes, strict=True)
+            if len(_pieces(sea, p)) > 1
+        ] or [n for n, _, _ in structures]
+        raise ConfigError(
+            f"structures {names}: cut the sea in {len(pieces)} pieces; a structure "
+            "must leave the sea in one piece (give a gap, or move the open boundary)"
+        )
+    extent = max(np.ptp(np.asarray(pieces[0].exterior.coords), axis=0).max(), 1.0)
+    polygon = shapely.remove_repeated_points(pieces[0], 1e-12 * extent)
+    tagged = [*((n, i, p) for (n, i, _), p in zip(structures, shapes, strict=True))]
+    segments = _tag_boundary(polygon, open_boundaries, [*tagged, *shorelines])
+    new_report = dataclasses.replace(
+        report, holes=len(polygon.interiors), segments=_edge_counts(segments)
+    )
+    return Domain(polygon, tuple(segments), domain.crs, domain.surface_id), new_report
+
+
+def _pieces(sea: shapely.Polygon, cut: shapely.Geometry) -> NDArray[np.object_]:
+    parts = shapely.get_parts(shapely.difference(sea, cut))
+    return parts[(shapely.get_type_id(parts) == 3) & (shapely.area(parts) > 0)]
+
+
+def _check_structures(sea, structures, segments, seed) -> list[shapely.Polygon]:
+    """Return the structures' polygons, checked against the sea and each other."""
+    shapes: list[shapely.Polygon] = []
+    opened = [
+        (s.name, shapely.LineString(s.coords)) for s in segments if s.kind == "open"
+    ]
+    for name, _, polygon in structures:
+        where = f"structure {name!r}"
+        if not isinstance(polygon, shapely.Polygon) or not polygon.is_valid:
+            reason = shapely.is_valid_reason(polygon)
+            raise ConfigError(f"{where}: the polygon is not valid ({reason})")
+        if shapely.intersection(polygon, sea).area <= 0:
+            raise ConfigError(
+                f"{where}: lies wholly on land or outside the domain; a structure "
+                "must stand in the sea that is meshed"
+            )
+        for other, line in opened:
+            if polygon.intersects(line):
+                raise ConfigError(f"{where}: crosses the open boundary {other!r}")
+        for other, shape in zip(structures, shapes, strict=False):
+            if polygon.intersects(shape):
+                raise ConfigError(f"{where}: touches structure {other[0]!r}")
+        if seed is not None and polygon.covers(shapely.Point(seed)):
+            raise ConfigError(f"{where}: covers the seed {tuple(seed)}")
+        shapes.append(polygon)
+    return shapes
 
 
 def _edge_counts(segments) -> dict[str, int]:
@@ -409,11 +506,17 @@ def smaller_than(polygons: ArrayLike, crs: CRS, limit: float) -> NDArray[np.bool
     return small
 
 
-def _drop_small_holes(domain: shapely.Polygon, min_area: float, crs: CRS):
+def _drop_small_holes(
+    domain: shapely.Polygon, min_area: float, crs: CRS, kept: ArrayLike = ()
+):
     holes = [shapely.Polygon(r) for r in domain.interiors]
     if not holes or min_area <= 0:
         return domain, 0
     keep = ~smaller_than(holes, crs, min_area)
+    kept = np.asarray(kept, dtype=object).ravel()
+    if len(kept):  # holes that hold land the user placed stay, whatever their size
+        hit = shapely.STRtree(kept).query(holes, "intersects")[0]
+        keep[hit] = True
     kept = [r for r, k in zip(domain.interiors, keep, strict=True) if k]
     return shapely.Polygon(domain.exterior, kept), int((~keep).sum())
 

@@ -27,6 +27,7 @@ from coastmesh.case.config.case import (
 from coastmesh.case.config.farms import (
     FarmConfig,
     RotorLength,
+    StructureConfig,
     TurbinesConfig,
     WakeConfig,
 )
@@ -68,6 +69,7 @@ __all__ = [
     "ShorelinesConfig",
     "SiteConfig",
     "SizeConfig",
+    "StructureConfig",
     "StudyCase",
     "TurbinesConfig",
     "WakeConfig",
@@ -89,6 +91,7 @@ def _documented() -> dict[str, type]:
         FarmConfig,
         TurbinesConfig,
         WakeConfig,
+        StructureConfig,
         DomainConfig,
         BoundaryConfig,
         LoxodromeConfig,

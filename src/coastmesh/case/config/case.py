@@ -9,7 +9,12 @@ from typing import Any
 
 from coastmesh.case import schema
 from coastmesh.case.boundaries import BOUNDARY_KINDS, BoundaryConfig
-from coastmesh.case.config.farms import FarmConfig, TurbinesConfig, WakeConfig
+from coastmesh.case.config.farms import (
+    FarmConfig,
+    StructureConfig,
+    TurbinesConfig,
+    WakeConfig,
+)
 from coastmesh.case.config.mesh import (
     CleanupConfig,
     MeshConfig,
@@ -132,6 +137,12 @@ class CaseConfig:
     )
     wakes: tuple[WakeConfig, ...] = key(
         (), part=WakeConfig, many=True, doc="refinement along the tidal axis"
+    )
+    structures: tuple[StructureConfig, ...] = key(
+        (),
+        part=StructureConfig,
+        many=True,
+        doc="land in the sea, cut out with a boundary id of its own",
     )
     domain: DomainConfig = key(
         DomainConfig(), part=DomainConfig, doc="the sea region meshed"
@@ -300,26 +311,28 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
         for n in g.lines:
             if n not in names:
                 raise ConfigError(
-                    f"{label}: mesh_size.gradations[{k}].lines: {n!r} is neither a "
-                    f"shoreline set nor an open boundary; known: {sorted(names)}"
+                    f"{label}: mesh_size.gradations[{k}].lines: {n!r} is not a "
+                    "shoreline set, open boundary, farm or structure; known: "
+                    f"{sorted(names)}"
                 )
 
 
 def _check_sites(
     case: dict[str, Any], label: str, names: set[str], owners: dict[int, str]
 ) -> None:
-    """Names and ids of farms and turbines.
+    """Names and ids of farms, turbines and structures.
 
     Every name is new and every id too (none of a shoreline set, an open
-    boundary, the domain's surface or another farm or footprint); turbines
-    name a farm that exists.
+    boundary, the domain's surface or another farm, footprint or structure);
+    turbines name a farm that exists. A structure's name joins ``names``: its
+    edges are boundary edges that gradations may name.
     """
     if case["domain"].kind == "global" and (
-        case["farms"] or case["turbines"] or case["wakes"]
+        case["farms"] or case["turbines"] or case["wakes"] or case["structures"]
     ):
         raise ConfigError(
-            f"{label}: farms and turbines are for regional cases; a global case "
-            "has none"
+            f"{label}: farms, turbines and structures are for regional cases; a "
+            "global case has none"
         )
     taken = dict(owners)
     surface = case["domain"].surface_id
@@ -335,12 +348,16 @@ def _check_sites(
             if pid in taken:
                 raise ConfigError(
                     f"{label}: {where}: id {pid} is also the id of {taken[pid]}; "
-                    "every farm and footprint needs its own id"
+                    "every farm, footprint and structure needs its own id"
                 )
             taken[pid] = repr(name) if name is not None else where
 
     for k, f in enumerate(case["farms"]):
         claim(f"farms[{k}]", f.name, [f.id])
+        names.add(f.name)  # gradations may name its outline
+    for k, st in enumerate(case["structures"]):
+        claim(f"structures[{k}]", st.name, [st.id])
+        names.add(st.name)  # gradations may name it: it is boundary edges
     farms = {f.name for f in case["farms"]}
     for k, t in enumerate(case["turbines"]):
         if t.farm is not None and t.farm not in farms:

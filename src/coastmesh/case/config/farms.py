@@ -1,8 +1,9 @@
-"""``[[farms]]``, ``[[turbines]]`` and ``[[wakes]]``: a tidal site in the mesh.
+"""``[[farms]]``, ``[[turbines]]``, ``[[wakes]]``, ``[[structures]]``: a site.
 
 Farm areas (a region of elements with an id of its own), turbines (a node
-each, or a footprint of elements) and their wakes (a refinement along the
-tidal axis). Places are lon/lat, as the seed and the open
+each, or a footprint of elements), their wakes (a refinement along the
+tidal axis) and structures (land in the sea, cut out with a boundary id of
+their own). Places are lon/lat, as the seed and the open
 boundaries, or read from a vector file (any CRS GDAL reads) or, for turbines,
 a CSV.
 
@@ -28,6 +29,7 @@ __all__ = [
     "WAKE_SIDES",
     "FarmConfig",
     "RotorLength",
+    "StructureConfig",
     "TurbinesConfig",
     "WakeConfig",
 ]
@@ -299,3 +301,35 @@ class WakeConfig:
         check=schema.choice(WAKE_SIDES),
         doc='`"both"`, or only the `"flood"` (along `bearing`) or `"ebb"` side',
     )
+
+
+@dataclass(frozen=True)
+class StructureConfig:
+    """``[[structures]]``: land in the sea (a pier, an artificial island, a wall).
+
+    Cut out of the domain as a hole, or a notch where it touches the coast;
+    the boundary edges it makes carry ``id`` (a land boundary, as a shoreline
+    set's), and gradations may name it in ``lines``. Exactly one of
+    ``polygon`` (lon/lat) and ``path`` (a vector file of polygons in its own
+    CRS, unioned; ``layer``).
+    """
+
+    name: str = key(
+        check=schema.string, doc="names the structure in reports and gradations"
+    )
+    id: int = key(check=schema.integer(1), doc="the boundary id of its edges")
+    polygon: tuple[tuple[float, float], ...] | None = key(
+        None, check=schema.points, doc="a list of `[lon, lat]` points"
+    )
+    path: Path | None = key(
+        None, check=schema.path, path=True, doc="a vector file of polygons"
+    )
+    layer: str | None = key(
+        None, check=schema.string, default_doc="the only layer", doc="its layer"
+    )
+
+    def _validate(self, c: Check) -> StructureConfig:
+        _one_place(self, c, ("polygon", "path"))
+        if self.polygon is not None and len(self.polygon) < 3:
+            raise c.error("polygon", "needs at least three points")
+        return self

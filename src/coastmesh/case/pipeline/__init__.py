@@ -11,7 +11,8 @@ that can be drawn start (:meth:`coastmesh.case.figures.FigureJobs.follow`).
 stage                       makes
 ==========================  ==================================================
 :func:`shoreline_stage`     the shoreline layer and each shoreline set
-:func:`domain_stage`        the domain: sets stitched, open boundaries, the sea
+:func:`domain_stage`        the domain: sets stitched, open boundaries, the sea,
+                            structures cut out
 :func:`closing_stage`       water too narrow to mesh closed as land
 :func:`site_stage`          farms and turbines read and checked against the sea
 :func:`size_stage`          the size field: every size term, combined
@@ -35,6 +36,7 @@ from coastmesh.case.pipeline.mesh import channel_stage, mesh_stage
 from coastmesh.case.pipeline.size import size_stage
 from coastmesh.case.pipeline.state import CaseRun, RunContext, Stage
 from coastmesh.case.pipeline.strategy import Regional, Strategy
+from coastmesh.case.pipeline.structures import with_structures
 from coastmesh.case.pipeline.world import Global
 
 __all__ = [
@@ -56,8 +58,13 @@ def shoreline_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
 
 
 def domain_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
-    """Stitch the sets, draw the open boundaries, build the domain."""
-    return replace(run, domain=run.strategy.domain(run, ctx))
+    """Stitch the sets, draw the open boundaries, build the domain.
+
+    The ``[[structures]]`` are cut out of it here, before the closing, so that
+    narrow water between a structure and the coast is closed as any other.
+    """
+    domain = run.strategy.domain(run, ctx)
+    return replace(run, domain=with_structures(domain, run.config))
 
 
 def closing_stage(run: CaseRun, ctx: RunContext) -> CaseRun:

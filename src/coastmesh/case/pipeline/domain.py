@@ -23,6 +23,7 @@ from pyproj import CRS
 from coastmesh.case.boundaries import BoundaryConfig
 from coastmesh.case.config import CaseConfig, RegionConfig, SiteConfig
 from coastmesh.case.config.case import boundary_key
+from coastmesh.case.pipeline.farms import file_polygon
 from coastmesh.case.pipeline.state import DomainState
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry import (
@@ -38,7 +39,13 @@ from coastmesh.geometry import (
 from coastmesh.io import read_features
 from coastmesh.types import Domain
 
-__all__ = ["Region", "build_case_domain", "region_geometry", "with_land"]
+__all__ = [
+    "Region",
+    "build_case_domain",
+    "region_geometry",
+    "seed_in",
+    "with_land",
+]
 
 logger = logging.getLogger(__name__)
 
@@ -98,6 +105,7 @@ def with_land(
             min_area=config.shorelines.min_area,
             shorelines=list(state.regions),
             land=state.land,
+            keep=[polygon for _, _, polygon in state.structures],
         )
     except (ConfigError, InputDataError) as exc:
         raise type(exc)(f"{config.label}: domain: {exc}") from None
@@ -177,12 +185,19 @@ def _seed(
     return (point.x, point.y)
 
 
+def seed_in(config: CaseConfig, crs: CRS) -> tuple[float, float] | None:
+    """Return the case's seed in ``crs``, the CRS of a regional domain."""
+    return _seed(config, crs, None)
+
+
 def site_area(config: CaseConfig, crs: CRS) -> shapely.Geometry | None:
-    """Return the union of the ``[[sites]]`` in ``crs``; None without sites.
+    """Return the union of the ``[[sites]]`` and farms in ``crs``; None without.
 
     Boxes and polygons are lon/lat; a file's polygons are in the file's CRS.
+    A farm is meshed finely on purpose, as a site is: the closing keeps the
+    water it lies in, and the Courant floor does not apply inside it.
     """
-    if not config.sites:
+    if not (config.sites or config.farms):
         return None
     lonlat = CRS.from_epsg(4326)
     parts = []
@@ -191,6 +206,12 @@ def site_area(config: CaseConfig, crs: CRS) -> shapely.Geometry | None:
         if site.path is None:
             area = reproject(shapely.segmentize(area, 0.01), lonlat, crs)
         parts.append(area)
+    for k, farm in enumerate(config.farms):
+        if farm.polygon is not None:
+            parts.append(reproject(shapely.Polygon(farm.polygon), lonlat, crs))
+        else:
+            where = f"{config.label}: farms[{k}] ({farm.name!r})"
+            parts.append(file_polygon(farm.path, farm.layer, crs, where))
     return shapely.union_all(parts)
 
 

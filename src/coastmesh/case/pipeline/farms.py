@@ -44,6 +44,7 @@ __all__ = [
     "SiteFeatures",
     "Turbine",
     "check_clearance",
+    "file_polygon",
     "site_features",
     "turbine_nodes",
     "with_site_sizes",
@@ -243,7 +244,7 @@ def _farms(config: CaseConfig, crs: CRS, sea: shapely.Geometry):
         if f.polygon is not None:
             polygon = reproject(shapely.Polygon(f.polygon), _LONLAT, crs)
         else:
-            polygon = _file_polygon(f.path, f.layer, crs, where)
+            polygon = file_polygon(f.path, f.layer, crs, where)
         if not polygon.is_valid or polygon.area <= 0:
             reason = shapely.is_valid_reason(polygon)
             raise ConfigError(f"{where}: the polygon is not valid ({reason})")
@@ -268,7 +269,9 @@ def _farms(config: CaseConfig, crs: CRS, sea: shapely.Geometry):
         yield f.name, f.id, shapely.Polygon(polygon.exterior.coords), f.h
 
 
-def _file_polygon(path: Path, layer: str | None, crs: CRS, where: str):
+def file_polygon(
+    path: Path, layer: str | None, crs: CRS, where: str, what: str = "farm"
+) -> shapely.Polygon:
     """Return the one polygon (the union) of a vector file's polygons, in ``crs``."""
     features = read_features(path, layer=layer)
     geometry = features.geometry[~shapely.is_missing(features.geometry)]
@@ -281,7 +284,7 @@ def _file_polygon(path: Path, layer: str | None, crs: CRS, where: str):
     if union.geom_type != "Polygon":
         raise ConfigError(
             f"{where}: the polygons of {path} make {len(shapely.get_parts(union))} "
-            "separate areas; give one farm per area"
+            f"separate areas; give one {what} per area"
         )
     return union
 

@@ -11,6 +11,7 @@ from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline.domain import site_area
 from coastmesh.case.pipeline.farms import with_site_sizes
 from coastmesh.case.pipeline.state import CaseRun, MeshState, RunContext, missing
+from coastmesh.case.pipeline.structures import check_structure_sizes
 from coastmesh.meshing import CleanupOptions, mesh_in_parts
 from coastmesh.meshing.cleanup.peel import open_short_runs, peel_channels
 from coastmesh.meshing.gmsh import release_memory
@@ -25,6 +26,7 @@ def mesh_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     config, state = run.config, run.domain or missing("domain")
     release_memory()  # what the shoreline sets and slots freed, before the workers
     size, inner = run.strategy.size_grid(run), None
+    check_structure_sizes(state, size, config.label)
     if run.site:
         size = with_site_sizes(size, run.site, config.size.rate)
         inner = run.site.inner()

@@ -25,12 +25,14 @@ from coastmesh.case.config import PYTHON_SOURCE, NodeDepthConfig, SizeConfig, fl
 from coastmesh.case.pipeline.closing import smallest_size
 from coastmesh.case.pipeline.depth import read_sources
 from coastmesh.case.pipeline.domain import site_area
+from coastmesh.case.pipeline.farms import SiteFeatures
 from coastmesh.case.pipeline.state import CaseRun, RunContext, SizeState, missing
 from coastmesh.case.schema import Check, check_part
 from coastmesh.case.terms import TERMS
 from coastmesh.case.terms.base import SizeCase, SizeTables
 from coastmesh.depth import DepthSources
 from coastmesh.errors import CoastmeshWarning
+from coastmesh.geometry import reproject
 from coastmesh.geometry.projection import default_mesh_crs
 from coastmesh.sizing.combine import TermSizes, combine
 from coastmesh.sizing.grid import Grid, PlaneGrid
@@ -56,9 +58,20 @@ def size_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
             runner=ctx.runner,
             closing=state.closing,
             site_area=site_area(config, state.mesh_crs),
+            lines=_farm_outlines(run.site, state.domain.crs),
         )
         size = size_field(run.strategy.grid(run, ctx), case, progress)
     return replace(run, size=size)
+
+
+def _farm_outlines(site: SiteFeatures | None, crs: CRS) -> dict[str, shapely.Geometry]:
+    """Return each farm's outline by name, in ``crs``: gradations may name it."""
+    if site is None:
+        return {}
+    return {
+        name: reproject(polygon.exterior, site.crs, crs)
+        for name, _, polygon, _ in site.farms
+    }
 
 
 def size_field(

@@ -155,6 +155,9 @@ class DomainState:
         The CRS meshed in, and the CRS of the written nodes.
     closing : Closing
         What was closed as land before the size field.
+    structures : tuple of (name, id, polygon)
+        The ``[[structures]]`` cut out of the sea, in the domain's CRS (also
+        first in ``regions``, so that their edges keep their id).
     """
 
     domain: Domain
@@ -166,6 +169,7 @@ class DomainState:
     mesh_crs: CRS
     output_crs: CRS
     closing: Closing = field(default_factory=Closing)
+    structures: tuple[tuple[str, int, shapely.Polygon], ...] = ()
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ term is one module and one entry there.
 from __future__ import annotations
 
 import threading
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -91,6 +91,9 @@ class SizeCase:
         What was closed before the size field.
     site_area : shapely geometry, optional
         The ``[[sites]]``, in the grid's CRS (:meth:`sites`).
+    lines : mapping of str to shapely geometry
+        Lines that gradations may name besides the domain's boundary
+        segments (the outlines of ``[[farms]]``), in the domain's CRS.
     """
 
     config: CaseConfig | SizeTables
@@ -100,6 +103,7 @@ class SizeCase:
     runner: Runner | None = None
     closing: Closing = field(default_factory=Closing)
     site_area: shapely.Geometry | None = None
+    lines: Mapping[str, shapely.Geometry] = field(default_factory=dict)
     _read: dict[Any, Any] = field(default_factory=dict, repr=False)
     _lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
 

@@ -1,7 +1,8 @@
 """``[[mesh_size.gradations]]``: the paper's gradations from named lines.
 
-The size is ``h_min`` at the named ``lines`` (shoreline sets and/or open
-boundaries, as they lie on the domain boundary). It is kept for ``d_hold``, then
+The size is ``h_min`` at the named ``lines`` (shoreline sets, open boundaries
+and ``[[structures]]``, as they lie on the domain boundary, and the outlines
+of ``[[farms]]``). It is kept for ``d_hold``, then
 grows linearly to ``h_max`` over ``d_grade``. Several gradations combine by their
 minimum. Distances are true distances on the Earth (great-circle distances on a
 global case's grid).
@@ -32,7 +33,8 @@ class GradationConfig:
 
     lines: tuple[str, ...] = key(
         check=schema.names,
-        doc="the shoreline sets and open boundaries graded from, by name",
+        doc="the shoreline sets, open boundaries, structures and farms graded "
+        "from, by name",
     )
     h_min: float = key(
         check=schema.length(), unit="length", doc="the size at the lines"
@@ -62,6 +64,8 @@ class Gradations(SizeTerm):
     def sizes(self, grid: Grid, case: SizeCase) -> TermSizes:
         """Grade the size from each gradation's lines (domain segments by name).
 
+        A name may also be one of ``case.lines``: a farm's outline.
+
         A gradation whose lines have no edge on the domain's boundary is
         skipped, with a warning.
         """
@@ -73,6 +77,7 @@ class Gradations(SizeTerm):
                 for s in case.domain.segments
                 if s.name in wanted
             ]
+            lines += [case.lines[n] for n in sorted(wanted & set(case.lines))]
             if not lines:
                 warnings.warn(
                     f"mesh_size.gradations[{k}]: {sorted(wanted)} have no edges on "
