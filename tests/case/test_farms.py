@@ -332,3 +332,38 @@ def test_turbines_from_a_vector_file_take_its_names_and_diameters(tmp_path):
     site = site_features(_case(text), _state(None))
     read = [t for t in site.turbines if t.group == "discs"]
     assert [(t.name, t.diameter) for t in read] == [("T1", 18.0), ("T2", 20.0)]
+
+
+def test_a_gradation_may_name_a_farm_outline():
+    from coastmesh.case import GradationConfig, SizeConfig
+    from coastmesh.case.config import PYTHON_SOURCE
+    from coastmesh.case.schema import Check, check_part
+    from coastmesh.case.terms.base import SizeCase, SizeTables
+    from coastmesh.case.terms.gradations import Gradations
+    from coastmesh.sizing.grid import PlaneGrid
+    from coastmesh.types import BoundarySegment, Domain
+
+    ring = [[0, 0], [20000, 0], [20000, 20000], [0, 20000], [0, 0]]
+    domain = Domain(
+        shapely.Polygon(ring),
+        (BoundarySegment(ring, "shoreline", "coast", 1),),
+        crs="EPSG:32630",
+    )
+    farm = shapely.box(9000, 9000, 11000, 11000).exterior
+    size = SizeConfig(
+        h_max="2 km",
+        cell="250 m",
+        gradations=[GradationConfig(["meygen"], h_min="100 m", d_grade="5 km")],
+    )
+    size = check_part(size, SizeConfig, Check(PYTHON_SOURCE), "mesh_size")
+    grid = PlaneGrid.around(domain, CRS(32630), spacing=250.0, smallest=100.0)
+    case = SizeCase(SizeTables(size), domain, 100.0, read_depth=None)
+    with pytest.warns(coastmesh.CoastmeshWarning, match="have no edges"):
+        Gradations().sizes(grid, case)  # without the farm's outline: skipped
+    named = SizeCase(SizeTables(size), domain, 100.0, None, lines={"meygen": farm})
+    upper = np.asarray(Gradations().sizes(grid, named).upper)
+    xx, yy = np.meshgrid(grid.x, grid.y)
+    d = shapely.distance(farm, shapely.points(xx, yy))
+    want = np.minimum(100.0 + (2000.0 - 100.0) * d / 5000.0, 2000.0)
+    # the lines' vertices are a cell apart: distances within half a cell
+    assert np.abs(upper - want).max() <= 1900.0 / 5000.0 * 125.0
