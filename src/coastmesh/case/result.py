@@ -342,7 +342,8 @@ def _write_models(result: CaseResult, folder: Path, outputs: OutputConfig) -> li
             options["sphere_xyz"] = True
         write_mesh(folder / filename, result.mesh, format=fmt_name, **options)
         files.append(filename)
-        files += [f"{Path(filename).stem}{ext}" for ext in fmt.companions]
+        ends = fmt.companions_for(result.mesh)
+        files += [f"{Path(filename).stem}{ext}" for ext in ends]
     return files
 
 

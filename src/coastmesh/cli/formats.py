@@ -23,8 +23,10 @@ def formats(markdown: bool) -> None:
         click.echo(formats_table(), nl=False)
         return
     for fmt in mesh_formats().values():
-        extensions = " ".join(fmt.extensions + tuple(f"+{e}" for e in fmt.companions))
-        click.echo(f"{fmt.name:9} {extensions:22} {fmt.mode:15} {fmt.model}")
+        extra = tuple(f"+{e}" for e in fmt.companions)
+        extra += tuple(f"(+{e} with regions)" for e in fmt.region_companions)
+        extensions = " ".join(fmt.extensions + extra)
+        click.echo(f"{fmt.name:9} {extensions:38} {fmt.mode:15} {fmt.model}")
         holds = ", ".join(sorted(fmt.holds)) or "nodes and triangles only"
         sign = f"; depth positive {fmt.positive}" if fmt.positive else ""
         click.echo(f"{'':9} holds: {holds}{sign}")

@@ -6,8 +6,10 @@ name         extensions                read  what a read gives back
 ``msh2``     ``.msh``                  yes   ids, names and kinds (physical names)
 ``msh4``     ``.msh`` (by name)        yes   ids
 ``gpkg``     ``.gpkg``                 yes   ids, names, kinds, depth, CRS
-``fort14``   ``.14``, ``.grd``         yes   ids, names, kinds, depth, CRS
-``gr3``      ``.gr3``, ``.ll``         yes   as ``fort14``
+``fort14``   ``.14``, ``.grd``         yes   ids, names, kinds, depth, CRS; region
+                                             ids from the ``.13`` beside it
+``gr3``      ``.gr3``, ``.ll``         yes   as ``fort14``; region ids, exact,
+                                             from the ``.regions.prop`` beside it
 ``selafin``  ``.slf``, ``.selafin``    no    (write only)
 ``mike``     ``.mesh``                 yes   kinds, open ids (codes), depth, CRS
 ``ugrid``    ``.nc``                   yes   ids, names, kinds, depth, CRS
@@ -26,7 +28,12 @@ from collections.abc import Callable
 from coastmesh.geometry.earth import EARTH_RADIUS
 from coastmesh.io._mesh_format import MeshFormat
 from coastmesh.io._registry import register_mesh_format
-from coastmesh.io.adcirc import read_fort14_mesh, write_fort14, write_gr3
+from coastmesh.io.adcirc import (
+    read_fort14_mesh,
+    read_gr3_mesh,
+    write_fort14,
+    write_gr3,
+)
 from coastmesh.io.mesh_gpkg import read_mesh_gpkg, write_mesh_gpkg
 from coastmesh.io.mike import read_mike_mesh, write_mike_mesh
 from coastmesh.io.msh import read_msh, write_msh
@@ -76,7 +83,7 @@ BUILT_IN = (
         "`open:NAME` / `shoreline:NAME`; default .msh",
         read=read_msh,
         model="Fluidity, Thetis/Firedrake",
-        holds=_TOPOLOGY | {"sphere_xyz", "regions"},
+        holds=_TOPOLOGY | {"sphere_xyz", "regions", "lines"},
     ),
     MeshFormat(
         "msh4",
@@ -86,7 +93,7 @@ BUILT_IN = (
         "read back names in 4.1, so none are written)",
         read=read_msh,
         model="Gmsh 4",
-        holds=frozenset({"ids", "sphere_xyz", "regions"}),
+        holds=frozenset({"ids", "sphere_xyz", "regions", "lines"}),
     ),
     MeshFormat(
         "gpkg",
@@ -105,21 +112,27 @@ BUILT_IN = (
         write_fort14,
         "ADCIRC fort.14: nodes with depth, elements, open boundary node strings "
         "(`IBTYPEE 0`), land strings: mainland `IBTYPE 0`, islands `IBTYPE 1` "
-        "closed by repeating the first node",
+        "closed by repeating the first node; with regions, the nodal attributes "
+        "file `.13` (fort.13) beside it: `coastmesh_region_id` per node, default "
+        "the surface id",
         read=read_fort14_mesh,
         model="ADCIRC",
-        holds=_TOPOLOGY | {"depth", "crs"},
+        holds=_TOPOLOGY | {"depth", "crs", "node_regions"},
         positive="down",
+        region_companions=(".13",),
     ),
     MeshFormat(
         "gr3",
         (".gr3", ".ll"),
         write_gr3,
-        "SCHISM hgrid.gr3: the fort.14 layout; islands type 1, not closed",
-        read=read_fort14_mesh,
+        "SCHISM hgrid.gr3: the fort.14 layout; islands type 1, not closed; with "
+        "regions, the element property file `.regions.prop` beside it: "
+        "`element_number region_id` per element",
+        read=read_gr3_mesh,
         model="SCHISM",
-        holds=_TOPOLOGY | {"depth", "crs"},
+        holds=_TOPOLOGY | {"depth", "crs", "regions"},
         positive="down",
+        region_companions=(".regions.prop",),
     ),
     MeshFormat(
         "selafin",

@@ -27,6 +27,9 @@ HOLDS = {
     "crs": "the CRS",
     "sphere_xyz": "nodes as x, y, z on the sphere (option sphere_xyz)",
     "regions": "a region id per element",
+    "lines": "lines inside the mesh (`[[lines]]`) as edges with their ids",
+    "node_regions": "a region id per node (ADCIRC fort.13); the elements' ids are "
+    "read back from it where their nodes determine them",
 }
 
 # the keyword each role must take, and how it is called: the first two parameters
@@ -71,6 +74,10 @@ class MeshFormat:
     positive : {"up", "down"} or None
         The sign its depths are written with by default (the writer's
         ``positive`` option overrides it); None for a format without depth.
+    region_companions : tuple of str
+        Endings of the files the writer writes beside the mesh, with the same
+        stem, only when the mesh has a region other than its surface id
+        (ADCIRC's ``.13``): :meth:`companions_for` says which a mesh gets.
 
     Raises
     ------
@@ -95,6 +102,7 @@ class MeshFormat:
     holds: frozenset[str] = frozenset()
     companions: tuple[str, ...] = ()
     positive: str | None = None
+    region_companions: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         name = self.name
@@ -130,13 +138,16 @@ class MeshFormat:
                 f"mesh format {name!r}: positive = {self.positive!r}: expected "
                 "'up', 'down' or None"
             )
-        for ext in self.companions:
-            if not isinstance(ext, str) or not ext.startswith("."):
-                raise ValueError(
-                    f"mesh format {name!r}: companion {ext!r} must start with '.'"
-                )
+        for field in ("companions", "region_companions"):
+            endings = getattr(self, field)
+            endings = (endings,) if isinstance(endings, str) else tuple(endings)
+            for ext in endings:
+                if not isinstance(ext, str) or not ext.startswith("."):
+                    raise ValueError(
+                        f"mesh format {name!r}: companion {ext!r} must start with '.'"
+                    )
+            object.__setattr__(self, field, endings)
         object.__setattr__(self, "holds", frozenset(self.holds))
-        object.__setattr__(self, "companions", tuple(self.companions))
         for role in _ROLES:
             self._options(role)
         object.__setattr__(self, "name", name.lower())
@@ -154,6 +165,32 @@ class MeshFormat:
     def read_options(self) -> tuple[str, ...] | None:
         """The reader's keyword options besides ``crs``; None for ``**kwargs``."""
         return self._options("read")
+
+    def companions_for(self, mesh: Mesh) -> tuple[str, ...]:
+        """Return the endings of the files written beside ``mesh``'s file.
+
+        Parameters
+        ----------
+        mesh : Mesh
+            The mesh to write, with the writer's default options.
+
+        Returns
+        -------
+        tuple of str
+            :attr:`companions`, then :attr:`region_companions` if a triangle of
+            ``mesh`` has a region id other than its surface id.
+
+        Examples
+        --------
+        >>> from coastmesh.io import mesh_format
+        >>> m = Mesh([[0, 0], [1, 0], [0, 1]], [[0, 1, 2]], [], [], 1, None,
+        ...          regions=[20])
+        >>> mesh_format("fort14").companions_for(m)
+        ('.13',)
+        """
+        if (mesh.regions != mesh.surface_id).any():
+            return self.companions + self.region_companions
+        return self.companions
 
     @property
     def mode(self) -> str:

@@ -25,20 +25,41 @@ first node as the last node"); SCHISM ``hgrid.md`` (the last island node "is
 different from the first node"; "if you have no open boundary, you can create two
 land boundary segments that are linked to each other", and likewise for open).
 
+A mesh with regions (farms, turbine footprints: ``Mesh.regions``) also gets its
+region ids in a file beside the grid, in each model's convention: an ADCIRC
+nodal attributes file ``fort.13`` (attribute ``coastmesh_region_id``, one id per
+node) beside a ``fort.14``, a SCHISM element property file ``.regions.prop``
+(one id per element) beside a ``hgrid.gr3``. The layouts, the rule that gives a
+node its id, and their sources are in :mod:`coastmesh.io.adcirc._regions`.
+
 The text tables are formatted with numpy in blocks (no Python loop per node), so
 meshes of millions of triangles write in seconds (:mod:`coastmesh.io._table`).
 
-=========================  ===================================================
-:func:`write_fort14`       Mesh -> ``fort.14``
-:func:`write_gr3`          Mesh -> ``hgrid.gr3``
-:func:`read_fort14_mesh`   ``fort.14`` or ``hgrid.gr3`` -> Mesh
-:func:`read_fort14`        ``fort.14`` or ``hgrid.gr3`` -> dict, as written
-=========================  ===================================================
+===========================  =================================================
+:func:`write_fort14`         Mesh -> ``fort.14`` (+ ``fort.13`` with regions)
+:func:`write_gr3`            Mesh -> ``hgrid.gr3`` (+ ``.regions.prop``)
+:func:`read_fort14_mesh`     ``fort.14`` (+ ``fort.13``) -> Mesh
+:func:`read_gr3_mesh`        ``hgrid.gr3`` (+ ``.regions.prop``) -> Mesh
+:func:`read_fort14`          ``fort.14`` or ``hgrid.gr3`` -> dict, as written
+:func:`read_fort13`          ``fort.13`` -> dict, as written
+:func:`node_regions`         each node's region id, as ``fort.13`` holds it
+:func:`regions_from_nodes`   each triangle's region id from the nodes' ids
+===========================  =================================================
 """
 
 from __future__ import annotations
 
-from coastmesh.io.adcirc._read import read_fort14, read_fort14_mesh
+from coastmesh.io.adcirc._read import read_fort14, read_fort14_mesh, read_gr3_mesh
+from coastmesh.io.adcirc._regions import node_regions, read_fort13, regions_from_nodes
 from coastmesh.io.adcirc._write import write_fort14, write_gr3
 
-__all__ = ["read_fort14", "read_fort14_mesh", "write_fort14", "write_gr3"]
+__all__ = [
+    "node_regions",
+    "read_fort13",
+    "read_fort14",
+    "read_fort14_mesh",
+    "read_gr3_mesh",
+    "regions_from_nodes",
+    "write_fort14",
+    "write_gr3",
+]

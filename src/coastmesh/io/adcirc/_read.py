@@ -25,9 +25,10 @@ from coastmesh.io._inputs import (
 )
 from coastmesh.io._model import POSITIVE
 from coastmesh.io._table import TextLines
+from coastmesh.io.adcirc._regions import with_region_file
 from coastmesh.types import Mesh
 
-__all__ = ["read_fort14", "read_fort14_mesh"]
+__all__ = ["read_fort14", "read_fort14_mesh", "read_gr3_mesh"]
 
 # the comment coastmesh writes after a segment's counts: "...: id 2 north sea"
 _ID_COMMENT = re.compile(r":\s*id\s+(\d+)\b\s*(.*)$")
@@ -139,14 +140,17 @@ def read_fort14_mesh(
         counter-clockwise; in a geographic CRS, a triangle that crosses the
         antimeridian is turned by how it runs on the sphere);
         ``point_data["depth"]`` in metres, positive down; boundary edges from
-        the node lists, with ids, names and kinds (see Notes); ``surface_id`` 1.
+        the node lists, with ids, names and kinds (see Notes); ``surface_id`` 1
+        and no regions, unless a ``fort.13`` beside the file holds region ids.
 
     Raises
     ------
     InputDataError
         As :func:`read_fort14`; also if the node numbers are not ``1..NP`` in
         order, a land segment is an internal barrier (``IBTYPE`` 4, 24, 5, 25:
-        node pairs), or one boundary id is on both an open and a land segment.
+        node pairs), or one boundary id is on both an open and a land segment;
+        or the ``fort.13`` beside it holds ``coastmesh_region_id`` but does not
+        fit the grid (NumOfNodes, non-integer ids).
     ConfigError
         If ``positive`` or ``crs`` is invalid.
 
@@ -163,6 +167,18 @@ def read_fort14_mesh(
     id 2, name ``north``). When a segment has no such comment (files written by
     other tools), the segments are numbered in file order instead: the open
     segments 1 to ``NOPE``, then the land segments ``NOPE + 1`` on, with no names.
+
+    Region ids come from the nodal attributes file beside the grid, its stem
+    with the ending ``.13`` (``fort.14`` -> ``fort.13``), if it holds the
+    attribute ``coastmesh_region_id`` (:func:`~coastmesh.io.adcirc.write_fort14`
+    writes it; a ``fort.13`` of other attributes only is ignored). Its default
+    value is the ``surface_id``; each triangle takes the outermost id among its
+    nodes (:func:`~coastmesh.io.adcirc.regions_from_nodes`, in the
+    order the ``AGRID`` line lists). That gives back the region of every
+    triangle with a node no region nested in its own took: all of them, unless
+    a triangle's three nodes all lie on the outlines of smaller regions (a sea
+    triangle in a notch of a farm, a strip of one triangle between two farms).
+    The names of the regions are not kept.
 
     Examples
     --------
@@ -183,6 +199,67 @@ def read_fort14_mesh(
     >>> back.point_data["depth"].tolist()
     [5.0, 5.0, 4.0, 4.0]
     """
+    mesh = _read_grid(path, crs=crs, positive=positive)
+    return with_region_file(mesh, path, "fort14")
+
+
+def read_gr3_mesh(
+    path: str | os.PathLike[str], *, crs: Any = None, positive: str = "down"
+) -> Mesh:
+    r"""Read a SCHISM ``hgrid.gr3`` (or ``fort.14``) file, and its region ids.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The file (``hgrid.gr3``, ``hgrid.ll``, ...).
+    crs : pyproj.CRS or CRS-like, optional
+        As for :func:`read_fort14_mesh`.
+    positive : {"down", "up"}, default "down"
+        As for :func:`read_fort14_mesh`.
+
+    Returns
+    -------
+    Mesh
+        As :func:`read_fort14_mesh` reads the grid. If a ``<stem>.regions.prop``
+        lies beside it (``hgrid.regions.prop``, which
+        :func:`~coastmesh.io.adcirc.write_gr3` writes for a mesh with regions),
+        each triangle gets its region id from it, exactly, and ``surface_id`` is
+        the id of the most triangles (the file does not say which is the sea's).
+
+    Raises
+    ------
+    InputDataError
+        As :func:`read_fort14_mesh`; also if the ``.regions.prop`` does not have
+        one line per element, numbered 1..NE in order, or an id is not an
+        integer >= 1.
+    ConfigError
+        If ``positive`` or ``crs`` is invalid.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> from coastmesh.io.adcirc import write_gr3
+    >>> m = Mesh([[0, 0], [1, 0], [1, 1], [0, 1], [2, 0]],
+    ...          [[0, 1, 2], [0, 2, 3], [1, 4, 2]],
+    ...          [[0, 1], [1, 4], [4, 2], [2, 3], [3, 0]], [1] * 5, 1, None,
+    ...          boundary_kinds={1: "shoreline"}, regions=[1, 20, 1],
+    ...          point_data={"depth": [5.0, 5.0, 4.0, 4.0, 3.0]})
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "hgrid.gr3"
+    >>> write_gr3(path, m)
+    >>> print((path.parent / "hgrid.regions.prop").read_text(), end="")
+    1  1
+    2 20
+    3  1
+    >>> back = read_gr3_mesh(path)
+    >>> back.regions.tolist(), back.surface_id
+    ([1, 20, 1], 1)
+    """
+    mesh = _read_grid(path, crs=crs, positive=positive)
+    return with_region_file(mesh, path, "gr3")
+
+
+def _read_grid(path: str | os.PathLike[str], *, crs: Any, positive: str) -> Mesh:
+    """Read the Mesh of a fort.14 or gr3 file alone (:func:`read_fort14_mesh`)."""
     if positive not in POSITIVE:
         raise ConfigError(
             f"positive={positive!r}; expected one of {', '.join(POSITIVE)}"

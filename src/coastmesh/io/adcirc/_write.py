@@ -11,12 +11,13 @@ import logging
 import os
 import warnings
 from collections.abc import Iterator
+from typing import IO
 
 import numpy as np
 from numpy.typing import NDArray
 
 from coastmesh.errors import CoastmeshWarning, ConfigError
-from coastmesh.io._atomic import atomic_write
+from coastmesh.io._atomic import AtomicOutputs
 from coastmesh.io._model import (
     check_mesh,
     mesh_boundary_strings,
@@ -24,6 +25,11 @@ from coastmesh.io._model import (
     require_kinds,
 )
 from coastmesh.io._table import put_lines, write_table
+from coastmesh.io.adcirc._regions import (
+    check_region_file,
+    has_regions,
+    write_region_file,
+)
 from coastmesh.io.sphere import on_sphere, pole_triangles
 from coastmesh.types import Mesh
 from coastmesh.types.topology import BoundaryString
@@ -44,6 +50,7 @@ def write_fort14(
     overwrite: bool = False,
     positive: str = "down",
     title: str | None = None,
+    regions: bool = True,
 ) -> None:
     """Write a mesh as an ADCIRC ``fort.14`` grid with its boundary segments.
 
@@ -68,16 +75,23 @@ def write_fort14(
     title : str, optional
         The first line (``AGRID``); one line. By default ``coastmesh`` and the
         EPSG code of ``mesh.crs``.
+    regions : bool, default True
+        When the mesh has a region other than its surface id (a farm, a turbine
+        footprint: ``mesh.regions``), also write the nodal attributes file
+        ``fort.13`` beside the grid: the grid's stem with the ending ``.13``
+        (``fort.14`` -> ``fort.13``, ``case.14`` -> ``case.13``). See Notes.
 
     Raises
     ------
     FormatError
         If a boundary id has no kind, the boundary edges do not form simple rings,
-        or the depth has the wrong shape or non-finite values.
+        or the depth has the wrong shape or non-finite values; or, with a region
+        file to write, the grid's own name ends in ``.13``.
     ConfigError
         If ``positive`` or ``title`` is invalid.
     OutputExistsError
-        If ``path`` exists and ``overwrite`` is false.
+        If ``path``, or the ``.13`` file to write, exists and ``overwrite`` is
+        false; then nothing is written.
 
     Warns
     -----
@@ -107,6 +121,16 @@ def write_fort14(
     ordered on the sphere (:func:`~coastmesh.io.sphere.sphere_boundary_rings`):
     the exterior is the ring around the largest land, the other rings islands.
 
+    The ``fort.13`` holds one nodal attribute, ``coastmesh_region_id``: its
+    default is ``mesh.surface_id`` and each node whose id differs is listed with
+    its id, an integer (:func:`~coastmesh.io.adcirc.node_regions`: a node takes
+    the innermost region among its triangles). ADCIRC reads ``fort.13`` only
+    when ``fort.15`` sets ``NWP > 0``, and does not know this attribute: it logs
+    it as an invalid name and skips it (``nodalattr.F``), so a run never stops
+    on it. Add the attributes a run uses (a bottom friction per region, ...) to
+    this file and list those in ``fort.15``. Both files are written together
+    through one staging step: an error leaves neither.
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -124,9 +148,35 @@ def write_fort14(
     [([1, 2], 0)]
     >>> [(b["nodes"].tolist(), b["ibtype"]) for b in grid["land_boundaries"]]
     [([2, 3, 4, 1], 0)]
+
+    With a farm (region 20) in the second triangle, ``fort.13`` comes beside it:
+
+    >>> farm = Mesh(m.points, m.triangles, m.boundary_edges, m.boundary_ids, 1,
+    ...             None, m.point_data, boundary_kinds=m.boundary_kinds,
+    ...             regions=[1, 20])
+    >>> write_fort14(path, farm, overwrite=True)
+    >>> print((path.parent / "fort.13").read_text())  # doctest: +NORMALIZE_WHITESPACE
+    coastmesh region ids, innermost first: 20
+    4
+    1
+    coastmesh_region_id
+    unitless
+    1
+    1
+    coastmesh_region_id
+    3
+    1 20
+    3 20
+    4 20
     """
     _write_grid(
-        path, mesh, "fort14", overwrite=overwrite, positive=positive, title=title
+        path,
+        mesh,
+        "fort14",
+        overwrite=overwrite,
+        positive=positive,
+        title=title,
+        regions=regions,
     )
 
 
@@ -137,6 +187,7 @@ def write_gr3(
     overwrite: bool = False,
     positive: str = "down",
     title: str | None = None,
+    regions: bool = True,
 ) -> None:
     """Write a mesh as a SCHISM ``hgrid.gr3`` with its boundary segments.
 
@@ -152,6 +203,11 @@ def write_gr3(
         Sign of the written depth: SCHISM's depth is positive down.
     title : str, optional
         The first line, one line; SCHISM ignores it.
+    regions : bool, default True
+        When the mesh has a region other than its surface id, also write the
+        element property file ``<stem>.regions.prop`` beside the grid
+        (``hgrid.gr3`` -> ``hgrid.regions.prop``): one line per element,
+        ``element_number region_id``, as SCHISM's ``.prop`` inputs are.
 
     Raises
     ------
@@ -160,7 +216,8 @@ def write_gr3(
     ConfigError
         If ``positive`` or ``title`` is invalid.
     OutputExistsError
-        If ``path`` exists and ``overwrite`` is false.
+        If ``path``, or the ``.regions.prop`` file to write, exists and
+        ``overwrite`` is false; then nothing is written.
 
     Warns
     -----
@@ -183,6 +240,12 @@ def write_gr3(
     with ``ics = 2`` (``param.nml``), in degrees, and works in a local frame
     on the sphere, so elements across the antimeridian need nothing more.
 
+    The region ids are per element, as in the mesh, so ``.regions.prop`` holds
+    them exactly (:func:`~coastmesh.io.adcirc.read_gr3_mesh` reads them back).
+    SCHISM reads no file of that name: derive from it the inputs a run uses
+    (``fluxflag.prop``, ``tvd.prop``; node values for ``drag.gr3`` or
+    ``manning.gr3`` with :func:`~coastmesh.io.adcirc.node_regions`).
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -197,7 +260,15 @@ def write_gr3(
     >>> [(b["nodes"].tolist(), b["ibtype"]) for b in land]
     [([1, 2, 3], 0), ([3, 4, 1], 0)]
     """
-    _write_grid(path, mesh, "gr3", overwrite=overwrite, positive=positive, title=title)
+    _write_grid(
+        path,
+        mesh,
+        "gr3",
+        overwrite=overwrite,
+        positive=positive,
+        title=title,
+        regions=regions,
+    )
 
 
 def _write_grid(
@@ -208,56 +279,80 @@ def _write_grid(
     overwrite: bool,
     positive: str,
     title: str | None,
+    regions: bool,
 ) -> None:
-    """Check everything, then write a fort.14 (``flavour="fort14"``) or gr3."""
+    """Check everything, then write a fort.14 (``flavour="fort14"``) or gr3.
+
+    With ``regions`` and a mesh with regions, the region file goes beside it
+    (:mod:`coastmesh.io.adcirc._regions`); both are published together.
+    """
     check_mesh(mesh)
     name = os.fspath(path)
+    beside = None
+    if regions and has_regions(mesh):
+        beside = check_region_file(path, flavour, overwrite=overwrite)
     depth = node_depth(mesh, name, positive=positive, stacklevel=4)
     line = _title(mesh, title)
     kinds = require_kinds(mesh, name)
     open_segments, land_segments = _segments(mesh, name, kinds, flavour)
     if flavour == "fort14":
         _warn_poles(mesh, name)
-    n, m = len(mesh.points), len(mesh.triangles)
-    with atomic_write(path, overwrite=overwrite) as tmp, open(tmp, "wb") as handle:
-        put_lines(handle, line, f"{m} {n}")
-        write_table(
-            handle,
-            [
-                (np.arange(1, n + 1), None),
-                (mesh.points[:, 0], SIGNIFICANT),
-                (mesh.points[:, 1], SIGNIFICANT),
-                (depth, SIGNIFICANT),
-            ],
-        )
-        write_table(
-            handle,
-            [(np.arange(1, m + 1), None), (np.full(m, 3), None)]
-            + [(mesh.triangles[:, k] + 1, None) for k in range(3)],
-        )
-        for word, segments in (("open", open_segments), ("land", land_segments)):
-            put_lines(
-                handle,
-                f"{len(segments)} = Number of {word} boundaries",
-                f"{sum(len(s[0]) for s in segments)} = Total number of {word} "
-                "boundary nodes",
-            )
-            for k, (nodes, code, label) in enumerate(segments, start=1):
-                put_lines(
-                    handle,
-                    f"{len(nodes)}{code} = Number of nodes for {word} boundary {k}"
-                    f"{label}",
-                )
-                write_table(handle, [(nodes + 1, None)])
+    with AtomicOutputs(overwrite=overwrite) as outputs:
+        grid = outputs.stage(path)
+        staged = outputs.stage(beside) if beside is not None else None
+        with open(grid, "wb") as handle:
+            _put_grid(handle, mesh, line, depth, (open_segments, land_segments))
+        if staged is not None:
+            write_region_file(staged, mesh, flavour)
     logger.debug(
-        "wrote %s (%s): %d nodes, %d triangles, %d open and %d land segments",
+        "wrote %s (%s)%s: %d nodes, %d triangles, %d open and %d land segments",
         name,
         flavour,
-        n,
-        m,
+        f" and {beside}" if beside is not None else "",
+        len(mesh.points),
+        len(mesh.triangles),
         len(open_segments),
         len(land_segments),
     )
+
+
+def _put_grid(
+    handle: IO[bytes],
+    mesh: Mesh,
+    line: str,
+    depth: NDArray[np.float64],
+    segment_lists: tuple[list[_Segment], list[_Segment]],
+) -> None:
+    """Write the grid: title, counts, nodes, elements, open then land segments."""
+    n, m = len(mesh.points), len(mesh.triangles)
+    put_lines(handle, line, f"{m} {n}")
+    write_table(
+        handle,
+        [
+            (np.arange(1, n + 1), None),
+            (mesh.points[:, 0], SIGNIFICANT),
+            (mesh.points[:, 1], SIGNIFICANT),
+            (depth, SIGNIFICANT),
+        ],
+    )
+    write_table(
+        handle,
+        [(np.arange(1, m + 1), None), (np.full(m, 3), None)]
+        + [(mesh.triangles[:, k] + 1, None) for k in range(3)],
+    )
+    for word, segments in zip(("open", "land"), segment_lists, strict=True):
+        put_lines(
+            handle,
+            f"{len(segments)} = Number of {word} boundaries",
+            f"{sum(len(s[0]) for s in segments)} = Total number of {word} "
+            "boundary nodes",
+        )
+        for k, (nodes, code, label) in enumerate(segments, start=1):
+            put_lines(
+                handle,
+                f"{len(nodes)}{code} = Number of nodes for {word} boundary {k}{label}",
+            )
+            write_table(handle, [(nodes + 1, None)])
 
 
 def _warn_poles(mesh: Mesh, name: str) -> None:
