@@ -92,7 +92,11 @@ def test_a_full_case_parses():
         ('min_area = "0.5 km2"', 'min_area = "0.5 km"', r"shorelines.min_area"),
         ("id = 11", "id = 10", r"id 10 of 'coarse' is also the id of 'full'"),
         ('set = "full"', 'set = "ful"', r"regions\[0\].set = 'ful': no such"),
-        ('lines = ["full", "north"]', 'lines = ["nrth"]', r"'nrth' is not a shoreline set"),
+        (
+            'lines = ["full", "north"]',
+            'lines = ["nrth"]',
+            "'nrth' is not a shoreline",
+        ),
         ('kind = "blend"', 'kind = "spline"', r"open_boundaries\[1\].kind = 'spline'"),
         ("modes = 1", "modes = 200", r"modes = 200 is more than window = 100"),
         ("end_lat = 70.0\n", "", r"give exactly one of end_lat and end_lon"),

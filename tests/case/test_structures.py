@@ -25,6 +25,7 @@ from coastmesh.geometry import (
 )
 from coastmesh.io import read_mesh
 from coastmesh.types import SizeGrid
+from coastmesh.types.topology import unique_edges
 
 # a bay 10 x 7 (units of the plane): the coast along y = 2, open on the rest
 LAND = [shapely.box(0, 0, 10, 2)]
@@ -204,6 +205,12 @@ name = "island"
 id = 31
 polygon = {ISLAND}
 
+[[lines]]
+name = "cable"
+id = 40
+points = [[-3.150, 58.657], [-3.140, 58.660], [-3.125, 58.660]]
+h = "30 m"
+
 [[mesh_size.gradations]]
 lines = ["pier", "island"]
 h_min = "25 m"
@@ -259,3 +266,22 @@ def test_structures_are_cut_out_with_their_ids(built, tmp_path):
     coastmesh.write_mesh(path, mesh)
     back = read_mesh(path)
     assert set(back.boundary_ids.tolist()) >= {30, 31}
+
+
+@pytest.mark.slow  # a whole case, built once
+def test_a_line_is_embedded_in_the_case_mesh(built, tmp_path):
+    mesh = built.mesh
+    (line,) = mesh.lines
+    assert (line.id, line.name) == (40, "cable")
+    edges, _ = mesh.line_edges()
+    inner, count = unique_edges(mesh.triangles, len(mesh.points))
+    interior = {tuple(e) for e in inner[count == 2].tolist()}
+    assert all((min(a, b), max(a, b)) in interior for a, b in edges.tolist())
+    given = shapely.LineString([(-3.150, 58.657), (-3.140, 58.660), (-3.125, 58.660)])
+    traced = shapely.LineString(line.xy)
+    # straight in UTM between its vertices, not in lon/lat: 1e-6 deg ~ 10 cm
+    assert shapely.hausdorff_distance(traced, given) < 1e-6
+    assert "line edges: cable (40)" in built.report.mesh.summary()
+    path = tmp_path / "l.msh"
+    coastmesh.write_mesh(path, mesh)
+    assert [ln.id for ln in read_mesh(path).lines] == [40]

@@ -225,11 +225,13 @@ def figure_jobs(result: CaseResult) -> list[Job]:
 def site_jobs(result: CaseResult) -> list[Job]:
     """Return the site figure of a case with farms or turbines; none without."""
     site, mesh = result.site, result.mesh
-    if site is None or (not site.turbines and len(mesh.region_ids) < 2):
+    if site is None or (
+        not site.turbines and len(mesh.region_ids) < 2 and not mesh.lines
+    ):
         return []
     rows = turbine_rows(site, mesh) if site.turbines else []
     turbines = [(r["name"], float(r["x"]), float(r["y"])) for r in rows]
-    title = f"{result.name}: farms and turbines"
+    title = f"{result.name}: the site"
     wakes = [
         reproject_points(np.asarray(band.exterior.coords), site.crs, mesh.crs)
         for _, band, _ in site.wakes

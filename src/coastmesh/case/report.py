@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from pyproj import CRS
@@ -32,12 +32,16 @@ class MeshReport(Report):
         Boundary edges by ``"name (id)"``.
     surface_id : int
         The physical id of the triangles.
+    line_edges : dict of str to int
+        The edges of each line inside the mesh (``[[lines]]``), by
+        ``"name (id)"``.
     """
 
     nodes: int
     triangles: int
     boundary_edges: dict[str, int]
     surface_id: int
+    line_edges: dict[str, int] = field(default_factory=dict)
 
     @classmethod
     def of(cls, mesh: Mesh) -> MeshReport:
@@ -47,14 +51,16 @@ class MeshReport(Report):
             f"{mesh.boundary_names.get(int(i), '?')} ({int(i)})": int(c)
             for i, c in zip(ids, counts, strict=True)
         }
-        return cls(len(mesh.points), len(mesh.triangles), edges, mesh.surface_id)
+        lines = {f"{ln.name} ({ln.id})": len(ln.xy) - 1 for ln in mesh.lines}
+        return cls(len(mesh.points), len(mesh.triangles), edges, mesh.surface_id, lines)
 
     def summary(self) -> str:
         """Return a one-line summary."""
         ids = ", ".join(f"{k} {v}" for k, v in self.boundary_edges.items())
+        lines = ", ".join(f"{k} {v}" for k, v in self.line_edges.items())
         return (
             f"{self.nodes:,} nodes, {self.triangles:,} triangles, boundary edges "
-            f"by id: {ids}"
+            f"by id: {ids}" + (f"; line edges: {lines}" if lines else "")
         )
 
 

@@ -10,7 +10,6 @@ is tagged as shoreline or as the open boundary it lies on.
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -366,8 +365,14 @@ def domain_with_structures(
     polygon = shapely.remove_repeated_points(pieces[0], 1e-12 * extent)
     tagged = [*((n, i, p) for (n, i, _), p in zip(structures, shapes, strict=True))]
     segments = _tag_boundary(polygon, open_boundaries, [*tagged, *shorelines])
-    new_report = dataclasses.replace(
-        report, holes=len(polygon.interiors), segments=_edge_counts(segments)
+    new_report = DomainReport(
+        land_in=report.land_in,
+        land_repaired=report.land_repaired,
+        land_overlaps_merged=report.land_overlaps_merged,
+        sea_faces=report.sea_faces,
+        holes=len(polygon.interiors),
+        holes_dropped=report.holes_dropped,
+        segments=_edge_counts(segments),
     )
     return Domain(polygon, tuple(segments), domain.crs, domain.surface_id), new_report
 

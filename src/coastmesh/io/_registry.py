@@ -120,7 +120,7 @@ def mesh_format(name: str) -> MeshFormat:
     --------
     >>> fmt = mesh_format("MSH4")
     >>> fmt.name, fmt.model, sorted(fmt.holds)
-    ('msh4', 'Gmsh 4', ['ids', 'regions', 'sphere_xyz'])
+    ('msh4', 'Gmsh 4', ['ids', 'lines', 'regions', 'sphere_xyz'])
     """
     formats = _registry()
     key = name.lower() if isinstance(name, str) else name
@@ -343,6 +343,7 @@ def formats_table() -> str:
     for fmt in _registry().values():
         extensions = ", ".join(f"`{e}`" for e in fmt.extensions)
         extensions += "".join(f" (+ `{e}`)" for e in fmt.companions)
+        extensions += "".join(f" (+ `{e}` with regions)" for e in fmt.region_companions)
         holds = ", ".join(sorted(fmt.holds)) or "-"
         sign = {"down": "down", "up": "up (elevation)", None: "(no depth)"}
         read = "yes" if fmt.read is not None else "no (write only)"

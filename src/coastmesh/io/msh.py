@@ -41,7 +41,8 @@ from coastmesh.io._meshio import (
     surface_of,
 )
 from coastmesh.io.sphere import crossing_triangles, on_sphere
-from coastmesh.types import Mesh
+from coastmesh.types import Mesh, MeshLine
+from coastmesh.types.topology import unique_edges
 
 __all__ = ["MSH_VERSIONS", "read_msh", "write_msh"]
 
@@ -228,6 +229,10 @@ def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
         )
     names, kinds, surfaces = _read_physical_names(data.field_data or {})
     surface_id = surface_of(regions, surfaces.pop("domain", None))
+    edges, ids, lines = _lines_of(points, triangles, edges, ids, names)
+    for pid in {line.id for line in lines}:
+        names.pop(pid, None)
+        kinds.pop(pid, None)
     return mesh_from_file(
         name,
         points,
@@ -240,7 +245,63 @@ def read_msh(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
         boundary_kinds=kinds,
         regions=regions,
         region_names={pid: label for label, pid in surfaces.items()},
+        lines=lines,
     )
+
+
+def _edges(mesh: Mesh) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Return the boundary edges and the lines' edges, and their ids."""
+    edges, ids = mesh.line_edges()
+    return (
+        np.concatenate([mesh.boundary_edges, edges]),
+        np.concatenate([mesh.boundary_ids, ids]),
+    )
+
+
+def _lines_of(points, triangles, edges, ids, names) -> tuple:
+    """Split the line elements into boundary edges and lines inside the mesh.
+
+    A line element between two triangles is an edge of a line (``[[lines]]``):
+    the edges of each id are joined into chains, each a :class:`MeshLine`.
+    """
+    keys = np.sort(edges, axis=1)
+    inner, count = unique_edges(triangles, len(points))
+    n = len(points)
+    twice = np.isin(keys[:, 0] * n + keys[:, 1], inner[count == 2] @ [n, 1])
+    if not twice.any():
+        return edges, ids, ()
+    lines = []
+    for pid in np.unique(ids[twice]).tolist():
+        for chain in _chains(edges[twice & (ids == pid)]):
+            lines.append(MeshLine(pid, names.get(pid, str(pid)), points[chain]))
+    return edges[~twice], ids[~twice], tuple(lines)
+
+
+def _chains(edges: NDArray[np.int64]) -> list[list[int]]:
+    """Return the edges joined end to end: each chain's nodes, in order."""
+    links: dict[int, list[int]] = {}
+    for a, b in edges.tolist():
+        links.setdefault(a, []).append(b)
+        links.setdefault(b, []).append(a)
+    seen: set[tuple[int, int]] = set()
+    chains = []
+    ends = [v for v, w in links.items() if len(w) != 2] + sorted(links)
+    for start in ends:
+        for nxt in links[start]:
+            if (min(start, nxt), max(start, nxt)) in seen:
+                continue
+            chain, prev, node = [start], start, nxt
+            while True:
+                seen.add((min(prev, node), max(prev, node)))
+                chain.append(node)
+                onward = [
+                    w for w in links[node] if (min(node, w), max(node, w)) not in seen
+                ]
+                if len(links[node]) != 2 or not onward:
+                    break
+                prev, node = node, onward[0]
+            chains.append(chain)
+    return chains
 
 
 #: rows formatted at once by :func:`_write_rows`
@@ -321,12 +382,13 @@ def _write_ascii_22(fh: Any, mesh: Mesh, nodes: NDArray[np.float64]) -> None:
     else:  # a flat mesh: z is the same text on every row
         _write_rows(fh, f"%d %.16e %.16e {0.0:.16e}\n", number, *nodes[:, :2].T)
     fh.write(b"$EndNodes\n")
-    ids = np.unique(mesh.boundary_ids)
-    count = len(mesh.boundary_edges) + len(mesh.triangles)
+    all_edges, all_ids = _edges(mesh)
+    ids = np.unique(all_ids)
+    count = len(all_edges) + len(mesh.triangles)
     fh.write(f"$Elements\n{count}\n".encode())
     start = 1
     for entity, pid in enumerate(ids, start=1):  # lines grouped by id, in order
-        block = mesh.boundary_edges[mesh.boundary_ids == pid] + 1
+        block = all_edges[all_ids == pid] + 1
         first = f"%d 1 2 {pid} {entity} %d %d\n"
         _write_rows(fh, first, np.arange(start, start + len(block)), *block.T)
         start += len(block)
@@ -454,11 +516,12 @@ def _to_meshio(
     """
     if coordinates is None:
         coordinates = np.column_stack([mesh.points, np.zeros(len(mesh.points))])
-    ids = np.unique(mesh.boundary_ids)
+    all_edges, all_ids = _edges(mesh)
+    ids = np.unique(all_ids)
     cells, physical, geometrical = [], [], []
     dim_tags = np.tile(np.array([2, 1], dtype=np.int64), (len(mesh.points), 1))
     assigned = np.zeros(len(mesh.points), dtype=bool)
-    blocks = [mesh.boundary_edges[mesh.boundary_ids == pid] for pid in ids]
+    blocks = [all_edges[all_ids == pid] for pid in ids]
     # msh 4.1 lists an entity only if it owns a node: the entities with the fewest
     # nodes choose first, so a one-edge boundary keeps its two nodes
     for entity in sorted(range(len(ids)), key=lambda k: (len(blocks[k]), k)):
@@ -503,6 +566,11 @@ def _physical_names(mesh: Mesh) -> dict[str, Any]:
         if label in names:  # names must be unique in the file
             label = f"{label}#{pid}"
         names[label] = np.array([pid, 1])
+    for line in mesh.lines:
+        label = f"line:{line.name}"
+        names[label if label not in names else f"{label}#{line.id}"] = np.array(
+            [line.id, 1]
+        )
     if names or len(mesh.region_ids) > 1:
         names["domain"] = np.array([mesh.surface_id, 2])
     for pid in mesh.region_ids:
@@ -528,7 +596,7 @@ def _read_physical_names(
             continue
         kind, sep, name = label.partition(":")
         name = name.split("#")[0] if sep else label
-        if sep and kind in ("open", "shoreline"):
+        if sep and kind in ("open", "shoreline", "line"):
             kinds[int(pid)] = kind
         names[int(pid)] = name if sep else label
     return names, kinds, surfaces

@@ -44,6 +44,7 @@ from coastmesh.meshing.parts.inner import (
     Inner,
     InnerPlane,
     label_regions,
+    node_line,
     node_ring,
     smallest_side,
 )
@@ -58,7 +59,7 @@ from coastmesh.meshing.parts.tasks import (
     serial_runner,
     start_workers,
 )
-from coastmesh.types import Domain, Mesh, Progress, SizeGrid
+from coastmesh.types import Domain, Mesh, MeshLine, Progress, SizeGrid
 from coastmesh.types.topology import unique_edges
 
 __all__ = ["ALGORITHMS", "PartsWarning", "generate_mesh", "mesh_in_parts"]
@@ -294,6 +295,7 @@ def mesh_in_parts(
         cleanup=cleanup,
         exact=plane.rings,
         points=plane.points,
+        lines=plane.mesh_lines(),
     )
     step(2)
     if len(tasks) > 1:
@@ -370,7 +372,14 @@ def _mesh(
         regions = label_regions(
             points[triangles].mean(axis=1), plane, domain.surface_id
         )
+        at = _line_nodes(points, plane)
         points = project_points(points, mesh_crs, output_crs, what="mesh nodes")
+        lines = tuple(
+            MeshLine(pid, name, points[nodes])
+            for pid, name, nodes in zip(
+                plane.line_ids, plane.line_names, at, strict=True
+            )
+        )
         edges, edge_ids = _check_edges(triangles, edges, edge_ids)
         cleaned, target = cleaned.result(), target.result()
     mesh = Mesh(
@@ -385,8 +394,34 @@ def _mesh(
         {s.physical_id: s.kind for s in domain.segments},
         regions,
         dict(zip(plane.ids, plane.names, strict=True)),
+        lines,
     )
     return mesh, cleaned
+
+
+def _line_nodes(points: NDArray[np.float64], plane: InnerPlane) -> list[NDArray]:
+    """Return the node indices of each line of ``plane`` among ``points``.
+
+    A line's nodes are held in every part and seam, so each is a mesh node at
+    exactly its noded place.
+    """
+    if not plane.lines:
+        return []
+    probe = Mesh(
+        points,
+        np.empty((0, 3), np.int64),
+        np.empty((0, 2), np.int64),
+        [],
+        1,
+        None,
+        lines=[MeshLine(1, "line", xy) for xy in plane.lines],
+    )
+    try:
+        edges = probe.line_edges()[0]
+    except ValueError as exc:
+        raise MeshingError(f"the mesh lost a node of a line: {exc}") from None
+    sizes = np.cumsum([len(xy) - 1 for xy in plane.lines])[:-1]
+    return [np.append(e[:, 0], e[-1, 1]) for e in np.split(edges, sizes)]
 
 
 def _parts_report(
@@ -527,14 +562,17 @@ def _cut(
             PartsWarning,
             stacklevel=4,
         )
-    if plane.polygons and cuts:
+    if (plane.polygons or plane.lines) and cuts:
         keep_off = shapely.union_all(
-            [p.buffer(2 * smallest_side(plane)) for p in plane.polygons]
+            [
+                shapely.buffer(g, 2 * smallest_side(plane))
+                for g in [*plane.polygons, *map(shapely.LineString, plane.lines)]
+            ]
         )
         if shapely.intersects(keep_off, shapely.MultiLineString(cuts)):
             warnings.warn(
-                f"parts = {parts}: a cut of the water would cross a farm or a "
-                "turbine footprint; meshing the water in one part",
+                f"parts = {parts}: a cut of the water would cross a farm, a "
+                "turbine footprint or a line; meshing the water in one part",
                 PartsWarning,
                 stacklevel=4,
             )
@@ -618,12 +656,21 @@ def _inner_plane(
     points = np.asarray(inner.points, dtype=np.float64).reshape(-1, 2)
     if len(points) and not crs.equals(mesh_crs):
         points = project_points(points, crs, mesh_crs, what="turbines")
+    lines = []
+    for given, _, _ in inner.lines:
+        xy = np.asarray(given, dtype=np.float64)
+        if not crs.equals(mesh_crs):
+            xy = project_points(xy, crs, mesh_crs, what="lines")
+        lines.append(node_line(xy, lambda p: sample_size(map_size, p)))
     return InnerPlane(
         rings,
         polygons,
         [int(pid) for _, pid, _ in inner.regions],
         [str(name) for _, _, name in inner.regions],
         points,
+        lines,
+        [int(pid) for _, pid, _ in inner.lines],
+        [str(name) for _, _, name in inner.lines],
     )
 
 
@@ -636,4 +683,6 @@ def _held_numbers(tasks: list, plane: InnerPlane) -> set[int]:
             if pid is None and all((float(x), float(y)) in noded for x, y in curve):
                 held.update(numbers.tolist())
         held.update(task.embedded_numbers.tolist())
+        for numbers in task.line_numbers:
+            held.update(numbers.tolist())
     return held

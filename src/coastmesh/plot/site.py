@@ -25,7 +25,7 @@ def site_figure(
     wakes: list[np.ndarray] | None = None,
     title: str | None = None,
 ) -> Figure:
-    """Draw a site: its regions' elements, outlines and turbines, and one up close.
+    """Draw a site: its regions, outlines, turbines and lines, and one up close.
 
     Parameters
     ----------
@@ -44,7 +44,7 @@ def site_figure(
     matplotlib.figure.Figure
         Left: the site and 30 % around it, triangles coloured by region, the
         outlines between regions in black, the turbines as red crosses, the
-        wakes dashed. Right:
+        wakes dashed, the lines (``mesh.lines``) in blue. Right:
         the first turbine and three rotor diameters around it.
     """
     from matplotlib.figure import Figure
@@ -53,10 +53,10 @@ def site_figure(
     left, right = figure.subplots(1, 2)
     site = mesh.regions != mesh.surface_id
     xy = mesh.points
+    corners = np.array([[x, y] for _, x, y in turbines]).reshape(-1, 2)
     if site.any():
         corners = xy[mesh.triangles[site]].reshape(-1, 2)
-    else:
-        corners = np.array([[x, y] for _, x, y in turbines]).reshape(-1, 2)
+    corners = np.concatenate([corners, *(line.xy for line in mesh.lines)])
     if wakes:
         corners = np.concatenate([corners, *wakes])
     lo, hi = corners.min(axis=0), corners.max(axis=0)
@@ -104,6 +104,9 @@ def _draw(ax: Axes, mesh: Mesh, turbines, window: tuple[float, ...]) -> None:
     )
     outlines = mesh.points[region_interfaces(mesh)]
     ax.add_collection(LineCollection(outlines, colors="k", linewidths=1.0))
+    for line in mesh.lines:
+        ax.plot(*line.xy.T, "-", color="tab:blue", lw=1.6)
+        ax.annotate(line.name, line.xy[len(line.xy) // 2], color="tab:blue", fontsize=8)
     for _, tx, ty in turbines:
         ax.plot(tx, ty, "r+", markersize=8, mew=1.5)
     ax.set_xlim(x0, x1)

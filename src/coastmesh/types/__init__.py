@@ -5,7 +5,8 @@
 :class:`BoundarySegment`   a piece of a domain boundary with its physical id
 :class:`Domain`            a polygon to mesh and its tagged boundary segments
 :class:`SizeGrid`          target edge lengths (metres) on a regular grid
-:class:`Mesh`              triangles, tagged boundary edges, node data
+:class:`Mesh`              triangles, tagged boundary edges, node data, regions
+:class:`MeshLine`          a line inside a mesh whose edges are mesh edges
 :data:`Progress`           ``progress(done, total)`` callbacks of long work
 :data:`StageFactory`       ``stage(label)``: a context manager per run stage
 :func:`quiet_stage`        the :data:`StageFactory` that shows nothing
@@ -27,7 +28,7 @@ from typing import Any, TypeVar
 
 from coastmesh.types.domain import SEGMENT_KINDS, BoundarySegment, Domain
 from coastmesh.types.features import Features
-from coastmesh.types.mesh import Mesh, SizeGrid
+from coastmesh.types.mesh import Mesh, MeshLine, SizeGrid
 from coastmesh.types.report import Report
 
 __all__ = [
@@ -36,6 +37,7 @@ __all__ = [
     "Domain",
     "Features",
     "Mesh",
+    "MeshLine",
     "Progress",
     "Report",
     "Runner",

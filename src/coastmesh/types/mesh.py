@@ -6,7 +6,7 @@ Frozen dataclasses, validated when built; constructors never read files.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -15,7 +15,7 @@ from pyproj import CRS
 from coastmesh.types._checks import check_positive_int
 from coastmesh.types.domain import SEGMENT_KINDS
 
-__all__ = ["Mesh", "SizeGrid"]
+__all__ = ["Mesh", "MeshLine", "SizeGrid"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -112,6 +112,21 @@ class SizeGrid:
         return cls(field["x"].values, field["y"].values, field.values)
 
 
+class MeshLine(NamedTuple):
+    """A line inside the mesh (``[[lines]]``): its id, name and nodes in order.
+
+    ``xy`` (k, 2) are the coordinates of its nodes, exactly as the mesh's
+    points hold them (in the mesh's CRS): consecutive nodes are joined by a
+    mesh edge. Kept as coordinates, not indices, so that a mesh whose nodes are
+    renumbered (a channel peeled, a node collapsed) keeps its lines: their
+    nodes are held by every stage.
+    """
+
+    id: int
+    name: str
+    xy: NDArray[np.float64]
+
+
 @dataclass(frozen=True, slots=True)
 class Mesh:
     """A 2D triangle mesh with tagged boundary edges.
@@ -143,6 +158,9 @@ class Mesh:
         ``surface_id`` everywhere.
     region_names : mapping of int to str, optional
         Names of the region ids other than ``surface_id`` (e.g. ``{20: "meygen"}``).
+    lines : sequence of MeshLine, optional
+        Lines inside the mesh whose edges are mesh edges, each with an id of
+        its own (:meth:`line_edges` gives them as node indices).
 
     Raises
     ------
@@ -170,6 +188,7 @@ class Mesh:
     boundary_kinds: dict[int, str] = field(default_factory=dict)
     regions: NDArray[np.int64] | None = None
     region_names: dict[int, str] = field(default_factory=dict)
+    lines: tuple[MeshLine, ...] = ()
 
     def __post_init__(self) -> None:
         points = np.array(self.points, dtype=np.float64)
@@ -208,6 +227,7 @@ class Mesh:
         regions = _regions(self.regions, len(triangles), int(self.surface_id))
         region_names = {int(k): str(v) for k, v in dict(self.region_names).items()}
         for name, value in (
+            ("lines", _lines(self.lines)),
             ("regions", regions),
             ("region_names", region_names),
             ("points", points),
@@ -244,7 +264,45 @@ class Mesh:
             self.boundary_kinds,
             self.regions,
             self.region_names,
+            self.lines,
         )
+
+    def line_edges(self) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+        """Return the lines' edges as node indices (L, 2) and their ids (L,).
+
+        Raises
+        ------
+        ValueError
+            If a line's node is not a mesh node (a stage moved or removed it).
+
+        Examples
+        --------
+        >>> m = Mesh([[0, 0], [2, 0], [1, 1], [1, -1]], [[0, 3, 1], [0, 1, 2]],
+        ...          [[0, 3], [3, 1], [1, 2], [2, 0]], [1] * 4, 1, None,
+        ...          lines=[MeshLine(5, "cable", [[0, 0], [2, 0]])])
+        >>> edges, ids = m.line_edges()
+        >>> edges.tolist(), ids.tolist()
+        ([[0, 1]], [5])
+        """
+        if not self.lines:
+            return np.empty((0, 2), np.int64), np.empty(0, np.int64)
+        keys = self.points[:, 0] + 1j * self.points[:, 1]
+        order = np.argsort(keys, kind="stable")
+        edges, ids = [], []
+        for line in self.lines:
+            want = line.xy[:, 0] + 1j * line.xy[:, 1]
+            at = np.clip(np.searchsorted(keys[order], want), 0, len(keys) - 1)
+            nodes = order[at]
+            missing = np.flatnonzero(keys[nodes] != want)
+            if len(missing):
+                x, y = line.xy[missing[0]]
+                raise ValueError(
+                    f"line {line.name!r} (id {line.id}): its node at ({x:.6f}, "
+                    f"{y:.6f}) is not a node of the mesh"
+                )
+            edges.append(np.column_stack([nodes[:-1], nodes[1:]]))
+            ids.append(np.full(len(nodes) - 1, line.id, dtype=np.int64))
+        return np.concatenate(edges).astype(np.int64), np.concatenate(ids)
 
     @property
     def region_ids(self) -> list[int]:
@@ -262,6 +320,21 @@ class Mesh:
         return (
             [self.surface_id, *ids] if (self.regions == self.surface_id).any() else ids
         )
+
+
+def _lines(values: object) -> tuple[MeshLine, ...]:
+    """Return the lines checked: an id >= 1, a name, two nodes or more."""
+    out = []
+    for k, line in enumerate(values or ()):
+        pid, name, xy = line
+        check_positive_int(pid, f"lines[{k}].id")
+        xy = np.array(xy, dtype=np.float64)
+        if xy.ndim != 2 or xy.shape[1] != 2 or len(xy) < 2:
+            raise ValueError(
+                f"lines[{k}].xy has shape {xy.shape}, expected (k >= 2, 2)"
+            )
+        out.append(MeshLine(int(pid), str(name), xy))
+    return tuple(out)
 
 
 def _regions(values: object, m: int, surface_id: int) -> NDArray[np.int64]:

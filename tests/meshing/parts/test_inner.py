@@ -139,7 +139,7 @@ def test_a_cut_that_would_cross_a_region_means_one_part():
     _, chords, wanted = _cut([(ring, 3)], water, size, 2, empty)
     assert len(chords) == 1 and wanted == 2  # without the farm: cut in two
     assert shapely.intersects(shapely.LineString(chords[0]), farm)
-    with pytest.warns(UserWarning, match="farm or a turbine footprint"):
+    with pytest.warns(UserWarning, match="a farm, a turbine footprint"):
         _, chords, wanted = _cut([(ring, 3)], water, size, 2, plane)
     assert chords == [] and wanted == 1
 

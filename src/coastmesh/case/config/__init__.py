@@ -26,6 +26,7 @@ from coastmesh.case.config.case import (
 )
 from coastmesh.case.config.farms import (
     FarmConfig,
+    LineConfig,
     RotorLength,
     StructureConfig,
     TurbinesConfig,
@@ -58,6 +59,7 @@ __all__ = [
     "DepthSourceConfig",
     "DomainConfig",
     "FarmConfig",
+    "LineConfig",
     "MeshConfig",
     "NodeDepthConfig",
     "OutputConfig",
@@ -91,6 +93,7 @@ def _documented() -> dict[str, type]:
         FarmConfig,
         TurbinesConfig,
         WakeConfig,
+        LineConfig,
         StructureConfig,
         DomainConfig,
         BoundaryConfig,

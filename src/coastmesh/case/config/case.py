@@ -11,6 +11,7 @@ from coastmesh.case import schema
 from coastmesh.case.boundaries import BOUNDARY_KINDS, BoundaryConfig
 from coastmesh.case.config.farms import (
     FarmConfig,
+    LineConfig,
     StructureConfig,
     TurbinesConfig,
     WakeConfig,
@@ -137,6 +138,12 @@ class CaseConfig:
     )
     wakes: tuple[WakeConfig, ...] = key(
         (), part=WakeConfig, many=True, doc="refinement along the tidal axis"
+    )
+    lines: tuple[LineConfig, ...] = key(
+        (),
+        part=LineConfig,
+        many=True,
+        doc="lines in the sea the mesh follows, with an id of their own",
     )
     structures: tuple[StructureConfig, ...] = key(
         (),
@@ -328,11 +335,15 @@ def _check_sites(
     edges are boundary edges that gradations may name.
     """
     if case["domain"].kind == "global" and (
-        case["farms"] or case["turbines"] or case["wakes"] or case["structures"]
+        case["farms"]
+        or case["turbines"]
+        or case["wakes"]
+        or case["structures"]
+        or case["lines"]
     ):
         raise ConfigError(
-            f"{label}: farms, turbines and structures are for regional cases; a "
-            "global case has none"
+            f"{label}: farms, turbines, lines and structures are for regional "
+            "cases; a global case has none"
         )
     taken = dict(owners)
     surface = case["domain"].surface_id
@@ -348,13 +359,15 @@ def _check_sites(
             if pid in taken:
                 raise ConfigError(
                     f"{label}: {where}: id {pid} is also the id of {taken[pid]}; "
-                    "every farm, footprint and structure needs its own id"
+                    "every farm, footprint, line and structure needs its own id"
                 )
             taken[pid] = repr(name) if name is not None else where
 
     for k, f in enumerate(case["farms"]):
         claim(f"farms[{k}]", f.name, [f.id])
         names.add(f.name)  # gradations may name its outline
+    for k, ln in enumerate(case["lines"]):
+        claim(f"lines[{k}]", ln.name, [ln.id])
     for k, st in enumerate(case["structures"]):
         claim(f"structures[{k}]", st.name, [st.id])
         names.add(st.name)  # gradations may name it: it is boundary edges

@@ -1,8 +1,9 @@
-"""``[[farms]]``, ``[[turbines]]``, ``[[wakes]]``, ``[[structures]]``: a site.
+"""``[[farms]]``, ``[[turbines]]``, ``[[wakes]]``, ``[[lines]]``, ``[[structures]]``.
 
-Farm areas (a region of elements with an id of its own), turbines (a node
-each, or a footprint of elements), their wakes (a refinement along the
-tidal axis) and structures (land in the sea, cut out with a boundary id of
+The parts of a tidal site: farm areas (a region of elements with an id of
+their own), turbines (a node each, or a footprint of elements), their wakes
+(a refinement along the tidal axis), lines the mesh follows (embedded edges
+with an id) and structures (land in the sea, cut out with a boundary id of
 their own). Places are lon/lat, as the seed and the open
 boundaries, or read from a vector file (any CRS GDAL reads) or, for turbines,
 a CSV.
@@ -28,6 +29,7 @@ __all__ = [
     "FOOTPRINTS",
     "WAKE_SIDES",
     "FarmConfig",
+    "LineConfig",
     "RotorLength",
     "StructureConfig",
     "TurbinesConfig",
@@ -332,4 +334,40 @@ class StructureConfig:
         _one_place(self, c, ("polygon", "path"))
         if self.polygon is not None and len(self.polygon) < 3:
             raise c.error("polygon", "needs at least three points")
+        return self
+
+
+@dataclass(frozen=True)
+class LineConfig:
+    """``[[lines]]``: a line inside the sea that the mesh follows, with an id.
+
+    A cable route, a weir crest, a thalweg, a breakwater's centre line: its
+    edges are mesh edges (a 1-D physical group ``id`` in msh files). Exactly
+    one of ``points`` (lon/lat) and ``path`` (a vector file of lines in its
+    own CRS; ``layer``; its lines are joined end to end where they meet).
+    """
+
+    name: str = key(check=schema.string, doc="names the line in reports")
+    id: int = key(check=schema.integer(1), doc="the physical id of its edges")
+    points: tuple[tuple[float, float], ...] | None = key(
+        None, check=schema.points, doc="a list of `[lon, lat]` points"
+    )
+    path: Path | None = key(
+        None, check=schema.path, path=True, doc="a vector file of lines"
+    )
+    layer: str | None = key(
+        None, check=schema.string, default_doc="the only layer", doc="its layer"
+    )
+    h: float | None = key(
+        None,
+        check=schema.length(),
+        unit="length",
+        default_doc="the size field's",
+        doc="the element size along it, growing at `rate` away from it",
+    )
+
+    def _validate(self, c: Check) -> LineConfig:
+        _one_place(self, c, ("points", "path"))
+        if self.points is not None and len(self.points) < 2:
+            raise c.error("points", "needs at least two points")
         return self

@@ -14,7 +14,7 @@ stage                       makes
 :func:`domain_stage`        the domain: sets stitched, open boundaries, the sea,
                             structures cut out
 :func:`closing_stage`       water too narrow to mesh closed as land
-:func:`site_stage`          farms and turbines read and checked against the sea
+:func:`site_stage`          farms, turbines and lines read and checked
 :func:`size_stage`          the size field: every size term, combined
 :func:`mesh_stage`          the mesh, in parts, cleaned
 :func:`channel_stage`       dead-end channels one element wide closed
@@ -73,10 +73,10 @@ def closing_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
 
 
 def site_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
-    """Read and check the farms and turbines (none: nothing to do)."""
-    if not (run.config.farms or run.config.turbines):
+    """Read and check the farms, turbines and lines (none: nothing to do)."""
+    if not (run.config.farms or run.config.turbines or run.config.lines):
         return run
-    with ctx.timed("farms and turbines"):
+    with ctx.timed("farms, turbines and lines"):
         return replace(run, site=site_features(run.config, run.domain))
 
 

@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig
+from coastmesh.case.pipeline.lines import SiteLine, line_coords, read_lines
 from coastmesh.case.pipeline.state import DomainState
 from coastmesh.errors import ConfigError, InputDataError, MeshingError
 from coastmesh.geometry import reproject
@@ -72,11 +73,11 @@ class Turbine:
 
 @dataclass(frozen=True)
 class SiteFeatures:
-    """The farms and turbines of a case, in the meshing CRS, checked.
+    """The farms, turbines and lines of a case, in the meshing CRS, checked.
 
     ``farms`` are (name, id, polygon, h or None); ``footprints`` (turbine
     name, id, polygon); ``turbines`` every turbine; ``wakes`` (source, band,
-    h).
+    h); ``lines`` (name, id, line, h or None).
     """
 
     farms: tuple[tuple[str, int, shapely.Polygon, float | None], ...]
@@ -85,12 +86,14 @@ class SiteFeatures:
     crs: CRS
     #: (the source's name, the band, its size): ``[[wakes]]``
     wakes: tuple[tuple[str, shapely.Polygon, float], ...] = ()
+    #: (name, id, line, h or None): ``[[lines]]``
+    lines: tuple[SiteLine, ...] = ()
 
     def __bool__(self) -> bool:
-        return bool(self.farms or self.turbines)
+        return bool(self.farms or self.turbines or self.lines)
 
     def inner(self) -> Inner:
-        """Return the regions and nodes the mesher must hold."""
+        """Return the regions, nodes and lines the mesher must hold."""
         regions = [(p, pid, name) for name, pid, p, _ in self.farms]
         regions += [(p, pid, name) for name, pid, p in self.footprints]
         nodes = [t.xy for t in self.turbines if t.footprint == "node"]
@@ -98,6 +101,7 @@ class SiteFeatures:
             tuple(regions),
             np.array(nodes, dtype=np.float64).reshape(-1, 2),
             crs=self.crs,
+            lines=line_coords(self.lines),
         )
 
     def sizes(
@@ -124,12 +128,19 @@ class SiteFeatures:
             if points is None:
                 points = shapely.points(x, y)
             h = np.minimum(h, size + rate * shapely.distance(band, points))
+        for *_, line, size in self.lines:
+            if size is None:
+                continue
+            if points is None:
+                points = shapely.points(x, y)
+            h = np.minimum(h, size + rate * shapely.distance(line, points))
         return h
 
     def smallest(self) -> float:
         """Return the smallest size the site asks for (inf if none)."""
         given = [h for *_, h in self.farms if h is not None]
         given += [t.h for t in self.turbines] + [h for *_, h in self.wakes]
+        given += [h for *_, h in self.lines if h is not None]
         return min(given, default=math.inf)
 
     def box(self) -> tuple[float, float, float, float]:
@@ -138,11 +149,12 @@ class SiteFeatures:
             shapely.Point(t.xy).buffer(t.diameter) for t in self.turbines
         ]
         geoms += [band for _, band, _ in self.wakes]
+        geoms += [line for *_, line, h in self.lines if h is not None]
         return tuple(shapely.total_bounds(geoms).tolist())
 
 
 def site_features(config: CaseConfig, state: DomainState) -> SiteFeatures:
-    """Read and check the case's farms and turbines, in the meshing CRS."""
+    """Read and check the case's farms, turbines and lines, in the meshing CRS."""
     crs = state.mesh_crs
     sea = reproject(state.domain.polygon, state.domain.crs, crs)
     shapely.prepare(sea)
@@ -150,7 +162,9 @@ def site_features(config: CaseConfig, state: DomainState) -> SiteFeatures:
     turbines, footprints = _turbines(config, crs, sea, farms)
     _check_footprint_ids(config, footprints)
     wakes = tuple(_wakes(config, farms, turbines))
-    return SiteFeatures(farms, tuple(footprints), tuple(turbines), crs, wakes)
+    outlines = [(n, p) for n, _, p, _ in farms] + [(n, p) for n, _, p in footprints]
+    lines = read_lines(config, crs, sea, outlines)
+    return SiteFeatures(farms, tuple(footprints), tuple(turbines), crs, wakes, lines)
 
 
 def _wakes(config: CaseConfig, farms, turbines):

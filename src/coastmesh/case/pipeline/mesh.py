@@ -5,6 +5,7 @@ from __future__ import annotations
 import logging
 from dataclasses import replace
 
+import numpy as np
 import shapely
 
 from coastmesh.case.config import CaseConfig
@@ -74,6 +75,12 @@ def channel_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
                 keep = shapely.contains_xy(sites, centres[:, 0], centres[:, 1])
             if (mesh.regions != mesh.surface_id).any():  # farms, footprints
                 keep = (mesh.regions != mesh.surface_id) | (
+                    False if keep is None else keep
+                )
+            if mesh.lines:  # the triangles at a line's nodes stay
+                on_line = np.zeros(len(mesh.points), dtype=bool)
+                on_line[mesh.line_edges()[0].ravel()] = True
+                keep = on_line[mesh.triangles].any(axis=1) | (
                     False if keep is None else keep
                 )
             peeled, report = peel_channels(mesh, keep)

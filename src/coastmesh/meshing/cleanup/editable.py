@@ -48,6 +48,11 @@ class EditableMesh:
         self.fixed = self.on_boundary.copy()  # nodes that never move
         if fixed is not None:
             self.fixed |= np.asarray(fixed, dtype=bool)
+        # the edges of the mesh's lines are never flipped or split, and their
+        # nodes never move
+        line_edges = mesh.line_edges()[0]
+        self.fixed[line_edges.ravel()] = True
+        self.locked = {(min(u, v), max(u, v)) for u, v in line_edges.tolist()}
         n = len(mesh.points)
         self.angles = smoothing.min_angles(self.xy, mesh.triangles)
         self.valence = np.bincount(mesh.triangles.ravel(), minlength=n)
@@ -129,9 +134,10 @@ class EditableMesh:
         """Return (k2, u, v, a, b): k2 across edge u -> v of k, a and b opposite."""
         if not (self._complete(u) or self._complete(v)):
             raise RuntimeError(f"cleanup: edge {u}-{v} is outside the loaded region")
-        pair = self.edges.get((min(u, v), max(u, v)), [])
-        if len(pair) != 2:
-            return None  # a boundary edge
+        key = (min(u, v), max(u, v))
+        pair = self.edges.get(key, [])
+        if len(pair) != 2 or key in self.locked:
+            return None  # a boundary edge, or an edge of a line
         k2 = pair[0] if pair[1] == k else pair[1]
         t = self.tri[k]
         if t[(t.index(u) + 1) % 3] != v:

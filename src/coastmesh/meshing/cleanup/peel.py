@@ -547,6 +547,7 @@ def _without(
         dict(mesh.boundary_kinds),
         mesh.regions[keep],
         dict(mesh.region_names),
+        mesh.lines,
     )
     report = PeelReport(
         removed=len(removed),
@@ -621,6 +622,7 @@ def open_short_runs(mesh: Mesh, min_edges: int = MIN_RUN_EDGES) -> tuple[Mesh, i
         dict(kinds),
         mesh.regions,
         dict(mesh.region_names),
+        mesh.lines,
     )
     return out, sum(len(run) for run, _ in runs)
 

@@ -144,6 +144,7 @@ def smooth_mesh(
     xy = plane_points(mesh.points, to_plane)
     fixed = boundary_nodes(mesh.triangles, len(xy))
     fixed[mesh.boundary_edges.ravel()] = True
+    fixed[mesh.line_edges()[0].ravel()] = True  # a line's nodes stay on it
     options = {"iterations": iterations, "method": method, "good_angle": good_angle}
     new_xy, sweeps = smooth_points(xy, mesh.triangles, fixed, **options)
     before = min_angles(xy, mesh.triangles)

@@ -268,12 +268,17 @@ def relieve_time_step(
 
 
 def _held(mesh: Mesh, held: NDArray[np.bool_] | None) -> NDArray[np.bool_]:
-    """Return ``held`` (or none) with the nodes between two regions added."""
+    """Return ``held`` (or none) with the nodes between two regions added.
+
+    The nodes of the mesh's lines are held too: none of them moves or goes,
+    so their edges stay (a collapse keeps every other edge of the node kept).
+    """
     out = np.zeros(len(mesh.points), dtype=bool)
     if held is not None:
         out |= np.asarray(held, dtype=bool)
     if len(np.unique(mesh.regions)) > 1:
         out[region_interfaces(mesh).ravel()] = True
+    out[mesh.line_edges()[0].ravel()] = True
     return out
 
 

@@ -1,4 +1,4 @@
-"""Regions and nodes inside the water: farms, turbine footprints, turbine nodes.
+"""Regions, nodes and lines inside the water: farms, footprints, turbines, cables.
 
 A region (a farm's area, a turbine's footprint) is meshed as a face of its own:
 its outline is noded once, every vertex of the polygon kept and each side
@@ -9,7 +9,11 @@ nodes of cuts in the cleanup of each part, and the seams are smoothed only
 at the straight cuts). Its triangles then carry the region's id (the
 innermost region that holds a triangle's centroid). A turbine node is a
 point embedded in the face that holds it (``gmsh.model.mesh.embed``), at its
-exact position in the meshing CRS.
+exact position in the meshing CRS. A line (a cable route, a weir crest) is
+noded once as an outline is, and its 2-node pieces are curves embedded in
+the face that holds it: its edges are mesh edges, and its nodes are held by
+the part's cleanup (which never flips or splits one of its edges) and every
+stage after it.
 """
 
 from __future__ import annotations
@@ -23,7 +27,9 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-__all__ = ["Inner", "InnerPlane", "label_regions", "node_ring"]
+from coastmesh.types import MeshLine
+
+__all__ = ["Inner", "InnerPlane", "label_regions", "node_line", "node_ring"]
 
 
 @dataclass(frozen=True)
@@ -38,7 +44,11 @@ class Inner:
     points : ndarray of shape (k, 2)
         Positions that must be mesh nodes (turbines).
     crs : pyproj.CRS or CRS-like, optional
-        The CRS of the regions and points; default the domain's.
+        The CRS of the regions, points and lines; default the domain's.
+    lines : sequence of (ndarray of shape (k, 2), int, str)
+        Lines whose edges must be mesh edges (``[[lines]]``), with their id
+        and name: inside the water, clear of its boundary, crossing no region
+        outline and no other line.
     """
 
     regions: Sequence[tuple[shapely.Polygon, int, str]] = ()
@@ -46,9 +56,10 @@ class Inner:
         default_factory=lambda: np.empty((0, 2), dtype=np.float64)
     )
     crs: Any = None
+    lines: Sequence[tuple[NDArray[np.float64], int, str]] = ()
 
     def __bool__(self) -> bool:
-        return bool(len(self.regions) or len(self.points))
+        return bool(len(self.regions) or len(self.points) or len(self.lines))
 
 
 @dataclass(frozen=True)
@@ -57,7 +68,8 @@ class InnerPlane:
 
     ``rings`` are the closed outlines (first point repeated last) as the mesh
     will have them; ``polygons`` the same as polygons; ``ids`` and ``names``
-    the regions'; ``points`` the nodes to embed.
+    the regions'; ``points`` the nodes to embed; ``lines`` the lines noded
+    (their points are their nodes), ``line_ids`` and ``line_names`` theirs.
     """
 
     rings: list[NDArray[np.float64]]
@@ -65,6 +77,18 @@ class InnerPlane:
     ids: list[int]
     names: list[str]
     points: NDArray[np.float64]
+    lines: list[NDArray[np.float64]] = field(default_factory=list)
+    line_ids: list[int] = field(default_factory=list)
+    line_names: list[str] = field(default_factory=list)
+
+    def mesh_lines(self) -> list[MeshLine]:
+        """Return the noded lines as :class:`~coastmesh.types.MeshLine`."""
+        return [
+            MeshLine(pid, name, xy)
+            for xy, pid, name in zip(
+                self.lines, self.line_ids, self.line_names, strict=True
+            )
+        ]
 
 
 def node_ring(
@@ -86,6 +110,24 @@ def node_ring(
     ring = np.asarray(ring, dtype=np.float64)
     if not np.array_equal(ring[0], ring[-1]):
         ring = np.vstack([ring, ring[:1]])
+    return node_line(ring, size_at)
+
+
+def node_line(
+    line: NDArray[np.float64], size_at: Callable[[NDArray[np.float64]], NDArray]
+) -> NDArray[np.float64]:
+    """Return an open line with each side split evenly at the local size.
+
+    As :func:`node_ring`, without closing it: every vertex kept, a side of
+    length ``L`` and size ``h`` at its middle in ``ceil(L / h)`` edges.
+
+    Examples
+    --------
+    >>> ab = np.array([[0, 0], [10, 0]], dtype=float)
+    >>> node_line(ab, lambda xy: np.full(len(xy), 4.0))[:, 0].round(3).tolist()
+    [0.0, 3.333, 6.667, 10.0]
+    """
+    ring = np.asarray(line, dtype=np.float64)
     a, b = ring[:-1], ring[1:]
     length = np.linalg.norm(b - a, axis=1)
     keep = length > 0
@@ -116,6 +158,9 @@ def label_regions(
 
 
 def smallest_side(plane: InnerPlane) -> float:
-    """Return the shortest edge of the noded outlines (map units); inf if none."""
-    sides = [np.linalg.norm(np.diff(r, axis=0), axis=1).min() for r in plane.rings]
+    """Return the shortest edge of the noded outlines and lines; inf if none."""
+    sides = [
+        np.linalg.norm(np.diff(r, axis=0), axis=1).min()
+        for r in [*plane.rings, *plane.lines]
+    ]
     return float(min(sides, default=math.inf))

@@ -44,7 +44,7 @@ from coastmesh.meshing.gmsh.model import (
 from coastmesh.meshing.gmsh.resample import resample_segment
 from coastmesh.meshing.parts.cuts import auto_parts, expected_triangles
 from coastmesh.meshing.parts.faces import Faces
-from coastmesh.types import Mesh, Runner, SizeGrid, serial_runner
+from coastmesh.types import Mesh, MeshLine, Runner, SizeGrid, serial_runner
 
 __all__ = [
     "PartMesh",
@@ -92,6 +92,11 @@ class PartTask:
     embedded, embedded_numbers : ndarray
         Points (k, 2) that must be nodes of the part (turbines), and their
         shared numbers: held as the nodes of cuts are.
+    lines : tuple of MeshLine
+        Lines inside the part whose edges must be mesh edges (their points
+        are their nodes), embedded as curves.
+    line_numbers : tuple of ndarray of int
+        The shared numbers of each line's nodes: held as the nodes of cuts are.
     """
 
     index: int
@@ -113,6 +118,8 @@ class PartTask:
     embedded_numbers: NDArray[np.int64] = field(
         default_factory=lambda: np.empty(0, dtype=np.int64)
     )
+    lines: tuple[MeshLine, ...] = ()
+    line_numbers: tuple[NDArray[np.int64], ...] = ()
 
     @property
     def label(self) -> str:
@@ -129,8 +136,9 @@ class PartTask:
 class PartMesh:
     """One part's mesh, in the meshing CRS.
 
-    ``shared[i]`` is the shared number of node ``i`` if it lies on a cut, else
-    -1. ``seconds`` is the Gmsh time of the part and ``worker`` the host and
+    ``shared[i]`` is the shared number of node ``i`` if it lies on a cut (or
+    is a turbine's or a line's node), else -1; ``lines`` are the task's.
+    ``seconds`` is the Gmsh time of the part and ``worker`` the host and
     process that made it; ``cleanup`` is what cleaning it did, if it was.
     """
 
@@ -143,6 +151,7 @@ class PartMesh:
     seconds: float
     worker: str
     cleanup: PartCleanup | None = None
+    lines: tuple[MeshLine, ...] = ()
 
 
 def part_tasks(
@@ -155,6 +164,7 @@ def part_tasks(
     cleanup: CleanupOptions | None = None,
     exact: Sequence[NDArray[np.float64]] = (),
     points: NDArray[np.float64] | None = None,
+    lines: Sequence[MeshLine] = (),
 ) -> list[PartTask]:
     """Return one task per face of water, its cuts discretised once.
 
@@ -174,6 +184,9 @@ def part_tasks(
         their nodes, not resampled.
     points : ndarray of shape (k, 2), optional
         Points that must be nodes, each embedded in the face that holds it.
+    lines : sequence of MeshLine
+        Lines already noded whose edges must be mesh edges, each embedded in
+        the face that holds it (a line crosses no cut and no region outline).
 
     Returns
     -------
@@ -210,9 +223,10 @@ def part_tasks(
         )
         window = crop_grid(size, bounds)  # the same cells, over the part only
         inside = np.empty((0, 2))
+        shapely.prepare(polygon)
         if points is not None and len(points):
-            shapely.prepare(polygon)
             inside = points[shapely.contains_xy(polygon, points[:, 0], points[:, 1])]
+        held = tuple(ln for ln in lines if polygon.contains(shapely.LineString(ln.xy)))
         tasks.append(
             PartTask(
                 index=index,
@@ -238,9 +252,17 @@ def part_tasks(
                     ],
                     dtype=np.int64,
                 ),
+                lines=held,
+                line_numbers=tuple(_numbered(ln.xy, numbers) for ln in held),
             )
         )
     return tasks
+
+
+def _numbered(xy: NDArray[np.float64], numbers: dict) -> NDArray[np.int64]:
+    """Return the shared numbers of points, numbering the new ones next."""
+    keys = [(float(x), float(y)) for x, y in xy]
+    return np.array([numbers.setdefault(k, len(numbers)) for k in keys], np.int64)
 
 
 def start_workers(runner: Any, parts: int | str, rings: list, size: SizeGrid) -> None:
@@ -291,10 +313,7 @@ def mesh_part(task: PartTask) -> PartMesh:
         try:
             set_options(gmsh, threads=1, seed=task.seed, algorithm=task.algorithm)
             surface = _build_part(gmsh, task)
-            if len(task.embedded):
-                tags = [gmsh.model.geo.addPoint(x, y, 0.0) for x, y in task.embedded]
-                gmsh.model.geo.synchronize()
-                gmsh.model.mesh.embed(0, tags, 2, surface)
+            _embed(gmsh, task, surface)
             xy = np.concatenate(task.curves)
             add_size_view(gmsh, task.size, (*xy.min(axis=0), *xy.max(axis=0)))
             gmsh.model.mesh.generate(2)
@@ -317,6 +336,8 @@ def mesh_part(task: PartTask) -> PartMesh:
             edge_ids.append(np.full(len(nodes) - 1, pid, dtype=np.int64))
     if len(task.embedded):
         shared[find(task.embedded, task)] = task.embedded_numbers
+    for line, numbers in zip(task.lines, task.line_numbers, strict=True):
+        shared[find(line.xy, task)] = numbers
     part = PartMesh(
         task.index,
         points,
@@ -326,8 +347,28 @@ def mesh_part(task: PartTask) -> PartMesh:
         shared,
         round(time.perf_counter() - started, 3),
         f"{socket.gethostname()}:{os.getpid()}",
+        lines=task.lines,
     )
     return part if task.cleanup is None else clean_part(part, task.cleanup)
+
+
+def _embed(gmsh: Any, task: PartTask, surface: int) -> None:
+    """Embed the task's turbine points and lines (2-node curves) in its surface."""
+    geo = gmsh.model.geo
+    points = [geo.addPoint(x, y, 0.0) for x, y in task.embedded]
+    curves = []
+    for line in task.lines:
+        tags = [geo.addPoint(x, y, 0.0) for x, y in line.xy]
+        for a, b in itertools.pairwise(tags):
+            curves.append(geo.addLine(a, b))
+            geo.mesh.setTransfiniteCurve(curves[-1], 2)  # its two ends only
+    if not (points or curves):
+        return
+    geo.synchronize()
+    if points:
+        gmsh.model.mesh.embed(0, points, 2, surface)
+    if curves:
+        gmsh.model.mesh.embed(1, curves, 2, surface)
 
 
 def clean_part(part: PartMesh, options: CleanupOptions) -> PartMesh:
@@ -341,7 +382,15 @@ def clean_part(part: PartMesh, options: CleanupOptions) -> PartMesh:
     started = time.perf_counter()
     on_cut = part.shared >= 0
     on_cut[part.edges.ravel()] = False  # a cut's ends on the boundary are boundary
-    mesh = Mesh(part.points, part.triangles, part.edges, part.edge_ids, 1, None)
+    mesh = Mesh(
+        part.points,
+        part.triangles,
+        part.edges,
+        part.edge_ids,
+        1,
+        None,
+        lines=part.lines,
+    )
     clean, report = clean_mesh(
         mesh,
         boundary_triangles=options.boundary_triangles,
@@ -369,6 +418,7 @@ def clean_part(part: PartMesh, options: CleanupOptions) -> PartMesh:
             valence[on_cut],
             round(time.perf_counter() - started, 3),
         ),
+        part.lines,
     )
 
 
