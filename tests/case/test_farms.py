@@ -367,3 +367,9 @@ def test_a_gradation_may_name_a_farm_outline():
     want = np.minimum(100.0 + (2000.0 - 100.0) * d / 5000.0, 2000.0)
     # the lines' vertices are a cell apart: distances within half a cell
     assert np.abs(upper - want).max() <= 1900.0 / 5000.0 * 125.0
+
+
+def test_a_footprint_smaller_than_gmsh_can_place_is_refused():
+    tiny = SITE.replace('diameter = "18 m"', 'diameter = "0.001 m"', 1)
+    with pytest.raises(ConfigError, match=r"'discs_1'.*smaller than the smallest elem"):
+        site_features(_case(tiny), _state(None))

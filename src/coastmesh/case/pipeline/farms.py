@@ -321,6 +321,7 @@ def _turbines(config: CaseConfig, crs: CRS, sea, farms):
             if group.footprint != "node":
                 region = group.ids[n] if group.ids else (group.id or 0) + n
             shape = _footprint(group.footprint, xy, d, h, group.bearing)
+            _check_resolvable(name, where, shape, h, sea)
             _check_place(name, where, shape, sea, by_name, group.farm)
             turbine = Turbine(
                 name,
@@ -411,6 +412,27 @@ def _footprint(kind: str, xy, diameter: float, h: float, bearing: float):
         [cx + diameter / 2 * np.cos(t), cy + diameter / 2 * np.sin(t)]
     )
     return shapely.Polygon(ring)
+
+
+#: The smallest element, as a share of the domain's extent, that the mesher is
+#: asked for: Gmsh merges points closer than ``Geometry.Tolerance`` (1e-8 of
+#: the model's size), and coastmesh keeps a hundredfold margin above it.
+MIN_SHARE = 1e-6
+
+
+def _check_resolvable(name, where, shape, h: float, sea) -> None:
+    """Raise if the footprint's sides or ``h`` are under what Gmsh can place."""
+    x0, y0, x1, y1 = sea.bounds
+    least = MIN_SHARE * max(x1 - x0, y1 - y0)
+    sides = np.linalg.norm(np.diff(np.asarray(shape.exterior.coords), axis=0), axis=1)
+    smallest = min(h, float(sides.min()))
+    if smallest < least:
+        raise ConfigError(
+            f"{where}: turbine {name!r}: its footprint needs elements of "
+            f"{smallest:.3g} m, smaller than the smallest element Gmsh can place "
+            f"in a domain {max(x1 - x0, y1 - y0) / 1000:,.0f} km wide ({least:.3g} "
+            "m, a millionth of it); give a larger h or diameter"
+        )
 
 
 def _check_place(name, where, shape, sea, farms, farm):
