@@ -15,7 +15,10 @@ prints one markdown table:
 - the gradation: the ratio of neighbouring elements' mean edges at the site
   (a farm's or footprint's element or one beside it) and elsewhere (the size
   field keeps the rate; the elements scatter about it as anywhere);
-- whether every region id came back from the msh file.
+- per ``[[lines]]``: its edges (all interior mesh edges?), how far its nodes
+  lie from the line, the median edge over its ``h``;
+- per format that holds region ids (or lines), whether each triangle's id
+  (and each line) came back from the written file.
 
 Run from the repository root::
 
@@ -35,6 +38,7 @@ from pathlib import Path
 import numpy as np
 import shapely
 from pyproj import CRS, Geod
+from scipy.spatial import cKDTree
 
 ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "examples" / "orkney" / "inner_sound_farm.toml"
@@ -111,7 +115,31 @@ def _measures(result) -> list[str]:
                 f"| node turbine {t.name} | node {gap * 1000:.3f} mm from its place "
                 "| | | | |"
             )
+    rows += _line_rows(mesh, plane, site)
     rows.append(_gradation_row(p, tri, mesh.regions != mesh.surface_id))
+    return rows
+
+
+def _line_rows(mesh, plane: np.ndarray, site) -> list[str]:
+    """Per ``[[lines]]``: its edges interior mesh edges, its nodes on the line."""
+    from coastmesh.types.topology import unique_edges
+
+    edges, ids = mesh.line_edges()
+    inner, count = unique_edges(mesh.triangles, len(mesh.points))
+    interior = {tuple(e) for e in inner[count == 2].tolist()}
+    rows = []
+    for name, pid, line, h in site.lines:
+        mine = edges[ids == pid]
+        ok = all((min(a, b), max(a, b)) in interior for a, b in mine.tolist())
+        gap = shapely.distance(line, shapely.points(plane[mine.ravel()])).max()
+        sides = np.linalg.norm(plane[mine[:, 0]] - plane[mine[:, 1]], axis=1)
+        asked = f"{np.median(sides) / h:.2f}" if h else "-"
+        rows.append(
+            f"| line {name} ({pid}) | {len(mine)} edges, "
+            f"{'all' if ok else 'NOT ALL'} interior mesh edges; nodes within "
+            f"{gap * 1000:.3f} mm of the line | {np.median(sides):.1f} m | {asked} "
+            "| | |"
+        )
     return rows
 
 
@@ -160,6 +188,33 @@ def _gradation_row(p, tri, site) -> str:
     )
 
 
+def _round_trips(mesh):
+    """Yield (format, region ids back?, lines back?) per format that holds them."""
+    import coastmesh
+    from coastmesh.io import mesh_formats
+
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, fmt in mesh_formats().items():
+            if fmt.read is None or not {"regions", "node_regions"} & fmt.holds:
+                continue
+            path = Path(tmp) / f"m-{name}{fmt.extensions[0]}"
+            coastmesh.write_mesh(path, mesh, format=name)
+            back = coastmesh.read_mesh(path, format=name, crs=mesh.crs)
+            # formats may reorder nodes and triangles: match by centroid
+            tree = cKDTree(back.points[back.triangles].mean(axis=1))
+            at = tree.query(mesh.points[mesh.triangles].mean(axis=1))[1]
+            wrong = int((back.regions[at] != mesh.regions).sum())
+            same = wrong == 0 and len(back.triangles) == len(mesh.triangles)
+            regions = "all" if same else f"{wrong:,} of {len(mesh.regions):,} differ"
+            lines = "-"
+            if "lines" in fmt.holds:
+                got = {ln.id: len(ln.xy) for ln in back.lines}
+                lines = (
+                    "all" if got == {ln.id: len(ln.xy) for ln in mesh.lines} else "NO"
+                )
+            yield name, regions, lines
+
+
 def main(argv: list[str] | None = None) -> int:
     """Build the case, measure it, print the table."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -175,17 +230,15 @@ def main(argv: list[str] | None = None) -> int:
     if result.site is None:
         print(f"{args.case}: no [[farms]] or [[turbines]]", file=sys.stderr)
         return 1
-    with tempfile.TemporaryDirectory() as tmp:
-        path = Path(tmp) / "m.msh"
-        coastmesh.write_mesh(path, result.mesh, format="msh2")
-        back = coastmesh.read_mesh(path, crs=result.mesh.crs)
-    kept = back.region_ids == result.mesh.region_ids and np.array_equal(
-        np.bincount(back.regions), np.bincount(result.mesh.regions)
-    )
     print(
         f"{result.name}: built in {seconds:.1f} s, {len(result.mesh.triangles):,} "
-        f"triangles; region ids back from msh 2.2: {'all' if kept else 'NOT ALL'}"
+        "triangles"
     )
+    print()
+    print("| format | region ids back (per triangle) | lines back |")
+    print("|---|---|---|")
+    for fmt, regions, lines in _round_trips(result.mesh):
+        print(f"| {fmt} | {regions} | {lines} |")
     print()
     print(
         "| what | area on the Earth (mesh / polygon) | median size | / h "
