@@ -16,7 +16,12 @@ from coastmesh.data import path as data_path
 from coastmesh.errors import InputDataError
 from coastmesh.geometry.earth import EARTH_RADIUS, reproject
 from coastmesh.geometry.sphere import plane_crs, stereographic_scale
-from coastmesh.geometry.world import join_dateline, polar_ring, world_ocean
+from coastmesh.geometry.world import (
+    close_narrow_water,
+    join_dateline,
+    polar_ring,
+    world_ocean,
+)
 from coastmesh.io.vector import read_features
 
 SPHERE = Geod(a=EARTH_RADIUS, b=EARTH_RADIUS)
@@ -235,3 +240,26 @@ def test_narrow_water_is_closed_at_its_width_on_the_earth_anywhere():
     assert not kept.polygon.contains(spit_tip)
     assert closed.polygon.contains(spit_tip)
     assert closed.closed >= 2 and kept.closed == 0  # the two pairs at least
+
+
+def test_islands_of_keep_area_are_never_opened_away():
+    # near the plane's centre (k ~ 1): a bar 3 km x 300 km (900 km2), narrow
+    # everywhere; an island of 150 km radius with a spit 4 km wide; and a
+    # small bar 3 km x 50 km (150 km2)
+    bar = shapely.box(0.0, 0.0, 3e3, 300e3)
+    big = shapely.union_all(
+        [shapely.Point(500e3, 0).buffer(150e3), shapely.box(640e3, -2e3, 700e3, 2e3)]
+    )
+    small = shapely.box(-300e3, 0.0, -297e3, 50e3)
+    land = np.array([bar, big, small], dtype=object)
+
+    def area_over(closed, polygon) -> float:
+        return shapely.union_all(closed).intersection(polygon).area / polygon.area
+
+    opened, _ = close_narrow_water(land, 12e3)
+    assert area_over(opened, bar) == 0.0 and area_over(opened, small) == 0.0
+    assert area_over(opened, shapely.box(660e3, -2e3, 700e3, 2e3)) == 0.0  # spit
+    kept, _ = close_narrow_water(land, 12e3, keep_area=500e6)
+    assert area_over(kept, bar) > 0.99  # whole (to the seam clean-up's metre)
+    assert area_over(kept, big) > 0.99  # with its spit
+    assert area_over(kept, small) == 0.0  # under keep_area: opened away

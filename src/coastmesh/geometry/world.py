@@ -249,6 +249,7 @@ def close_narrow_water(
     width: float,
     *,
     within: float | None = None,
+    keep_area: float = 0.0,
 ) -> tuple[NDArray[np.object_], int]:
     """Close water narrower than ``width`` between and within land polygons.
 
@@ -271,6 +272,11 @@ def close_narrow_water(
         Only within this distance of the plane's centre (metres in the plane):
         land beyond it (the far side of a frame round the ocean) is kept as it
         is, however thin.
+    keep_area : float, default 0
+        Land polygons of at least this area (square metres on the Earth)
+        keep their closed shape: the opening, which takes land narrower than
+        ``width``, applies to smaller land only. A tide model must keep the
+        islands it was asked for, whole: they block and steer the flow.
 
     Returns
     -------
@@ -293,6 +299,7 @@ def close_narrow_water(
         k0 = 1.0 + (r0 / radius) ** 2
         edges.append(max(radius * math.sqrt(max(1.2 * k0 - 1.0, 0.0)), r0 + 1.0))
     union = shapely.union_all(land)
+    big = _big_land(union, keep_area, radius)
     pieces = []
     for r0, r1 in itertools.pairwise(edges):
         half = 0.5 * width * (1.0 + (r1 / radius) ** 2)  # the ring's largest k
@@ -301,9 +308,11 @@ def close_narrow_water(
         if near.is_empty:
             continue
         closed = near.buffer(half, quad_segs=4).buffer(-half, quad_segs=4)
-        # and land narrower than width (spits, thin peninsulas) opened up
-        closed = closed.buffer(-half, quad_segs=4).buffer(half, quad_segs=4)
-        pieces.append(closed.intersection(ring))
+        # and land narrower than width (spits, thin peninsulas) opened up,
+        # but for land of keep_area or more: it keeps its closed shape
+        opened = closed.buffer(-half, quad_segs=4).buffer(half, quad_segs=4)
+        kept = _kept(closed, big)
+        pieces.append(shapely.union_all([opened, *kept]).intersection(ring))
     if within is not None:  # the land beyond, as it is
         pieces.append(union.difference(_annulus(0.0, edges[-1])))
     # the rings' seams (circles: parallels of latitude) can leave spikes of no
@@ -317,6 +326,42 @@ def close_narrow_water(
     parts = np.concatenate([parts[first : first + 1], np.delete(parts, first)])
     merged = max(len(land) - len(parts), 0)
     return parts, merged
+
+
+def _big_land(
+    union: shapely.Geometry, keep_area: float, radius: float
+) -> shapely.Geometry | None:
+    """Return the land polygons of ``keep_area`` or more on the Earth; None if none.
+
+    A plane's areas are ``k^2`` times the Earth's, ``k`` taken at each
+    polygon's centroid.
+    """
+    if keep_area <= 0:
+        return None
+    parts = shapely.get_parts(union)
+    r = np.hypot(*shapely.get_coordinates(shapely.centroid(parts)).T)
+    k = 1.0 + (r / radius) ** 2
+    big = parts[shapely.area(parts) / k**2 >= keep_area]
+    if not len(big):
+        return None
+    out = shapely.union_all(big)
+    shapely.prepare(out)
+    return out
+
+
+def _kept(closed: shapely.Geometry, big: shapely.Geometry | None) -> list:
+    """Return the land of ``closed`` on ``big`` land, as it is (not opened).
+
+    The opening rounds every corner and takes every strip of land narrower
+    than the width: islands lose their arms, and an island narrow everywhere
+    goes whole. Land a tide model was asked to keep (``keep_area`` or more)
+    keeps its closed shape instead; the closing has already filled the water
+    too narrow to mesh. Only smaller land is opened.
+    """
+    if big is None:
+        return []
+    parts = shapely.get_parts(closed)
+    return list(parts[shapely.intersects(parts, big)])
 
 
 def _annulus(r0: float, r1: float) -> shapely.Geometry:

@@ -285,7 +285,8 @@ class DomainConfig:
         check=schema.length(),
         unit="length",
         default_doc="the smallest gradation `h_min`",
-        doc="global cases: water, and land, narrower than this on the Earth are closed",
+        doc="global cases: water, and land smaller than `[shorelines] min_area`, "
+        "narrower than this on the Earth are closed",
     )
 
     def _dump(self) -> dict[str, Any]:

@@ -188,7 +188,11 @@ def _closed(
     if not close:
         return land
     land, merged = _close(
-        land, close, 1.05 * world.reach, _zone(config, s, world.crs, lonlat)
+        land,
+        close,
+        1.05 * world.reach,
+        _zone(config, s, world.crs, lonlat),
+        keep_area=config.shorelines.min_area,
     )
     logger.info("%s: %d polygons joined across water under %g m", s.name, merged, close)
     return land
@@ -215,21 +219,26 @@ def _close(
     width: float,
     reach: float,
     zone: shapely.Geometry | None,
+    *,
+    keep_area: float = 0.0,
 ) -> tuple[NDArray[np.object_], int]:
     """Close narrow water, only near ``zone`` (a region set's regions) if given.
 
     A set made for regions is used only there: its land farther than a margin
     of a few closing widths (at the plane's scale there) is kept as it is.
+    Islands of ``keep_area`` or more are never removed, only thickened.
     """
     if zone is None:
-        return close_narrow_water(land, width, within=reach)
+        return close_narrow_water(land, width, within=reach, keep_area=keep_area)
     far = float(np.hypot(*np.abs(np.reshape(zone.bounds, (2, 2))).max(axis=0)))
     scale = 1.0 + (far / (2.0 * EARTH_RADIUS)) ** 2  # the plane's k there
     near = zone.buffer(4.0 * width * scale)
     inside = shapely.intersection(land, near)
     inside = inside[~shapely.is_empty(inside)]
     outside = shapely.difference(land, near)
-    closed, merged = close_narrow_water(inside, width, within=reach)
+    closed, merged = close_narrow_water(
+        inside, width, within=reach, keep_area=keep_area
+    )
     return np.concatenate([closed, outside[~shapely.is_empty(outside)]]), merged
 
 
