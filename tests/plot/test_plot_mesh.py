@@ -100,3 +100,16 @@ def test_mercator_figure_with_a_detail(mesh_with_islands):
     assert detail.get_xlim()[1] - detail.get_xlim()[0] < 2.0  # km
     with pytest.raises(ValueError, match="no CRS"):
         mercator_figure(Mesh(m.points, m.triangles, [], [], 1, None))
+
+
+def test_a_mercator_map_of_the_globe_stops_at_85_degrees():
+    points = [[-60, -89.5], [60, -89.5], [60, 89.5], [-60, 89.5], [0, 0]]
+    triangles = [[0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]
+    mesh = Mesh(
+        points, triangles, [[0, 1], [1, 2], [2, 3], [3, 0]], [1] * 4, 1, "EPSG:4326"
+    )
+    figure = mercator_figure(mesh)
+    y0, y1 = figure.axes[0].get_ylim()
+    edge = reproject_points([[0.0, 85.0]], "EPSG:4326", "EPSG:3395")[0, 1] / 1000
+    assert (y0, y1) == pytest.approx((-edge, edge))
+    assert "to 85 deg" in figure.axes[0].get_title()

@@ -212,3 +212,37 @@ def test_the_quality_figure_draws_the_reports_histograms(lonlat_mesh):
         for k, (lo, hi) in enumerate(itertools.pairwise(bins))
     ]
     assert counts.tolist() == literal
+
+
+def _world_strip(worst_at: tuple[float, float]) -> Mesh:
+    """A lon/lat band 360 x 160 deg; one small triangle (the worst) at ``worst_at``."""
+    lon = np.linspace(-180, 180, 13)
+    lat = np.linspace(-80, 80, 7)
+    xx, yy = np.meshgrid(lon, lat)
+    points = np.column_stack([xx.ravel(), yy.ravel()])
+    nx = len(lon)
+    tri = []
+    for j, i in itertools.product(range(len(lat) - 1), range(nx - 1)):
+        a = j * nx + i
+        tri += [[a, a + 1, a + nx + 1], [a, a + nx + 1, a + nx]]
+    x, y = worst_at
+    small = np.array([[x, y], [x + 0.01, y], [x, y + 0.01]])
+    points = np.vstack([points, small])
+    n = len(points)
+    tri.append([n - 3, n - 2, n - 1])
+    depth = np.full(n, 4000.0)
+    return Mesh(points, tri, [], [], 1, "EPSG:4326", {"depth": depth})
+
+
+@pytest.mark.parametrize(
+    ("worst_at", "ha", "va"),
+    [((-170.0, 75.0), "left", "top"), ((170.0, -75.0), "right", "bottom")],
+)
+def test_the_worst_label_stays_on_the_map_and_the_map_keeps_its_shape(worst_at, ha, va):
+    figure = time_step_figure(_world_strip(worst_at))
+    width, height = figure.get_size_inches()
+    assert height < 0.75 * width  # a 2:1 map, not a square frame
+    ax = figure.axes[0]
+    (label,) = [t for t in ax.texts if t.get_text().startswith("min")]
+    assert (label.get_ha(), label.get_va()) == (ha, va)
+    assert "range" in ax.get_title() and " to 0" not in ax.get_title()

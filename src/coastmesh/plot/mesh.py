@@ -270,10 +270,13 @@ def _draw_mesh(
     """Draw triangles (up to MAX_DRAWN_TRIANGLES) and boundary edges by id."""
     from matplotlib.collections import LineCollection
 
+    # which cross the antimeridian is asked of the mesh's own coordinates
+    # (``xy`` may be Mercator kilometres)
     if 0 < len(triangles) <= MAX_DRAWN_TRIANGLES:
-        shown = triangles[~across_dateline(xy, triangles, mesh.crs)]
-        ax.triplot(xy[:, 0], xy[:, 1], shown, color="0.55", lw=0.2)
-    keep = ~across_dateline(xy, mesh.boundary_edges, mesh.crs)
+        shown = triangles[~across_dateline(mesh.points, triangles, mesh.crs)]
+        if len(shown):
+            ax.triplot(xy[:, 0], xy[:, 1], shown, color="0.55", lw=0.2)
+    keep = ~across_dateline(mesh.points, mesh.boundary_edges, mesh.crs)
     ax.add_collection(
         LineCollection(
             xy[mesh.boundary_edges[keep]],
@@ -312,6 +315,10 @@ def _frame(ax: Axes, bounds: tuple[float, ...], crs: Any) -> None:
     ax.set_xlim(minx - padx, maxx + padx)
     ax.set_ylim(miny - pady, maxy + pady)
     geographic_axes(ax, crs, (minx, miny, maxx, maxy))
+
+
+#: The latitude the Mercator map stops at, north and south.
+MERCATOR_LAT = 85.0
 
 
 def mercator_figure(
@@ -362,10 +369,17 @@ def mercator_figure(
         ax.set_ylabel("Mercator y (km)")
 
     draw(axes[0], mesh.triangles)
-    lo, hi = xy.min(axis=0), xy.max(axis=0)
+    finite = np.isfinite(xy).all(axis=1)
+    lo, hi = xy[finite].min(axis=0), xy[finite].max(axis=0)
+    # Mercator's y runs to infinity at the poles: the map stops at 85 degrees
+    edge = reproject_points([[0.0, MERCATOR_LAT]], "EPSG:4326", "EPSG:3395")[0, 1]
+    y0, y1 = max(lo[1], -edge / 1000.0), min(hi[1], edge / 1000.0)
     axes[0].set_xlim(lo[0], hi[0])
-    axes[0].set_ylim(lo[1], hi[1])
-    axes[0].set_title(f"{len(mesh.points):,} nodes, {len(mesh.triangles):,} triangles")
+    axes[0].set_ylim(y0, y1)
+    clipped = " (to 85 deg of latitude)" if (y0, y1) != (lo[1], hi[1]) else ""
+    axes[0].set_title(
+        f"{len(mesh.points):,} nodes, {len(mesh.triangles):,} triangles{clipped}"
+    )
     if detail is not None:
         corners = [detail[:2], detail[2:]]
         (x0, y0), (x1, y1) = reproject_points(corners, mesh.crs, "EPSG:3395") / 1000

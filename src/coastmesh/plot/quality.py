@@ -19,7 +19,12 @@ from coastmesh.meshing import (
     triangle_quality,
 )
 from coastmesh.meshing.quality.report import EDGE_RATIO_RANGE, histograms
-from coastmesh.plot.base import across_dateline, geographic_axes, shaded_mesh
+from coastmesh.plot.base import (
+    across_dateline,
+    geographic_axes,
+    shaded_mesh,
+    x_stretch,
+)
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -391,7 +396,14 @@ def time_step_figure(
     panels = [("dt", "stable time step (s)", "min", "viridis")]
     if dt is not None:
         panels.append(("courant", f"Courant number at dt = {dt:g} s", "max", "magma"))
-    figure = Figure(figsize=(9 * len(panels), 8), layout="constrained")
+    # the map's own shape (a world map is twice as wide as high), not a square
+    # with empty bands and a colour bar twice the map's height
+    minx, miny, maxx, maxy = _bounds(mesh.points)
+    shape = (maxy - miny) * x_stretch(mesh.crs, (minx, miny, maxx, maxy))
+    shape = min(max(shape / max(maxx - minx, 1e-12), 0.35), 1.4)
+    figure = Figure(
+        figsize=(9 * len(panels), max(4.5, 7.0 * shape + 1.6)), layout="constrained"
+    )
     for ax, (key, label, pick, cmap) in zip(
         figure.subplots(1, len(panels), squeeze=False)[0], panels, strict=True
     ):
@@ -466,10 +478,16 @@ def _element_map(
         markeredgewidth=2,
     )
     text = f"{pick} {values[k]:.3g}"
+    # the label towards the map's middle: never over the title or off the map
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    on_right = cx > x0 + 0.7 * (x1 - x0)
+    on_top = cy > y0 + 0.7 * (y1 - y0)
     ax.annotate(
         text,
         (cx, cy),
-        xytext=(12, 12),
+        xytext=(-12 if on_right else 12, -12 if on_top else 12),
+        ha="right" if on_right else "left",
+        va="top" if on_top else "bottom",
         textcoords="offset points",
         color="#c44e52",
         fontweight="bold",
