@@ -4,6 +4,7 @@ world layer, coarse (about 20,000 triangles in about 30 s)."""
 from __future__ import annotations
 
 import math
+import time
 import warnings
 
 import numpy as np
@@ -14,7 +15,7 @@ from pyproj import CRS
 
 from coastmesh.case import run_case
 from coastmesh.data import path as data_path
-from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.io import read_mesh
 
 #: a whole case, end to end: run by `pytest -m slow` (and .ci/run)
@@ -161,9 +162,11 @@ end = [-89.0, 20.0]                # in Yucatan
 
 
 def test_a_cut_takes_a_sea_off_with_an_open_boundary(world, tmp_path):
-    """The Gulf of Mexico cut off by a line Florida - Yucatan (at this coarse
-    closing, Cuba is narrower than 150 km and not there): the ocean is meshed
-    less the Gulf, and the cut is an open boundary with its id."""
+    """The Gulf of Mexico cut off by a line Florida - Yucatan: the ocean is
+    meshed less the Gulf, and the cut is an open boundary with its id. Cuba
+    (far above min_area) is kept, fattened by the 150 km closing until the
+    line crosses its west end: the coast between the cut's two pieces there is
+    under three edges, so it becomes open too (as Telemac would make it)."""
     whole = world[0].mesh
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -178,7 +181,10 @@ def test_a_cut_takes_a_sea_off_with_an_open_boundary(world, tmp_path):
     ends = _xyz(np.array([[-81.5, 27.5], [-89.0, 20.0]]))
     normal = np.cross(ends[0], ends[1])
     normal /= np.linalg.norm(normal)
-    on = _xyz(mesh.points[np.unique(cut)])
+    nodes = mesh.points[np.unique(cut)]
+    cuba = (nodes[:, 0] > -85.5) & (nodes[:, 0] < -82.0) & (nodes[:, 1] < 24.0)
+    assert cuba.sum() <= 5  # short runs of Cuba's coast, made open
+    on = _xyz(nodes[~cuba])
     assert np.abs(on @ normal).max() < 2e-5
     # the ocean lost the Gulf of Mexico: about 1.6 M km2
     lost = _area(whole) - _area(mesh)
@@ -220,4 +226,39 @@ def test_a_regional_layer_is_refused_with_its_name(tmp_path):
     text = CASE.replace("{world}", str(data_path("orkney_gshhg_f.geojson")))
     with pytest.raises(InputDataError, match=r"orkney_gshhg_f.*both hemispheres"):
         run_case(_case(tmp_path, text), output=tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(
+    ("seed", "message"),
+    [
+        ("[20.0, 10.0]", r"\[20, 10\] \(lon, lat\): lies on land .*continent"),
+        ("[0.0, -85.0]", r"\[0, -85\] \(lon, lat\): lies on the polar land"),
+    ],
+)
+def test_a_seed_on_land_is_found_before_the_sets_in_lonlat(tmp_path, seed, message):
+    text = CASE.replace('kind = "global"\n', f'kind = "global"\nseed = {seed}\n')
+    started = time.perf_counter()
+    with pytest.raises(ConfigError, match=message):
+        run_case(_case(tmp_path, text), output=tmp_path / "out")
+    assert time.perf_counter() - started < 20  # before any set or meshing
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_cut_that_ends_in_the_water_is_named(tmp_path):
+    text = CASE + CUT.replace("[-89.0, 20.0]", "[-88.0, 24.0]")  # in the Gulf
+    started = time.perf_counter()
+    with pytest.raises(ConfigError, match=r"cuts\[0\] \('gulf'\): its end \(-88.0"):
+        run_case(_case(tmp_path, text), output=tmp_path / "out")
+    assert time.perf_counter() - started < 60  # before the size field and mesh
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_pole_near_the_coast_is_warned_of(tmp_path):
+    # in Cameroon, about 150 km from the Gulf of Guinea
+    text = CASE.replace('kind = "global"\n', 'kind = "global"\npole = [12.0, 5.0]\n')
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", CoastmeshWarning)  # stop at the warning
+        with pytest.raises(CoastmeshWarning, match=r"pole = \[12.0, 5.0\]: the coast"):
+            run_case(_case(tmp_path, text), output=tmp_path / "out")
     assert not (tmp_path / "out").exists()

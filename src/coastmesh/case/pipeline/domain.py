@@ -76,11 +76,41 @@ def build_case_domain(
         )
         for k, b in enumerate(config.boundaries)
     )
+    if lonlat is not None:  # a global case's [[cuts]]
+        _check_cut_ends(config, walls, land, crs, lonlat)
     domain, report = _domain(config, land, walls, regions, crs, lonlat)
     logger.info("domain: %s; %s", report.summary(), stitch_report.summary())
     return DomainState(
         domain, report, stitch_report, tuple(regions), walls, land, mesh_crs, output_crs
     )
+
+
+def _check_cut_ends(
+    config: CaseConfig,
+    walls: tuple[OpenBoundary, ...],
+    land: NDArray[np.object_],
+    crs: CRS,
+    lonlat: CRS,
+) -> None:
+    """Raise unless both ends of every ``[[cuts]]`` line lie on land.
+
+    A cut takes a sea off the world ocean only if it runs from land to land;
+    one that ends in the water would close nothing and be left out.
+    """
+    if not walls:
+        return
+    tree = shapely.STRtree(land)
+    for k, wall in enumerate(walls):
+        ends = shapely.points(wall.coords[[0, -1]])
+        for which, end in zip(("start", "end"), ends, strict=True):
+            if len(tree.query(end, "within")):
+                continue
+            lon, lat = reproject(end, crs, lonlat).coords[0]
+            raise ConfigError(
+                f"{config.label}: cuts[{k}] ({wall.name!r}): its {which} "
+                f"({lon:.4f}, {lat:.4f}) is in the water, not on land: a cut must "
+                "run from land to land, across the sea it takes off"
+            )
 
 
 def with_land(

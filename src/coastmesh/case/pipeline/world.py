@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import logging
 import math
+import warnings
 
 import numpy as np
 import shapely
@@ -48,7 +49,7 @@ from coastmesh.case.pipeline.state import (
     missing,
 )
 from coastmesh.case.pipeline.strategy import Strategy
-from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry import simplify_shorelines
 from coastmesh.geometry.earth import EARTH_RADIUS, METRES_PER_DEGREE, reproject
 from coastmesh.geometry.world import WorldLand, close_narrow_water, world_land
@@ -78,6 +79,8 @@ class Global(Strategy):
         _check_lonlat(config, crs)
         with ctx.timed("the world in the plane"):
             world = _world(config, features, crs)
+        _check_seed(config, world, crs)
+        _warn_near_pole(config, world, crs)
         plane = world.crs
         islands = Features(
             world.islands,
@@ -145,6 +148,61 @@ class Global(Strategy):
     def parts(self, config: CaseConfig) -> int:
         """One part: the world is meshed whole."""
         return 1
+
+
+def _check_seed(config: CaseConfig, world: WorldLand, lonlat: CRS) -> None:
+    """Raise now, not after the sets and the closing, if the seed is on land.
+
+    Land is the polar land and every island of ``min_area`` or more (the
+    smaller ones are dropped, so a seed on one is in the sea).
+    """
+    seed = config.domain.seed
+    if seed is None:
+        return
+    point = reproject(shapely.Point(seed), lonlat, world.crs)
+    where = f"{config.label}: domain.seed = [{seed[0]:g}, {seed[1]:g}] (lon, lat)"
+    if not world.shell.contains(point):
+        raise ConfigError(
+            f"{where}: lies on the polar land of {config.shorelines.path} (the "
+            "land round the projection's pole); give a point in the ocean"
+        )
+    hit = shapely.STRtree(world.islands).query(point, "within")
+    if len(hit):
+        # its area on the Earth, roughly: the plane's k at the seed
+        k = 1.0 + (math.hypot(point.x, point.y) / (2.0 * EARTH_RADIUS)) ** 2
+        area = max(shapely.area(world.islands[hit])) / k**2
+        if area >= config.shorelines.min_area:
+            raise ConfigError(
+                f"{where}: lies on land in {config.shorelines.path} (an island or "
+                "continent the case keeps); give a point in the ocean"
+            )
+
+
+#: The plane's scale past which the coast is too near the pole: lengths there
+#: are this many times longer in the plane (about 5 degrees from the pole),
+#: and the closing's rings and the size field's scale become unreliable.
+POLE_SCALE = 500.0
+
+
+def _warn_near_pole(config: CaseConfig, world: WorldLand, lonlat: CRS) -> None:
+    """Warn if the coast comes so near the pole that the plane's scale blows up."""
+    xy = shapely.get_coordinates(world.shell.exterior)
+    r = np.hypot(xy[:, 0], xy[:, 1])
+    i = int(np.argmax(r))
+    k = 1.0 + (r[i] / (2.0 * EARTH_RADIUS)) ** 2
+    if k <= POLE_SCALE:
+        return
+    away = (math.pi - 2.0 * math.atan(r[i] / (2.0 * EARTH_RADIUS))) * EARTH_RADIUS
+    lon, lat = reproject(shapely.Point(xy[i]), world.crs, lonlat).coords[0]
+    warnings.warn(
+        f"{config.label}: domain.pole = {list(world.pole)}: the coast comes within "
+        f"{away / 1000:,.0f} km of it (at {lon:.2f}, {lat:.2f}), where the plane "
+        f"stretches lengths {k:,.0f} times: the closing of narrow water and the "
+        "sizes there are unreliable; put the pole deeper inside its land (the "
+        "middle of Antarctica, [0, -90], for the world ocean)",
+        CoastmeshWarning,
+        stacklevel=2,
+    )
 
 
 def _check_lonlat(config: CaseConfig, crs: CRS) -> None:
