@@ -373,3 +373,12 @@ def test_a_footprint_smaller_than_gmsh_can_place_is_refused():
     tiny = SITE.replace('diameter = "18 m"', 'diameter = "0.001 m"', 1)
     with pytest.raises(ConfigError, match=r"'discs_1'.*smaller than the smallest elem"):
         site_features(_case(tiny), _state(None))
+
+
+def test_a_farm_is_a_site_for_the_closing_and_the_courant_floor():
+    from coastmesh.case.pipeline.domain import site_area
+
+    utm = CRS.from_epsg(32630)
+    area = site_area(_case(), utm)
+    farm = reproject(shapely.Polygon(eval(FARM)), CRS.from_epsg(4326), utm)
+    assert area is not None and area.buffer(1e-6).covers(farm)
