@@ -138,3 +138,41 @@ def test_the_grid_wraps_round_and_measures_areas_on_the_sphere():
     # every node but the repeated meridian: the whole sphere, to the cells' rule
     total = grid.km2(np.ones(grid.shape, dtype=bool))
     assert total == pytest.approx(4 * math.pi * EARTH_RADIUS**2 / 1e6, rel=0.02)
+
+
+def test_a_sea_node_over_raster_land_takes_the_nearest_wet_depth():
+    # a world ocean 4 km deep with a block of land 30 x 30 deg that the
+    # domain does not have (an island the case dropped): its nodes are sea
+    import xarray as xr
+
+    from coastmesh.geometry.sphere import plane_crs
+    from coastmesh.types import BoundarySegment, Domain
+
+    lon = np.arange(-175.0, 180.0, 10.0)
+    lat = np.arange(85.0, -90.0, -10.0)
+    elevation = np.full((len(lat), len(lon)), -4000.0)
+    block = (np.abs(lat[:, None] - 5.0) < 15) & (np.abs(lon[None, :] - 5.0) < 15)
+    elevation[block] = 100.0
+    raster = xr.DataArray(
+        elevation,
+        coords={"y": lat, "x": lon},
+        dims=("y", "x"),
+        attrs={"crs": "EPSG:4326"},
+    )
+    ring = shapely.Point(0, 0).buffer(3 * EARTH_RADIUS, 64).exterior  # to ~ -73 deg
+    crs = plane_crs((0.0, -90.0))
+    domain = Domain(
+        shapely.Polygon(ring),
+        (BoundarySegment(np.asarray(ring.coords), "shoreline", "coast", 1),),
+        crs,
+    )
+    grid = SphereGrid(10.0, south=-80.0, domain=domain)
+    depth = grid.depth(raster, "up")
+    at = (grid.y[:, None] == 10.0) & (grid.x[None, :] == 10.0)
+    assert grid.sea[at].all()
+    assert depth[at][0] == pytest.approx(4000.0)  # the nearest wet cell's
+    # read without the sea, the node takes the land's height: what it was
+    from coastmesh.depth.grid import depth_on_grid
+
+    land = depth_on_grid(raster, grid.x[:-1], grid.y, crs="EPSG:4326", positive="up")
+    assert land[at[:, :-1]][0] == pytest.approx(-100.0)

@@ -446,9 +446,21 @@ class SphereGrid(Grid):
     def depth(
         self, raster: xr.DataArray | DepthSources, positive: str = "up"
     ) -> NDArray[np.float64]:
-        """Return the depth at the nodes; a world raster wraps round."""
+        """Return the depth at the nodes; a world raster wraps round.
+
+        As the mesh's nodes get it: bilinear over the wet cells alone, and a
+        node in the domain's sea with no wet cell around (an island the case
+        drops, which the raster still has) takes the nearest wet cell, so a
+        size term never reads a land height in the sea
+        (:func:`~coastmesh.depth.grid.depth_on_grid` with ``sea``).
+        """
         depth = depth_on_grid(
-            wrapped(raster), self.x[:-1], self.y, crs=_LONLAT, positive=positive
+            wrapped(raster),
+            self.x[:-1],
+            self.y,
+            crs=_LONLAT,
+            positive=positive,
+            sea=self.sea[:, :-1],
         )
         return np.hstack([depth, depth[:, :1]])
 
