@@ -23,7 +23,7 @@ from pyproj import CRS
 from coastmesh.case.boundaries import BoundaryConfig
 from coastmesh.case.config import CaseConfig, RegionConfig, SiteConfig
 from coastmesh.case.config.case import boundary_key
-from coastmesh.case.pipeline.farms import file_polygon
+from coastmesh.case.pipeline.places import file_place
 from coastmesh.case.pipeline.state import DomainState
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry import (
@@ -241,7 +241,9 @@ def site_area(config: CaseConfig, crs: CRS) -> shapely.Geometry | None:
             parts.append(reproject(shapely.Polygon(farm.polygon), lonlat, crs))
         else:
             where = f"{config.label}: farms[{k}] ({farm.name!r})"
-            parts.append(file_polygon(farm.path, farm.layer, crs, where))
+            parts.append(
+                file_place(farm.path, farm.layer, crs, where, dimension=2, what="farm")
+            )
     return shapely.union_all(parts)
 
 

@@ -32,6 +32,7 @@ from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline.lines import SiteLine, line_coords, read_lines
+from coastmesh.case.pipeline.places import file_place
 from coastmesh.case.pipeline.state import DomainState
 from coastmesh.errors import ConfigError, InputDataError, MeshingError
 from coastmesh.geometry import reproject
@@ -45,7 +46,6 @@ __all__ = [
     "SiteFeatures",
     "Turbine",
     "check_clearance",
-    "file_polygon",
     "site_features",
     "turbine_nodes",
     "with_site_sizes",
@@ -258,7 +258,7 @@ def _farms(config: CaseConfig, crs: CRS, sea: shapely.Geometry):
         if f.polygon is not None:
             polygon = reproject(shapely.Polygon(f.polygon), _LONLAT, crs)
         else:
-            polygon = file_polygon(f.path, f.layer, crs, where)
+            polygon = file_place(f.path, f.layer, crs, where, dimension=2, what="farm")
         if not polygon.is_valid or polygon.area <= 0:
             reason = shapely.is_valid_reason(polygon)
             raise ConfigError(f"{where}: the polygon is not valid ({reason})")
@@ -281,26 +281,6 @@ def _farms(config: CaseConfig, crs: CRS, sea: shapely.Geometry):
                 raise ConfigError(f"{where}: the farm overlaps farm {name!r}")
         seen.append((f.name, polygon))
         yield f.name, f.id, shapely.Polygon(polygon.exterior.coords), f.h
-
-
-def file_polygon(
-    path: Path, layer: str | None, crs: CRS, where: str, what: str = "farm"
-) -> shapely.Polygon:
-    """Return the one polygon (the union) of a vector file's polygons, in ``crs``."""
-    features = read_features(path, layer=layer)
-    geometry = features.geometry[~shapely.is_missing(features.geometry)]
-    polygons = geometry[shapely.get_dimensions(geometry) == 2]
-    if not len(polygons):
-        raise InputDataError(f"{where}: {path} has no polygons", path=str(path))
-    union = shapely.union_all(shapely.make_valid(polygons))
-    if features.crs is not None:
-        union = reproject(union, features.crs, crs)
-    if union.geom_type != "Polygon":
-        raise ConfigError(
-            f"{where}: the polygons of {path} make {len(shapely.get_parts(union))} "
-            f"separate areas; give one {what} per area"
-        )
-    return union
 
 
 def _turbines(config: CaseConfig, crs: CRS, sea, farms):

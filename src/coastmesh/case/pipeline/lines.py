@@ -13,16 +13,15 @@ edges, a 1-D physical group of its id in msh files.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from pathlib import Path
 
 import numpy as np
 import shapely
 from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig
-from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.case.pipeline.places import file_place
+from coastmesh.errors import ConfigError
 from coastmesh.geometry import reproject
-from coastmesh.io.vector import read_features
 
 __all__ = ["SiteLine", "read_lines"]
 
@@ -54,7 +53,9 @@ def read_lines(
         if ln.points is not None:
             line = reproject(shapely.LineString(ln.points), _LONLAT, crs)
         else:
-            line = _file_line(ln.path, ln.layer, crs, where)
+            line = file_place(
+                ln.path, ln.layer, crs, where, dimension=1, what="[[lines]] entry"
+            )
         _check(line, where, sea, outlines, out)
         out.append((ln.name, ln.id, line, ln.h))
     return tuple(out)
@@ -86,25 +87,6 @@ def _check(line, where: str, sea, outlines, others: list[SiteLine]) -> None:
     for name, _, other, _ in others:
         if other.intersects(line):
             raise ConfigError(f"{where}: the line crosses or touches line {name!r}")
-
-
-def _file_line(path: Path, layer: str | None, crs: CRS, where: str):
-    """Return the one line of a vector file's lines (joined end to end), in ``crs``."""
-    features = read_features(path, layer=layer)
-    geometry = features.geometry[~shapely.is_missing(features.geometry)]
-    lines = geometry[shapely.get_dimensions(geometry) == 1]
-    if not len(lines):
-        raise InputDataError(f"{where}: {path} has no lines", path=str(path))
-    merged = shapely.line_merge(shapely.union_all(lines))
-    if features.crs is not None:
-        merged = reproject(merged, features.crs, crs)
-    if merged.geom_type != "LineString":
-        count = len(shapely.get_parts(merged))
-        raise ConfigError(
-            f"{where}: the lines of {path} make {count} separate lines; give one "
-            "[[lines]] entry per line"
-        )
-    return merged
 
 
 def line_coords(lines: Sequence[SiteLine]) -> list[tuple[np.ndarray, int, str]]:

@@ -19,7 +19,7 @@ from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline.domain import seed_in
-from coastmesh.case.pipeline.farms import file_polygon
+from coastmesh.case.pipeline.places import file_place
 from coastmesh.case.pipeline.state import DomainState
 from coastmesh.errors import ConfigError
 from coastmesh.geometry import domain_with_structures, reproject
@@ -69,7 +69,9 @@ def read_structures(
         if s.polygon is not None:
             polygon = reproject(shapely.Polygon(s.polygon), _LONLAT, crs)
         else:
-            polygon = file_polygon(s.path, s.layer, crs, where, what="structure")
+            polygon = file_place(
+                s.path, s.layer, crs, where, dimension=2, what="structure"
+            )
         out.append((s.name, s.id, polygon))
     return out
 
