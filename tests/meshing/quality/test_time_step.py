@@ -185,6 +185,44 @@ def test_one_element_throttles_the_model():
     assert even.time_step.min_over_p1 == pytest.approx(1.0)
 
 
+def test_the_slowest_elements_are_the_smallest_steps():
+    """The listed elements are the ten smallest time steps, smallest first, with
+    their depth and radius as element_time_steps gives them."""
+    rng = np.random.default_rng(3)
+    n = 12
+    points = [(i * 500.0, j * 500.0) for j in range(n + 1) for i in range(n + 1)]
+    triangles = []
+    for j in range(n):
+        for i in range(n):
+            a = (n + 1) * j + i
+            triangles += [[a, a + 1, a + n + 2], [a, a + n + 2, a + n + 1]]
+    depth = rng.uniform(5.0, 4000.0, len(points))
+    mesh = Mesh(points, triangles, [[0, 1]], [1], 1, None, {"depth": depth})
+    report = mesh_quality(mesh).time_step
+    q = element_time_steps(mesh)
+    order = np.argsort(q["dt"], kind="stable")[:10]
+    assert [e.at.index for e in report.slowest] == order.tolist()
+    assert [e.dt for e in report.slowest] == pytest.approx(q["dt"][order])
+    assert report.slowest[0].dt == report.min
+    assert report.slowest[0].over_p1 == pytest.approx(report.min_over_p1)
+    assert [e.depth for e in report.slowest] == pytest.approx(q["depth"][order])
+    assert [e.r_in for e in report.slowest] == pytest.approx(q["r_in"][order])
+    few = mesh_quality(triangle_mesh([(0, 0), (1, 0), (0, 1)], [5.0] * 3))
+    assert len(few.time_step.slowest) == 1
+
+
+def test_a_place_across_the_antimeridian_is_on_the_sphere():
+    """A lon/lat triangle across the antimeridian is placed at its centre there,
+    not at the mean of its longitudes (near 0)."""
+    mesh = triangle_mesh(
+        [(179.5, -16.0), (-179.5, -16.0), (179.8, -15.5)], [100.0] * 3, "EPSG:4326"
+    )
+    at = mesh_quality(mesh).time_step.at
+    assert abs(abs(at.lon) - 179.93) < 0.05 and at.lat == pytest.approx(
+        -15.83, abs=0.02
+    )
+
+
 # --- in the quality report -----------------------------------------------------
 
 
@@ -200,9 +238,15 @@ def test_quality_report_has_the_time_step(mesh_with_islands):
     assert ts["courant"]["dt"] == 15.0 and ts["courant"]["courant_min"] is None
     assert ts["courant"]["above"] == report.time_step.courant.above
     lines = report.summary().splitlines()
-    assert lines[-2].strip() == report.time_step.summary()
-    assert lines[-1].strip() == report.time_step.courant.summary()
-    assert "Courant number at dt = 15 s" in lines[-1] and "above 0.5" in lines[-1]
+    k = lines.index(f"  {report.time_step.summary()}")
+    assert lines[k + 1].strip() == report.time_step.courant.summary()
+    assert "Courant number at dt = 15 s" in lines[k + 1] and "above 0.5" in lines[k + 1]
+    # then the ten slowest elements, smallest first, each at its place
+    assert lines[k + 2] == "  slowest elements (smallest stable time step):"
+    listed = [e.summary() for e in report.time_step.slowest]
+    assert [line.strip() for line in lines[k + 3 : k + 13]] == listed
+    assert len(ts["slowest"]) == 10
+    assert ts["slowest"][0]["at"]["index"] == report.time_step.at.index
     # no dt: no Courant block; no depth: no time-step block
     assert mesh_quality(mesh_with_islands).time_step.courant is None
     bare = Mesh(

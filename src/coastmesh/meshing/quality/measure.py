@@ -19,8 +19,10 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from pyproj import CRS
 
 from coastmesh.geometry.earth import arc_lengths, reproject_points
+from coastmesh.geometry.sphere import lonlat_to_xyz, xyz_to_lonlat
 from coastmesh.types import Mesh, Report
 from coastmesh.types.topology import unique_edges
 
@@ -257,11 +259,15 @@ def places(mesh: Mesh, index: NDArray[np.int64], *, triangles: bool) -> list[Pla
     '(1, 1)'
     """
     index = np.asarray(index, dtype=np.int64)
-    xy = (
-        mesh.points[mesh.triangles[index]].mean(axis=1)
-        if triangles
-        else mesh.points[index]
-    )
+    if triangles and mesh.crs is not None and CRS(mesh.crs).is_geographic:
+        # the centroid on the sphere: a mean of longitudes is wrong across
+        # the antimeridian (179 and -179 would give 0)
+        corners = lonlat_to_xyz(mesh.points[mesh.triangles[index]].reshape(-1, 2))
+        xy = xyz_to_lonlat(corners.reshape(-1, 3, 3).mean(axis=1))
+    elif triangles:
+        xy = mesh.points[mesh.triangles[index]].mean(axis=1)
+    else:
+        xy = mesh.points[index]
     lonlat = (
         None
         if mesh.crs is None or len(index) == 0

@@ -459,6 +459,9 @@ class QualityReport(Report):
             lines.append(f"  {self.time_step.summary()}")
             if self.time_step.courant is not None:
                 lines.append(f"  {self.time_step.courant.summary()}")
+            if self.time_step.slowest:
+                lines.append("  slowest elements (smallest stable time step):")
+                lines.extend(f"    {e.summary()}" for e in self.time_step.slowest)
         return "\n".join(lines)
 
 

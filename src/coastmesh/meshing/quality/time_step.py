@@ -25,7 +25,9 @@ from coastmesh.types import Mesh, Report
 
 __all__ = [
     "MIN_OVER_P1_TARGET",
+    "SLOWEST",
     "CourantStats",
+    "SlowElement",
     "TimeStepStats",
     "check_time_step_options",
     "element_time_steps",
@@ -92,6 +94,50 @@ class CourantStats(Report):
         return text + ("; " + ", ".join(limits) if limits else "")
 
 
+#: Elements listed by :attr:`TimeStepStats.slowest`.
+SLOWEST = 10
+
+
+@dataclass(frozen=True, slots=True)
+class SlowElement(Report):
+    """One of the elements with the smallest stable time step.
+
+    Attributes
+    ----------
+    at : Place
+        The triangle and its centroid (lon/lat where the mesh has a CRS).
+    dt : float
+        Its stable time step, seconds.
+    over_p1 : float
+        ``dt`` over the 1st percentile of the mesh's.
+    depth : float
+        The deepest of its nodes, metres.
+    r_in : float
+        Its inscribed radius, metres.
+    """
+
+    at: Place
+    dt: float
+    over_p1: float
+    depth: float
+    r_in: float
+
+    def summary(self) -> str:
+        """Return one line.
+
+        Examples
+        --------
+        >>> SlowElement(Place(7, 0.0, 0.0, -70.3, -22.8), 11.7, 0.27, 30.0,
+        ...             54.0).summary()
+        'triangle 7 at (-70.3000, -22.8000): 11.7 s (0.27 of p1), depth 30 m, r_in 54 m'
+        """
+        return (
+            f"triangle {self.at.index} at {self.at.summary()}: {self.dt:.3g} s "
+            f"({self.over_p1:.2f} of p1), depth {self.depth:.0f} m, "
+            f"r_in {self.r_in:.0f} m"
+        )
+
+
 @dataclass(frozen=True, slots=True)
 class TimeStepStats(Report):
     """The stable time steps ``dt_e = r_in / c_e`` of the triangles, seconds.
@@ -121,6 +167,10 @@ class TimeStepStats(Report):
         ``min`` over the triangles that touch no sharp boundary corner (where the
         geometry, not the mesher, caps the shape); ``min_over_p1_away`` is it
         over ``p1``.
+    slowest : tuple of SlowElement
+        The :data:`SLOWEST` triangles with the smallest time steps, smallest
+        first, with where they are: what to look at when ``min_over_p1`` is
+        under its target.
     """
 
     velocity: float
@@ -134,6 +184,7 @@ class TimeStepStats(Report):
     courant: CourantStats | None
     min_away_from_corners: float = math.nan
     min_over_p1_away: float = math.nan
+    slowest: tuple[SlowElement, ...] = ()
 
     def summary(self) -> str:
         """Return a one-line summary (the Courant numbers are their own line).
@@ -329,6 +380,7 @@ def time_step_stats(
         courant = _courant_stats(
             mesh, arrays["courant"], known, dt, courant_max, courant_min
         )
+    slowest = _slowest(mesh, arrays, limits, float(p1))
     away = math.nan
     if at_corner is not None and limits.size:
         kept = limits[~at_corner[limits]]
@@ -345,6 +397,30 @@ def time_step_stats(
         dry=int((known & np.isinf(step)).sum()),
         no_depth=int((~known).sum()),
         courant=courant,
+        slowest=slowest,
+    )
+
+
+def _slowest(
+    mesh: Mesh,
+    arrays: dict[str, NDArray[np.float64]],
+    limits: NDArray[np.intp],
+    p1: float,
+) -> tuple[SlowElement, ...]:
+    """Return the :data:`SLOWEST` triangles of ``limits`` by time step, with places."""
+    if not limits.size:
+        return ()
+    # stable: of equal steps (a regular grid has many), the lowest index first
+    first = limits[np.argsort(arrays["dt"][limits], kind="stable")[:SLOWEST]]
+    return tuple(
+        SlowElement(
+            at=where,
+            dt=float(arrays["dt"][t]),
+            over_p1=float(arrays["dt"][t]) / p1 if p1 > 0 else math.nan,
+            depth=float(arrays["depth"][t]),
+            r_in=float(arrays["r_in"][t]),
+        )
+        for t, where in zip(first, places(mesh, first, triangles=True), strict=True)
     )
 
 
