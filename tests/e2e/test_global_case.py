@@ -262,3 +262,29 @@ def test_a_pole_near_the_coast_is_warned_of(tmp_path):
         with pytest.raises(CoastmeshWarning, match=r"pole = \[12.0, 5.0\]: the coast"):
             run_case(_case(tmp_path, text), output=tmp_path / "out")
     assert not (tmp_path / "out").exists()
+
+
+def test_a_pole_in_asia_meshes_and_keeps_europe_land(tmp_path):
+    """The pole inside Asia (103 E, 46 N): the grid node on it goes to infinity
+    in the plane and the cells round it grow without bound; with them in the
+    size view Gmsh grew past 24 GB. Europe, where the shelf set's region is, is
+    the polar land's coast there: it must stay land in that set too."""
+    text = CASE.replace(
+        'kind = "global"\n', 'kind = "global"\npole = [103.0, 46.0]\n'
+    ).replace('cell = "2 deg"', 'cell = "1 deg"')  # a grid node on the pole
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = run_case(_case(tmp_path, text), output=tmp_path / "out")
+    mesh = result.mesh
+    p = _xyz(mesh.points)
+    a, b, c = (p[mesh.triangles[:, k]] for k in range(3))
+    assert ((np.cross(b - a, c - a) * (a + b + c)).sum(axis=1) > 0).all()
+    centre = mesh.points[mesh.triangles].mean(axis=1)
+    inland = [(8.0, 48.0, 14.0, 53.0), (20.0, 48.0, 26.0, 52.0)]  # Germany, Poland
+    for x0, y0, x1, y1 in inland:
+        inside = (centre[:, 0] > x0) & (centre[:, 0] < x1)
+        assert not (inside & (centre[:, 1] > y0) & (centre[:, 1] < y1)).any()
+    # and the shelf's coast is there, with the shelf set's id
+    edges = mesh.boundary_edges[mesh.boundary_ids == 11]
+    assert len(edges) > 20
+    assert result.report.quality.min_angle.p1 >= 30.0

@@ -544,7 +544,7 @@ def _cut(
     No cut may cross a region of ``plane`` (or come within two of its
     outline's edges of it): if one would, the water is one part.
     """
-    if parts == 1 or isinstance(size, SphereSizeGrid):  # the globe: in one part
+    if parts == 1:
         return pieces, [], 1
     wanted = auto_parts(water, size) if parts == "auto" else int(parts)
     if wanted == 1:

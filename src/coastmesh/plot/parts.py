@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
+from pyproj import CRS
 
 from coastmesh.geometry import reproject_points
 from coastmesh.plot.mesh import _fill_water, _frame
@@ -50,19 +51,28 @@ def parts_figure(
     from matplotlib.collections import LineCollection
     from matplotlib.figure import Figure
 
-    crs = domain.crs if crs is None else crs
-
-    def here(xy: Any) -> NDArray[np.float64]:
-        return reproject_points(np.asarray(xy, dtype=float), domain.crs, crs)
-
-    figure = Figure(figsize=(9, 8), layout="constrained")
+    crs = domain.crs if crs is None else CRS.from_user_input(crs)
+    cuts = list(parts.cuts)
+    plane = crs.is_geographic and domain.crs is not None and domain.crs.is_projected
+    # a world map is twice as wide as it is high
+    figure = Figure(figsize=(10, 6) if plane else (9, 8), layout="constrained")
     ax = figure.add_subplot()
-    _fill_water(ax, domain.polygon, here)
-    outline = [here(s.coords) for s in domain.segments]
-    ax.add_collection(LineCollection(outline, colors="0.45", linewidths=0.6))
-    ax.add_collection(
-        LineCollection(list(parts.cuts), colors="#c0392b", linewidths=1.6, zorder=3)
-    )
+    if plane:
+        # meshed in a plane, written in lon/lat (a global case): the water as
+        # a mask image, the coast and cuts split where they wrap round
+        bounds = _plane_water(ax, domain, crs)
+        cuts = [_unwrapped(_on_earth(c, crs, domain.crs)) for c in cuts]
+    else:
+
+        def here(xy: Any) -> NDArray[np.float64]:
+            return reproject_points(np.asarray(xy, dtype=float), domain.crs, crs)
+
+        _fill_water(ax, domain.polygon, here)
+        outline = [here(s.coords) for s in domain.segments]
+        ax.add_collection(LineCollection(outline, colors="0.45", linewidths=0.6))
+        xy = np.concatenate(outline)
+        bounds = (*xy.min(axis=0), *xy.max(axis=0))
+    ax.add_collection(LineCollection(cuts, colors="#c0392b", linewidths=1.6, zorder=3))
     total = max(sum(parts.triangles), 1)
     labels = [
         (n, k + 1, xy, f"{k + 1}\n{n:,} tri\n{t:.1f} s")
@@ -71,11 +81,78 @@ def parts_figure(
         )
         if n >= 0.005 * total  # a sliver of water a cut crosses: no label
     ]
-    xy = np.concatenate(outline)
-    _frame(ax, (*xy.min(axis=0), *xy.max(axis=0)), crs)
+    _frame(ax, bounds, crs)
     ax.set_title("\n".join(textwrap.wrap(title or parts.summary(), 90)), fontsize=9)
     _place_labels(figure, ax, labels)
     return figure
+
+
+#: Pixels of the water mask of a domain meshed in a plane, across and up.
+_MASK = (1440, 720)
+
+
+def _plane_water(ax: Any, domain: Domain, crs: CRS) -> tuple[float, ...]:
+    """Draw a plane's water (a global case's) on a lon/lat map; its bounds.
+
+    The water as a mask image of :data:`_MASK` pixels (each pixel's centre
+    tested in the plane, so nothing wraps) and the coast as lines, cut where
+    they cross the antimeridian.
+    """
+    import shapely
+    from matplotlib.collections import LineCollection
+
+    lon = np.linspace(-180.0, 180.0, _MASK[0] + 1)
+    lat = np.linspace(-90.0, 90.0, _MASK[1] + 1)
+    glon, glat = np.meshgrid(0.5 * (lon[1:] + lon[:-1]), 0.5 * (lat[1:] + lat[:-1]))
+    pxy = reproject_points(
+        np.column_stack([glon.ravel(), glat.ravel()]), crs, domain.crs
+    )
+    wet = shapely.contains_xy(domain.polygon, pxy[:, 0], pxy[:, 1]).reshape(glon.shape)
+    image = np.where(wet, 1.0, np.nan)
+    ax.imshow(
+        image,
+        extent=(-180.0, 180.0, -90.0, 90.0),
+        origin="lower",
+        cmap=_one_colour(),
+        interpolation="nearest",
+        zorder=0,
+    )
+    outline = [
+        _unwrapped(reproject_points(np.asarray(s.coords), domain.crs, crs))
+        for s in domain.segments
+    ]
+    ax.add_collection(LineCollection(outline, colors="0.45", linewidths=0.6))
+    rows = np.flatnonzero(wet.any(axis=1))
+    south = float(lat[rows[0]]) if len(rows) else -90.0
+    north = float(lat[rows[-1] + 1]) if len(rows) else 90.0
+    return (-180.0, south, 180.0, north)
+
+
+def _one_colour() -> Any:
+    from matplotlib.colors import ListedColormap
+
+    return ListedColormap(["#dbe9f6"])
+
+
+def _on_earth(xy: Any, lonlat: CRS, plane: CRS) -> NDArray[np.float64]:
+    """Return a cut (``xy`` in lon/lat, straight in ``plane``) as drawn on the Earth.
+
+    A straight line of the plane is a curve on the Earth: its points every
+    1/200th of its length in the plane, moved back to lon/lat.
+    """
+    import shapely
+
+    line = shapely.LineString(
+        reproject_points(np.asarray(xy, dtype=float), lonlat, plane)
+    )
+    line = shapely.segmentize(line, max(line.length / 200.0, 1.0))
+    return reproject_points(shapely.get_coordinates(line), plane, lonlat)
+
+
+def _unwrapped(lonlat: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Return a lon/lat line with a gap (NaN) wherever it jumps round the Earth."""
+    jump = np.flatnonzero(np.abs(np.diff(lonlat[:, 0])) > 180.0)
+    return np.insert(lonlat, jump + 1, np.nan, axis=0)
 
 
 #: Where a part's label may go, in points from its centre: there, then around

@@ -103,6 +103,70 @@ def test_the_view_covers_the_plane_with_cells_turning_the_right_way():
     np.testing.assert_allclose(tris[:, 5], 0.0, atol=1e-6)
 
 
+def _quads(data) -> list[shapely.Polygon]:
+    q = data["SQ"].reshape(-1, 16)
+    t = data["ST"].reshape(-1, 12)
+    return [shapely.Polygon(np.column_stack([r[0:4], r[4:8]])) for r in q] + [
+        shapely.Polygon(np.column_stack([r[0:3], r[3:6]])) for r in t
+    ]
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.floats(-1.5e7, 1.0e7), st.floats(-1.5e7, 1.0e7), st.floats(2e5, 5e6))
+def test_a_part_gets_the_cells_that_cover_it(x0, y0, width):
+    """The cells kept for a part's bounds cover them (every probe in a cell),
+    and each meets them: a literal check, cell by cell."""
+    size = SphereSizeGrid(_grid(step=10.0, lat0=-80.0)).in_map_units()
+    bounds = (x0, y0, x0 + width, y0 + width)
+    kept = _quads(size.view_data(bounds))
+    every = _quads(size.view_data())
+    want = [
+        c
+        for c in every
+        if c.bounds[0] <= bounds[2]
+        and c.bounds[2] >= bounds[0]
+        and c.bounds[1] <= bounds[3]
+        and c.bounds[3] >= bounds[1]
+    ]
+    assert len(kept) == len(want)
+    rng = np.random.default_rng(0)
+    probes = rng.uniform(bounds[:2], bounds[2:], (50, 2))
+    covered = shapely.union_all(every).buffer(1.0)
+    cover = shapely.union_all(kept).buffer(1.0)
+    for x, y in probes:
+        if covered.contains(shapely.Point(x, y)):  # inside the grid at all
+            assert cover.contains(shapely.Point(x, y))
+
+
+
+def test_cells_at_the_pole_and_beyond_the_water_are_left_out():
+    """A pole on a grid node (103 E, 46 N) puts that node at infinity: no cell
+    with it goes to Gmsh, nor any cell wholly beyond the water's reach (a view of
+    them took Gmsh over 24 GB)."""
+    lon = np.linspace(-180.0, 180.0, 361)
+    lat = np.linspace(-90.0, 90.0, 181)
+    values = np.full((181, 361), 1e5)
+    whole = SphereSizeGrid(SizeGrid(lon, lat, values), pole=(103.0, 46.0))
+    data = whole.in_map_units().view_data()
+    assert all(np.isfinite(d).all() for d in data.values())
+    reach = 3e7
+    near = SphereSizeGrid(SizeGrid(lon, lat, values), (103.0, 46.0), reach=reach)
+    kept = near.in_map_units().view_data()["SQ"].reshape(-1, 16)
+    every = data["SQ"].reshape(-1, 16)
+    assert 0 < len(kept) < len(every)
+    for cells, inside in ((kept, True), (every, None)):
+        r = np.hypot(cells[:, 0:4], cells[:, 4:8])
+        side = np.hypot(
+            np.diff(cells[:, 0:4], append=cells[:, :1], axis=1),
+            np.diff(cells[:, 4:8], append=cells[:, 4:5], axis=1),
+        ).max(axis=1)
+        nearest = r.min(axis=1) - side
+        if inside:
+            assert (nearest <= reach).all()
+        else:  # those left out were all beyond it
+            assert (nearest <= reach).sum() == len(kept)
+
+
 def test_the_cells_weigh_the_sphere():
     lon = np.linspace(-180.0, 180.0, 361)
     lat = np.linspace(-90.0, 90.0, 181)

@@ -17,7 +17,8 @@ The stages of a regional case, with these steps done the global way
    distance from the sets, the tidal-wavelength term, the gradation limit on
    the sphere; the size terms read their raster whole;
 4. Gmsh meshes the ocean in the plane with the sizes scaled by the plane's
-   scale factor (:class:`~coastmesh.meshing.gmsh.SphereSizeGrid`), in one part;
+   scale factor (:class:`~coastmesh.meshing.gmsh.SphereSizeGrid`), in parts
+   as a regional case is (``[mesh] parts``): cuts straight in the plane;
 5. the nodes go back to lon/lat; depths, time step and quality follow as in a
    regional case.
 """
@@ -143,11 +144,13 @@ class Global(Strategy):
         """Return the field on the lon/lat grid, scaled to the plane when sampled."""
         size = run.size or missing("size field")
         world = (run.shorelines or missing("shorelines")).world or missing("world")
-        return SphereSizeGrid(SizeGrid.from_dataarray(size.field), world.pole)
-
-    def parts(self, config: CaseConfig) -> int:
-        """One part: the world is meshed whole."""
-        return 1
+        state = run.domain or missing("domain")
+        xy = shapely.get_coordinates(state.domain.polygon.exterior)
+        return SphereSizeGrid(
+            SizeGrid.from_dataarray(size.field),
+            world.pole,
+            reach=float(np.hypot(xy[:, 0], xy[:, 1]).max()),
+        )
 
 
 def _check_seed(config: CaseConfig, world: WorldLand, lonlat: CRS) -> None:
@@ -237,9 +240,14 @@ def _closed(
     land: NDArray[np.object_],
     lonlat: CRS,
 ) -> NDArray[np.object_]:
-    """Return the set's land, framed (background set), narrow water closed."""
-    if s.name == config.background_set.name:
-        land = np.concatenate([[world.frame(_shell(world.shell, s))], land])
+    """Return the set's land, framed, narrow water closed.
+
+    Every set has the polar land (the frame round the plane), with its own
+    PCA: a region set is used inside its regions, and those may hold the
+    polar land's coast (Europe's, with the pole in Asia); without it, the
+    region's land there would be sea.
+    """
+    land = np.concatenate([[world.frame(_shell(world.shell, s))], land])
     close = config.domain.close
     if close is None:
         close = min((g.h_min for g in config.size.gradations), default=None)

@@ -56,6 +56,12 @@ class SphereSizeGrid:
     map_units : bool
         Whether :meth:`sample` and :meth:`view_data` give plane lengths (metres
         on the sphere times the scale factor) or lengths on the sphere.
+    reach : float, default inf
+        The farthest the water reaches from the plane's centre, metres in
+        the plane: :meth:`view_data` leaves out the cells wholly beyond it.
+        Round the plane's singular point (on land) the cells grow without
+        bound (a node on the pole itself is at infinity), and Gmsh's search
+        tree over a view of such cells took over 24 GB (a pole in Asia).
 
     Raises
     ------
@@ -76,6 +82,7 @@ class SphereSizeGrid:
     grid: SizeGrid
     pole: tuple[float, float] = (0.0, -90.0)
     map_units: bool = False
+    reach: float = math.inf
 
     def __post_init__(self) -> None:
         lon, lat = self.grid.x, self.grid.y
@@ -97,7 +104,7 @@ class SphereSizeGrid:
 
     def in_map_units(self) -> SphereSizeGrid:
         """Return the same field, sampled in plane lengths."""
-        return SphereSizeGrid(self.grid, self.pole, map_units=True)
+        return SphereSizeGrid(self.grid, self.pole, map_units=True, reach=self.reach)
 
     def lonlat(self, xy: NDArray[np.float64]) -> NDArray[np.float64]:
         """Return the longitude and latitude of points of the plane."""
@@ -131,13 +138,18 @@ class SphereSizeGrid:
             + tx * ty * v[j + 1, i + 1]
         )
 
-    def view_data(self) -> dict[str, NDArray[np.float64]]:
+    def view_data(
+        self, bounds: tuple[float, ...] | None = None
+    ) -> dict[str, NDArray[np.float64]]:
         """Return the grid's cells in the plane, in Gmsh's list format, by type.
 
         Returns ``{"SQ": quadrangles, "ST": triangles}``: a quadrangle per cell
         (corners counter-clockwise in the plane), and a triangle per cell of a
         row that ends at the North Pole (where the cell's two top corners are one
-        point). Values are plane lengths when :attr:`map_units` is set.
+        point). Values are plane lengths when :attr:`map_units` is set. With
+        ``bounds`` (x0, y0, x1, y1 in the plane: a part of the water), only the
+        cells whose extent meets them: each part's Gmsh holds a view of its
+        own water, not of the world.
         """
         x, y, v = self.grid.x, self.grid.y, self.grid.values
         glon, glat = np.meshgrid(x, y)
@@ -153,12 +165,19 @@ class SphereSizeGrid:
 
         def block(order: list, r0: int, r1: int) -> NDArray[np.float64]:
             zeros = np.zeros(at(px, 0, 0, r0, r1).size)
-            return np.column_stack(
+            cells = np.column_stack(
                 [at(px, dj, di, r0, r1) for dj, di in order]
                 + [at(py, dj, di, r0, r1) for dj, di in order]
                 + [zeros] * len(order)
                 + [at(v, dj, di, r0, r1) for dj, di in order]
-            ).ravel()
+            )
+            keep = self._near(cells, len(order))
+            if bounds is not None:
+                x, y = cells[:, : len(order)], cells[:, len(order) : 2 * len(order)]
+                with np.errstate(invalid="ignore"):
+                    keep &= (x.max(axis=1) >= bounds[0]) & (x.min(axis=1) <= bounds[2])
+                    keep &= (y.max(axis=1) >= bounds[1]) & (y.min(axis=1) <= bounds[3])
+            return cells[keep].ravel()
 
         out = {"SQ": block(corners, 0, rows)}
         if top:
@@ -166,6 +185,22 @@ class SphereSizeGrid:
         else:
             out["ST"] = np.zeros(0)
         return out
+
+    def _near(self, cells: NDArray[np.float64], corners: int) -> NDArray[np.bool_]:
+        """Which cells (rows of Gmsh's list format) to give Gmsh.
+
+        Those with finite corners and values, not wholly beyond :attr:`reach`:
+        a cell's nearest point to the centre is at least its nearest corner's
+        distance less its longest side.
+        """
+        ok = np.isfinite(cells).all(axis=1)
+        if math.isinf(self.reach):
+            return ok
+        x, y = cells[:, :corners], cells[:, corners : 2 * corners]
+        with np.errstate(invalid="ignore"):
+            r = np.hypot(x, y).min(axis=1)
+            side = np.hypot(np.diff(x, append=x[:, :1]), np.diff(y, append=y[:, :1]))
+            return ok & (r - side.max(axis=1) <= self.reach)
 
     def cells(
         self, polygon: shapely.Polygon

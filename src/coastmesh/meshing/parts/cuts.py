@@ -36,7 +36,7 @@ water, grid and ``K`` give the same cuts.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 import shapely
@@ -392,6 +392,34 @@ def _frame(
     return normal, tangent, base, far
 
 
+def _past_node(
+    grid: SizeGrid, direction: tuple[float, float], along: NDArray[np.float64]
+) -> Any:
+    """Return ``k -> place`` of a cut just past the ``k``-th node along ``direction``.
+
+    On a plane grid: half a cell past the node. On the world grid
+    (:class:`~coastmesh.meshing.gmsh.SphereSizeGrid`) the nodes are not
+    evenly spaced in the plane: half-way to the next node along the
+    direction (``along`` sorted), or past the last by the last gap.
+    """
+    if isinstance(grid, SizeGrid):
+        c, s = direction
+        dx, dy = (abs(float(np.diff(g)[0])) for g in (grid.x, grid.y))
+        spacing = dx if s == 0.0 else dy if c == 0.0 else min(dx, dy)
+        return lambda k: float(along[k]) + 0.5 * spacing
+    gaps = np.diff(along)
+    step = np.append(gaps, gaps[-1] if len(gaps) else 1.0)
+
+    def place(k: int) -> float:
+        # the next node farther along (nodes may share a place along)
+        j = int(np.searchsorted(along, along[k], side="right"))
+        if j < len(along):
+            return 0.5 * float(along[k] + along[j])
+        return float(along[k]) + 0.5 * float(max(step[k], 1.0))
+
+    return place
+
+
 def _best_cut(
     polygon: shapely.Polygon | shapely.MultiPolygon,
     grid: SizeGrid,
@@ -404,11 +432,9 @@ def _best_cut(
     direction: tuple[float, float],
 ) -> tuple[float, shapely.LineString, list[shapely.LineString], float]:
     """Return the best cut normal to ``direction``: score, line, crossings, place."""
-    c, s = direction
-    dx, dy = (abs(float(np.diff(g)[0])) for g in (grid.x, grid.y))
-    spacing = dx if s == 0.0 else dy if c == 0.0 else min(dx, dy)
     along = _along(x, y, direction)
     order = np.argsort(along, kind="stable")
+    past = _past_node(grid, direction, along[order])
     cum = np.cumsum(w[order]) / w.sum()
     turned = Turned(polygon, direction)
     best: tuple = (np.inf, shapely.LineString(), [], 0.0)
@@ -418,8 +444,7 @@ def _best_cut(
         tried = np.linspace(share - spread, share + spread, count)
         for q in sorted(tried, key=lambda q: abs(q - share)):  # ties: balanced
             k = min(int(np.searchsorted(cum, q)), len(order) - 1)
-            # half a cell past a grid node: no node lies on the cut
-            at = float(along[order[k]]) + 0.5 * spacing
+            at = past(k)  # no grid node lies on the cut
             line = _line(region, direction, at)
             if line.is_empty:
                 continue

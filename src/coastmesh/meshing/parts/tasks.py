@@ -277,7 +277,7 @@ def start_workers(runner: Any, parts: int | str, rings: list, size: SizeGrid) ->
     without a ``warm(count, ready)`` method (this process, Dask) is left be.
     """
     warm = getattr(runner, "warm", None)
-    if warm is None or parts == 1 or not isinstance(size, SizeGrid):
+    if warm is None or parts == 1:
         return
     if parts == "auto":
         shells = [np.concatenate([np.asarray(s) for s in ring]) for ring in rings]
