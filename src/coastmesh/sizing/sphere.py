@@ -65,7 +65,13 @@ def sphere_distance(
     # meshed, so a plane step is at most as long on the Earth)
     geoms = np.asarray(lines, dtype=object).ravel()
     geoms = geoms[~(shapely.is_missing(geoms) | shapely.is_empty(geoms))]
-    geoms = shapely.boundary(geoms)
+    # a polygon's distance is to its rings; a line's to the line itself (its
+    # boundary would be its two end points, and a closed ring's nothing)
+    polygonal = np.isin(
+        shapely.get_type_id(geoms),
+        [shapely.GeometryType.POLYGON, shapely.GeometryType.MULTIPOLYGON],
+    )
+    geoms[polygonal] = shapely.boundary(geoms[polygonal])
     vertices = shapely.get_coordinates(shapely.segmentize(geoms, resolution))
     glon, glat = np.meshgrid(lon, lat)
     arc = nearest_arcs(
