@@ -168,7 +168,7 @@ def depth_figure(mesh: Mesh, *, title: str | None = None) -> Figure:
     triangulation = Triangulation(
         x, y, mesh.triangles, mask=mask if mask.any() else None
     )
-    figure = Figure(figsize=(9, 8), layout="constrained")
+    figure = Figure(figsize=_map_size(mesh), layout="constrained")
     ax = figure.add_subplot()
     low, high = (
         (float(depth[finite].min()), float(depth[finite].max()))
@@ -237,7 +237,7 @@ def depth_source_figure(
     mask = across_dateline(mesh.points, mesh.triangles, mesh.crs)
     x, y = mesh.points[:, 0], mesh.points[:, 1]
     tri = Triangulation(x, y, mesh.triangles, mask=mask if mask.any() else None)
-    figure = Figure(figsize=(9, 8), layout="constrained")
+    figure = Figure(figsize=_map_size(mesh), layout="constrained")
     ax = figure.add_subplot()
     colours = [f"C{k % 10}" for k in range(len(names))] + ["0.6"]
     ax.tripcolor(
@@ -247,7 +247,7 @@ def depth_source_figure(
         vmin=-0.5,
         vmax=len(names) + 0.5,
         edgecolors="none",
-    )
+    ).set_in_layout(False)  # clipped to the axes; measuring it is slow
     labels = [*(str(n).replace("\\", "/").rsplit("/", 1)[-1] for n in names)]
     labels.append("none (nearest cell)")
     handles = [
@@ -313,7 +313,7 @@ def depth_rule_figure(
         mesh.triangles,
         mask=mask if mask.any() else None,
     )
-    figure = Figure(figsize=(9, 8), layout="constrained")
+    figure = Figure(figsize=_map_size(mesh), layout="constrained")
     ax = figure.add_subplot()
     colours = ["0.85", "C0", "C2", "C8", "C1", "C3", "C4"][: len(RULES)]
     ax.tripcolor(
@@ -323,7 +323,7 @@ def depth_rule_figure(
         vmin=-0.5,
         vmax=len(RULES) - 0.5,
         edgecolors="none",
-    )
+    ).set_in_layout(False)  # clipped to the axes; measuring it is slow
     n = max(len(rules), 1)
     handles = [
         Patch(
@@ -396,14 +396,7 @@ def time_step_figure(
     panels = [("dt", "stable time step (s)", "min", "viridis")]
     if dt is not None:
         panels.append(("courant", f"Courant number at dt = {dt:g} s", "max", "magma"))
-    # the map's own shape (a world map is twice as wide as high), not a square
-    # with empty bands and a colour bar twice the map's height
-    minx, miny, maxx, maxy = _bounds(mesh.points)
-    shape = (maxy - miny) * x_stretch(mesh.crs, (minx, miny, maxx, maxy))
-    shape = min(max(shape / max(maxx - minx, 1e-12), 0.35), 1.4)
-    figure = Figure(
-        figsize=(9 * len(panels), max(4.5, 7.0 * shape + 1.6)), layout="constrained"
-    )
+    figure = Figure(figsize=_map_size(mesh, len(panels)), layout="constrained")
     for ax, (key, label, pick, cmap) in zip(
         figure.subplots(1, len(panels), squeeze=False)[0], panels, strict=True
     ):
@@ -512,6 +505,18 @@ def _bounds(points: NDArray[np.float64]) -> tuple[float, float, float, float]:
     minx, miny = points.min(axis=0)
     maxx, maxy = points.max(axis=0)
     return float(minx), float(miny), float(maxx), float(maxy)
+
+
+def _map_size(mesh: Mesh, panels: int = 1) -> tuple[float, float]:
+    """Return a figure size that fits the mesh's map, ``panels`` side by side.
+
+    The map's own shape (a world map is twice as wide as it is high), not a
+    square with empty bands and a colour bar twice the map's height.
+    """
+    minx, miny, maxx, maxy = _bounds(mesh.points)
+    shape = (maxy - miny) * x_stretch(mesh.crs, (minx, miny, maxx, maxy))
+    shape = min(max(shape / max(maxx - minx, 1e-12), 0.35), 1.4)
+    return (9.0 * panels, max(4.5, 7.0 * shape + 1.6))
 
 
 def _frame(ax: Axes, points: NDArray[np.float64]) -> None:
