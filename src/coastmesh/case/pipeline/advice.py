@@ -15,6 +15,7 @@ import numpy as np
 from coastmesh.case.pipeline.state import CaseRun, RunContext, missing
 from coastmesh.errors import CoastmeshWarning
 from coastmesh.meshing import QualityReport, mesh_quality
+from coastmesh.meshing.quality import sphere_quality
 from coastmesh.meshing.quality.measure import places
 from coastmesh.meshing.quality.time_step import element_time_steps
 from coastmesh.sizing.courant import CourantReport, round_step
@@ -40,6 +41,8 @@ def quality_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
             courant_max=None if courant is None else courant.courant_max,
             courant_min=None if courant is None else courant.courant_min,
         )
+        if config.domain.kind == "global":  # lon/lat: checked on the sphere too
+            quality = replace(quality, sphere=sphere_quality(state.mesh))
     warn_avoidable_corners(quality, state.mesh)
     size = run.size or missing("size field")
     warn_spanning(

@@ -2,8 +2,9 @@
 
 ``measure`` (the kernels: sides, angles, radii and areas on the ellipsoid),
 ``mesh_quality`` (the quality report of a mesh), ``report`` (what it holds),
-``time_step`` (each element's stable time step and Courant number) and
-``corners`` (the sharp corners the boundary forces).
+``time_step`` (each element's stable time step and Courant number),
+``corners`` (the sharp corners the boundary forces) and ``sphere`` (a global
+lon/lat mesh checked on the sphere: angles, orientation, overlaps).
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from coastmesh.meshing.quality.mesh_quality import (
     triangle_quality,
 )
 from coastmesh.meshing.quality.report import QualityReport
+from coastmesh.meshing.quality.sphere import SphereQuality, sphere_quality
 from coastmesh.meshing.quality.time_step import (
     CourantStats,
     TimeStepStats,
@@ -26,10 +28,12 @@ __all__ = [
     "CourantStats",
     "QualityReport",
     "SharpCorner",
+    "SphereQuality",
     "TimeStepStats",
     "boundary_angles",
     "edge_quality",
     "element_time_steps",
     "mesh_quality",
+    "sphere_quality",
     "triangle_quality",
 ]

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from coastmesh.meshing.quality.corners import CornerStats
+from coastmesh.meshing.quality.sphere import SphereQuality
 from coastmesh.meshing.quality.time_step import TimeStepStats
 from coastmesh.types import Report
 
@@ -334,6 +335,9 @@ class QualityReport(Report):
         ``"edge_ratio"`` (:func:`histogram_bins`), values outside the bins
         counted in the end bins: what the quality figure draws, so that it
         need not measure the mesh again. Not in :meth:`to_dict`.
+    sphere : SphereQuality or None
+        A global mesh checked on the sphere
+        (:func:`~coastmesh.meshing.quality.sphere.sphere_quality`); None otherwise.
     """
 
     nodes: int
@@ -357,6 +361,7 @@ class QualityReport(Report):
     histograms: dict[str, tuple[NDArray[np.int64], NDArray[np.float64]]] = field(
         default_factory=dict, repr=False, compare=False
     )
+    sphere: SphereQuality | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """Return the report as JSON-ready data, floats to 6 significant digits.
@@ -419,6 +424,7 @@ class QualityReport(Report):
             ),
             "all_boundary_triangles": len(self.all_boundary_triangles),
             "channel_spanning_triangles": len(self.channel_spanning_triangles),
+            "sphere": None if self.sphere is None else _rounded(self.sphere.to_dict()),
         }
 
     def summary(self) -> str:
@@ -462,6 +468,8 @@ class QualityReport(Report):
             if self.time_step.slowest:
                 lines.append("  slowest elements (smallest stable time step):")
                 lines.extend(f"    {e.summary()}" for e in self.time_step.slowest)
+        if self.sphere is not None:
+            lines.append(f"  {self.sphere.summary()}")
         return "\n".join(lines)
 
 
