@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+import os
 from dataclasses import replace
 
 import numpy as np
@@ -13,18 +14,78 @@ from coastmesh.case.pipeline.domain import site_area
 from coastmesh.case.pipeline.farms import with_site_sizes
 from coastmesh.case.pipeline.state import CaseRun, MeshState, RunContext, missing
 from coastmesh.case.pipeline.structures import check_structure_sizes
+from coastmesh.errors import ConfigError
 from coastmesh.meshing import CleanupOptions, mesh_in_parts
 from coastmesh.meshing.cleanup.peel import open_short_runs, peel_channels
 from coastmesh.meshing.gmsh import release_memory
 
-__all__ = ["channel_stage", "cleanup_options", "mesh_stage"]
+__all__ = [
+    "channel_stage",
+    "check_memory",
+    "cleanup_options",
+    "expected_triangles",
+    "mesh_stage",
+]
 
 logger = logging.getLogger(__name__)
 
 
+#: Peak memory a mesh takes per triangle, bytes, over :data:`BASE_MEMORY`:
+#: ``world.toml`` (1.1 M triangles) peaked at 2.0 GB in one part and 1.35 GB
+#: in parts, the Python process itself about 0.4 GB of it.
+MEMORY_PER_TRIANGLE = 1500
+BASE_MEMORY = 500e6
+
+
+def expected_triangles(run: CaseRun) -> float:
+    """Return the triangles the size field asks for over the sea.
+
+    ``4 / (sqrt(3) h^2)`` per unit area (an equilateral mesh of size ``h``),
+    summed over the size grid's sea nodes, each standing for its cell's area
+    on the Earth.
+    """
+    size = run.size or missing("size field")
+    grid, h = size.grid, np.asarray(size.field.values, dtype=np.float64)
+    areas = grid.areas
+    if areas is None:  # a plane grid: a cell, shrunk by the map's scale
+        areas = (grid.cell / grid.scale) ** 2
+    sea = grid.sea & np.isfinite(h) & (h > 0)
+    return float(4.0 / np.sqrt(3.0) * (areas[sea] / h[sea] ** 2).sum())
+
+
+def check_memory(run: CaseRun) -> None:
+    """Raise before meshing if the mesh asked for will not fit in this machine.
+
+    The need is :data:`BASE_MEMORY` and :data:`MEMORY_PER_TRIANGLE` per
+    expected triangle (:func:`expected_triangles`); the machine's is its
+    physical memory.
+    """
+    triangles = expected_triangles(run)
+    need = BASE_MEMORY + MEMORY_PER_TRIANGLE * triangles
+    have = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    logger.info(
+        "expected %.0f triangles, about %.1f GB of %.1f GB",
+        triangles,
+        need / 1e9,
+        have / 1e9,
+    )
+    if need > have:
+        raise ConfigError(
+            f"{run.config.label}: the size field asks for about {triangles:,.0f} "
+            f"triangles, which need about {need / 1e9:.1f} GB to mesh; this "
+            f"machine has {have / 1e9:.1f} GB. Raise h_min or h_max in "
+            "[mesh_size] (or narrow the gradations' reach), or run on a machine "
+            "with more memory"
+        )
+
+
 def mesh_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
-    """Mesh the domain (``[mesh]``), cleaned part by part (``[cleanup]``)."""
+    """Mesh the domain (``[mesh]``), cleaned part by part (``[cleanup]``).
+
+    First checks that the mesh asked for fits in memory (:func:`check_memory`).
+    """
     config, state = run.config, run.domain or missing("domain")
+    check_memory(run)
     release_memory()  # what the shoreline sets and slots freed, before the workers
     size, inner = run.strategy.size_grid(run), None
     check_structure_sizes(state, size, config.label)
@@ -65,7 +126,7 @@ def channel_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     """
     config, state = run.config, run.mesh or missing("mesh")
     channels = config.size.channels
-    if channels.enabled and channels.narrow == "close":
+    if channels.enabled is not False and channels.narrow == "close":
         with ctx.timed("channels one element wide"):
             mesh = state.mesh
             keep = None
