@@ -71,12 +71,15 @@ def test_channel_and_courant_tables_parse_with_units():
         'velocity = "2 kn"\n' + DEPTH
     )
     assert case.size.channels == ChannelConfig(True, 4.0, "close")
-    assert case.size.courant == CourantConfig(30.0, 2.0, 0.4, 2 * 1852 / 3600)
+    # a regional case switches the term on (unset, it is off in a global case)
+    assert case.size.courant == CourantConfig(
+        30.0, 2.0, 0.4, 2 * 1852 / 3600, enabled=True
+    )
 
 
 def test_dt_alone_gets_the_explicit_model_default():
     case = parsed('[mesh_size.courant]\ndt = "1 min"\n' + DEPTH)
-    assert case.size.courant == CourantConfig(60.0, 0.5, None, 1.0)
+    assert case.size.courant == CourantConfig(60.0, 0.5, None, 1.0, enabled=True)
     only_min = parsed('[mesh_size.courant]\ndt = "60 s"\ncourant_min = 0.9\n' + DEPTH)
     assert only_min.size.courant.courant_max is None
 
@@ -156,7 +159,7 @@ def test_python_configs_get_the_same_messages():
         source=None,
         size=dataclasses.replace(case.size, courant=CourantConfig(12, velocity=0)),
     )
-    assert ok.size.courant == CourantConfig(12.0, 0.5, None, 0.0)
+    assert ok.size.courant == CourantConfig(12.0, 0.5, None, 0.0, enabled=True)
 
 
 @pytest.mark.parametrize(

@@ -12,7 +12,6 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from coastmesh.data import path as data_path
-from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import EARTH_RADIUS, GRAVITY
 from coastmesh.io import read_raster
 from coastmesh.sizing.bathymetry import M2_PERIOD, wavelength_size
@@ -117,19 +116,6 @@ def test_the_wavelength_term_wraps_round_the_world():
     row = f.sel(y=-30.0).values
     assert abs(row[0] - row[-1]) == 0.0
     assert abs(row[1] - row[0]) < 0.2 * row[0] and abs(row[-2] - row[-1]) < 0.2 * row[0]
-
-
-def test_the_slope_term_is_refused_in_a_global_case():
-    from coastmesh.case import parse_case
-
-    text = (
-        '[case]\nname = "w"\n[shorelines]\npath = "w.gpkg"\n'
-        '[shoreline_sets.world]\nid = 1\n[domain]\nkind = "global"\n'
-        '[mesh_size]\nh_max = "100 km"\n[mesh_size.bathymetry]\n'
-        'path = "etopo.tif"\nper_slope = 10\n'
-    )
-    with pytest.raises(ConfigError, match=r"per_slope: the slope term is not"):
-        parse_case(text, "/cases/w.toml")
 
 
 def test_the_grid_wraps_round_and_measures_areas_on_the_sphere():

@@ -33,14 +33,23 @@ from coastmesh.geometry.earth import (
     EARTH_RADIUS,
     METRES_PER_DEGREE,
     reproject,
+    reproject_points,
     transformer,
 )
 from coastmesh.geometry.projection import scale_factor
 from coastmesh.geometry.sphere import stereographic_scale
 from coastmesh.sizing.bands import graded_sizes
-from coastmesh.sizing.channel import RADIUS_STEP, domain_width
+from coastmesh.sizing.bathymetry import slope_size, slope_size_sphere
+from coastmesh.sizing.channel import RADIUS_STEP, domain_width, over_land
 from coastmesh.sizing.gradation import Gradation, gradation_size, limit_gradation
+from coastmesh.sizing.narrow import narrow_channels
 from coastmesh.sizing.sphere import limit_gradation_sphere, sphere_distance, wrapped
+from coastmesh.sizing.sphere_channel import (
+    sphere_narrow_channels,
+    sphere_over_land,
+    sphere_water_mask,
+    sphere_width,
+)
 from coastmesh.types import Domain, Runner
 
 if TYPE_CHECKING:
@@ -152,12 +161,34 @@ class Grid:
     ) -> NDArray[np.float64] | None:
         """Return the width of the domain's water at the nodes, metres.
 
-        None where the grid does not measure it (:class:`SphereGrid`). ``step``:
-        the ratio of the radii measured (:func:`~.channel.local_width`);
-        ``narrow_only``: only where narrower than ``max_width``
-        (:func:`~.channel.narrow_width`).
+        None where the grid does not measure it. ``step``: the ratio of the
+        radii measured (:func:`~.channel.local_width`); ``narrow_only``: only
+        where narrower than ``max_width`` (:func:`~.channel.narrow_width`).
         """
         return None
+
+    @property
+    def areas(self) -> NDArray[np.float64] | None:
+        """The area each node stands for, m2; None where all stand for one area."""
+        return None
+
+    def slope_size(
+        self, depth: NDArray[np.float64], *, per_slope: float, min_depth: float
+    ) -> NDArray[np.float64]:
+        """Return the bathymetric slope term at the nodes, metres."""
+        raise NotImplementedError
+
+    def narrow_channels(
+        self, width: NDArray[np.float64], inside: NDArray[np.bool_], *, h_min: float
+    ) -> tuple[NDArray[np.int32], list[tuple[int, int, float, float]]]:
+        """Label the water narrower than two elements of ``h_min`` (its ``width``)."""
+        raise NotImplementedError
+
+    def over_land(
+        self, values: NDArray[np.float64], water: NDArray[np.bool_]
+    ) -> NDArray[np.float64]:
+        """Return ``values`` with each land node given its nearest water node's."""
+        raise NotImplementedError
 
     def graded(
         self,
@@ -354,6 +385,26 @@ class PlaneGrid(Grid):
         """Limit the gradation in 8 directions, ``spacing`` apart."""
         return limit_gradation(values, (self.spacing, self.spacing), rate)
 
+    def slope_size(
+        self, depth: NDArray[np.float64], *, per_slope: float, min_depth: float
+    ) -> NDArray[np.float64]:
+        """Return the slope term, the gradient ``cell`` apart (:func:`.slope_size`)."""
+        return slope_size(
+            depth, (self.cell, self.cell), per_slope=per_slope, min_depth=min_depth
+        )
+
+    def narrow_channels(
+        self, width: NDArray[np.float64], inside: NDArray[np.bool_], *, h_min: float
+    ) -> tuple[NDArray[np.int32], list[tuple[int, int, float, float]]]:
+        """Label the narrow water, in cells of ``cell`` (:func:`.narrow_channels`)."""
+        return narrow_channels(width, inside, h_min=h_min, cell=self.cell)
+
+    def over_land(
+        self, values: NDArray[np.float64], water: NDArray[np.bool_]
+    ) -> NDArray[np.float64]:
+        """Give land nodes the nearest water node's value (:func:`.over_land`)."""
+        return over_land(values, water)
+
     def _sea(self) -> NDArray[np.bool_]:
         if self.domain is None:
             return np.ones(self.shape, dtype=bool)
@@ -467,6 +518,110 @@ class SphereGrid(Grid):
     def limit(self, values: NDArray[np.float64], rate: float) -> NDArray[np.float64]:
         """Limit the gradation with each step's true length on the sphere."""
         return limit_gradation_sphere(values, self.y, rate)
+
+    @property
+    def areas(self) -> NDArray[np.float64]:
+        """The area on the sphere each node stands for, m2 (0 on the last column).
+
+        ``R^2 dlon dlat cos(lat)``; the last column is the first meridian again,
+        and stands for nothing of its own.
+        """
+        dlon = math.radians(float(self.x[1] - self.x[0]))
+        dlat = math.radians(float(self.y[1] - self.y[0]))
+        row = EARTH_RADIUS**2 * dlon * dlat * np.cos(np.radians(self.y))
+        areas = np.repeat(np.maximum(row, 0.0)[:, None], len(self.x), axis=1)
+        areas[:, -1] = 0.0
+        return areas
+
+    def widths(
+        self,
+        domain: Domain,
+        *,
+        max_width: float,
+        step: float | None = None,
+        narrow_only: bool = False,
+    ) -> NDArray[np.float64]:
+        """Return the width of the water by great-circle distance (metres).
+
+        :func:`~.sphere_channel.sphere_width` over the sea, and past the open
+        boundaries (``[[cuts]]``) where nearer them than a shoreline.
+
+        Raises
+        ------
+        ConfigError
+            With ``narrow_only``: a global case closes narrow water with
+            ``[domain] close``, not on this grid.
+        """
+        if narrow_only:
+            raise ConfigError(
+                "narrow_only: a global case closes narrow water with [domain] close"
+            )
+        water = self.sea
+        if any(s.kind == "open" for s in domain.segments):
+            shore, opened = self._line_points(domain)
+            water = sphere_water_mask(water, self.y, shore, opened)
+        return sphere_width(
+            water,
+            self.y,
+            max_width=max_width,
+            step=RADIUS_STEP if step is None else step,
+        )
+
+    def slope_size(
+        self, depth: NDArray[np.float64], *, per_slope: float, min_depth: float
+    ) -> NDArray[np.float64]:
+        """Return the slope term from the sea's depths, each step's true length.
+
+        :func:`~.bathymetry.slope_size_sphere` with :attr:`sea`: no node of the
+        sea takes a slope from a land node.
+        """
+        return slope_size_sphere(
+            depth, self.y, per_slope=per_slope, min_depth=min_depth, sea=self.sea
+        )
+
+    def narrow_channels(
+        self, width: NDArray[np.float64], inside: NDArray[np.bool_], *, h_min: float
+    ) -> tuple[NDArray[np.int32], list[tuple[int, int, float, float]]]:
+        """Label the water narrow for sure: even a cell wider, on the sphere.
+
+        Widths on the grid err narrow by up to a cell (:attr:`cell_m`, the
+        north-south step), so a stretch counts only if it is narrower than two
+        elements of ``h_min`` by more than that: on a grid coarser than
+        ``2 h_min`` none does (a global case's ``[domain] close`` closes narrow
+        water). Joined across the antimeridian, areas on the sphere
+        (:func:`~.sphere_channel.sphere_narrow_channels`).
+        """
+        return sphere_narrow_channels(
+            width, inside, self.y, h_min=h_min, margin=self.cell_m
+        )
+
+    def over_land(
+        self, values: NDArray[np.float64], water: NDArray[np.bool_]
+    ) -> NDArray[np.float64]:
+        """Give land nodes the value of the nearest water node on the sphere.
+
+        Within four cells (``4 cell_m``) of the water; farther inland, where no
+        mesh is made, ``inf`` (:func:`~.sphere_channel.sphere_over_land`).
+        """
+        return sphere_over_land(values, water, self.y, reach=4 * self.cell_m)
+
+    def _line_points(
+        self, domain: Domain
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Points along the shorelines and open boundaries, lon/lat, < a cell apart.
+
+        Densified in the domain's CRS: a third of a cell there is at most that
+        on the Earth (the stereographic plane's scale is at least 1).
+        """
+        step = self.cell_m / 3 if domain.crs.is_projected else self.spacing / 3
+        out = []
+        for kind in ("shoreline", "open"):
+            lines = [
+                shapely.LineString(s.coords) for s in domain.segments if s.kind == kind
+            ]
+            xy = shapely.get_coordinates(shapely.segmentize(lines, step))
+            out.append(reproject_points(xy, domain.crs, _LONLAT) if len(xy) else xy)
+        return out[0], out[1]
 
     def _sea(self) -> NDArray[np.bool_]:
         if self.domain is None:

@@ -271,15 +271,27 @@ def narrow_places(
 
 
 def warn_narrow(
-    report: ChannelReport, *, closed: bool = False, after_closing: int = 0
+    report: ChannelReport,
+    *,
+    closed: bool = False,
+    after_closing: int = 0,
+    closed_by: str | None = None,
 ) -> None:
     """Warn of narrow channels kept (or closed), where they are, and what to do.
 
     ``after_closing``: these are left after closing others this many times.
+    ``closed_by``: the key that closed the narrower water before (a global
+    case's ``[domain] close``).
     """
     where = "; ".join(c.summary() for c in report.worst[:3])
     if closed:
         action = "closed: taken out of the domain as land"
+    elif closed_by is not None:
+        action = (
+            f"left by {closed_by} (which closes narrower water), kept: they are "
+            f"one element wide. Lower h_min to resolve them, or raise {closed_by} "
+            f"to {NARROW_ELEMENTS} h_min to close them"
+        )
     elif after_closing:
         action = (
             f"left after closing narrow channels {after_closing} times (the cuts "

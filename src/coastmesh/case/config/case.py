@@ -246,30 +246,27 @@ def boundary_key(domain: Any) -> str:
     return "cuts" if getattr(domain, "kind", None) == "global" else "open_boundaries"
 
 
-def _check_global(case: dict[str, Any], label: str) -> None:
-    """Refuse what a global case cannot take: some size terms.
+def _term_defaults(case: dict[str, Any]) -> None:
+    """Switch the channel and Courant terms on, unless the case says otherwise.
 
-    Its ``boundaries`` are the ``[[cuts]]``: lines that cut seas off the ocean.
+    On by default in regional and global cases alike
+    (:func:`~coastmesh.case.terms.base.switched_on`): a model's mesh needs
+    its time step (Courant) and its narrow water (channels) wherever it is.
     """
     size = case["size"]
-    if size.courant is not None and size.courant.dt is not None:
-        raise ConfigError(
-            f"{label}: mesh_size.courant.dt = {size.courant.dt:g} s: the Courant "
-            "term is not available in a global case yet (the default, dt = 'auto', "
-            "is off there)"
-        )
-    if size.bathymetry is not None and size.bathymetry.per_slope is not None:
-        raise ConfigError(
-            f"{label}: mesh_size.bathymetry.per_slope: the slope term is not "
-            "available in a global case; use per_wavelength"
-        )
+    terms = {
+        name: dataclasses.replace(part, enabled=True)
+        for name in ("channels", "courant")
+        if (part := getattr(size, name)) is not None and part.enabled is None
+    }
+    if terms:
+        case["size"] = dataclasses.replace(size, **terms)
 
 
 def _cross_check(case: dict[str, Any], label: str) -> None:
     """Names and ids across tables: sets, regions, boundaries, gradations."""
     sets, regions, boundaries = case["sets"], case["regions"], case["boundaries"]
-    if case["domain"].kind == "global":
-        _check_global(case, label)
+    _term_defaults(case)
     set_names = [s.name for s in sets]
     for k, r in enumerate(regions):
         if r.set not in set_names:
@@ -304,7 +301,7 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
     courant = case["size"].courant
     if (
         courant is not None
-        and courant.enabled
+        and courant.enabled is not False
         and courant.dt is not None
         and case["size"].bathymetry is None
         and case.get("bathymetry") is None

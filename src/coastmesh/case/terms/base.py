@@ -32,7 +32,21 @@ if TYPE_CHECKING:
     from coastmesh.depth import DepthSources
     from coastmesh.sizing.narrow import ChannelReport
 
-__all__ = ["Closing", "SizeCase", "SizeTables", "SizeTerm"]
+__all__ = ["Closing", "SizeCase", "SizeTables", "SizeTerm", "switched_on"]
+
+
+def switched_on(enabled: bool | None) -> bool:
+    """Whether a term on by default (channels, Courant) is on.
+
+    ``enabled`` as the case gives it; unset (None, a case built in Python
+    without it), the term is on, in regional and global cases alike.
+
+    Examples
+    --------
+    >>> switched_on(None), switched_on(True), switched_on(False)
+    (True, True, False)
+    """
+    return True if enabled is None else bool(enabled)
 
 
 @dataclass(frozen=True)

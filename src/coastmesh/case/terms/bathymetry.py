@@ -5,8 +5,11 @@ Sizes from a raster (``path``), or from a stack of them
 read over the domain's box; a global case takes one ``path``, read whole.
 ``per_wavelength`` asks for ``h = T sqrt(g d) / n``, ``n`` elements per tidal
 wavelength; ``per_slope`` for ``h = 2 pi d / (n |grad d|)``, ``n`` elements per
-``2 pi`` topographic length scales (not on a global case's grid). At least one
-of the two.
+``2 pi`` topographic length scales. At least one of the two. On a global case's
+world grid the gradient takes each grid step's true length on the sphere
+(``R cos(lat) dlon`` east-west, ``R dlat`` north-south, across the
+antimeridian) and the depths of the sea alone: no node of the sea takes a
+slope from land.
 """
 
 from __future__ import annotations
@@ -19,7 +22,7 @@ from coastmesh.case import schema
 from coastmesh.case.config.sources import RasterConfig
 from coastmesh.case.schema import Check, key
 from coastmesh.case.terms.base import SizeCase, SizeTerm
-from coastmesh.sizing.bathymetry import M2_PERIOD, slope_size, wavelength_size
+from coastmesh.sizing.bathymetry import M2_PERIOD, wavelength_size
 from coastmesh.sizing.combine import TermSizes
 from coastmesh.sizing.grid import Grid
 
@@ -83,11 +86,6 @@ class Bathymetry(SizeTerm):
             )
             size = np.minimum(size, wave)
         if b.per_slope is not None:
-            slope = slope_size(
-                depth,
-                (grid.cell, grid.cell),
-                per_slope=b.per_slope,
-                min_depth=b.min_depth,
-            )
+            slope = grid.slope_size(depth, per_slope=b.per_slope, min_depth=b.min_depth)
             size = np.minimum(size, slope)
         return TermSizes(upper=size, history="bathymetry")

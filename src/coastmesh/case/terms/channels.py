@@ -9,8 +9,18 @@ elements of ``h_min`` are closed by default: taken out of the domain as land
 before meshing, and reported with their places and areas (``narrow = "keep"``
 keeps them one element wide, with a warning). Inside ``[[sites]]`` they are
 kept, and meshed with ``max(elements_across, 2)`` elements across, below
-``h_min`` if need be. A global case's grid does not measure widths: there
-``[domain] close`` closes narrow water instead.
+``h_min`` if need be.
+
+In a global case, as in a regional one, the term is on by default. It measures the
+width on the world grid by great-circle distance, across the antimeridian and
+the poles (:func:`coastmesh.sizing.sphere_channel.sphere_width`); land more
+than four cells from the water takes no bound. There ``[domain] close`` closes
+narrow water before the size field, whatever ``narrow`` says. Water the grid
+measures narrower than two elements of ``h_min`` by more than a cell (its
+widths err narrow by up to one) is kept, with a warning; on the default world
+grid (0.25 deg, 28 km) that is none below ``h_min = 14 km``. With
+``narrow = "close"`` the dead-end channels and straits Gmsh makes one element
+wide are closed after meshing, as in a regional case.
 """
 
 from __future__ import annotations
@@ -21,15 +31,14 @@ import numpy as np
 
 from coastmesh.case import schema
 from coastmesh.case.schema import Check, key
-from coastmesh.case.terms.base import SizeCase, SizeTerm
-from coastmesh.sizing.channel import channel_size, over_land
+from coastmesh.case.terms.base import SizeCase, SizeTerm, switched_on
+from coastmesh.sizing.channel import channel_size
 from coastmesh.sizing.combine import Applied, TermSizes
-from coastmesh.sizing.grid import Grid
+from coastmesh.sizing.grid import Grid, SphereGrid
 from coastmesh.sizing.narrow import (
     NARROW_CHOICES,
     NARROW_ELEMENTS,
     ChannelReport,
-    narrow_channels,
     narrow_places,
     warn_narrow,
 )
@@ -41,7 +50,12 @@ __all__ = ["ChannelConfig", "Channels"]
 class ChannelConfig:
     """``[mesh_size.channels]``."""
 
-    enabled: bool = key(True, check=schema.boolean, doc="the term at all")
+    enabled: bool | None = key(
+        None,
+        check=schema.boolean,
+        default_doc="`true`",
+        doc="the term at all",
+    )
     elements_across: float = key(
         3.0, check=schema.number, doc="elements across the water; at least 1"
     )
@@ -79,11 +93,11 @@ class Channels(SizeTerm):
     def sizes(self, grid: Grid, case: SizeCase) -> TermSizes | None:
         """At most the width of the water over ``elements_across``; at least the floor.
 
-        Off on a grid that does not measure widths (the sphere: a global case
-        closes narrow water with ``[domain] close`` instead).
+        Off on a grid that does not measure widths, and with ``enabled = false``
+        (:func:`~coastmesh.case.terms.base.switched_on`).
         """
         ch = case.config.size.channels
-        if not ch.enabled:
+        if not switched_on(ch.enabled):
             return None
         width = grid.widths(
             case.domain, max_width=ch.elements_across * case.config.size.h_max
@@ -91,13 +105,13 @@ class Channels(SizeTerm):
         if width is None:
             return None
         h_min = case.floor
-        term = over_land(
+        term = grid.over_land(
             channel_size(width, elements_across=ch.elements_across, h_min=h_min),
             width > 0,
         )
         sites = case.sites(grid)
         outside = grid.sea if sites is None else grid.sea & ~sites
-        _, found = narrow_channels(width, outside, h_min=h_min, cell=grid.cell)
+        _, found = grid.narrow_channels(width, outside, h_min=h_min)
         floor = None
         if sites is not None:  # channels in sites: two elements across, at least
             narrow = (width > 0) & (width < NARROW_ELEMENTS * h_min)
@@ -119,7 +133,12 @@ class Channels(SizeTerm):
             slots=case.closing.slots,
         )
         if found:
-            warn_narrow(found_report, after_closing=case.closing.passes)
+            closed_by = (  # a global case's closing: [domain] close
+                "[domain] close" if isinstance(grid, SphereGrid) else None
+            )
+            warn_narrow(
+                found_report, after_closing=case.closing.passes, closed_by=closed_by
+            )
 
         def report(applied: Applied) -> ChannelReport:
             limited = grid.km2(grid.sea & (term < applied.before))

@@ -20,8 +20,12 @@ and drawn: the step the model can run the mesh at. Inside ``[[sites]]`` the
 floor does not apply: the user's fine regions keep their sizes, and the
 quality report names the elements that then set the time step.
 
-The term is on by default wherever the case has a depth; it is off in global
-cases, and without any bathymetry (an explicit ``dt`` there is an error).
+The term is on by default wherever a case, regional or global, has a depth;
+without any bathymetry it is off (an explicit ``dt`` there is an error). On
+the world grid it works as on a plane one: the depth of a sea node comes from
+the wet cells alone (the nearest wet cell over raster land), and ``dt =
+"auto"`` weights each node by the elements it holds, its area on the sphere
+over ``h^2``.
 Where no size in ``[h_min, h_max]`` meets the window, a warning gives the area.
 """
 
@@ -37,7 +41,7 @@ from numpy.typing import NDArray
 
 from coastmesh.case import schema
 from coastmesh.case.schema import Check, key
-from coastmesh.case.terms.base import SizeCase, SizeTerm
+from coastmesh.case.terms.base import SizeCase, SizeTerm, switched_on
 from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.sizing.combine import Applied, TermSizes
 from coastmesh.sizing.courant import (
@@ -46,7 +50,7 @@ from coastmesh.sizing.courant import (
     round_step,
     wave_speed,
 )
-from coastmesh.sizing.grid import Grid, SphereGrid
+from coastmesh.sizing.grid import Grid
 
 __all__ = [
     "AUTO_PERCENTILE",
@@ -112,7 +116,12 @@ class CourantConfig:
         unit="speed",
         doc='the flow speed `u` added to the wave speed (`"m/s"`, `"kn"`, `"km/h"`)',
     )
-    enabled: bool = key(True, check=schema.boolean, doc="the term at all")
+    enabled: bool | None = key(
+        None,
+        check=schema.boolean,
+        default_doc="`true`",
+        doc="the term at all",
+    )
 
     def _validate(self, c: Check) -> CourantConfig:
         high, low = self.courant_max, self.courant_min
@@ -138,28 +147,38 @@ def auto_time_step(
     speed: NDArray[np.float64],
     sea: NDArray[np.bool_],
     courant_max: float,
+    *,
+    areas: NDArray[np.float64] | None = None,
 ) -> float:
     """Return the ``dt = "auto"`` time step of a size field, seconds.
 
     The stable step of each sea cell, ``courant_max h / speed``, weighted by the
-    elements it holds (``1 / h^2``: the grid's cells are of one area in its
-    plane); the :data:`AUTO_PERCENTILE` of these, times :data:`AUTO_SHARE`,
-    rounded down to two significant figures. Cells without a depth (beyond
-    the rasters) do not count; none at all gives ``inf``.
+    elements it holds: ``1 / h^2`` where the grid's cells are of one area (a
+    plane), else ``areas / h^2`` (a world grid, whose cells shrink with the
+    cosine of the latitude); the :data:`AUTO_PERCENTILE` of these, times
+    :data:`AUTO_SHARE`, rounded down to two significant figures. Cells without
+    a depth (beyond the rasters) or an area do not count; none at all gives
+    ``inf``.
 
     Examples
     --------
     >>> h = np.array([100.0, 1000.0, 1000.0])
     >>> float(auto_time_step(h, np.full(3, 10.0), np.ones(3, bool), 0.5))
     3.5
+    >>> float(auto_time_step(h, np.full(3, 10.0), np.ones(3, bool), 0.5,
+    ...                      areas=np.array([0.0, 1.0, 1.0])))
+    35.0
     """
     known = sea & np.isfinite(speed)
+    if areas is not None:
+        known &= areas > 0
     h, c = field[known], speed[known]
     if h.size == 0:
         return math.inf
     steps = courant_max * h / c
     order = np.argsort(steps)
-    weights = np.cumsum(1.0 / h[order] ** 2)
+    share = 1.0 if areas is None else areas[known][order]
+    weights = np.cumsum(share / h[order] ** 2)
     k = np.searchsorted(weights, AUTO_PERCENTILE / 100.0 * weights[-1])
     return round_step(AUTO_SHARE * float(steps[order][min(k, len(order) - 1)]))
 
@@ -185,9 +204,9 @@ class Courant(SizeTerm):
         """
         co = case.config.size.courant
         source = case.config.size.bathymetry or case.config.bathymetry
-        if co is None or not co.enabled or source is None:
+        if co is None or source is None:
             return None
-        if isinstance(grid, SphereGrid):  # not in global cases yet
+        if not switched_on(co.enabled):
             return None
         min_depth = source.min_depth
         depth = grid.depth(case.depth(source), source.positive)
@@ -216,7 +235,9 @@ class Courant(SizeTerm):
         if co.dt is None:
 
             def time_step(floored: NDArray[np.float64]) -> float:
-                return auto_time_step(floored, speed, grid.sea, co.courant_max)
+                return auto_time_step(
+                    floored, speed, grid.sea, co.courant_max, areas=grid.areas
+                )
 
             def lower(floored: NDArray[np.float64]) -> NDArray[np.float64]:
                 dt = time_step(floored)
