@@ -138,7 +138,6 @@ def test_a_part_gets_the_cells_that_cover_it(x0, y0, width):
             assert cover.contains(shapely.Point(x, y))
 
 
-
 def test_cells_at_the_pole_and_beyond_the_water_are_left_out():
     """A pole on a grid node (103 E, 46 N) puts that node at infinity: no cell
     with it goes to Gmsh, nor any cell wholly beyond the water's reach (a view of
