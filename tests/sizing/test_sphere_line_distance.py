@@ -65,3 +65,34 @@ def test_a_polygon_is_measured_from_its_rings():
     got = sphere_distance(np.array([box]), plane, LON, LAT, 20e3, np.inf)
     i, j = np.argmin(np.abs(LON - 15)), np.argmin(np.abs(LAT - 15))
     assert got[j, i] > 1000e3  # its middle is far from its ring
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.integers(0, 10_000), st.floats(2e3, 50e3), st.floats(100e3, 3000e3))
+def test_nearest_arcs_are_within_the_resolution_of_the_brute_force(
+    seed, resolution, max_distance
+):
+    """Crowds of vertices centimetres apart (what buffers leave) and nodes far
+    from them: every arc within ``resolution`` of the brute-force one, and
+    ``inf`` only beyond ``max_distance``."""
+    from coastmesh.geometry.sphere import lonlat_to_xyz
+    from coastmesh.sizing.distance import nearest_arcs
+
+    rng = np.random.default_rng(seed)
+    centres = lonlat_to_xyz(
+        np.column_stack([rng.uniform(-180, 180, 30), rng.uniform(-80, 80, 30)])
+    )
+    crowds = np.repeat(centres, 40, axis=0) + rng.normal(0, 1e-8, (1200, 3))
+    vertices = EARTH_RADIUS * crowds
+    nodes = EARTH_RADIUS * lonlat_to_xyz(
+        np.column_stack([rng.uniform(-180, 180, 400), rng.uniform(-90, 90, 400)])
+    )
+    got = nearest_arcs(
+        vertices, nodes, resolution=resolution, max_distance=max_distance
+    )
+    cos = np.clip(nodes @ vertices.T / EARTH_RADIUS**2, -1.0, 1.0)
+    want = EARTH_RADIUS * np.arccos(cos).min(axis=1)
+    found = np.isfinite(got)
+    assert (np.abs(got[found] - want[found]) <= resolution).all()
+    assert (want[~found] > max_distance - resolution).all()
+    assert found[want < max_distance - 2 * resolution].all()

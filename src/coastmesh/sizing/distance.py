@@ -138,6 +138,14 @@ def chord_bound(max_distance: float | None, resolution: float) -> float:
     return 2 * EARTH_RADIUS * np.sin(half) * (1 + 1e-9) + resolution
 
 
+#: The coarse pass of :func:`nearest_arcs` keeps a vertex per cube of this
+#: many ``resolution``s a side.
+_COARSE = 20.0
+#: ... and searches each group of nodes, of nearly equal coarse distance,
+#: within that group's bound: this many groups.
+_GROUPS = 24
+
+
 def nearest_arcs(
     vertices: NDArray[np.float64],
     nodes: NDArray[np.float64],
@@ -148,10 +156,53 @@ def nearest_arcs(
     """Arc length (metres) from each earth-centred node to its nearest vertex.
 
     ``inf`` beyond ``max_distance`` (the k-d tree stops searching there).
+
+    The vertices are thinned to one per cube of half ``resolution`` (the
+    arcs stay within it); then in two passes: a k-d tree of a vertex per cube
+    of :data:`_COARSE` resolutions gives each node a chord ``d0`` to some
+    vertex, so its nearest vertex is within ``d0`` and no nearer than ``d0``
+    less the cube's diagonal; then the nodes, in groups of nearly equal
+    ``d0``, search the whole tree each within its group's largest ``d0``.
+    One search to ``max_distance`` for every node explored the whole of that
+    radius for nodes far from a coast: 23 s on the world grid (1 million
+    nodes, 1.2 million coast vertices), where the two passes take a few.
     """
-    tree = cKDTree(vertices)
     bound = chord_bound(max_distance, resolution)
-    chord, _ = tree.query(nodes, workers=-1, distance_upper_bound=bound)
+    # a vertex per cube of half the resolution: the distances stay within it
+    # (a cube's diagonal is 0.87 of it), and the tree holds no crowd of
+    # vertices centimetres apart, which slows every search through them
+    vertices = _thinned(vertices, 0.5 * resolution)
+    cube = _COARSE * resolution
+    coarse, _ = cKDTree(_thinned(vertices, cube)).query(
+        nodes, workers=-1, distance_upper_bound=bound + 2.0 * cube
+    )
+    chord = np.full(len(nodes), np.inf)
+    reach = coarse - np.sqrt(3.0) * cube  # no vertex is nearer than this
+    near = np.flatnonzero(reach <= bound)  # so coarse is finite there
+    if len(near):
+        tree = cKDTree(vertices)
+        order = near[np.argsort(coarse[near], kind="stable")]
+        for group in np.array_split(order, min(_GROUPS, len(order))):
+            chord[group], _ = tree.query(
+                nodes[group],
+                workers=-1,
+                distance_upper_bound=min(
+                    float(coarse[group].max()) * (1 + 1e-9), bound
+                ),
+            )
     arc = 2 * EARTH_RADIUS * np.arcsin(np.minimum(chord / (2 * EARTH_RADIUS), 1.0))
     arc[np.isinf(chord)] = np.inf
     return arc
+
+
+def _thinned(points: NDArray[np.float64], cube: float) -> NDArray[np.float64]:
+    """Return the first of ``points`` in each cube of side ``cube`` (metres)."""
+    if not len(points):
+        return points
+    cells = np.floor(points / cube).astype(np.int64)
+    cells -= cells.min(axis=0)
+    span = cells.max(axis=0) + 1
+    # one integer per cube (np.unique over rows sorts them as records, 5x slower)
+    key = (cells[:, 0] * span[1] + cells[:, 1]) * span[2] + cells[:, 2]
+    _, first = np.unique(key, return_index=True)
+    return points[np.sort(first)]
