@@ -332,7 +332,7 @@ def _boundary(domain: Domain, mesh_crs: CRS, map_size: Any) -> tuple[list, list,
     rings, ids = project_rings(domain, mesh_crs)
     resampled, dropped = resample_rings(rings, lambda xy: sample_size(map_size, xy))
     ids = [ring_ids for r, ring_ids in enumerate(ids) if r not in set(dropped)]
-    check_boundary(resampled)
+    check_boundary(resampled, lambda x, y: _lonlat(x, y, mesh_crs))
     logger.info(
         "boundary: %d rings, %d -> %d nodes, %d islands dropped",
         len(rings),
@@ -341,6 +341,12 @@ def _boundary(domain: Domain, mesh_crs: CRS, map_size: Any) -> tuple[list, list,
         len(dropped),
     )
     return rings, resampled, ids
+
+
+def _lonlat(x: float, y: float, crs: CRS) -> str:
+    """Return a point of ``crs`` as ``"(lon, lat)"`` for a message."""
+    lon, lat = project_points(np.array([[x, y]]), crs, "EPSG:4326", what="a point")[0]
+    return f"({lon:.4f}, {lat:.4f}) (lon, lat)"
 
 
 def _mesh(

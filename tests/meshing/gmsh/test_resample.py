@@ -168,3 +168,6 @@ def test_self_intersecting_resampled_boundary_is_a_meshing_error():
     with pytest.raises(MeshingError, match="not a valid polygon"):
         check_boundary([[[square]], [[island]]])
     assert check_boundary([[[square]]]) is None
+    # the place named as the caller says (lon/lat in a case), with what to do
+    with pytest.raises(MeshingError, match=r"at <0, \d+>: two coasts .* close"):
+        check_boundary([[[square]], [[island]]], lambda x, y: f"<{x:g}, {y:g}>")

@@ -7,6 +7,7 @@ details below the local size disappear instead of creating tiny elements.
 from __future__ import annotations
 
 import itertools
+import re
 import warnings
 from collections.abc import Callable, Sequence
 
@@ -182,7 +183,10 @@ def resample_rings(
     return kept, dropped
 
 
-def check_boundary(rings: Sequence[Sequence[Sequence[ArrayLike]]]) -> None:
+def check_boundary(
+    rings: Sequence[Sequence[Sequence[ArrayLike]]],
+    where: Callable[[float, float], str] | None = None,
+) -> None:
     """Check that resampled rings still bound a valid polygon.
 
     Parameters
@@ -190,6 +194,9 @@ def check_boundary(rings: Sequence[Sequence[Sequence[ArrayLike]]]) -> None:
     rings : sequence of sequence of sequence of array_like of shape (m, 2)
         As :func:`resample_rings` returns them: for each ring, for each segment,
         its pieces; the exterior first.
+    where : callable, optional
+        ``where(x, y)`` names a point of the rings for the message (its
+        longitude and latitude, say); by default the coordinates as they are.
 
     Raises
     ------
@@ -209,10 +216,16 @@ def check_boundary(rings: Sequence[Sequence[Sequence[ArrayLike]]]) -> None:
     ]
     polygon = shapely.Polygon(coords[0], coords[1:])
     if not polygon.is_valid:
+        reason = shapely.is_valid_reason(polygon)
+        found = re.search(r"\[([-\deE.+]+) ([-\deE.+]+)\]", reason)
+        place = ""
+        if found and where is not None:
+            place = f" at {where(float(found[1]), float(found[2]))}"
         raise MeshingError(
-            "the boundary resampled to the target size is not a valid polygon ("
-            f"{shapely.is_valid_reason(polygon)}); reduce the size there or "
-            "simplify the shoreline"
+            f"the boundary resampled to the target size is not a valid polygon "
+            f"({reason}){place}: two coasts there are closer than the size "
+            "resolves; close the water there ([domain] close at least the "
+            "size), or make the size there smaller"
         )
 
 
