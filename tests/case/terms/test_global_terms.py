@@ -272,3 +272,31 @@ def test_a_global_case_takes_the_slope_courant_and_channel_terms():
         "/cases/w.toml",
     )
     assert asked.size.channels.enabled is True and asked.size.courant.dt == 120.0
+
+
+def test_a_land_node_takes_its_nearest_sea_node_s_wavelength_size():
+    """The mesher interpolates between a cell's nodes: a land node's size from the
+    raster's land (min_depth) would reach into the sea along every coast. Land
+    nodes take the nearest sea node's size; the sea nodes' sizes are the land's
+    business of no one."""
+
+    def land_blocks(lon, lat):  # the blocks are land (100 m up), the rest 4 km deep
+        inside = ((lon > 160) | (lon < -160)) & (np.abs(lat) < 10)
+        return np.where(inside, 100.0, -4000.0) + 0.0 * lat
+
+    domain = _world()
+    grid = _grid(domain)
+    b = BathymetryConfig(path="in_memory.tif", per_wavelength=100.0, min_depth=10.0)
+    upper = Bathymetry().sizes(grid, _case(domain, _raster(land_blocks), bathymetry=b))
+    upper = upper.upper
+    sea = grid.sea
+    assert (~sea).any() and sea.any()
+    deep = upper[sea].min()
+    # no land node is finer than the sea around it (min_depth would be 4.4 km)
+    assert (upper[~sea & (grid.y[:, None] > -60)] >= deep).all()
+    # a land node near the coast holds its nearest sea node's value; one far
+    # inland, where no mesh is made, no bound
+    j, i = _node(grid, 177.0, 0.0)  # 1.5 cells inside the west block
+    assert not sea[j, i] and upper[j, i] == deep
+    j, i = _node(grid, 169.0, 0.0)  # its middle
+    assert not sea[j, i] and np.isinf(upper[j, i])

@@ -88,4 +88,12 @@ class Bathymetry(SizeTerm):
         if b.per_slope is not None:
             slope = grid.slope_size(depth, per_slope=b.per_slope, min_depth=b.min_depth)
             size = np.minimum(size, slope)
+        # a land node (outside the domain) takes its nearest sea node's size:
+        # the mesher interpolates between the nodes of a cell, and a land
+        # node's size from the raster's land (min_depth: 4.4 km at 100 per
+        # wavelength) reached into the sea across every coastal cell (the
+        # Chilean coast of world.toml was meshed at 5 km for it, where the sea
+        # nodes asked 70)
+        if grid.domain is not None and grid.sea.any():
+            size = grid.over_land(size, grid.sea)
         return TermSizes(upper=size, history="bathymetry")
