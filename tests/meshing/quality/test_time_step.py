@@ -36,6 +36,17 @@ def triangle_mesh(points, depth, crs=None):
     )
 
 
+def square_grid(n):
+    """An n x n grid of 500 m squares, each cut in two: its nodes and triangles."""
+    points = [(i * 500.0, j * 500.0) for j in range(n + 1) for i in range(n + 1)]
+    triangles = []
+    for j in range(n):
+        for i in range(n):
+            a = (n + 1) * j + i
+            triangles += [[a, a + 1, a + n + 2], [a, a + n + 2, a + n + 1]]
+    return points, triangles
+
+
 def strip(depth):
     """Four planar triangles in a row, 1 km squares cut in two: nodes 0-2 below,
     3-5 above."""
@@ -168,12 +179,7 @@ def test_one_element_throttles_the_model():
     """A 20 x 20 grid of 800 triangles, 30 m deep but for one 3000 m hole at the
     corner node (20, 0), which is in a single triangle: ten times as fast."""
     n = 20
-    points = [(i * 500.0, j * 500.0) for j in range(n + 1) for i in range(n + 1)]
-    triangles = []
-    for j in range(n):
-        for i in range(n):
-            a = (n + 1) * j + i
-            triangles += [[a, a + 1, a + n + 2], [a, a + n + 2, a + n + 1]]
+    points, triangles = square_grid(n)
     depth = np.full(len(points), 30.0)
     depth[n] = 3000.0
     mesh = Mesh(points, triangles, [[0, 1]], [1], 1, None, {"depth": depth})
@@ -190,12 +196,7 @@ def test_the_slowest_elements_are_the_smallest_steps():
     their depth and radius as element_time_steps gives them."""
     rng = np.random.default_rng(3)
     n = 12
-    points = [(i * 500.0, j * 500.0) for j in range(n + 1) for i in range(n + 1)]
-    triangles = []
-    for j in range(n):
-        for i in range(n):
-            a = (n + 1) * j + i
-            triangles += [[a, a + 1, a + n + 2], [a, a + n + 2, a + n + 1]]
+    points, triangles = square_grid(n)
     depth = rng.uniform(5.0, 4000.0, len(points))
     mesh = Mesh(points, triangles, [[0, 1]], [1], 1, None, {"depth": depth})
     report = mesh_quality(mesh).time_step
