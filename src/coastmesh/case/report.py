@@ -176,6 +176,15 @@ class CaseReport(Report):
             "shoreline sets:",
         ]
         lines += [f"  {n}: {r.summary()}" for n, r in self.shoreline_sets.items()]
+        closings = {n: r.closing for n, r in self.shoreline_sets.items() if r.closing}
+        if closings:
+            lines.append(
+                "islands the closing changed by more than 10 % of their area: "
+                + ", ".join(
+                    f"{n} {len(c.changed)} of {c.islands}" for n, c in closings.items()
+                )
+                + " (report.json: shoreline_sets.<set>.closing.changed)"
+            )
         d = self.domain
         lines.append(
             f"domain: {d.holes} islands ({d.holes_dropped} dropped), "

@@ -11,11 +11,15 @@
 :mod:`.projection`        the conformal CRS meshes are made in, scale factors
 :mod:`.sphere`            lon/lat and vectors, the stereographic plane
 :mod:`.world`             the world ocean in a stereographic plane
+:mod:`.closing`           narrow water closed, on rasters of that plane
+:mod:`.cells`             land on cells: winding numbers, morphology, tracing
+:mod:`.inlets`            narrow inlets found along a coast, cut off
 ========================  =====================================================
 """
 
 from __future__ import annotations
 
+from coastmesh.geometry.closing import close_narrow_water
 from coastmesh.geometry.dem import land_from_grid
 from coastmesh.geometry.domain import (
     DomainReport,
@@ -54,7 +58,6 @@ from coastmesh.geometry.stitch import ShorelineSet, StitchReport, stitch_shoreli
 from coastmesh.geometry.world import (
     WorldLand,
     WorldOcean,
-    close_narrow_water,
     join_dateline,
     polar_ring,
     world_land,

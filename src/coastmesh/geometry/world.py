@@ -31,8 +31,6 @@ latitude are taken as spherical coordinates, as they are there.
 
 from __future__ import annotations
 
-import itertools
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -41,14 +39,14 @@ from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS
 
 from coastmesh.errors import InputDataError
-from coastmesh.geometry.earth import EARTH_RADIUS, reproject
+from coastmesh.geometry.closing import close_narrow_water
+from coastmesh.geometry.earth import reproject
 from coastmesh.geometry.layers import valid_polygons
 from coastmesh.geometry.sphere import plane_crs
 
 __all__ = [
     "WorldLand",
     "WorldOcean",
-    "close_narrow_water",
     "join_dateline",
     "polar_ring",
     "world_land",
@@ -242,134 +240,6 @@ def world_ocean(
         enclosed=len(ocean) - 1,
         closed=closed,
     )
-
-
-def close_narrow_water(
-    land: NDArray[np.object_],
-    width: float,
-    *,
-    within: float | None = None,
-    keep_area: float = 0.0,
-) -> tuple[NDArray[np.object_], int]:
-    """Close water narrower than ``width`` between and within land polygons.
-
-    A morphological closing (buffer out by ``width / 2``, then back in) in the
-    stereographic plane, where a length on the Earth is ``k`` times longer.
-    ``k = 1 + r^2 / 4R^2`` depends only on the distance ``r`` from the plane's
-    centre, so the plane is cut into rings (annuli) over which ``k`` changes by
-    at most 20 %: each ring's land, with a margin, is closed at that ring's
-    scale and cut back to the ring. The width closed is ``width`` to within
-    that 20 %, anywhere on the Earth.
-
-    Parameters
-    ----------
-    land : ndarray of shapely polygons
-        Land in a stereographic plane of :func:`plane_crs` (any pole): the
-        scale there depends only on the distance from the plane's centre.
-    width : float
-        Metres on the Earth.
-    within : float, optional
-        Only within this distance of the plane's centre (metres in the plane):
-        land beyond it (the far side of a frame round the ocean) is kept as it
-        is, however thin.
-    keep_area : float, default 0
-        Land polygons of at least this area (square metres on the Earth)
-        keep their closed shape: the opening, which takes land narrower than
-        ``width``, applies to smaller land only. A tide model must keep the
-        islands it was asked for, whole: they block and steer the flow.
-
-    Returns
-    -------
-    land : ndarray of shapely geometries
-        The land after the closing: the frame's part first (when it was given),
-        then the rest.
-    merged : int
-        Land polygons that became one with another.
-    """
-    # k depends only on r in every stereographic plane: no CRS or pole needed
-    land = np.asarray(land, dtype=object)
-    radius = 2.0 * EARTH_RADIUS
-    corners = np.abs(np.asarray(shapely.total_bounds(land))).reshape(2, 2)
-    outer = float(np.hypot(*corners.max(axis=0)))
-    if within is not None:
-        outer = min(outer, within)
-    edges = [0.0]
-    while edges[-1] < outer:  # k(r1) / k(r0) <= 1.2
-        r0 = edges[-1]
-        k0 = 1.0 + (r0 / radius) ** 2
-        edges.append(max(radius * math.sqrt(max(1.2 * k0 - 1.0, 0.0)), r0 + 1.0))
-    union = shapely.union_all(land)
-    big = _big_land(union, keep_area, radius)
-    pieces = []
-    for r0, r1 in itertools.pairwise(edges):
-        half = 0.5 * width * (1.0 + (r1 / radius) ** 2)  # the ring's largest k
-        ring = _annulus(r0, r1)
-        near = union.intersection(_annulus(max(r0 - 3 * half, 0.0), r1 + 3 * half))
-        if near.is_empty:
-            continue
-        closed = near.buffer(half, quad_segs=4).buffer(-half, quad_segs=4)
-        # and land narrower than width (spits, thin peninsulas) opened up,
-        # but for land of keep_area or more: it keeps its closed shape
-        opened = closed.buffer(-half, quad_segs=4).buffer(half, quad_segs=4)
-        kept = _kept(closed, big)
-        pieces.append(shapely.union_all([opened, *kept]).intersection(ring))
-    if within is not None:  # the land beyond, as it is
-        pieces.append(union.difference(_annulus(0.0, edges[-1])))
-    # the rings' seams (circles: parallels of latitude) can leave spikes of no
-    # width where two rings closed differently; a closing and an opening by
-    # a metre takes them away
-    closed = shapely.union_all(pieces).buffer(1.0).buffer(-2.0).buffer(1.0)
-    parts = shapely.get_parts(closed)
-    parts = parts[shapely.get_type_id(parts) == shapely.GeometryType.POLYGON]
-    # the frame's part first
-    first = np.argmax(shapely.area(parts))
-    parts = np.concatenate([parts[first : first + 1], np.delete(parts, first)])
-    merged = max(len(land) - len(parts), 0)
-    return parts, merged
-
-
-def _big_land(
-    union: shapely.Geometry, keep_area: float, radius: float
-) -> shapely.Geometry | None:
-    """Return the land polygons of ``keep_area`` or more on the Earth; None if none.
-
-    A plane's areas are ``k^2`` times the Earth's, ``k`` taken at each
-    polygon's centroid.
-    """
-    if keep_area <= 0:
-        return None
-    parts = shapely.get_parts(union)
-    r = np.hypot(*shapely.get_coordinates(shapely.centroid(parts)).T)
-    k = 1.0 + (r / radius) ** 2
-    big = parts[shapely.area(parts) / k**2 >= keep_area]
-    if not len(big):
-        return None
-    out = shapely.union_all(big)
-    shapely.prepare(out)
-    return out
-
-
-def _kept(closed: shapely.Geometry, big: shapely.Geometry | None) -> list:
-    """Return the land of ``closed`` on ``big`` land, as it is (not opened).
-
-    The opening rounds every corner and takes every strip of land narrower
-    than the width: islands lose their arms, and an island narrow everywhere
-    goes whole. Land a tide model was asked to keep (``keep_area`` or more)
-    keeps its closed shape instead; the closing has already filled the water
-    too narrow to mesh. Only smaller land is opened.
-    """
-    if big is None:
-        return []
-    parts = shapely.get_parts(closed)
-    return list(parts[shapely.intersects(parts, big)])
-
-
-def _annulus(r0: float, r1: float) -> shapely.Geometry:
-    """Return the ring between radii ``r0`` and ``r1`` about the plane's centre."""
-    outer = shapely.Point(0.0, 0.0).buffer(r1, quad_segs=256)
-    if r0 <= 0.0:
-        return outer
-    return outer.difference(shapely.Point(0.0, 0.0).buffer(r0, quad_segs=256))
 
 
 @dataclass(frozen=True, slots=True)

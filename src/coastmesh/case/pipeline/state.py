@@ -53,6 +53,8 @@ if TYPE_CHECKING:
 __all__ = [
     "Built",
     "CaseRun",
+    "ChangedIsland",
+    "ClosingReport",
     "DepthState",
     "DomainState",
     "MeshState",
@@ -64,6 +66,75 @@ __all__ = [
 ]
 
 logger = logging.getLogger("coastmesh.case.build")
+
+
+@dataclass(frozen=True, slots=True)
+class ChangedIsland(Report):
+    """An island whose area the closing of narrow water changed by over 10 %.
+
+    Attributes
+    ----------
+    lon, lat : float
+        A point inside the island, degrees.
+    km2_before : float
+        Its area on the Earth before the closing.
+    km2_after : float or None
+        The area of the land that holds that point after the closing, with
+        the land it was joined to; the area left of the island if no land
+        holds the point; 0 if it is gone; None if it was joined to the polar
+        land (``polar``).
+    joined : int
+        Other land polygons of the set now part of the same land.
+    polar : bool
+        Joined to the polar land round the ocean (Antarctica, by default).
+    """
+
+    lon: float
+    lat: float
+    km2_before: float
+    km2_after: float | None
+    joined: int
+    polar: bool = False
+
+    def summary(self) -> str:
+        """Return a one-line summary."""
+        after = "the polar land" if self.polar else f"{self.km2_after:,.0f} km2"
+        return (
+            f"({self.lon:.2f}, {self.lat:.2f}): {self.km2_before:,.0f} km2 -> "
+            f"{after}" + (f", joined to {self.joined} more" if self.joined else "")
+        )
+
+
+@dataclass(frozen=True, slots=True)
+class ClosingReport(Report):
+    """What closing narrow water did to a global case's shoreline set.
+
+    Attributes
+    ----------
+    width : float
+        ``[domain] close``, metres.
+    merged : int
+        Land polygons fewer after the closing (joined, or opened away).
+    islands : int
+        The set's islands of ``min_area`` or more (on the Earth).
+    changed : tuple of ChangedIsland
+        Those whose area changed by more than 10 % of it, the largest change
+        first.
+    """
+
+    width: float
+    merged: int
+    islands: int
+    changed: tuple[ChangedIsland, ...] = ()
+
+    def summary(self) -> str:
+        """Return a one-line summary."""
+        joined = sum(c.joined > 0 or c.polar for c in self.changed)
+        return (
+            f"closing {self.width / 1e3:g} km: {len(self.changed)} of {self.islands} "
+            f"islands of min_area changed by more than 10 % of their area ({joined} "
+            "joined to other land)"
+        )
 
 
 @dataclass(frozen=True, slots=True)
@@ -85,6 +156,8 @@ class ShorelineSetReport(Report):
         Islands dropped and lakes filled for being below ``min_area``.
     points_out : int
         Vertices of the set.
+    closing : ClosingReport or None
+        A global case's closing of narrow water (``[domain] close``).
     """
 
     kind: str
@@ -96,6 +169,7 @@ class ShorelineSetReport(Report):
     contours_in: int | None = None
     contours_dropped: int | None = None
     features_repaired: int | None = None
+    closing: ClosingReport | None = None
 
     def summary(self) -> str:
         """Return a one-line summary."""

@@ -25,6 +25,7 @@ The stages of a regional case, with these steps done the global way
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import warnings
@@ -44,16 +45,25 @@ from coastmesh.case.pipeline.shorelines import (
 )
 from coastmesh.case.pipeline.state import (
     CaseRun,
+    ChangedIsland,
+    ClosingReport,
     DomainState,
     RunContext,
     Shorelines,
+    ShorelineSetReport,
     missing,
 )
 from coastmesh.case.pipeline.strategy import Strategy
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry import simplify_shorelines
-from coastmesh.geometry.earth import EARTH_RADIUS, METRES_PER_DEGREE, reproject
-from coastmesh.geometry.world import WorldLand, close_narrow_water, world_land
+from coastmesh.geometry.closing import close_narrow_water, island_changes
+from coastmesh.geometry.earth import (
+    EARTH_RADIUS,
+    METRES_PER_DEGREE,
+    reproject,
+    reproject_points,
+)
+from coastmesh.geometry.world import WorldLand, world_land
 from coastmesh.io import read_raster
 from coastmesh.meshing.gmsh import SphereSizeGrid
 from coastmesh.sizing.grid import SphereGrid
@@ -97,7 +107,9 @@ class Global(Strategy):
                 land, reports[s.name] = build_shoreline_set(
                     s, islands, plane, config.shorelines.min_area, progress
                 )
-                sets[s.name] = _closed(config, s, world, land, crs)
+                sets[s.name], reports[s.name] = _closed(
+                    config, s, world, land, reports[s.name], crs
+                )
         return Shorelines(features, crs, sets, reports, plane=plane, world=world)
 
     def domain(self, run: CaseRun, ctx: RunContext) -> DomainState:
@@ -238,30 +250,54 @@ def _closed(
     s: ShorelineSetConfig,
     world: WorldLand,
     land: NDArray[np.object_],
+    report: ShorelineSetReport,
     lonlat: CRS,
-) -> NDArray[np.object_]:
-    """Return the set's land, framed, narrow water closed.
+) -> tuple[NDArray[np.object_], ShorelineSetReport]:
+    """Return the set's land, framed, narrow water closed; and its report.
 
     Every set has the polar land (the frame round the plane), with its own
     PCA: a region set is used inside its regions, and those may hold the
     polar land's coast (Europe's, with the pole in Asia); without it, the
-    region's land there would be sea.
+    region's land there would be sea. The report gets the islands of
+    ``min_area`` the closing changed by more than 10 % of their area.
     """
+    islands = land
     land = np.concatenate([[world.frame(_shell(world.shell, s))], land])
     close = config.domain.close
     if close is None:
         close = min((g.h_min for g in config.size.gradations), default=None)
     if not close:
-        return land
+        return land, report
+    min_area = config.shorelines.min_area
     land, merged = _close(
         land,
         close,
         1.05 * world.reach,
         _zone(config, s, world.crs, lonlat),
-        keep_area=config.shorelines.min_area,
+        keep_area=min_area,
     )
     logger.info("%s: %d polygons joined across water under %g m", s.name, merged, close)
-    return land
+    looked, changed = island_changes(islands, land, min_area=min_area, framed=True)
+    where = np.reshape([c.point for c in changed], (-1, 2))
+    points = reproject_points(where, world.crs, lonlat)
+    closing = ClosingReport(
+        width=float(close),
+        merged=merged,
+        islands=looked,
+        changed=tuple(
+            ChangedIsland(
+                lon=round(float(lon), 4),
+                lat=round(float(lat), 4),
+                km2_before=round(c.before / 1e6, 1),
+                km2_after=None if math.isnan(c.after) else round(c.after / 1e6, 1),
+                joined=c.joined,
+                polar=math.isnan(c.after),
+            )
+            for c, (lon, lat) in zip(changed, points, strict=True)
+        ),
+    )
+    logger.info("%s: %s", s.name, closing.summary())
+    return land, dataclasses.replace(report, closing=closing)
 
 
 def _zone(
@@ -294,18 +330,12 @@ def _close(
     of a few closing widths (at the plane's scale there) is kept as it is.
     Islands of ``keep_area`` or more are never removed, only thickened.
     """
-    if zone is None:
-        return close_narrow_water(land, width, within=reach, keep_area=keep_area)
-    far = float(np.hypot(*np.abs(np.reshape(zone.bounds, (2, 2))).max(axis=0)))
-    scale = 1.0 + (far / (2.0 * EARTH_RADIUS)) ** 2  # the plane's k there
-    near = zone.buffer(4.0 * width * scale)
-    inside = shapely.intersection(land, near)
-    inside = inside[~shapely.is_empty(inside)]
-    outside = shapely.difference(land, near)
-    closed, merged = close_narrow_water(
-        inside, width, within=reach, keep_area=keep_area
-    )
-    return np.concatenate([closed, outside[~shapely.is_empty(outside)]]), merged
+    near = None
+    if zone is not None:
+        far = float(np.hypot(*np.abs(np.reshape(zone.bounds, (2, 2))).max(axis=0)))
+        scale = 1.0 + (far / (2.0 * EARTH_RADIUS)) ** 2  # the plane's k there
+        near = zone.buffer(4.0 * width * scale)
+    return close_narrow_water(land, width, within=reach, keep_area=keep_area, zone=near)
 
 
 def _shell(shell: shapely.Polygon, s: ShorelineSetConfig) -> shapely.Polygon:
