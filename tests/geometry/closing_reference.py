@@ -20,7 +20,7 @@ import shapely
 from coastmesh.geometry.earth import EARTH_RADIUS
 
 
-def close_narrow_water_reference(land, width, *, within=None, keep_area=0.0):
+def close_narrow_water_reference(land, width, *, within=None, keep_area=0.0, thin=None):
     """Close water narrower than ``width`` between and within land polygons.
 
     A morphological closing (buffer out by ``width / 2``, then back in) in the
@@ -29,7 +29,9 @@ def close_narrow_water_reference(land, width, *, within=None, keep_area=0.0):
     changes by at most 20 %; each ring's land, with a margin, is closed at that
     ring's largest ``k`` and cut back to the ring. Land narrower than ``width``
     is then opened away, but for land of ``keep_area`` or more (square metres
-    on the Earth, ``k^2`` at each polygon's centroid); land beyond ``within``
+    on the Earth, ``k^2`` at each polygon's centroid), whose thin parts are
+    grown by ``width / 2`` instead (:func:`_thickened`; appended to ``thin``
+    if given); land beyond ``within``
     (metres in the plane) is kept as it is. Returns the polygons, the largest
     first, and how many fewer there are than the input's.
     """
@@ -59,7 +61,7 @@ def close_narrow_water_reference(land, width, *, within=None, keep_area=0.0):
         back = half * (1.0 - 1e-6)
         closed = near.buffer(half, quad_segs=4).buffer(-back, quad_segs=4)
         opened = closed.buffer(-back, quad_segs=4).buffer(half, quad_segs=4)
-        kept = _kept(closed, big)
+        kept = _thickened(_kept(closed, big), opened, half, back, thin)
         pieces.append(shapely.union_all([opened, *kept]).intersection(ring))
     if within is not None:  # the land beyond, as it is
         pieces.append(union.difference(_annulus(0.0, edges[-1])))
@@ -94,6 +96,25 @@ def _kept(closed, big):
         return []
     parts = shapely.get_parts(closed)
     return list(parts[shapely.intersects(parts, big)])
+
+
+def _thickened(kept, opened, half, back, found=None):
+    """Big land ``kept`` with its thin parts grown by ``half`` and closed again.
+
+    Thin: what the opening took from it farther than ``half`` from the
+    opened land (spits, peninsulas; not the corners it rounds). Each ring's
+    thin parts are appended to ``found`` if given.
+    """
+    if not kept:
+        return kept
+    land = shapely.union_all(kept)
+    thin = land.difference(opened.buffer(half, quad_segs=4))
+    if thin.is_empty:
+        return kept
+    if found is not None:
+        found.append(thin)
+    grown = shapely.union(land, thin.buffer(half, quad_segs=4))
+    return [grown.buffer(half, quad_segs=4).buffer(-back, quad_segs=4)]
 
 
 def _annulus(r0, r1):

@@ -63,7 +63,8 @@ _R2 = 2.0 * EARTH_RADIUS  #: k = 1 + (r / _R2)^2 in every stereographic plane
 _DISK = 4  #: the closing's disk radius, in cells: a cell is width / 8
 _CLOSE = _DISK - 0.5  #: the disk of the closing of the cells land touches
 _TILE = 256  #: a tile's core, cells a side
-_HALO = 4 * _DISK + 4  #: the closing, then the opening, each reach 2 disks
+_HALO = 7 * _DISK + 4  #: the closing, the opening, the thickening and the
+#: closing again reach 2, 2, 1 and 2 disks
 _WINDOW = _TILE + 2 * _HALO  #: a tile's window, cells a side
 _OVERLAP = 2  #: cells past a tile's core (and a ring's edge) traced too
 _INLET = 1 / 6  #: inlets narrower than this (of width) found on the coast: a cell
@@ -459,25 +460,39 @@ def _close_tiles(
     anchor = np.bincount(point, minlength=len(origin))
     sense = edges.sense[edge]
     land = cells.winding(a, b, sense, tile, origin, anchor, cell, _WINDOW)
-    closed, patch = _filled(land, cells.crossed(a, b, tile, origin, cell, _WINDOW))
-    region = _changeable(ring, origin)
-    first = _HALO - _OVERLAP  # the first cell traced
-    adds = list(cells.trace(patch[_CORE] & region, origin, cell, first))
-    # the opening, in the tiles with land under keep_area
+    coast = cells.crossed(a, b, tile, origin, cell, _WINDOW)
+    closed = _closing(land | coast)
+    # the big land's cells: all the land, but in tiles with small land too
     mine = big[edges.owner[edge]]
     small = np.unique(tile[~mine])
+    big_land = land.copy()
+    if len(small):
+        renumber = np.full(len(origin), -1)
+        renumber[small] = np.arange(len(small))
+        sub = mine & (renumber[tile] >= 0)
+        held = renumber[point[big[holder]]]
+        count = np.bincount(held[held >= 0], minlength=len(small))
+        big_land[small] = cells.winding(
+            a[sub],
+            b[sub],
+            sense[sub],
+            renumber[tile[sub]],
+            origin[small],
+            count,
+            cell,
+            _WINDOW,
+        )
+    opened = cells.dilate(cells.erode(closed, _DISK), _DISK)
+    with_big = cells.joined(closed, big_land & land)
+    thick = _thickened(closed, opened, with_big)
+    region = _changeable(ring, origin)
+    first = _HALO - _OVERLAP  # the first cell traced
+    patch = _patch(thick, land, coast)
+    adds = list(cells.trace(patch[_CORE] & region, origin, cell, first))
     if len(small) == 0:
         return adds, []
-    renumber = np.full(len(origin), -1)
-    renumber[small] = np.arange(len(small))
-    sub = mine & (renumber[tile] >= 0)
-    held = renumber[point[big[holder]]]
-    anchor = np.bincount(held[held >= 0], minlength=len(small))
-    tile = renumber[tile[sub]]
-    big_land = cells.winding(
-        a[sub], b[sub], sense[sub], tile, origin[small], anchor, cell, _WINDOW
-    )
-    cut = _cut(land[small], closed[small], big_land)
+    # the opening of the land under keep_area, in the tiles that have some
+    cut = _cut(closed[small], opened[small], with_big[small])
     return adds, list(
         cells.trace(cut[_CORE] & region[small], origin[small], cell, first)
     )
@@ -501,39 +516,63 @@ def _holders(
     return point[inside], polygon[inside]
 
 
-def _filled(
-    land: NDArray[np.bool_], coast: NDArray[np.bool_]
-) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
-    """Return the closed land, and the cells to add to the exact land.
+def _closing(touched: NDArray[np.bool_]) -> NDArray[np.bool_]:
+    """Return the closing of the cells the land touches (its coast, or its centre).
 
-    The closing is of the cells the land touches (its coast, or its centre):
-    so land thinner than a cell, a barrier island, still bounds the water
+    So land thinner than a cell, a barrier island, still bounds the water
     behind it. Such a cell's land reaches half way across it on average, so
     the disk is half a cell narrower than the width's (:data:`_CLOSE`).
+    """
+    return cells.erode(cells.dilate(touched, _CLOSE), _CLOSE)
 
-    Added: the cells of no land the closing fills; the cells the coast
-    crosses inside the closed land (water narrower than a cell); and the land
-    cells beside those, so the patch covers the water part of every cell the
-    coast crosses there.
+
+def _thickened(
+    closed: NDArray[np.bool_], opened: NDArray[np.bool_], with_big: NDArray[np.bool_]
+) -> NDArray[np.bool_]:
+    """Return the closed land with big land's thin parts grown to the width.
+
+    Big land narrower than the width (a spit, a peninsula, a long neck: what
+    the opening takes away, farther than half the width from the land it
+    keeps; not the corners it rounds, of over 60 degrees) is grown by half
+    the width on each side, and the closing done again round it: a mesh at
+    the width's size then resolves it, and it stays land. Land of
+    ``keep_area`` or more is never opened away.
+    """
+    thin = closed & ~opened & with_big & ~cells.dilate(opened, _DISK)
+    if not thin.any():
+        return closed
+    # the cells the coast crosses already widen it by about a cell: grown by
+    # a cell less than the disk, it is the width wide
+    return _closing(closed | cells.dilate(thin, _DISK - 1))
+
+
+def _patch(
+    closed: NDArray[np.bool_], land: NDArray[np.bool_], coast: NDArray[np.bool_]
+) -> NDArray[np.bool_]:
+    """Return the cells to add to the exact land, from the closed land.
+
+    The closed cells of no land (``land``: cells whose centre is land;
+    ``coast``: cells the coast crosses); the cells the coast crosses inside
+    the closed land (water narrower than a cell); and the land cells beside
+    those, so the patch covers the water part of every cell the coast crosses
+    there.
     """
     touched = land | coast
-    closed = cells.erode(cells.dilate(touched, _CLOSE), _CLOSE)
     patch = (closed & ~touched) | (cells.erode(closed, 1) & coast)
     patch |= cells.dilate(patch, 1) & touched
-    return closed, patch
+    return patch
 
 
 def _cut(
-    land: NDArray[np.bool_], closed: NDArray[np.bool_], big: NDArray[np.bool_]
+    closed: NDArray[np.bool_], opened: NDArray[np.bool_], with_big: NDArray[np.bool_]
 ) -> NDArray[np.bool_]:
     """Return the cells to cut from the exact land: the opening of small land.
 
     The cells the opening takes from closed land not joined to big land
-    (``big``: the big land's cells), and the water cells beside them, so no
-    sliver of exact land is left there.
+    (``with_big``: the closed land that is), and the water cells beside them,
+    so no sliver of exact land is left there.
     """
-    opened = cells.dilate(cells.erode(closed, _DISK), _DISK)
-    removed = closed & ~opened & ~cells.joined(closed, big & land)
+    removed = closed & ~opened & ~with_big
     return removed | (cells.dilate(removed, 1) & ~closed)
 
 
