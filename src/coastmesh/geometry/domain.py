@@ -22,6 +22,7 @@ from pyproj import CRS, Geod
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry.earth import metres_per_unit, reproject
 from coastmesh.geometry.layers import valid_polygons
+from coastmesh.geometry.sphere import is_world_plane
 from coastmesh.types import BoundarySegment, Domain, Report
 
 __all__ = [
@@ -448,6 +449,10 @@ def polygon_areas(polygons: ArrayLike, crs: CRS) -> NDArray[np.float64]:
         if crs.to_epsg() != 4326:
             polygons = reproject(polygons, crs, "EPSG:4326")
         return np.array([abs(_geodesic_area(p)) for p in polygons])
+    if is_world_plane(crs):  # a global case's plane: the areas on the Earth
+        from coastmesh.geometry.closing import earth_areas  # (it imports this)
+
+        return earth_areas(polygons)
     return shapely.area(polygons) * metres_per_unit(crs) ** 2
 
 
@@ -497,7 +502,7 @@ def smaller_than(polygons: ArrayLike, crs: CRS, limit: float) -> NDArray[np.bool
     [True, False]
     """
     polygons = np.asarray(polygons, dtype=object).ravel()
-    if not crs.is_geographic or len(polygons) < 64:  # few: one by one
+    if not crs.is_geographic or len(polygons) < 64:  # few, or planar: at once
         return polygon_areas(polygons, crs) < limit
     area = shapely.area(reproject(polygons, crs, _EQUAL_AREA))
     minx, _, maxx, _ = shapely.bounds(reproject(polygons, crs, "EPSG:4326")).T

@@ -19,6 +19,7 @@ Lengths on the WGS84 ellipsoid (earth-centred coordinates, arcs) are in
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -31,6 +32,7 @@ from coastmesh.types import Mesh
 
 __all__ = [
     "empty_pole",
+    "is_world_plane",
     "local_plane",
     "lonlat_to_xyz",
     "plane_crs",
@@ -125,6 +127,30 @@ def plane_crs(pole: tuple[float, float] = (0.0, -90.0)) -> CRS:
     return CRS.from_proj4(
         f"+proj=stere +lat_0={-lat:.12g} +lon_0={centre_lon:.12g} +k=1 "
         f"+x_0=0 +y_0=0 +R={EARTH_RADIUS} +units=m +no_defs +type=crs"
+    )
+
+
+def is_world_plane(crs: CRS) -> bool:
+    """Return whether ``crs`` is a stereographic plane of :func:`plane_crs`.
+
+    Its areas and lengths are those on the sphere times ``k^2`` and ``k``.
+
+    Examples
+    --------
+    >>> is_world_plane(plane_crs((103.0, 46.0))), is_world_plane(CRS("EPSG:3413"))
+    (True, False)
+    """
+    if not crs.is_projected:
+        return False
+    with warnings.catch_warnings():  # PROJ's warning that a PROJ string is lossy
+        warnings.simplefilter("ignore", UserWarning)
+        p = crs.to_dict()
+    return (
+        p.get("proj") == "stere"
+        and p.get("R") == EARTH_RADIUS
+        and p.get("k", 1) == 1
+        and p.get("x_0", 0) == 0
+        and p.get("y_0", 0) == 0
     )
 
 
