@@ -35,8 +35,12 @@ The coast keeps its exact vertices wherever the closing changed nothing, and
 GEOS works only where it did; where it did, the coast is moved by up to a cell
 (``width / 8``) from where the buffers put it, mostly seawards at the edges of
 the patches. Land smaller than ``keep_area`` is also opened (land narrower
-than ``width`` taken away) on the same rasters. The buffers' closing is kept
-in the tests, which compare the two (``tests/geometry/closing_reference.py``).
+than ``width`` taken away) on the same rasters; land of ``keep_area`` or more
+is never opened, but its thin parts (what the opening would take farther
+than ``width / 2`` from the land it keeps: spits, peninsulas, long necks) are
+grown by ``width / 2`` each side and closed again, so that it too can be
+resolved at ``width``. The buffers' closing is kept in the tests, which
+compare the two (``tests/geometry/closing_reference.py``).
 """
 
 from __future__ import annotations
@@ -90,7 +94,8 @@ def close_narrow_water(
     A morphological closing with a disk of diameter ``width`` on the Earth, in
     the stereographic plane, ring by ring (see the module's docstring), to
     within 20 % of ``width`` and a cell of ``width / 8``. Land smaller than
-    ``keep_area`` is opened as well: strips of it narrower than ``width`` go.
+    ``keep_area`` is opened as well: strips of it narrower than ``width`` go;
+    larger land's strips are thickened to ``width``.
 
     Parameters
     ----------
@@ -106,9 +111,10 @@ def close_narrow_water(
         is, however thin.
     keep_area : float, default 0
         Land of at least this area (square metres on the Earth), with what the
-        closing joins to it, keeps its closed shape: the opening applies to
-        smaller land only. A tide model must keep the islands it was asked
-        for, whole: they block and steer the flow.
+        closing joins to it, is never opened: its parts thinner than
+        ``width`` are thickened to it instead. The opening applies to smaller
+        land only. A tide model must keep the islands it was asked for,
+        whole: they block and steer the flow.
     zone : shapely geometry, optional
         Only inside it (in the plane); land elsewhere is kept as it is.
 
