@@ -98,21 +98,26 @@ def _along(
     points): on the NW-shelf fine case 34,920 cells of its 839,004, and the
     same boundary nodes. A spline through ``n`` points takes them at
     the parameters ``k / (n - 1)``; each span is sampled at steps of at most a
-    quarter cell along its chord. None (the whole grid) for a size grid on
-    the sphere, if that takes more points than the grid has cells, or if
-    Gmsh's spline does not pass its points at those parameters.
+    quarter cell along its chord (on the sphere, of the cell's shorter side
+    in the plane at the span's ends; a span is shorter than a cell there).
+    None (the whole grid) if that takes more points than the grid has
+    cells, or if Gmsh's spline does not pass its points at those parameters.
     """
-    if not isinstance(size, SizeGrid) or min(len(size.x), len(size.y)) < 2:
-        return None
-    step = 0.25 * min(np.min(np.diff(size.x)), np.min(np.diff(size.y)))
     spans = np.array([len(piece) - 1 for piece, _, _ in curves])
     ends = np.cumsum(spans)
     # every span of every curve at once: its chord, its samples, their parameters
     points = np.concatenate([piece for piece, _, _ in curves])
     at = np.delete(np.arange(len(points) - 1), np.cumsum(spans + 1)[:-1] - 1)
+    if isinstance(size, SizeGrid) and min(len(size.x), len(size.y)) >= 2:
+        step = 0.25 * min(np.min(np.diff(size.x)), np.min(np.diff(size.y)))
+    elif hasattr(size, "plane_cell"):  # a SphereSizeGrid
+        cell = size.plane_cell(points)
+        step = 0.25 * np.minimum(cell[at], cell[at + 1])
+    else:
+        return None
     chords = np.hypot(*(points[at + 1] - points[at]).T)
     steps = np.maximum(np.ceil(chords / step), 1).astype(np.int64)
-    if steps.sum() > size.values.size:  # more samples than cells: nothing saved
+    if steps.sum() > _size_cells(size):  # more samples than cells: nothing saved
         return None
     first = np.cumsum(steps) - steps  # each span's first sample
     owner = np.searchsorted(ends, np.arange(len(at)), side="right")  # its curve
@@ -130,9 +135,15 @@ def _along(
     # (each curve ends with one sample more: its parameter 1)
     knots = along[np.concatenate([first + owner, cut + np.arange(len(cut))])]
     expected = points[np.concatenate([at, np.cumsum(spans + 1) - 1])]
-    if not np.allclose(knots, expected, rtol=0.0, atol=1e-3 * step):
+    if not np.allclose(knots, expected, rtol=0.0, atol=1e-3 * np.min(step)):
         return None
     return along
+
+
+def _size_cells(size: Any) -> int:
+    """Return how many cells a size grid (in the plane or on the sphere) has."""
+    grid = size if isinstance(size, SizeGrid) else size.grid
+    return int(grid.values.size)
 
 
 def _ring_pieces(rings: list, ids: list) -> list[list]:

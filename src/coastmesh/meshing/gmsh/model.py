@@ -140,7 +140,7 @@ def add_size_view(
         data = grid_view_data(size, bounds, None if size.patches else near)
         gmsh.view.addListData(view, "SQ", len(data) // 16, data)
     else:  # a SphereSizeGrid: its cells, moved into the plane
-        for kind, data in size.view_data(bounds).items():
+        for kind, data in size.view_data(bounds, near).items():
             per = 16 if kind == "SQ" else 12
             if len(data):
                 gmsh.view.addListData(view, kind, len(data) // per, data)
