@@ -131,7 +131,11 @@ def along(p: np.ndarray, q: np.ndarray, step: float) -> np.ndarray:
     """Points every ``step`` m or less from ``p`` to ``q`` (k, 3), on the sphere."""
     from coastmesh.geometry import EARTH_RADIUS
 
-    cuts = np.ceil(np.linalg.norm(q - p, axis=1) / step).astype(np.int64) + 1
+    # (a repeated vertex, p == q, gives its point twice, not a division by 0)
+    cuts = (
+        np.maximum(np.ceil(np.linalg.norm(q - p, axis=1) / step), 1).astype(np.int64)
+        + 1
+    )
     edge = np.repeat(np.arange(len(p)), cuts)
     k = np.arange(cuts.sum()) - np.repeat(np.cumsum(cuts) - cuts, cuts)
     t = (k / np.repeat(cuts - 1, cuts))[:, None]
