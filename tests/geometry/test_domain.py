@@ -217,3 +217,41 @@ def test_geodesic_areas_are_pyprojs_bit_for_bit():
     got = polygon_areas(polygons, CRS("EPSG:4326"))
     assert len(real) > 50
     assert got.tolist() == literal
+
+
+@settings(max_examples=20, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    pole=st.sampled_from([(0.0, -90.0), (103.0, 46.0), (-40.0, 75.0)]),
+)
+def test_areas_in_a_world_plane_are_areas_on_the_earth(seed, pole):
+    # islands of 50 to 2000 km2 anywhere but round the pole, in the plane of a
+    # global case: their areas (and min_area's test) are those on the sphere,
+    # not the plane's, which are k^2 larger
+    from pyproj import Geod
+
+    from coastmesh.geometry.earth import EARTH_RADIUS, reproject
+    from coastmesh.geometry.sphere import plane_crs, stereographic_scale
+
+    rng = np.random.default_rng(seed)
+    n = 40
+    lon, lat = rng.uniform(-180, 180, n), rng.uniform(-70, 70, n)
+    far = stereographic_scale(lon, lat, pole) < 20  # not beside the pole
+    lon, lat = lon[far], lat[far]
+    side = np.sqrt(rng.uniform(50e6, 2000e6, len(lon))) / 111e3
+    boxes = shapely.segmentize(
+        shapely.box(lon, lat, lon + side / np.cos(np.radians(lat)), lat + side), 0.01
+    )
+    sphere = Geod(a=EARTH_RADIUS, b=EARTH_RADIUS)
+    literal = np.array([abs(sphere.geometry_area_perimeter(b)[0]) for b in boxes])
+    crs = plane_crs(pole)
+    plane = reproject(boxes, "EPSG:4326", crs)
+    got = polygon_areas(plane, crs)
+    np.testing.assert_allclose(got, literal, rtol=1e-4)
+    assert not np.allclose(shapely.area(plane), literal, rtol=0.01)
+    # a limit between two of the areas, in the widest gap of the middle half
+    ranked = np.sort(literal)
+    q = len(ranked) // 4
+    i = q + int(np.argmax(ranked[q + 1 : 3 * q + 1] / ranked[q : 3 * q]))
+    limit = float(np.sqrt(ranked[i] * ranked[i + 1]))
+    np.testing.assert_array_equal(smaller_than(plane, crs, limit), literal < limit)
