@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from coastmesh.geometry import reproject_points
+from coastmesh.geometry.sphere import is_world_plane
 from coastmesh.plot.base import across_dateline, geographic_axes
 
 if TYPE_CHECKING:
@@ -78,19 +79,27 @@ def domain_figure(domain: Domain, *, title: str | None = None) -> Figure:
     """
     from matplotlib.collections import LineCollection
     from matplotlib.figure import Figure
+    from pyproj import CRS
 
-    figure = Figure(figsize=(9, 8), layout="constrained")
-    ax = figure.add_subplot()
-    _fill_water(ax, domain.polygon)
     colours = _palette(s.physical_id for s in domain.segments)
-    ax.add_collection(
-        LineCollection(
-            [s.coords for s in domain.segments],
-            colors=[colours[s.physical_id] for s in domain.segments],
-            linewidths=1.2,
+    if domain.crs is not None and is_world_plane(CRS.from_user_input(domain.crs)):
+        # a global case's plane: drawn on a lon/lat map, twice as wide as high
+        figure = Figure(figsize=(10, 6), layout="constrained")
+        ax = figure.add_subplot()
+        lonlat = CRS.from_epsg(4326)
+        _frame(ax, _plane_water(ax, domain, lonlat, colours), lonlat)
+    else:
+        figure = Figure(figsize=(9, 8), layout="constrained")
+        ax = figure.add_subplot()
+        _fill_water(ax, domain.polygon)
+        ax.add_collection(
+            LineCollection(
+                [s.coords for s in domain.segments],
+                colors=[colours[s.physical_id] for s in domain.segments],
+                linewidths=1.2,
+            )
         )
-    )
-    _frame(ax, domain.polygon.bounds, domain.crs)
+        _frame(ax, domain.polygon.bounds, domain.crs)
     _legend(ax, {s.physical_id: s.name for s in domain.segments}, colours)
     if title:
         ax.set_title(title)
@@ -402,3 +411,61 @@ def mercator_figure(
     if title:
         figure.suptitle(title)
     return figure
+
+
+#: Pixels of the water mask of a domain meshed in a plane, across and up.
+_MASK = (1440, 720)
+
+
+def _plane_water(
+    ax: Any, domain: Domain, crs: Any, colours: dict[int, Any] | None = None
+) -> tuple[float, ...]:
+    """Draw a plane's water (a global case's) on a lon/lat map; its bounds.
+
+    The water as a mask image of :data:`_MASK` pixels (each pixel's centre
+    tested in the plane, so nothing wraps) and the coast as lines, cut where
+    they cross the antimeridian: grey, or coloured by physical id.
+    """
+    import shapely
+    from matplotlib.collections import LineCollection
+
+    lon = np.linspace(-180.0, 180.0, _MASK[0] + 1)
+    lat = np.linspace(-90.0, 90.0, _MASK[1] + 1)
+    glon, glat = np.meshgrid(0.5 * (lon[1:] + lon[:-1]), 0.5 * (lat[1:] + lat[:-1]))
+    pxy = reproject_points(
+        np.column_stack([glon.ravel(), glat.ravel()]), crs, domain.crs
+    )
+    wet = shapely.contains_xy(domain.polygon, pxy[:, 0], pxy[:, 1]).reshape(glon.shape)
+    image = np.where(wet, 1.0, np.nan)
+    ax.imshow(
+        image,
+        extent=(-180.0, 180.0, -90.0, 90.0),
+        origin="lower",
+        cmap=_one_colour(),
+        interpolation="nearest",
+        zorder=0,
+    )
+    outline = [
+        _unwrapped(reproject_points(np.asarray(s.coords), domain.crs, crs))
+        for s in domain.segments
+    ]
+    colors = (
+        "0.45" if colours is None else [colours[s.physical_id] for s in domain.segments]
+    )
+    ax.add_collection(LineCollection(outline, colors=colors, linewidths=0.6))
+    rows = np.flatnonzero(wet.any(axis=1))
+    south = float(lat[rows[0]]) if len(rows) else -90.0
+    north = float(lat[rows[-1] + 1]) if len(rows) else 90.0
+    return (-180.0, south, 180.0, north)
+
+
+def _one_colour() -> Any:
+    from matplotlib.colors import ListedColormap
+
+    return ListedColormap(["#dbe9f6"])
+
+
+def _unwrapped(lonlat: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Return a lon/lat line with a gap (NaN) wherever it jumps round the Earth."""
+    jump = np.flatnonzero(np.abs(np.diff(lonlat[:, 0])) > 180.0)
+    return np.insert(lonlat, jump + 1, np.nan, axis=0)

@@ -10,7 +10,7 @@ from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.geometry import reproject_points
-from coastmesh.plot.mesh import _fill_water, _frame
+from coastmesh.plot.mesh import _fill_water, _frame, _plane_water, _unwrapped
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -87,53 +87,6 @@ def parts_figure(
     return figure
 
 
-#: Pixels of the water mask of a domain meshed in a plane, across and up.
-_MASK = (1440, 720)
-
-
-def _plane_water(ax: Any, domain: Domain, crs: CRS) -> tuple[float, ...]:
-    """Draw a plane's water (a global case's) on a lon/lat map; its bounds.
-
-    The water as a mask image of :data:`_MASK` pixels (each pixel's centre
-    tested in the plane, so nothing wraps) and the coast as lines, cut where
-    they cross the antimeridian.
-    """
-    import shapely
-    from matplotlib.collections import LineCollection
-
-    lon = np.linspace(-180.0, 180.0, _MASK[0] + 1)
-    lat = np.linspace(-90.0, 90.0, _MASK[1] + 1)
-    glon, glat = np.meshgrid(0.5 * (lon[1:] + lon[:-1]), 0.5 * (lat[1:] + lat[:-1]))
-    pxy = reproject_points(
-        np.column_stack([glon.ravel(), glat.ravel()]), crs, domain.crs
-    )
-    wet = shapely.contains_xy(domain.polygon, pxy[:, 0], pxy[:, 1]).reshape(glon.shape)
-    image = np.where(wet, 1.0, np.nan)
-    ax.imshow(
-        image,
-        extent=(-180.0, 180.0, -90.0, 90.0),
-        origin="lower",
-        cmap=_one_colour(),
-        interpolation="nearest",
-        zorder=0,
-    )
-    outline = [
-        _unwrapped(reproject_points(np.asarray(s.coords), domain.crs, crs))
-        for s in domain.segments
-    ]
-    ax.add_collection(LineCollection(outline, colors="0.45", linewidths=0.6))
-    rows = np.flatnonzero(wet.any(axis=1))
-    south = float(lat[rows[0]]) if len(rows) else -90.0
-    north = float(lat[rows[-1] + 1]) if len(rows) else 90.0
-    return (-180.0, south, 180.0, north)
-
-
-def _one_colour() -> Any:
-    from matplotlib.colors import ListedColormap
-
-    return ListedColormap(["#dbe9f6"])
-
-
 def _on_earth(xy: Any, lonlat: CRS, plane: CRS) -> NDArray[np.float64]:
     """Return a cut (``xy`` in lon/lat, straight in ``plane``) as drawn on the Earth.
 
@@ -147,12 +100,6 @@ def _on_earth(xy: Any, lonlat: CRS, plane: CRS) -> NDArray[np.float64]:
     )
     line = shapely.segmentize(line, max(line.length / 200.0, 1.0))
     return reproject_points(shapely.get_coordinates(line), plane, lonlat)
-
-
-def _unwrapped(lonlat: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Return a lon/lat line with a gap (NaN) wherever it jumps round the Earth."""
-    jump = np.flatnonzero(np.abs(np.diff(lonlat[:, 0])) > 180.0)
-    return np.insert(lonlat, jump + 1, np.nan, axis=0)
 
 
 #: Where a part's label may go, in points from its centre: there, then around

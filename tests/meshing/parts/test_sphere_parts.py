@@ -127,3 +127,27 @@ def test_the_parts_figure_of_the_world_is_a_lon_lat_map(meshes):
         assert len(drawn) > 100  # a curve, not its two ends
     # the coast is drawn too, every ring of it
     assert len(ax.collections[0].get_segments()) == len(domain.segments)
+
+
+def test_the_domain_figure_of_the_world_is_a_lon_lat_map():
+    """A domain in a world plane is drawn on a lon/lat map, its coast by id."""
+    from coastmesh import plot
+
+    domain, _ = _world()
+    figure = plot.domain_figure(domain)
+    ax = figure.axes[0]
+    assert len(ax.images) == 1  # the water, as an image
+    x0, x1 = ax.get_xlim()
+    assert -190.0 <= x0 < -170.0 and 170.0 < x1 <= 190.0
+    y0, y1 = ax.get_ylim()
+    assert -95.0 <= y0 and y1 <= 95.0
+    (coast,) = ax.collections
+    assert len(coast.get_paths()) == len(domain.segments)
+    broken = 0
+    for path in coast.get_paths():
+        # no line jumps round the Earth: a NaN vertex breaks it there (what
+        # get_segments() leaves out)
+        step = np.abs(np.diff(path.vertices[:, 0]))
+        assert np.nanmax(step) < 180.0
+        broken += int(np.isnan(step).any())
+    assert broken >= 1  # the synthetic world's coast crosses the antimeridian
