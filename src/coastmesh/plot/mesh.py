@@ -87,7 +87,10 @@ def domain_figure(domain: Domain, *, title: str | None = None) -> Figure:
         figure = Figure(figsize=(10, 6), layout="constrained")
         ax = figure.add_subplot()
         lonlat = CRS.from_epsg(4326)
-        _frame(ax, _plane_water(ax, domain, lonlat, colours), lonlat)
+        # (a coarser mask than the parts figure's: it is drawn while the
+        # water is meshed, on the same cores; the coast lines are exact)
+        bounds = _plane_water(ax, domain, lonlat, colours, pixels=(720, 360))
+        _frame(ax, bounds, lonlat)
     else:
         figure = Figure(figsize=(9, 8), layout="constrained")
         ax = figure.add_subplot()
@@ -418,19 +421,23 @@ _MASK = (1440, 720)
 
 
 def _plane_water(
-    ax: Any, domain: Domain, crs: Any, colours: dict[int, Any] | None = None
+    ax: Any,
+    domain: Domain,
+    crs: Any,
+    colours: dict[int, Any] | None = None,
+    pixels: tuple[int, int] = _MASK,
 ) -> tuple[float, ...]:
     """Draw a plane's water (a global case's) on a lon/lat map; its bounds.
 
-    The water as a mask image of :data:`_MASK` pixels (each pixel's centre
-    tested in the plane, so nothing wraps) and the coast as lines, cut where
-    they cross the antimeridian: grey, or coloured by physical id.
+    The water as a mask image of ``pixels`` (each pixel's centre tested in
+    the plane, so nothing wraps) and the coast as lines, cut where they
+    cross the antimeridian: grey, or coloured by physical id.
     """
     import shapely
     from matplotlib.collections import LineCollection
 
-    lon = np.linspace(-180.0, 180.0, _MASK[0] + 1)
-    lat = np.linspace(-90.0, 90.0, _MASK[1] + 1)
+    lon = np.linspace(-180.0, 180.0, pixels[0] + 1)
+    lat = np.linspace(-90.0, 90.0, pixels[1] + 1)
     glon, glat = np.meshgrid(0.5 * (lon[1:] + lon[:-1]), 0.5 * (lat[1:] + lat[:-1]))
     pxy = reproject_points(
         np.column_stack([glon.ravel(), glat.ravel()]), crs, domain.crs
