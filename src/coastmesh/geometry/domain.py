@@ -450,7 +450,7 @@ def polygon_areas(polygons: ArrayLike, crs: CRS) -> NDArray[np.float64]:
             polygons = reproject(polygons, crs, "EPSG:4326")
         return np.array([abs(_geodesic_area(p)) for p in polygons])
     if is_world_plane(crs):  # a global case's plane: the areas on the Earth
-        from coastmesh.geometry.closing import earth_areas  # (it imports this)
+        from coastmesh.geometry.closing import earth_areas  # (with scipy: late)
 
         return earth_areas(polygons)
     return shapely.area(polygons) * metres_per_unit(crs) ** 2
