@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 
 from coastmesh.errors import MeshingError
 from coastmesh.meshing.gmsh.model import add_size_view, gmsh_session, set_options
+from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
 from coastmesh.types import SizeGrid
 
 __all__ = ["CURVE_POINTS", "boundary_nodes", "chunked"]
@@ -110,7 +111,7 @@ def _along(
     at = np.delete(np.arange(len(points) - 1), np.cumsum(spans + 1)[:-1] - 1)
     if isinstance(size, SizeGrid) and min(len(size.x), len(size.y)) >= 2:
         step = 0.25 * min(np.min(np.diff(size.x)), np.min(np.diff(size.y)))
-    elif hasattr(size, "plane_cell"):  # a SphereSizeGrid
+    elif isinstance(size, SphereSizeGrid):
         cell = size.plane_cell(points)
         step = 0.25 * np.minimum(cell[at], cell[at + 1])
     else:

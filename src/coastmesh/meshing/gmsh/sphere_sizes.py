@@ -203,16 +203,10 @@ class SphereSizeGrid:
         j = np.clip(np.searchsorted(y, ll[:, 1], side="right") - 1, 0, y.size - 2)
         held = np.zeros((y.size - 1, x.size - 1), dtype=bool)
         held[j, i] = True
-        out = held.copy()
-        for dj in (-1, 0, 1):
-            for di in (-1, 0, 1):
-                shifted = np.roll(held, di, axis=1)  # columns wrap round
-                if dj > 0:
-                    out[dj:] |= shifted[:-dj]
-                elif dj < 0:
-                    out[:dj] |= shifted[-dj:]
-                else:
-                    out |= shifted
+        # the 3 x 3 around each: columns wrap round, rows stop at the poles
+        out = held | np.roll(held, 1, axis=1) | np.roll(held, -1, axis=1)
+        out[1:] |= out[:-1].copy()
+        out[:-1] |= out[1:].copy()
         return out
 
     def plane_cell(self, xy: NDArray[np.float64]) -> NDArray[np.float64]:
