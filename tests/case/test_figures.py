@@ -75,8 +75,9 @@ def test_each_figure_starts_once_what_it_shows_is_made(tmp_path, monkeypatch):
     """With a pool, run_case starts the figures as the case is built.
 
     Those of the domain and size field once it is made, before the meshing; those
-    of the mesh once it has its depths, before its time step is relieved; the
-    quality figure once it is measured; none is drawn twice.
+    of the mesh once it is final: it has its depths and its time step was
+    relieved (which changes this mesh: started before, they were drawn twice);
+    the quality figure once it is measured; none is drawn twice.
     """
     monkeypatch.setattr(figures, "POOL_MIN_TRIANGLES", 0)
     events: list[str] = []
@@ -111,20 +112,13 @@ def test_each_figure_starts_once_what_it_shows_is_made(tmp_path, monkeypatch):
         )
     starts = [e for e in events if e.startswith("start ")]  # none: no parts
     mesh_figures = "start depth depth_rules mesh time_step"
-    # the mesh's figures again only if the time-step relief changed the mesh
-    redrawn = result.report.time_step is not None and result.report.time_step.accepted
-    expected = [
-        "start channels domain size",
-        mesh_figures,
-        *([mesh_figures] if redrawn else []),
-        "start quality",
-    ]
+    expected = ["start channels domain size", mesh_figures, "start quality"]
     assert starts[: len(expected)] == expected, events
     last = len(expected) - 1
     at = events.index
     assert at("size field") < at(starts[0]) < at("meshing")
-    assert at("depth at the nodes") < at(starts[1]) < at("time step")
-    assert at("time step") < at("mesh quality") < at(starts[last])
+    assert at("depth at the nodes") < at("time step") < at(starts[1])
+    assert at(starts[1]) < at("mesh quality") < at(starts[last])
     assert at(starts[last]) < at("writing outputs") < at(starts[last + 1])  # all
     assert drawn == []  # every figure was drawn on the pool, once
     pngs = sorted(f for f in result.files if f.startswith("figures/"))
@@ -159,9 +153,9 @@ def test_a_figure_started_again_is_drawn_from_its_new_arguments(tmp_path):
 
 @pytest.mark.slow
 def test_figures_follow_a_relief_that_changes_the_mesh(tmp_path, monkeypatch):
-    """The mesh's figures are drawn again when the time-step relief changes it.
+    """The mesh's figures show the mesh as the time-step relief changed it.
 
-    They start before the relief; the files must be those of one worker.
+    They start once the relief has run; the files must be those of one worker.
     """
     import dataclasses
 

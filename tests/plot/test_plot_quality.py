@@ -246,3 +246,74 @@ def test_the_worst_label_stays_on_the_map_and_the_map_keeps_its_shape(worst_at, 
     (label,) = [t for t in ax.texts if t.get_text().startswith("min")]
     assert (label.get_ha(), label.get_va()) == (ha, va)
     assert "range" in ax.get_title() and " to 0" not in ax.get_title()
+
+
+def _pixels(figure) -> np.ndarray:
+    figure.canvas.draw()
+    return np.asarray(figure.canvas.buffer_rgba())[..., :3]
+
+
+def test_a_flat_mesh_gives_each_triangle_its_own_colour(lonlat_mesh):
+    """Each triangle is one colour, its value's, as matplotlib's flat tripcolor.
+
+    Compared at the pixel of each triangle's centroid (the triangles wider
+    than 6 pixels there) with ``tripcolor(facecolors=...)``, the reference;
+    chunks draw the same image.
+    """
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.colors import ListedColormap
+    from matplotlib.figure import Figure
+    from matplotlib.tri import Triangulation
+
+    import coastmesh.plot.base as base
+
+    m = lonlat_mesh
+    values = np.arange(len(m.triangles)) % 5
+    colours = ListedColormap(["0.85", "C0", "C2", "C8", "C1"])
+    style = {"cmap": colours, "vmin": -0.5, "vmax": 4.5}
+
+    def drawn(how, chunk=None):
+        figure = Figure(figsize=(6, 6), dpi=100)
+        FigureCanvasAgg(figure)
+        ax = figure.add_axes((0, 0, 1, 1))
+        if how == "flat":
+            base.flat_mesh(ax, m.points, m.triangles, values, chunk=chunk, **style)
+        else:
+            tri = Triangulation(m.points[:, 0], m.points[:, 1], m.triangles)
+            ax.tripcolor(
+                tri, facecolors=values.astype(float), antialiased=False, **style
+            )
+        ax.set_xlim(m.points[:, 0].min(), m.points[:, 0].max())
+        ax.set_ylim(m.points[:, 1].min(), m.points[:, 1].max())
+        return figure, ax
+
+    figure, ax = drawn("flat")
+    image, reference = _pixels(figure), _pixels(drawn("polygons")[0])
+    corners = ax.transData.transform(m.points[m.triangles].reshape(-1, 2)).reshape(
+        -1, 3, 2
+    )
+    centre = corners.mean(axis=1)
+    # the inscribed circle's radius, pixels: well inside the triangle
+    sides = np.linalg.norm(corners - np.roll(corners, 1, axis=1), axis=2)
+    u, v = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    big = np.abs(cross) / sides.sum(axis=1) > 3
+    assert big.sum() > 20
+    col = np.round(centre[big, 0]).astype(int)
+    row = image.shape[0] - 1 - np.round(centre[big, 1]).astype(int)
+    np.testing.assert_array_equal(image[row, col], reference[row, col])
+    want = np.asarray(colours(values[big].astype(float) / 5 + 0.1))[:, :3] * 255
+    np.testing.assert_allclose(image[row, col], want, atol=1)
+    assert np.array_equal(_pixels(drawn("flat", chunk=7)[0]), image)
+
+
+def test_flat_mesh_needs_the_colour_range(lonlat_mesh):
+    from matplotlib.figure import Figure
+
+    from coastmesh.plot.base import flat_mesh
+
+    m = lonlat_mesh
+    with pytest.raises(ValueError, match="vmin and vmax, or norm"):
+        flat_mesh(
+            Figure().add_subplot(), m.points, m.triangles, np.zeros(len(m.triangles))
+        )

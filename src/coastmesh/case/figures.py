@@ -13,10 +13,12 @@ starts each figure as soon as what it shows is final (:func:`setup_jobs` once
 the size field is made, :func:`parts_jobs` once the water is meshed,
 :func:`quality_jobs` once the mesh is measured), so the pool draws while this
 process prepares the parts, measures the mesh and writes its files. The
-:func:`mesh_jobs` start once the mesh has its depths, before the time-step
-relief, which seldom changes the mesh: when it does, they are started again
-with the relieved mesh and the first drawings are dropped. The files are the
-same whatever the number of workers, and whenever each figure was started.
+:func:`mesh_jobs` start once the mesh is final: it has its depths, and the
+time-step relief, which moves nodes of most meshes (``world.toml``,
+Vestfjorden), has run. Started before it, they were drawn twice on those, and
+the first drawings held the pool's processes while the second waited. The
+files are the same whatever the number of workers, and whenever each figure
+was started.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from coastmesh.case.config import CaseConfig
+from coastmesh.case.pipeline.depth import relief_due
 from coastmesh.case.pipeline.farms import turbine_rows
 from coastmesh.geometry import reproject_points
 
@@ -319,9 +322,10 @@ class FigureJobs:
         """Start the figures a run can draw now that a stage is done; each once.
 
         The domain, size and channel figures once the size field is made; the
-        parts figure once the water is meshed; the mesh's figures once it has
-        its depths (or is made, without ``[bathymetry]``), and again if the
-        time-step relief changes it; the quality figure once it is measured.
+        parts figure once the water is meshed; the mesh's figures once it is
+        final (it has its depths and the time-step relief has run; without
+        ``[bathymetry]``, once it is made), and again should it change after
+        all; the quality figure once it is measured.
         """
         name, domain = run.config.name, run.domain
         if domain is None or run.size is None:
@@ -348,9 +352,12 @@ class FigureJobs:
             self.followed["parts"] = state.parts
             jobs = parts_jobs(name, domain.domain, state.parts, state.mesh.crs)
             self.start(jobs, triangles)
-        deep = run.config.bathymetry is None or run.depth is not None
+        relieved = run.depth is not None and (
+            run.depth.relief is not None or not relief_due(run.config)
+        )
+        final = run.config.bathymetry is None or relieved
         drawn = self.followed.get("mesh")
-        if deep and drawn is not state.mesh:
+        if final and drawn is not state.mesh:
             self.followed["mesh"] = state.mesh
             depth = None if run.depth is None else run.depth.report
             jobs = mesh_jobs(

@@ -230,6 +230,45 @@ def geographic_axes(
     ax.set_aspect("equal")
 
 
+def flat_mesh(
+    ax: Axes,
+    points: NDArray[np.float64],
+    triangles: NDArray[np.int64],
+    values: NDArray[np.float64],
+    *,
+    chunk: int | None = None,
+    **kwargs: Any,
+) -> Any:
+    """Colour each triangle flat by its value, drawn as Gouraud triangles.
+
+    ``ax.tripcolor(..., facecolors=values)`` draws each triangle as a path of
+    its own, built in Python: 4.5 s for the 1.5-million-triangle world mesh.
+    Here each triangle gets three corners of its own that share its value,
+    shaded (:func:`shaded_mesh`, Agg's triangle loop): the same flat colours in
+    1.5 s. Give ``vmin`` and ``vmax``, or ``norm``. Returns the first
+    collection; none is in the layout.
+    """
+    from matplotlib.tri import Triangulation
+
+    if "norm" not in kwargs and ("vmin" not in kwargs or "vmax" not in kwargs):
+        raise ValueError("flat_mesh needs vmin and vmax, or norm")
+    triangles, values = np.asarray(triangles), np.asarray(values, dtype=float)
+    chunk = int(chunk or SHADED_CHUNK)
+    first = None
+    for start in range(0, max(len(triangles), 1), chunk):
+        part = triangles[start : start + chunk]
+        corners = np.arange(3 * len(part)).reshape(-1, 3)
+        image = ax.tripcolor(
+            Triangulation(points[part, 0].ravel(), points[part, 1].ravel(), corners),
+            np.repeat(values[start : start + chunk], 3),
+            shading="gouraud",
+            **kwargs,
+        )
+        image.set_in_layout(False)  # clipped to the axes; measuring it is slow
+        first = image if first is None else first
+    return first
+
+
 #: Triangles per collection of a Gouraud-shaded mesh (:func:`shaded_mesh`).
 SHADED_CHUNK = 300_000
 

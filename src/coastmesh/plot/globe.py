@@ -77,7 +77,8 @@ def globe_figure(
         )
     )
     labels = dict(mesh.boundary_names) if names is None else dict(names)
-    _legend(ax, {i: labels.get(i, str(i)) for i in colours}, colours)
+    # in a corner, outside the sphere's rim: nothing is drawn there
+    _legend(ax, {i: labels.get(i, str(i)) for i in colours}, colours, "lower left")
     ax.set_xlim(-1.02 * radius, 1.02 * radius)
     ax.set_ylim(-1.02 * radius, 1.02 * radius)
     ax.set_aspect("equal")

@@ -21,6 +21,7 @@ from coastmesh.meshing import (
 from coastmesh.meshing.quality.report import EDGE_RATIO_RANGE, histograms
 from coastmesh.plot.base import (
     across_dateline,
+    flat_mesh,
     geographic_axes,
     shaded_mesh,
     x_stretch,
@@ -221,10 +222,8 @@ def depth_source_figure(
     >>> len(depth_source_figure(m, ["survey", "gebco"]).axes)
     1
     """
-    from matplotlib.colors import ListedColormap
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch
-    from matplotlib.tri import Triangulation
 
     source = np.asarray(mesh.point_data.get("depth_source", ()), dtype=np.int64)
     if source.shape != (len(mesh.points),):
@@ -234,20 +233,10 @@ def depth_source_figure(
         )
     # a triangle shows the best (lowest-index) source among its nodes
     shown = np.where(source < 0, len(names), source)[mesh.triangles].min(axis=1)
-    mask = across_dateline(mesh.points, mesh.triangles, mesh.crs)
-    x, y = mesh.points[:, 0], mesh.points[:, 1]
-    tri = Triangulation(x, y, mesh.triangles, mask=mask if mask.any() else None)
     figure = Figure(figsize=_map_size(mesh), layout="constrained")
     ax = figure.add_subplot()
     colours = [f"C{k % 10}" for k in range(len(names))] + ["0.6"]
-    ax.tripcolor(
-        tri,
-        facecolors=shown.astype(float),
-        cmap=ListedColormap(colours),
-        vmin=-0.5,
-        vmax=len(names) + 0.5,
-        edgecolors="none",
-    ).set_in_layout(False)  # clipped to the axes; measuring it is slow
+    _by_category(ax, mesh, shown, colours)
     labels = [*(str(n).replace("\\", "/").rsplit("/", 1)[-1] for n in names)]
     labels.append("none (nearest cell)")
     handles = [
@@ -293,10 +282,8 @@ def depth_rule_figure(
     >>> len(depth_rule_figure(m, np.array([0, 1, 2])).axes)
     1
     """
-    from matplotlib.colors import ListedColormap
     from matplotlib.figure import Figure
     from matplotlib.patches import Patch
-    from matplotlib.tri import Triangulation
 
     from coastmesh.depth.nodes import RULES
 
@@ -306,24 +293,10 @@ def depth_rule_figure(
             f"rules has shape {rules.shape}: one code per node ({len(mesh.points)})"
         )
     shown = rules[mesh.triangles].max(axis=1)
-    mask = across_dateline(mesh.points, mesh.triangles, mesh.crs)
-    tri = Triangulation(
-        mesh.points[:, 0],
-        mesh.points[:, 1],
-        mesh.triangles,
-        mask=mask if mask.any() else None,
-    )
     figure = Figure(figsize=_map_size(mesh), layout="constrained")
     ax = figure.add_subplot()
     colours = ["0.85", "C0", "C2", "C8", "C1", "C3", "C4"][: len(RULES)]
-    ax.tripcolor(
-        tri,
-        facecolors=shown.astype(float),
-        cmap=ListedColormap(colours),
-        vmin=-0.5,
-        vmax=len(RULES) - 0.5,
-        edgecolors="none",
-    ).set_in_layout(False)  # clipped to the axes; measuring it is slow
+    _by_category(ax, mesh, shown, colours)
     n = max(len(rules), 1)
     handles = [
         Patch(
@@ -340,6 +313,27 @@ def depth_rule_figure(
     ax.ticklabel_format(useOffset=False)
     ax.set_title(title or "what each node's depth is")
     return figure
+
+
+def _by_category(
+    ax: Axes, mesh: Mesh, shown: NDArray[np.int64], colours: list[str]
+) -> None:
+    """Colour each triangle flat by its category ``shown`` (an index of ``colours``).
+
+    Triangles across the antimeridian are left out.
+    """
+    from matplotlib.colors import ListedColormap
+
+    keep = ~across_dateline(mesh.points, mesh.triangles, mesh.crs)
+    flat_mesh(
+        ax,
+        mesh.points,
+        mesh.triangles[keep],
+        shown[keep],
+        cmap=ListedColormap(colours),
+        vmin=-0.5,
+        vmax=len(colours) - 0.5,
+    )
 
 
 def time_step_figure(

@@ -103,6 +103,64 @@ def test_the_view_covers_the_plane_with_cells_turning_the_right_way():
     np.testing.assert_allclose(tris[:, 5], 0.0, atol=1e-6)
 
 
+def _reference_view(size: SphereSizeGrid, bounds) -> list[list[float]]:
+    """The view's quadrangles one cell at a time, each corner projected alone.
+
+    Rows south to north, then west to east; kept when every corner is finite,
+    the cell's extent meets ``bounds`` and it is not wholly beyond the reach.
+    """
+    forward = Transformer.from_crs("EPSG:4326", plane_crs(size.pole), always_xy=True)
+    lon, lat, v = size.grid.x, size.grid.y, size.grid.values
+    rows = len(lat) - 1 - int(lat[-1] >= 90.0)
+    out = []
+    for j in range(rows):
+        for i in range(len(lon) - 1):
+            at = [(j, i), (j, i + 1), (j + 1, i + 1), (j + 1, i)]
+            xy = [forward.transform(lon[c], lat[r]) for r, c in at]
+            h = [
+                v[r, c]
+                * (
+                    stereographic_scale(lon[c], lat[r], size.pole)
+                    if size.map_units
+                    else 1
+                )
+                for r, c in at
+            ]
+            x, y = [p[0] for p in xy], [p[1] for p in xy]
+            if not np.isfinite(x + y + h).all():
+                continue
+            if (
+                max(x) < bounds[0]
+                or min(x) > bounds[2]
+                or max(y) < bounds[1]
+                or min(y) > bounds[3]
+            ):
+                continue
+            side = max(math.dist(xy[k], xy[k - 1]) for k in range(4))
+            if min(math.hypot(*q) for q in xy) - side > size.reach:
+                continue
+            out.append(x + y + [0.0] * 4 + h)
+    return out
+
+
+@settings(max_examples=8, deadline=None)
+@given(
+    st.floats(-180.0, 180.0),
+    st.floats(-80.0, 80.0),
+    st.booleans(),
+    st.floats(-1.2e7, 1.2e7),
+    st.floats(-1.2e7, 1.2e7),
+    st.floats(1e5, 1.2e7),
+)
+def test_the_view_is_the_literal_one_cell_by_cell(lon0, lat0, map_units, x0, y0, width):
+    """Cells chosen, corners projected and values scaled as a loop over cells does."""
+    size = SphereSizeGrid(_grid(step=15.0, lat0=-75.0), (lon0, lat0), map_units, 3e7)
+    bounds = (x0, y0, x0 + width, y0 + width)
+    got = size.view_data(bounds)["SQ"].reshape(-1, 16)
+    want = np.array(_reference_view(size, bounds)).reshape(-1, 16)
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-6)
+
+
 def _quads(data) -> list[shapely.Polygon]:
     q = data["SQ"].reshape(-1, 16)
     t = data["ST"].reshape(-1, 12)

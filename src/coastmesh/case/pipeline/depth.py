@@ -47,6 +47,7 @@ __all__ = [
     "depth_stage",
     "node_depths",
     "read_sources",
+    "relief_due",
     "time_step_stage",
 ]
 
@@ -76,8 +77,7 @@ def time_step_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     The angles may not fall below Gmsh's own mesh's, the cleanup's bar.
     """
     config, state, depth = run.config, run.mesh, run.depth
-    c = config.cleanup
-    if state is None or depth is None or not (c.enabled and c.time_step):
+    if state is None or depth is None or not relief_due(config):
         return run
     cleanup = state.parts.cleanup
     courant = run.time_step
@@ -103,6 +103,12 @@ def time_step_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
         mesh=replace(state, mesh=relieved),
         depth=replace(depth, report=depth_report, relief=report),
     )
+
+
+def relief_due(config: CaseConfig) -> bool:
+    """Whether :func:`time_step_stage` relieves a case's mesh (it may move nodes)."""
+    c = config.cleanup
+    return config.bathymetry is not None and c.enabled and c.time_step
 
 
 def node_depths(
