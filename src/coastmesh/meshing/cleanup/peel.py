@@ -263,6 +263,11 @@ class _Straits:
         self.open_ = open_
         #: (run, triangles taken out) of each strait closed
         self.closed: list[tuple[set[int], set[int]]] = []
+        #: the triangles at each node (CSR: order, starts) and each node's
+        #: boundary sides, made on the first strait: a strait's closing then
+        #: touches only the triangles round it, not the whole mesh
+        self._at: tuple[NDArray[np.int64], NDArray[np.int64]] | None = None
+        self._degree: dict[int, int] = {}
 
     def close(self) -> tuple[int, int]:
         """Close what can be; return the runs closed and those at a pinch."""
@@ -294,28 +299,35 @@ class _Straits:
             grown = self._closed(run, max(set(like), key=like.count))
             if grown is None:
                 continue
-            group, new_ids = grown
-            side_id.clear()
-            side_id.update(new_ids)
+            group, (gone, added) = grown
+            for side in gone:
+                del side_id[side]
+            side_id.update(added)
+            for side, step in [(g, -1) for g in gone] + [(a, 1) for a in added]:
+                for v in side:
+                    self._degree[v] = self._degree.get(v, 0) + step
             self.removed |= group
             self.closed.append((run, group))
             closed += 1
             unpinched += len(group) > len(run)
         return closed, unpinched
 
-    def _closed(self, run: set[int], like: int) -> tuple[set[int], dict] | None:
-        """Return the triangles to take out for ``run`` and the new side ids.
+    def _closed(self, run: set[int], like: int) -> tuple[set[int], tuple] | None:
+        """Return the triangles to take out for ``run`` and the change of sides.
 
+        The change is (the boundary sides that go, the new ones with their id).
         None if the boundary cannot be kept a set of rings, or a fan it would
         need holds a site's triangle.
         """
         group = set(run)
         for _ in range(MAX_FANS + 1):
-            new_ids, around = self._side_ids(group, like)
-            pinched = _pinched(new_ids, {v for t in group for v in self._tri(t)})
+            gone, added, around = self._side_ids(group, like)
+            pinched = self._pinched(
+                gone, added, {v for t in group for v in self._tri(t)}
+            )
             if not pinched:
-                return group, new_ids
-            fan = self._smaller_fan(pinched[0], group, new_ids, around)
+                return group, (gone, added)
+            fan = self._smaller_fan(pinched[0], group, gone, added, around)
             if fan is None:
                 return None
             group |= fan
@@ -325,33 +337,68 @@ class _Straits:
         a, b, c = (int(v) for v in self.tris[t])
         return a, b, c
 
-    def _side_ids(self, group: set[int], like: int) -> tuple[dict, dict]:
-        """Return the boundary sides once ``group`` is out, and the sides near it.
+    def _near(self, nodes: NDArray[np.int64]) -> NDArray[np.int64]:
+        """Return the triangles with a node in ``nodes`` (sorted, unique)."""
+        if self._at is None:
+            flat = self.tris.ravel()
+            order = np.argsort(flat, kind="stable")
+            starts = np.searchsorted(flat[order], np.arange(int(flat.max()) + 2))
+            self._at = (order // 3, starts)
+            for side in self.side_id:
+                for v in side:
+                    self._degree[v] = self._degree.get(v, 0) + 1
+        order, starts = self._at
+        lo, hi = starts[nodes], starts[nodes + 1]
+        at = np.repeat(lo - np.cumsum(np.r_[0, (hi - lo)[:-1]]), hi - lo)
+        return np.unique(order[np.arange(at.size) + at])
 
-        A side of the group's that was boundary goes; one with water on its
-        other side becomes boundary with the id ``like``.
+    def _side_ids(self, group: set[int], like: int) -> tuple[set, dict, dict]:
+        """Return how the boundary sides change once ``group`` is out.
+
+        Returns the boundary sides that go, the new ones with their id, and
+        the sides near the group with their triangles. A side of the group's
+        that was boundary goes; one with water on its other side becomes
+        boundary with the id ``like``.
         """
         nodes = np.unique(self.tris[sorted(group)])
         around: dict[tuple[int, int], list[int]] = {}
-        for t in np.flatnonzero(np.isin(self.tris, nodes).any(axis=1)).tolist():
+        for t in self._near(nodes).tolist():
             if t in self.removed:
                 continue
             for side in _sides(self._tri(t)):
                 around.setdefault(side, []).append(t)
-        new_ids = dict(self.side_id)
+        gone: set[tuple[int, int]] = set()
+        added: dict[tuple[int, int], int] = {}
         for t in group:
             for side in _sides(self._tri(t)):
                 if side in self.side_id:
-                    new_ids.pop(side, None)
+                    gone.add(side)
                 elif any(u not in group for u in around[side]):
-                    new_ids[side] = like
-        return new_ids, around
+                    added[side] = like
+        return gone, added, around
 
-    def _smaller_fan(self, node, group, new_ids, around) -> set[int] | None:
+    def _pinched(self, gone: set, added: dict, nodes: set[int]) -> list[int]:
+        """Return the ``nodes`` with boundary sides other than none or two.
+
+        Those are pinches, once the sides ``gone`` go and those ``added`` come.
+        """
+        degree = {v: self._degree.get(v, 0) for v in nodes}
+        for sides, step in ((gone, -1), (added, 1)):
+            for side in sides:
+                for v in side:
+                    if v in degree:
+                        degree[v] += step
+        return sorted(v for v, d in degree.items() if d not in (0, 2))
+
+    def _smaller_fan(self, node, group, gone, added, around) -> set[int] | None:
         """Return the smaller fan of water around ``node`` (fans part at the boundary).
 
         None if it holds a triangle of a site.
         """
+
+        def boundary(side: tuple[int, int]) -> bool:
+            return side in added or (side in self.side_id and side not in gone)
+
         fans: list[set[int]] = []
         left = {u for s, ts in around.items() if node in s for u in ts} - group
         while left:
@@ -360,7 +407,7 @@ class _Straits:
                 t = stack.pop()
                 fan.add(t)
                 for side in _sides(self._tri(t)):
-                    if node in side and side not in new_ids:
+                    if node in side and not boundary(side):
                         for u in around[side]:
                             if u in left:
                                 left.discard(u)
@@ -374,16 +421,6 @@ class _Straits:
 
 #: Pinched nodes a run may free by taking out a fan of triangles.
 MAX_FANS = 2
-
-
-def _pinched(side_id: dict, nodes: set[int]) -> list[int]:
-    """Return the ``nodes`` with boundary sides other than none or two (pinches)."""
-    degree = dict.fromkeys(nodes, 0)
-    for a, b in side_id:
-        for v in (a, b):
-            if v in degree:
-                degree[v] += 1
-    return sorted(v for v, d in degree.items() if d not in (0, 2))
 
 
 def _run(start, alive, rest, side_id, by_side) -> set[int]:
@@ -417,35 +454,37 @@ def _cut_off(mesh: Mesh, removed: set[int]) -> tuple[set[int], set[int]]:
     least :data:`FORCED_SIDES` sides of it: fewer are a corner of an open
     boundary trimmed at the coast, not a sea).
     """
-    from scipy.sparse import coo_matrix
+    from scipy.sparse import csr_matrix
     from scipy.sparse.csgraph import connected_components
 
     alive = np.ones(len(mesh.triangles), dtype=bool)
     alive[list(removed)] = False
     index = np.flatnonzero(alive)
     tris = mesh.triangles[index]
-    sides = np.sort(
-        np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]]), axis=1
-    )
-    owner = np.tile(np.arange(len(tris)), 3)
-    n = len(mesh.points)
-    key = sides[:, 0] * n + sides[:, 1]
-    order = np.argsort(key, kind="stable")
-    same = key[order][1:] == key[order][:-1]
-    a, b = owner[order][:-1][same], owner[order][1:][same]
-    graph = coo_matrix((np.ones(len(a)), (a, b)), shape=(len(tris), len(tris)))
+    m, n = len(tris), len(mesh.points)
+    # the sides, triangle by triangle for each of the three (side k of
+    # triangle t at k * m + t), as keys; a side two triangles share joins them
+    after = np.roll(tris, -1, axis=1)
+    key = (np.minimum(tris, after) * n + np.maximum(tris, after)).T.ravel()
+    del after
+    order = np.argsort(key)
+    at = np.flatnonzero(key[order][1:] == key[order][:-1])
+    a, b = order[at] % m, order[at + 1] % m
+    del order, at
+    graph = csr_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(m, m))
     count, labels = connected_components(graph, directed=False)
     if count <= 1:
         return set(), set()
     largest = np.bincount(labels).argmax()
+    cut = labels != largest
     kinds = mesh.boundary_kinds
     opened = np.isin(mesh.boundary_ids, [i for i, k in kinds.items() if k == "open"])
     edges = np.sort(mesh.boundary_edges[opened], axis=1)
-    open_sides = np.bincount(
-        labels[owner[np.isin(key, edges[:, 0] * n + edges[:, 1])]], minlength=count
-    )
+    # the open sides of each piece cut off (the largest's are not needed)
+    sides = np.flatnonzero(np.tile(cut, 3))
+    open_ = np.isin(key[sides], edges[:, 0] * n + edges[:, 1])
+    open_sides = np.bincount(labels[sides[open_] % m], minlength=count)
     forced_pieces = np.flatnonzero(open_sides >= FORCED_SIDES)
-    cut = labels != largest
     forced = cut & np.isin(labels, forced_pieces)
     return set(index[cut].tolist()), set(index[forced].tolist())
 
@@ -518,28 +557,40 @@ def _without(
     used = np.zeros(len(mesh.points), dtype=bool)
     used[tris.ravel()] = True
     new_index = np.cumsum(used) - 1
-    # each boundary side oriented as in its one triangle (as the mesh has them)
-    oriented = {}
-    for a, b, c in tris.tolist():
-        for u, v in ((a, b), (b, c), (c, a)):
-            if _edge(u, v) in side_id:
-                oriented[_edge(u, v)] = (u, v)
-    flip = _flipped(mesh)
-    edges, ids = [], []
-    for side, sid in side_id.items():
-        if side not in oriented:  # a side of water cut off: gone with it
-            continue
-        u, v = oriented[side]
-        edges.append((v, u) if flip else (u, v))
-        ids.append(sid)
-    order = np.lexsort(np.asarray(edges).T[::-1])
-    edges_arr = new_index[np.asarray(edges)[order]]
+    # each boundary side oriented as in its triangle (as the mesh has them); a
+    # side of water cut off has no triangle left and goes with it
+    n = len(mesh.points)
+    sides = np.array(list(side_id), dtype=np.int64).reshape(-1, 2)
+    sids = np.fromiter(side_id.values(), dtype=np.int64, count=len(side_id))
+    key = sides[:, 0] * n + sides[:, 1]
+    rank = np.argsort(key)
+    on = np.zeros(n, dtype=bool)
+    on[sides.ravel()] = True
+    directed = np.concatenate(  # the triangles' sides with both nodes on one
+        [
+            tris[on[tris[:, k]] & on[tris[:, (k + 1) % 3]]][:, [k, (k + 1) % 3]]
+            for k in range(3)
+        ]
+    )
+    wanted = directed.min(axis=1) * n + directed.max(axis=1)
+    at = np.minimum(np.searchsorted(key, wanted, sorter=rank), max(len(key) - 1, 0))
+    hit = (key[rank[at]] == wanted) if len(key) else np.zeros(len(wanted), bool)
+    found = rank[at[hit]]
+    edges = np.empty((len(key), 2), dtype=np.int64)
+    edges[found] = directed[hit]  # (a side of two triangles: either)
+    held = np.zeros(len(key), dtype=bool)
+    held[found] = True
+    edges, ids = edges[held], sids[held]
+    if _flipped(mesh):
+        edges = edges[:, ::-1]
+    order = np.lexsort(edges.T[::-1])
+    edges_arr = new_index[edges[order]]
     point_data = {k: np.asarray(v)[used] for k, v in mesh.point_data.items()}
     peeled = Mesh(
         mesh.points[used],
         new_index[tris],
         edges_arr,
-        np.asarray(ids)[order],
+        ids[order],
         mesh.surface_id,
         mesh.crs,
         point_data,
