@@ -2,8 +2,10 @@
 
 Runs a global case's first stages (shorelines, domain, closing) and checks
 every island of the input layer of at least ``[shorelines] min_area`` (its
-area on the Earth): it is kept if the sea covers at most 10 % of it (a hole
-of the domain with at least 90 % of its area). Prints the islands lost, the
+area on the Earth; without one, the closing's disk, ``pi close^2 / 4``: see
+:func:`coastmesh.case.pipeline.world.kept_area`): it is kept if the sea
+covers at most 10 % of it (a hole of the domain with at least 90 % of its
+area). Prints the islands lost, the
 counts, and the stages' times.
 
 Run from the repository root::
@@ -73,10 +75,14 @@ def main(argv: list[str] | None = None) -> int:
         started = time.perf_counter()
         run, seconds = _domain(config)
         wall = time.perf_counter() - started
-    kept, lost = islands_kept(run, config.shorelines.min_area)
+    from coastmesh.case.pipeline.world import closing_width, kept_area
+
+    close = closing_width(config)
+    min_area = kept_area(config, close) if close else config.shorelines.min_area
+    kept, lost = islands_kept(run, min_area)
     print(
         f"{args.case}: {len(kept) + len(lost)} islands of >= "
-        f"{config.shorelines.min_area / 1e6:g} km2; kept {len(kept)}, lost "
+        f"{min_area / 1e6:g} km2; kept {len(kept)}, lost "
         f"{len(lost)} ({sum(r[0] for r in lost):,.0f} km2); stages {wall:.1f} s: "
         + ", ".join(f"{k} {v:.1f} s" for k, v in seconds.items())
     )

@@ -14,6 +14,7 @@ from coastmesh.case import parse_case
 from coastmesh.case.pipeline import STAGES, CaseRun, RunContext, strategy_of
 from coastmesh.case.pipeline.state import ChangedIsland, ClosingReport
 from coastmesh.data import path as data_path
+from coastmesh.geometry import EARTH_RADIUS as R
 from coastmesh.geometry import reproject
 from coastmesh.geometry.closing import earth_areas
 from coastmesh.types import quiet_stage, serial_runner
@@ -134,3 +135,45 @@ def test_summary_txt_counts_the_changed_islands_in_one_line(coarse_case):
         == "(2.00, 61.00): 600 km2 -> the polar land, joined to 3 more"
     )
     assert np.isclose(changed[0].to_dict()["km2_after"], 1200.0)
+
+
+def test_without_min_area_land_as_large_as_the_closing_disk_is_kept_whole(tmp_path):
+    """With no ``min_area`` (0), the land kept whole is that of the closing's disk.
+
+    Each island of pi close^2 / 4 or more stays land over 90 % of its area;
+    the rocks smaller than that and narrower than ``close``, with no other
+    land within 100 km (the closing would join them to it), are opened away,
+    not grown into islands of the disk's size.
+    """
+    text = CASE.format(world=data_path("world_gshhg_l.zip"))
+    config = parse_case(
+        text.replace('min_area = "2000 km2"\n', ""), tmp_path / "w.toml"
+    )
+    assert config.shorelines.min_area == 0
+    run = CaseRun(config, strategy_of(config))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        run = STAGES[0](run, RunContext(1, serial_runner, quiet_stage))
+    world, land = run.shorelines.world, run.shorelines.sets["world"]
+    islands = np.asarray(world.islands, dtype=object)
+    area = earth_areas(islands)
+    disk = np.pi * 15e3**2
+    assert run.shorelines.reports["world"].closing.islands == (area >= disk).sum()
+    tree, near = shapely.STRtree(land), shapely.STRtree(islands)
+    # where the plane's scale is under 2, 100 km there is over 50 km on the Earth
+    inner = np.hypot(*shapely.get_coordinates(shapely.centroid(islands)).T) < 2 * R
+    kept, rocks = 0, 0
+    for i, (island, a) in enumerate(zip(islands, area, strict=True)):
+        over = shapely.union_all(land[tree.query(island, "intersects")])
+        share = shapely.intersection(island, over).area / island.area
+        if a >= disk:
+            assert share >= 0.9, (a / 1e6, share)
+            kept += 1
+        elif (
+            inner[i]
+            and island.buffer(-7.5e3).is_empty  # narrower than close
+            and len(near.query(island, "dwithin", 100e3)) == 1  # itself alone
+        ):
+            assert share == 0, (a / 1e6, share)
+            rocks += 1
+    assert kept > 100 and rocks > 10

@@ -285,8 +285,9 @@ class DomainConfig:
         check=schema.length(),
         unit="length",
         default_doc="the smallest gradation `h_min`",
-        doc="global cases: water, and land smaller than `[shorelines] min_area`, "
-        "narrower than this on the Earth are closed",
+        doc="global cases: water, and land smaller than `[shorelines] min_area` "
+        "(without it, than a disk of this diameter), narrower than this on the "
+        "Earth are closed; larger land's thin parts are thickened to it",
     )
 
     def _dump(self) -> dict[str, Any]:

@@ -116,7 +116,9 @@ class ClosingReport(Report):
     merged : int
         Land polygons fewer after the closing (joined, or opened away).
     islands : int
-        The set's islands of ``min_area`` or more (on the Earth).
+        The set's islands the closing keeps whole: of ``min_area`` or more on
+        the Earth (without it, of the closing's disk,
+        :func:`~coastmesh.case.pipeline.world.kept_area`).
     changed : tuple of ChangedIsland
         Those whose area changed by more than 10 % of it, the largest change
         first.

@@ -69,7 +69,7 @@ from coastmesh.meshing.gmsh import SphereSizeGrid
 from coastmesh.sizing.grid import SphereGrid
 from coastmesh.types import Features, SizeGrid
 
-__all__ = ["DEFAULT_CELL_DEG", "Global"]
+__all__ = ["DEFAULT_CELL_DEG", "Global", "closing_width", "kept_area"]
 
 logger = logging.getLogger(__name__)
 
@@ -258,17 +258,16 @@ def _closed(
     Every set has the polar land (the frame round the plane), with its own
     PCA: a region set is used inside its regions, and those may hold the
     polar land's coast (Europe's, with the pole in Asia); without it, the
-    region's land there would be sea. The report gets the islands of
-    ``min_area`` the closing changed by more than 10 % of their area.
+    region's land there would be sea. The report gets the islands the closing
+    keeps whole (:func:`kept_area`) that it changed by more than 10 % of
+    their area.
     """
     islands = land
     land = np.concatenate([[world.frame(_shell(world.shell, s))], land])
-    close = config.domain.close
-    if close is None:
-        close = min((g.h_min for g in config.size.gradations), default=None)
+    close = closing_width(config)
     if not close:
         return land, report
-    min_area = config.shorelines.min_area
+    min_area = kept_area(config, close)
     land, merged = _close(
         land,
         close,
@@ -298,6 +297,29 @@ def _closed(
     )
     logger.info("%s: %s", s.name, closing.summary())
     return land, dataclasses.replace(report, closing=closing)
+
+
+def closing_width(config: CaseConfig) -> float | None:
+    """Return the width of water a global case closes: ``[domain] close``.
+
+    By default the smallest gradation's ``h_min``; None (no closing) without
+    gradations.
+    """
+    if config.domain.close is not None:
+        return config.domain.close
+    return min((g.h_min for g in config.size.gradations), default=None)
+
+
+def kept_area(config: CaseConfig, close: float) -> float:
+    """Return the area on the Earth of the smallest land the closing keeps whole.
+
+    ``[shorelines] min_area``; without it (0, the default), the closing's
+    disk, ``pi close^2 / 4``. Land of that area or more is never opened away,
+    its thin parts are thickened to ``close``; smaller land narrower than
+    ``close`` is opened away, as the mesh cannot hold it. Thickening every
+    rock instead would make an island the size of the disk of each.
+    """
+    return config.shorelines.min_area or math.pi * close**2 / 4
 
 
 def _zone(
