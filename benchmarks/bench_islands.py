@@ -75,10 +75,9 @@ def main(argv: list[str] | None = None) -> int:
         started = time.perf_counter()
         run, seconds = _domain(config)
         wall = time.perf_counter() - started
-    from coastmesh.case.pipeline.world import closing_width, kept_area
+    from coastmesh.case.pipeline.world import kept_area
 
-    close = closing_width(config)
-    min_area = kept_area(config, close) if close else config.shorelines.min_area
+    min_area = kept_area(config)
     kept, lost = islands_kept(run, min_area)
     print(
         f"{args.case}: {len(kept) + len(lost)} islands of >= "

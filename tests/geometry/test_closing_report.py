@@ -138,12 +138,12 @@ def test_summary_txt_counts_the_changed_islands_in_one_line(coarse_case):
 
 
 def test_without_min_area_land_as_large_as_the_closing_disk_is_kept_whole(tmp_path):
-    """With no ``min_area`` (0), the land kept whole is that of the closing's disk.
+    """With no ``min_area`` (0), a global case keeps the islands of the closing's disk.
 
     Each island of pi close^2 / 4 or more stays land over 90 % of its area;
     the rocks smaller than that and narrower than ``close``, with no other
-    land within 100 km (the closing would join them to it), are opened away,
-    not grown into islands of the disk's size.
+    land within 100 km (the closing would join them to it), are gone, not
+    grown into islands of the disk's size.
     """
     text = CASE.format(world=data_path("world_gshhg_l.zip"))
     config = parse_case(

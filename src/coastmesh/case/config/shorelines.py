@@ -65,8 +65,9 @@ class ShorelinesConfig:
         0.0,
         check=schema.area,
         unit="area",
-        default_doc="`0`",
-        doc="islands and lakes smaller than this are dropped (geodesic area)",
+        default_doc="`0`; global cases: a disk of `[domain] close`",
+        doc="islands and lakes smaller than this are dropped (geodesic area); a "
+        "global case keeps every island of this area or more whole",
     )
     raster: Path | None = key(
         None,
@@ -285,9 +286,9 @@ class DomainConfig:
         check=schema.length(),
         unit="length",
         default_doc="the smallest gradation `h_min`",
-        doc="global cases: water, and land smaller than `[shorelines] min_area` "
-        "(without it, than a disk of this diameter), narrower than this on the "
-        "Earth are closed; larger land's thin parts are thickened to it",
+        doc="global cases: water, and land smaller than `[shorelines] min_area`, "
+        "narrower than this on the Earth are closed; larger land's thin parts "
+        "are thickened to it",
     )
 
     def _dump(self) -> dict[str, Any]:

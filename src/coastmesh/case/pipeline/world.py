@@ -105,7 +105,7 @@ class Global(Strategy):
         for s in config.sets:
             with ctx.timed(set_label(s)) as progress:
                 land, reports[s.name] = build_shoreline_set(
-                    s, islands, plane, config.shorelines.min_area, progress
+                    s, islands, plane, kept_area(config), progress
                 )
                 sets[s.name], reports[s.name] = _closed(
                     config, s, world, land, reports[s.name], crs
@@ -168,7 +168,7 @@ class Global(Strategy):
 def _check_seed(config: CaseConfig, world: WorldLand, lonlat: CRS) -> None:
     """Raise now, not after the sets and the closing, if the seed is on land.
 
-    Land is the polar land and every island of ``min_area`` or more (the
+    Land is the polar land and every island of :func:`kept_area` or more (the
     smaller ones are dropped, so a seed on one is in the sea).
     """
     seed = config.domain.seed
@@ -186,7 +186,7 @@ def _check_seed(config: CaseConfig, world: WorldLand, lonlat: CRS) -> None:
         # its area on the Earth, roughly: the plane's k at the seed
         k = 1.0 + (math.hypot(point.x, point.y) / (2.0 * EARTH_RADIUS)) ** 2
         area = max(shapely.area(world.islands[hit])) / k**2
-        if area >= config.shorelines.min_area:
+        if area >= kept_area(config):
             raise ConfigError(
                 f"{where}: lies on land in {config.shorelines.path} (an island or "
                 "continent the case keeps); give a point in the ocean"
@@ -267,7 +267,7 @@ def _closed(
     close = closing_width(config)
     if not close:
         return land, report
-    min_area = kept_area(config, close)
+    min_area = kept_area(config)
     land, merged = _close(
         land,
         close,
@@ -310,16 +310,20 @@ def closing_width(config: CaseConfig) -> float | None:
     return min((g.h_min for g in config.size.gradations), default=None)
 
 
-def kept_area(config: CaseConfig, close: float) -> float:
-    """Return the area on the Earth of the smallest land the closing keeps whole.
+def kept_area(config: CaseConfig) -> float:
+    """Return the area on the Earth of the smallest island a global case keeps.
 
-    ``[shorelines] min_area``; without it (0, the default), the closing's
-    disk, ``pi close^2 / 4``. Land of that area or more is never opened away,
-    its thin parts are thickened to ``close``; smaller land narrower than
-    ``close`` is opened away, as the mesh cannot hold it. Thickening every
-    rock instead would make an island the size of the disk of each.
+    ``[shorelines] min_area``; without it (0, the default), the disk of the
+    closing's width, ``pi close^2 / 4`` (:func:`closing_width`; 0 without a
+    closing). Smaller islands are dropped from the shoreline sets: the mesh
+    cannot hold them (and kept, the closing would join them to the coast in
+    tangles). Islands of that area or more are never opened away; their thin
+    parts are thickened to ``close``.
     """
-    return config.shorelines.min_area or math.pi * close**2 / 4
+    close = closing_width(config)
+    if config.shorelines.min_area or not close:
+        return config.shorelines.min_area
+    return math.pi * close**2 / 4
 
 
 def _zone(
