@@ -246,7 +246,7 @@ def flat_mesh(
     Here each triangle gets three corners of its own that share its value,
     shaded (:func:`shaded_mesh`, Agg's triangle loop): the same flat colours in
     1.5 s. Give ``vmin`` and ``vmax``, or ``norm``. Returns the first
-    collection; none is in the layout.
+    collection (None without triangles); none is in the layout.
     """
     from matplotlib.tri import Triangulation
 
@@ -255,7 +255,7 @@ def flat_mesh(
     triangles, values = np.asarray(triangles), np.asarray(values, dtype=float)
     chunk = int(chunk or SHADED_CHUNK)
     first = None
-    for start in range(0, max(len(triangles), 1), chunk):
+    for start in range(0, len(triangles), chunk):  # none: nothing drawn
         part = triangles[start : start + chunk]
         corners = np.arange(3 * len(part)).reshape(-1, 3)
         image = ax.tripcolor(
