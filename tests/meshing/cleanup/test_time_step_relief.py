@@ -590,3 +590,58 @@ def test_region_outlines_and_held_nodes_stay_where_they_are():
 
     assert area(relieved, 20) == pytest.approx(area(mesh, 20), rel=1e-12)
     assert len(relieved.regions) == len(relieved.triangles)
+
+
+@pytest.mark.parametrize("distance", [0.0, 5e6, 2e7, 6e7])
+def test_time_steps_in_a_world_plane_are_those_on_the_earth(distance):
+    """In a global mesh's stereographic plane the relief ranks triangles by their
+    time steps on the Earth: the plane's ``r_in`` over the scale there.
+
+    Equilateral triangles of 2 km on the Earth at ``distance`` m from the
+    plane's centre (scale 1 to 90); without the radius, the plane's lengths.
+    """
+    from coastmesh.geometry.earth import EARTH_RADIUS
+    from coastmesh.geometry.sphere import plane_crs
+
+    k = 1.0 + distance**2 / (4 * EARTH_RADIUS**2)
+    side = 2000.0 * k  # 2 km on the Earth, in the plane
+    corners = np.array([[0, 0], [side, 0], [side / 2, side * math.sqrt(3) / 2]])
+    points = corners + [distance, 0.0]
+    depth = np.full(3, 100.0)
+    mesh = Mesh(points, [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]], [1, 1, 1], 1,
+                plane_crs(), {"depth": depth})  # fmt: skip
+    earth = element_time_steps(mesh)["dt"][0]
+    pts, at = points[None], depth[None]
+    scaled = relief._plane_time_steps(pts, at, 0.0, EARTH_RADIUS)[0]
+    assert scaled == pytest.approx(earth, rel=0.01)
+    assert relief._plane_time_steps(pts, at, 0.0)[0] == pytest.approx(
+        earth * k, rel=0.01
+    )
+
+
+def test_the_relief_of_a_global_mesh_works_with_lengths_on_the_earth(monkeypatch):
+    """A mesh in a world plane, or round the world in lon/lat (relieved in a
+    world plane), gets the sphere's radius; a regional one does not."""
+    from coastmesh.geometry.earth import EARTH_RADIUS
+    from coastmesh.geometry.sphere import plane_crs
+
+    seen = []
+    run = relief._relieve
+
+    def spy(*args):
+        seen.append(args[-1])
+        return run(*args)
+
+    monkeypatch.setattr(relief, "_relieve", spy)
+    tri, ring = [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]]
+    depth = {"depth": np.full(3, 50.0)}
+    world = [[-170.0, 0.0], [175.0, 0.0], [0.0, 10.0]]  # round the world
+    for points, crs, radius in (
+        ([[1e6, 0.0], [1.002e6, 0.0], [1.001e6, 2e3]], plane_crs(), EARTH_RADIUS),
+        (world, "EPSG:4326", EARTH_RADIUS),
+        ([[5.0, 60.0], [5.02, 60.0], [5.01, 60.01]], "EPSG:4326", None),
+        ([[0.0, 0.0], [2e3, 0.0], [1e3, 2e3]], "EPSG:32630", None),
+    ):
+        seen.clear()
+        relieve_time_step(Mesh(points, tri, ring, [1, 1, 1], 1, crs, depth))
+        assert seen and set(seen) == {radius}, crs

@@ -50,6 +50,8 @@ from numpy.typing import NDArray
 from scipy import sparse
 
 from coastmesh.errors import ConfigError
+from coastmesh.geometry.earth import EARTH_RADIUS
+from coastmesh.geometry.sphere import is_world_plane
 from coastmesh.meshing.cleanup import smoothing
 from coastmesh.meshing.cleanup.planar import signed_areas, triangle_angles
 from coastmesh.meshing.quality.time_step import (
@@ -240,9 +242,11 @@ def relieve_time_step(
     bar = max(min_angle, keep[0])
     accepted = False
     held = _held(mesh, held)
+    plane = mesh.crs if to_plane is None else to_plane.target_crs
+    radius = EARTH_RADIUS if plane is not None and is_world_plane(plane) else None
     for slack in ANGLE_SLACK:
         work, collapses, moves = _relieve(
-            mesh, xy, velocity, ratio, bar - slack, passes, held
+            mesh, xy, velocity, ratio, bar - slack, passes, held, radius
         )
         if not collapses and not moves:
             break
@@ -282,11 +286,18 @@ def _held(mesh: Mesh, held: NDArray[np.bool_] | None) -> NDArray[np.bool_]:
     return out
 
 
-def _relieve(mesh: Mesh, xy, velocity, ratio, floor, passes, held) -> tuple:
-    """Run the passes on a fresh copy of ``mesh``; return it, collapses, moves."""
+def _relieve(
+    mesh: Mesh, xy, velocity, ratio, floor, passes, held, radius=None
+) -> tuple:
+    """Run the passes on a fresh copy of ``mesh``; return it, collapses, moves.
+
+    ``radius``: the sphere's, when ``xy`` is a world plane (its lengths are
+    the sphere's times the plane's scale).
+    """
     fixed = smoothing.boundary_nodes(mesh.triangles, len(xy)) | held
     fixed[mesh.boundary_edges.ravel()] = True
-    work = _Collapser(xy, mesh.triangles, fixed, node_depth(mesh), velocity)
+    depth = node_depth(mesh)
+    work = _Collapser(xy, mesh.triangles, fixed, depth, velocity, radius)
     work.coast = _coast_links(mesh)
     ids, counts = np.unique(mesh.boundary_ids, return_counts=True)
     work.edges_of = dict(zip(ids.tolist(), counts.tolist(), strict=True))
@@ -344,13 +355,22 @@ def _measures(mesh: Mesh, xy: NDArray, velocity: float, ratio: float) -> dict:
     }
 
 
-def _plane_time_steps(pts: NDArray, corner_depth: NDArray, velocity: float) -> NDArray:
+def _plane_time_steps(
+    pts: NDArray, corner_depth: NDArray, velocity: float, radius: float | None = None
+) -> NDArray:
     """Return the time steps of triangles as (k, 3, 2) coordinates (inf: dry).
 
     ``r_in / (sqrt(g max(d, 0)) + u)``, ``d`` the deepest of ``corner_depth``.
+    With ``radius``, the plane is a stereographic one of a sphere of that
+    radius, scale 1 at its origin: ``r_in`` is divided by the scale at the
+    triangle's centroid, ``1 + r^2 / 4 R^2``, to be a length on the sphere
+    (a global mesh's plane stretches lengths up to some 90 times).
     """
     sides = np.linalg.norm(pts - np.roll(pts, -1, axis=1), axis=2).sum(axis=1)
     r_in = 2 * signed_areas(pts) / np.maximum(sides, 1e-300)
+    if radius is not None:
+        centre = pts.mean(axis=1)
+        r_in = r_in / (1.0 + (centre**2).sum(axis=-1) / (4.0 * radius**2))
     deepest = np.fmax.reduce(corner_depth, axis=1)  # NaN only if all three are
     speed = wave_speed(deepest, velocity)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -385,9 +405,11 @@ class _Collapser:
     the removed node in the others, so the indices stay.
     """
 
-    def __init__(self, xy, triangles, fixed, depth, velocity) -> None:
+    def __init__(self, xy, triangles, fixed, depth, velocity, radius=None) -> None:
         self.xy0, self.xy = xy, np.array(xy, dtype=np.float64)  # at first, now
         self.fixed, self.velocity = fixed, velocity
+        #: the sphere's radius when ``xy`` is a world plane (lengths scaled)
+        self.radius = radius
         self.tri = np.array(triangles, dtype=np.int64)
         self.depth = np.array(depth, dtype=np.float64)
         self.alive = np.ones(len(self.tri), dtype=bool)
@@ -406,7 +428,11 @@ class _Collapser:
         )
         self._ptr, self._at = csr.indptr, csr.indices
         self._stars: dict[int, set[int]] = {}
-        self.dt = _plane_time_steps(self.xy[self.tri], self.depth[self.tri], velocity)
+        self.dt = self._steps(self.xy[self.tri], self.depth[self.tri])
+
+    def _steps(self, pts: NDArray, corner_depth: NDArray) -> NDArray:
+        """Return the time steps of triangles, on the Earth (`_plane_time_steps`)."""
+        return _plane_time_steps(pts, corner_depth, self.velocity, self.radius)
 
     def star(self, node: int) -> set[int]:
         """Return the set of live triangles at ``node``."""
@@ -552,7 +578,7 @@ class _Collapser:
         moved[:, at] = places[:, None, :]
         flat = moved.reshape(-1, 3, 2)
         depth = np.tile(self.depth[tris], (len(places), 1))
-        dt = _plane_time_steps(flat, depth, self.velocity).reshape(len(places), -1)
+        dt = self._steps(flat, depth).reshape(len(places), -1)
         ok = (signed_areas(flat) > 0) & (triangle_angles(flat).min(axis=1) >= floor)
         score = np.where(
             ok.reshape(len(places), -1).all(axis=1), dt.min(axis=1), -np.inf
@@ -565,9 +591,7 @@ class _Collapser:
         self.xy[node] = place
         star = self._star(node)
         tris = self.tri[star]
-        self.dt[star] = _plane_time_steps(
-            self.xy[tris], self.depth[tris], self.velocity
-        )
+        self.dt[star] = self._steps(self.xy[tris], self.depth[tris])
         return True
 
     def best_collapse(self, t: int, min_angle: float) -> tuple | None:
@@ -597,7 +621,7 @@ class _Collapser:
         merged = np.fmax(self.depth[a], self.depth[b])
         corner_depth = self.depth[new]
         corner_depth[new == kept] = merged
-        dt = _plane_time_steps(pts, corner_depth, self.velocity)
+        dt = self._steps(pts, corner_depth)
         floor = min(min_angle, triangle_angles(self.xy[self.tri[old]]).min())
         if (
             (signed_areas(pts) > 0).all()
