@@ -64,6 +64,7 @@ def background_set(layer: Path, region: str | None = None):
     """
     import coastmesh
     from coastmesh.case.pipeline.shorelines import build_shoreline_set
+    from coastmesh.case.pipeline.world import closing_width, kept_area
     from coastmesh.geometry import reproject, world_land
     from coastmesh.io import read_features
     from coastmesh.types import Features
@@ -74,7 +75,7 @@ def background_set(layer: Path, region: str | None = None):
     n = len(world.islands)
     islands = Features(world.islands, world.crs, {}, np.arange(n), str(layer))
     s = config.background_set
-    land, _ = build_shoreline_set(s, islands, world.crs, config.shorelines.min_area)
+    land, _ = build_shoreline_set(s, islands, world.crs, kept_area(config))
     if region is None:
         land = np.concatenate([[world.frame()], land])
     else:
@@ -83,7 +84,7 @@ def background_set(layer: Path, region: str | None = None):
         land = shapely.intersection(land[shapely.intersects(land, box)], box)
         land = shapely.get_parts(land)
         land = land[shapely.get_type_id(land) == shapely.GeometryType.POLYGON]
-    return land, config.shorelines.min_area, config.domain.close, 1.05 * world.reach
+    return land, kept_area(config), closing_width(config), 1.05 * world.reach
 
 
 def earth_length(geoms) -> float:

@@ -230,6 +230,10 @@ def geographic_axes(
     ax.set_aspect("equal")
 
 
+#: The sea of the maps: water, behind the mesh or without one.
+SEA = "#dbe9f6"
+
+
 def flat_mesh(
     ax: Axes,
     points: NDArray[np.float64],

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from coastmesh.geometry import EARTH_RADIUS, reproject_points, transformer
-from coastmesh.plot.base import shaded_mesh
+from coastmesh.plot.base import SEA, shaded_mesh
 from coastmesh.plot.mesh import _legend, _palette
 from coastmesh.types.topology import unique_edges
 
@@ -101,7 +101,7 @@ def _fill(ax: Any, xy: np.ndarray, triangles: np.ndarray, radius: float) -> None
     from matplotlib.colors import ListedColormap
     from matplotlib.tri import Triangulation
 
-    sea = "#dbe9f6"
+    sea = SEA
     if len(triangles) <= 50_000:
         ax.add_collection(PolyCollection(xy[triangles], facecolors=sea, lw=0))
         return

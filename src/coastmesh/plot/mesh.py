@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from coastmesh.geometry import reproject_points
 from coastmesh.geometry.sphere import is_world_plane
-from coastmesh.plot.base import across_dateline, geographic_axes
+from coastmesh.plot.base import SEA, across_dateline, geographic_axes
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -325,7 +325,7 @@ def _fill_water(ax: Axes, polygon: Any, here: Any = None) -> None:
         for r in rings
     ]
     patch = PathPatch(Path.make_compound_path(*paths))
-    fill = PatchCollection([patch], facecolors="#dbe9f6", edgecolors="none", zorder=0)
+    fill = PatchCollection([patch], facecolors=SEA, edgecolors="none", zorder=0)
     ax.add_collection(fill, autolim=False)
 
 
@@ -477,7 +477,7 @@ def _plane_water(
 def _one_colour() -> Any:
     from matplotlib.colors import ListedColormap
 
-    return ListedColormap(["#dbe9f6"])
+    return ListedColormap([SEA])
 
 
 def _unwrapped(lonlat: NDArray[np.float64]) -> NDArray[np.float64]:

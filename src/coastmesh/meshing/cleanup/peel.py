@@ -337,8 +337,12 @@ class _Straits:
         a, b, c = (int(v) for v in self.tris[t])
         return a, b, c
 
-    def _near(self, nodes: NDArray[np.int64]) -> NDArray[np.int64]:
-        """Return the triangles with a node in ``nodes`` (sorted, unique)."""
+    def _index(self) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+        """Return the triangles at each node; on the first call, make them.
+
+        And the boundary degree of every node, from the sides as they are
+        then (before any strait is closed; :meth:`close` keeps it in step).
+        """
         if self._at is None:
             flat = self.tris.ravel()
             order = np.argsort(flat, kind="stable")
@@ -347,7 +351,11 @@ class _Straits:
             for side in self.side_id:
                 for v in side:
                     self._degree[v] = self._degree.get(v, 0) + 1
-        order, starts = self._at
+        return self._at
+
+    def _near(self, nodes: NDArray[np.int64]) -> NDArray[np.int64]:
+        """Return the triangles with a node in ``nodes`` (sorted, unique)."""
+        order, starts = self._index()
         lo, hi = starts[nodes], starts[nodes + 1]
         at = np.repeat(lo - np.cumsum(np.r_[0, (hi - lo)[:-1]]), hi - lo)
         return np.unique(order[np.arange(at.size) + at])

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import shapely
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS
 
 from coastmesh.geometry.earth import EARTH_RADIUS, transformer
@@ -125,10 +125,7 @@ class SphereSizeGrid:
     ) -> NDArray[np.float64]:
         """Interpolate the field (metres on the sphere) at lon/lat points."""
         x, y, v = self.grid.x, self.grid.y, self.grid.values
-        lon = (np.asarray(lon, dtype=np.float64) - x[0]) % 360.0 + x[0]
-        lat = np.clip(np.asarray(lat, dtype=np.float64), y[0], y[-1])
-        i = np.clip(np.searchsorted(x, lon, side="right") - 1, 0, x.size - 2)
-        j = np.clip(np.searchsorted(y, lat, side="right") - 1, 0, y.size - 2)
+        lon, lat, i, j = self._cells(lon, lat)
         tx = (lon - x[i]) / (x[i + 1] - x[i])
         ty = (lat - y[j]) / (y[j + 1] - y[j])
         return (
@@ -214,13 +211,23 @@ class SphereSizeGrid:
             v = v * stereographic_scale(x[i], y[j], self.pole)
         return v
 
+    def _cells(self, lon: ArrayLike, lat: ArrayLike) -> tuple[NDArray, ...]:
+        """Return lon wrapped onto the grid, lat clipped to it, and their cells.
+
+        As (lon, lat, column i, row j): the cell's west and south nodes.
+        """
+        x, y = self.grid.x, self.grid.y
+        lon = (np.asarray(lon, dtype=np.float64) - x[0]) % 360.0 + x[0]
+        lat = np.clip(np.asarray(lat, dtype=np.float64), y[0], y[-1])
+        i = np.clip(np.searchsorted(x, lon, side="right") - 1, 0, x.size - 2)
+        j = np.clip(np.searchsorted(y, lat, side="right") - 1, 0, y.size - 2)
+        return lon, lat, i, j
+
     def _cells_near(self, xy: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Return which grid cells (rows, columns) hold a point or are next to one."""
         x, y = self.grid.x, self.grid.y
         ll = self.lonlat(xy)
-        lon = (ll[:, 0] - x[0]) % 360.0 + x[0]
-        i = np.clip(np.searchsorted(x, lon, side="right") - 1, 0, x.size - 2)
-        j = np.clip(np.searchsorted(y, ll[:, 1], side="right") - 1, 0, y.size - 2)
+        _, _, i, j = self._cells(ll[:, 0], ll[:, 1])
         held = np.zeros((y.size - 1, x.size - 1), dtype=bool)
         held[j, i] = True
         # the 3 x 3 around each: columns wrap round, rows stop at the poles
