@@ -153,6 +153,21 @@ def test_on_real_fjords_the_closing_is_the_buffers_closing():
         assert abs(len(new) - len(old)) <= max(3, len(old) // 10)
 
 
+def test_the_closing_is_the_same_on_one_thread_as_on_two():
+    # `-w 1` runs the closing on one thread: it must not change the land
+    coast = read_features(data_path("norway_west_gshhg_f.geojson"))
+    land = coast.geometry[coast.fields["level"] == 1]
+    land = shapely.clip_by_rect(land, 4.8, 60.8, 5.6, 61.3)
+    land = reproject(land[~shapely.is_empty(land)], coast.crs, plane_crs((0, -90)))
+    land = shapely.get_parts(shapely.make_valid(land))
+    land = land[shapely.get_type_id(land) == shapely.GeometryType.POLYGON]
+    one, merged_one = close_narrow_water(land, 2e3, keep_area=20e6, threads=1)
+    two, merged_two = close_narrow_water(land, 2e3, keep_area=20e6, threads=2)
+    assert merged_one == merged_two > 0
+    assert len(one) == len(two)
+    assert shapely.equals_exact(one, two, tolerance=0).all()
+
+
 def test_the_fast_rasterisation_is_the_winding_number():
     # overlapping polygons with holes, in one tile window; a cell is land if
     # any polygon holds its centre

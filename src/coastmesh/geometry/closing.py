@@ -75,8 +75,6 @@ _INLET = 1 / 6  #: inlets narrower than this (of width) found on the coast: a ce
 #: at any ring's scale (width / 8, and up to 20 % more in its inner part)
 _INLET_REACH = 2.0  #: and up to this (of width) round
 _BATCH = 24  #: tiles rasterised at once
-_THREADS = 2  #: threads the rings and unions run on (numpy and GEOS let go of
-#: Python's lock)
 _PREPARED = threading.Lock()  #: one thread at a time asks the prepared polygons
 _KEY = 2**20  #: tile columns and rows lie in (-_KEY, _KEY)
 
@@ -88,6 +86,7 @@ def close_narrow_water(
     within: float | None = None,
     keep_area: float = 0.0,
     zone: shapely.Geometry | None = None,
+    threads: int = 1,
 ) -> tuple[NDArray[np.object_], int]:
     """Close water narrower than ``width`` between and within land polygons.
 
@@ -117,6 +116,9 @@ def close_narrow_water(
         whole: they block and steer the flow.
     zone : shapely geometry, optional
         Only inside it (in the plane); land elsewhere is kept as it is.
+    threads : int, default 1
+        Threads the rings and the unions run on (numpy and GEOS let go of
+        Python's lock). The result does not depend on it.
 
     Returns
     -------
@@ -153,7 +155,7 @@ def close_narrow_water(
     big = _big(active, keep_area, land_pairs)
     shapely.prepare(active)
     tree = shapely.STRtree(active)
-    with ThreadPoolExecutor(_THREADS) as pool:
+    with ThreadPoolExecutor(max(1, int(threads))) as pool:
         done = list(
             pool.map(
                 lambda r: _close_ring(
@@ -171,7 +173,7 @@ def close_narrow_water(
     new = region.holds(point[:, 0], point[:, 1])
     new[shapely.STRtree(adds).query(inlets, predicate="covered_by")[0]] = False
     adds = np.concatenate([adds, inlets[new]])
-    parts, kept = _apply(active, adds, big, land_pairs, width, region)
+    parts, kept = _apply(active, adds, big, land_pairs, width, region, threads)
     parts = _open(parts, kept, cuts, width, region)
     parts = np.concatenate([parts, polygons])
     if len(parts) == 0:  # all of it was land narrower than width, opened away
@@ -655,6 +657,7 @@ def _apply(
     land: tuple[NDArray[np.intp], NDArray[np.intp]],
     width: float,
     region: _Region,
+    threads: int = 1,
 ) -> tuple[NDArray[np.object_], NDArray[np.bool_]]:
     """Union the land with the patches added, one connected group at a time.
 
@@ -662,8 +665,8 @@ def _apply(
 
     Returns the land's polygons and which of them hold big land. A group of
     one polygon is returned as it is: the closing did not touch it. The
-    unions run on two threads (GEOS lets go of Python's lock), the largest
-    groups first.
+    unions run on ``threads`` threads (GEOS lets go of Python's lock), the
+    largest groups first.
     """
     n = len(polygons)
     geoms = np.concatenate([polygons, adds])
@@ -671,7 +674,7 @@ def _apply(
     groups = _groups(len(geoms), (np.r_[land[0], i], np.r_[land[1], j]))
     changed = [g for g in groups if len(g) > 1 or g[0] >= n]
     changed.sort(key=lambda g: -int(shapely.get_num_coordinates(geoms[g]).sum()))
-    with ThreadPoolExecutor(_THREADS) as pool:
+    with ThreadPoolExecutor(max(1, int(threads))) as pool:
         unions = list(pool.map(lambda g: _union(geoms[g], width, region), changed))
     same = np.array([g[0] for g in groups if len(g) == 1 and g[0] < n], dtype=int)
     parts = np.concatenate([polygons[same], *unions])

@@ -253,10 +253,12 @@ class RunConfig:
         None,
         check=schema.integer(1),
         default_doc="every core",
-        doc="local worker processes the parts are meshed and cleaned on, and the "
-        "figures drawn on, each started as soon as what it shows is made "
-        "(`coastmesh run --workers N` overrides it). The outputs are the same for "
-        "any number",
+        doc="the cores the run may use: local worker processes the parts are "
+        "meshed and cleaned on, and the figures drawn on, each started as soon as "
+        "what it shows is made; and the threads of the PCA of the shorelines, the "
+        "closing of narrow water, the size terms and Gmsh's boundary nodes "
+        "(`coastmesh run --workers N` overrides it). `1` keeps the run on one core. "
+        "The outputs are the same for any number",
     )
     scheduler: str | None = key(
         None,

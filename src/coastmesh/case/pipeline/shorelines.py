@@ -105,11 +105,13 @@ def build_shoreline_set(
     min_area: float,
     progress: Progress | None = None,
     densified: NDArray[np.object_] | None = None,
+    workers: int = 1,
 ) -> tuple[NDArray[np.object_], ShorelineSetReport]:
     """Build one shoreline set: full resolution or PCA, small land dropped.
 
     ``densified`` is ``densify_long_edges(features.geometry)`` if the caller
-    has it already (it is the same for every PCA set of a case).
+    has it already (it is the same for every PCA set of a case). The PCA runs
+    on ``workers`` threads (the same result on any number).
 
     Returns
     -------
@@ -125,7 +127,7 @@ def build_shoreline_set(
         if densified is None:
             densified = densify_long_edges(features.geometry)
         land, done = simplify_shorelines(
-            densified, s.window, s.modes, progress=progress
+            densified, s.window, s.modes, progress=progress, workers=workers
         )
         land = land[~shapely.is_missing(land)]
         points_in = done.points_in
@@ -204,7 +206,13 @@ def regional_sets(run: CaseRun, ctx: RunContext) -> Shorelines:
             if dense is None and s.pca:
                 dense = densify_long_edges(features.geometry)
             sets[s.name], reports[s.name] = build_shoreline_set(
-                s, features, crs, config.shorelines.min_area, progress, dense
+                s,
+                features,
+                crs,
+                config.shorelines.min_area,
+                progress,
+                dense,
+                workers=ctx.threads,
             )
         logger.info("%s: %s", set_label(s), reports[s.name].summary())
     return Shorelines(features, crs, sets, reports, plane=crs)

@@ -60,7 +60,7 @@ def size_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
             site_area=site_area(config, state.mesh_crs),
             lines=_farm_outlines(run.site, state.domain.crs),
         )
-        size = size_field(run.strategy.grid(run, ctx), case, progress)
+        size = size_field(run.strategy.grid(run, ctx), case, progress, ctx.threads)
     return replace(run, size=size)
 
 
@@ -75,7 +75,7 @@ def _farm_outlines(site: SiteFeatures | None, crs: CRS) -> dict[str, shapely.Geo
 
 
 def size_field(
-    grid: Grid, case: SizeCase, progress: Progress | None = None
+    grid: Grid, case: SizeCase, progress: Progress | None = None, threads: int = 1
 ) -> SizeState:
     """Compute every size term of ``case`` on ``grid`` and combine them.
 
@@ -88,6 +88,9 @@ def size_field(
         The case as the terms see it.
     progress : callable, optional
         Called as ``progress(done, total)`` as the terms finish.
+    threads : int, default 1
+        The terms run on this many threads at once (numpy, GEOS and scikit-image
+        let go of Python's lock); the field does not depend on it.
 
     Returns
     -------
@@ -95,7 +98,7 @@ def size_field(
         The grid, the field (metres), its report, and the terms' other grids.
     """
     total = len(TERMS) + 1
-    with ThreadPoolExecutor(len(TERMS)) as pool:
+    with ThreadPoolExecutor(max(1, min(int(threads), len(TERMS)))) as pool:
         running = [(term, pool.submit(term.sizes, grid, case)) for term in TERMS]
         done = []
         for k, (term, future) in enumerate(running):

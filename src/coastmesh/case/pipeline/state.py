@@ -341,7 +341,8 @@ class RunContext:
     Attributes
     ----------
     threads : int
-        Local workers (processes for the parts, threads for Gmsh).
+        Local workers: processes for the parts and figures; threads for the
+        PCA, the closing, the size terms and Gmsh's boundary nodes.
     runner : Runner
         Where the parts are meshed (here, a process pool, or Dask).
     stage : StageFactory

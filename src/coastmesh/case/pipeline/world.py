@@ -105,10 +105,10 @@ class Global(Strategy):
         for s in config.sets:
             with ctx.timed(set_label(s)) as progress:
                 land, reports[s.name] = build_shoreline_set(
-                    s, islands, plane, kept_area(config), progress
+                    s, islands, plane, kept_area(config), progress, workers=ctx.threads
                 )
                 sets[s.name], reports[s.name] = _closed(
-                    config, s, world, land, reports[s.name], crs
+                    config, s, world, land, reports[s.name], crs, ctx.threads
                 )
         return Shorelines(features, crs, sets, reports, plane=plane, world=world)
 
@@ -252,8 +252,9 @@ def _closed(
     land: NDArray[np.object_],
     report: ShorelineSetReport,
     lonlat: CRS,
+    threads: int = 1,
 ) -> tuple[NDArray[np.object_], ShorelineSetReport]:
-    """Return the set's land, framed, narrow water closed; and its report.
+    """Return the set's land, framed, narrow water closed (on ``threads``); report.
 
     Every set has the polar land (the frame round the plane), with its own
     PCA: a region set is used inside its regions, and those may hold the
@@ -263,7 +264,7 @@ def _closed(
     their area.
     """
     islands = land
-    land = np.concatenate([[world.frame(_shell(world.shell, s))], land])
+    land = np.concatenate([[world.frame(_shell(world.shell, s, threads))], land])
     close = closing_width(config)
     if not close:
         return land, report
@@ -274,6 +275,7 @@ def _closed(
         1.05 * world.reach,
         _zone(config, s, world.crs, lonlat),
         keep_area=min_area,
+        threads=threads,
     )
     logger.info("%s: %d polygons joined across water under %g m", s.name, merged, close)
     looked, changed = island_changes(islands, land, min_area=min_area, framed=True)
@@ -349,6 +351,7 @@ def _close(
     zone: shapely.Geometry | None,
     *,
     keep_area: float = 0.0,
+    threads: int = 1,
 ) -> tuple[NDArray[np.object_], int]:
     """Close narrow water, only near ``zone`` (a region set's regions) if given.
 
@@ -361,13 +364,17 @@ def _close(
         far = float(np.hypot(*np.abs(np.reshape(zone.bounds, (2, 2))).max(axis=0)))
         scale = 1.0 + (far / (2.0 * EARTH_RADIUS)) ** 2  # the plane's k there
         near = zone.buffer(4.0 * width * scale)
-    return close_narrow_water(land, width, within=reach, keep_area=keep_area, zone=near)
+    return close_narrow_water(
+        land, width, within=reach, keep_area=keep_area, zone=near, threads=threads
+    )
 
 
-def _shell(shell: shapely.Polygon, s: ShorelineSetConfig) -> shapely.Polygon:
+def _shell(
+    shell: shapely.Polygon, s: ShorelineSetConfig, threads: int = 1
+) -> shapely.Polygon:
     """Return the polar coast, with the set's PCA when it has one."""
     if not s.pca:
         return shell
-    out, _ = simplify_shorelines([shell], s.window, s.modes)
+    out, _ = simplify_shorelines([shell], s.window, s.modes, workers=threads)
     parts = shapely.get_parts(out[0]) if out[0] is not None else []
     return max(parts, key=lambda p: p.area) if len(parts) else shell
