@@ -42,6 +42,9 @@ from pathlib import Path
 import psutil
 
 import coastmesh
+from coastmesh.cli.main import small_pages
+
+small_pages()  # numpy's pages as `coastmesh run` has them (before numpy loads)
 
 
 class TreeMemory:

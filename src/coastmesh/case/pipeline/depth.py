@@ -16,6 +16,7 @@ depth again at the nodes it moved.
 from __future__ import annotations
 
 import logging
+import warnings
 from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -33,7 +34,7 @@ from coastmesh.case.pipeline.state import CaseRun, DepthState, RunContext, missi
 from coastmesh.depth import DepthReport, DepthSource, DepthSources, depth_at_nodes
 from coastmesh.depth.nodes import MAX_LAND_SHARE, node_sources
 from coastmesh.depth.sources import check_blend, no_crs
-from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry.earth import METRES_PER_DEGREE, reproject
 from coastmesh.io.raster_window import raster_extent, read_raster_around
 from coastmesh.meshing import relieve_time_step
@@ -63,12 +64,15 @@ def depth_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
         rasters = read_sources(b.stack, state.mesh.points, state.mesh.crs, progress)
         if b.window is not None:
             rasters = _simplified(rasters, b)
-        mesh, report = node_depths(b, state.mesh, rasters, progress)
+        # the depth's warnings wait for the relief: they are about the final mesh
+        with warnings.catch_warnings(record=relief_due(run.config)) as caught:
+            if caught is not None:
+                warnings.simplefilter("always", CoastmeshWarning)
+            mesh, report = node_depths(b, state.mesh, rasters, progress)
     if run.site:
         check_clearance(run.site, mesh)
-    return replace(
-        run, mesh=replace(state, mesh=mesh), depth=DepthState(rasters, report)
-    )
+    depth = DepthState(rasters, report, deferred=tuple(caught or ()))
+    return replace(run, mesh=replace(state, mesh=mesh), depth=depth)
 
 
 def time_step_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
@@ -94,15 +98,23 @@ def time_step_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
         )
         logger.info("time step: %s", report.summary())
         if not report.accepted:
-            return replace(run, depth=replace(depth, relief=report))
+            _give(depth.deferred)
+            return replace(run, depth=replace(depth, relief=report, deferred=()))
         # the merged nodes took their pair's mean depth: read the rasters there
+        # (its warnings, about this mesh, replace those held back)
         b = config.bathymetry or missing("[bathymetry]")
         relieved, depth_report = node_depths(b, relieved, depth.rasters, progress)
     return replace(
         run,
         mesh=replace(state, mesh=relieved),
-        depth=replace(depth, report=depth_report, relief=report),
+        depth=replace(depth, report=depth_report, relief=report, deferred=()),
     )
+
+
+def _give(deferred: Sequence[warnings.WarningMessage]) -> None:
+    """Give the warnings held back, as they were first raised."""
+    for w in deferred:
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
 
 def relief_due(config: CaseConfig) -> bool:

@@ -15,6 +15,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import time
+import warnings
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, NamedTuple, NoReturn
@@ -278,6 +279,9 @@ class DepthState:
     rasters: DepthSources
     report: DepthReport
     relief: ThrottleReport | None = None
+    #: the depth warnings held back until the time-step relief has run: its
+    #: mesh is the one they are about (given then, once)
+    deferred: tuple[warnings.WarningMessage, ...] = ()
 
 
 @dataclass(frozen=True)
