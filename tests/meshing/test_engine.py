@@ -146,6 +146,25 @@ def test_meshing_twice_gives_identical_arrays(square, coarse):
         np.testing.assert_array_equal(getattr(again, name), getattr(coarse, name))
 
 
+def test_the_boundary_nodes_are_made_on_one_gmsh_thread(square, coarse, monkeypatch):
+    # on more, Gmsh's size view octree makes them depend on thread timing in
+    # the last bits (world.toml); a mesh asked for on 4 threads is the same
+    from coastmesh.meshing import engine
+
+    seen = []
+    made = engine.boundary_nodes
+
+    def spy(*args, threads=1, **kwargs):
+        seen.append(threads)
+        return made(*args, threads=threads, **kwargs)
+
+    monkeypatch.setattr(engine, "boundary_nodes", spy)
+    again = generate_mesh(square, graded(300.0), threads=4)
+    assert seen == [1]
+    np.testing.assert_array_equal(again.points, coarse.points)
+    np.testing.assert_array_equal(again.triangles, coarse.triangles)
+
+
 def test_surface_id_crs_and_progress(square, coarse):
     assert coarse.surface_id == 7
     assert coarse.crs == CRS.from_epsg(32630)

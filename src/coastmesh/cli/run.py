@@ -38,10 +38,9 @@ __all__ = ["run"]
     type=click.IntRange(min=1),
     default=None,
     help="Cores the run may use: processes to mesh and clean the parts of the "
-    "water on and to draw the figures on, threads for the PCA, the closing, the "
-    "size terms and Gmsh's boundary nodes (default: [run] workers, else all "
-    "cores). The outputs are the same for any number: [mesh] parts in the case "
-    "sets how the water is cut.",
+    "water on and to draw the figures on, threads for the PCA, the closing and "
+    "the size terms (default: [run] workers, else all cores). The outputs are "
+    "the same for any number: [mesh] parts in the case sets how the water is cut.",
 )
 @click.option(
     "--scheduler",

@@ -120,9 +120,10 @@ def generate_mesh(
         ``parts`` is a number). The same ``parts`` and ``seed`` give the same
         mesh whatever ``runner``: nodes are numbered in order of x, then y.
     threads : int, default 1
-        Gmsh threads for the boundary nodes
-        (:mod:`~coastmesh.meshing.gmsh.boundary_nodes`): separate pieces of the
-        boundary are meshed at once.
+        Threads for the size field's map units and the cleanup's report. The
+        boundary nodes (:mod:`~coastmesh.meshing.gmsh.boundary_nodes`) are
+        made on one Gmsh thread whatever it is, so that the mesh is the same
+        bytes on any number.
     runner : callable, optional
         ``runner(fn, tasks)`` returns ``[fn(t) for t in tasks]``, computed
         anywhere: a process pool or a Dask cluster
@@ -275,7 +276,9 @@ def mesh_in_parts(
     step(1)
     with ThreadPoolExecutor(1) as side:  # while Gmsh makes the boundary nodes
         warming = side.submit(start_workers, runner, parts, rings, map_size)
-        pieces, water = boundary_nodes(resampled, ids, map_size, threads=threads)
+        # on one Gmsh thread: on more, the nodes are not reproducible (see
+        # boundary_nodes' ``threads``)
+        pieces, water = boundary_nodes(resampled, ids, map_size, threads=1)
         if (error := warming.exception()) is not None:  # a head start only
             logger.warning("workers not started ahead: %s", error)
     plane = _inner_plane(inner, domain.crs, mesh_crs, map_size)

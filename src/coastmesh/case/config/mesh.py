@@ -256,7 +256,7 @@ class RunConfig:
         doc="the cores the run may use: local worker processes the parts are "
         "meshed and cleaned on, and the figures drawn on, each started as soon as "
         "what it shows is made; and the threads of the PCA of the shorelines, the "
-        "closing of narrow water, the size terms and Gmsh's boundary nodes "
+        "closing of narrow water and the size terms "
         "(`coastmesh run --workers N` overrides it). `1` keeps the run on one core. "
         "The outputs are the same for any number",
     )

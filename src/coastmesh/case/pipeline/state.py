@@ -346,7 +346,7 @@ class RunContext:
     ----------
     threads : int
         Local workers: processes for the parts and figures; threads for the
-        PCA, the closing, the size terms and Gmsh's boundary nodes.
+        PCA, the closing and the size terms.
     runner : Runner
         Where the parts are meshed (here, a process pool, or Dask).
     stage : StageFactory

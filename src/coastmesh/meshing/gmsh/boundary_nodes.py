@@ -50,7 +50,14 @@ def boundary_nodes(
     size : SizeGrid
         Target sizes in map units.
     threads : int, default 1
-        Gmsh threads: separate pieces are meshed at once.
+        Gmsh threads: separate pieces are meshed at once. Not reproducible on
+        more than one: Gmsh reads the size view through an octree that starts
+        each search from the element it found last, so which thread looked
+        last picks, on an element's edge, between two values that differ in
+        the last bits, and nodes move by some 1e-15 of the domain's size
+        (seen on ``world.toml`` on 2 threads: one piece of 1,945 in some runs,
+        and the mesh's nodes near it by up to 4e-9 degrees). The pipeline
+        uses 1.
 
     Returns
     -------
@@ -180,9 +187,10 @@ def _add_curves(
 def chunked(pieces: list[tuple[NDArray, int]], most: int = CURVE_POINTS) -> list:
     """Split (piece, id) pairs of more than ``most`` points; ends are shared.
 
-    Gmsh meshes curves on separate threads, and one spline through thousands of
-    points is one long serial job: in chunks, the 1-D meshing of the NW-shelf
-    intermediate boundary takes 1.1 s on 2 threads instead of 2.8 s on one.
+    Gmsh meshes curves on separate threads (when asked to), and one spline
+    through thousands of points is one long serial job: in chunks, the 1-D
+    meshing of the NW-shelf intermediate boundary takes 1.1 s on 2 threads
+    instead of 2.8 s on one. Chunks also keep Gmsh's work per curve short.
 
     Examples
     --------
