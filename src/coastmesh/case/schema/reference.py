@@ -46,7 +46,7 @@ def key_table(kind: type, *, own: bool = False) -> str:
     --------
     >>> from coastmesh.case.config import RunConfig
     >>> print(key_table(RunConfig).splitlines()[2])  # doctest: +ELLIPSIS
-    | `workers` | every core | local worker processes ...
+    | `workers` | every core | the cores the run may use: local worker processes ...
     """
     inherited = _inherited(kind)
     rows = ["| key | default | meaning |", "|---|---|---|"]
