@@ -134,14 +134,18 @@ def test_the_closing_is_the_buffers_closing_to_a_cell(case):
         assert _kept_share(land, new, keep_area) == pytest.approx(1.0)
 
 
-def test_on_real_fjords_the_closing_is_the_buffers_closing():
-    # West Norway at full resolution, a corner of it: skerries and fjords
+def _fjords():
+    """West Norway at full resolution, a corner of it: skerries and fjords."""
     coast = read_features(data_path("norway_west_gshhg_f.geojson"))
     land = coast.geometry[coast.fields["level"] == 1]
     land = shapely.clip_by_rect(land, 4.8, 60.8, 5.6, 61.3)
     land = reproject(land[~shapely.is_empty(land)], coast.crs, plane_crs((0, -90)))
     land = shapely.get_parts(shapely.make_valid(land))
-    land = land[shapely.get_type_id(land) == shapely.GeometryType.POLYGON]
+    return land[shapely.get_type_id(land) == shapely.GeometryType.POLYGON]
+
+
+def test_on_real_fjords_the_closing_is_the_buffers_closing():
+    land = _fjords()
     assert shapely.get_num_coordinates(land).sum() > 5000
     for width, keep_area in ((2e3, 0.0), (3e3, 20e6)):
         new, old, (lost, made) = _compare(land, width, keep_area)
@@ -155,12 +159,7 @@ def test_on_real_fjords_the_closing_is_the_buffers_closing():
 
 def test_the_closing_is_the_same_on_one_thread_as_on_two():
     # `-w 1` runs the closing on one thread: it must not change the land
-    coast = read_features(data_path("norway_west_gshhg_f.geojson"))
-    land = coast.geometry[coast.fields["level"] == 1]
-    land = shapely.clip_by_rect(land, 4.8, 60.8, 5.6, 61.3)
-    land = reproject(land[~shapely.is_empty(land)], coast.crs, plane_crs((0, -90)))
-    land = shapely.get_parts(shapely.make_valid(land))
-    land = land[shapely.get_type_id(land) == shapely.GeometryType.POLYGON]
+    land = _fjords()
     one, merged_one = close_narrow_water(land, 2e3, keep_area=20e6, threads=1)
     two, merged_two = close_narrow_water(land, 2e3, keep_area=20e6, threads=2)
     assert merged_one == merged_two > 0
