@@ -257,7 +257,8 @@ class RunConfig:
         "meshed and cleaned on, and the figures drawn on, each started as soon as "
         "what it shows is made; and the threads of the PCA of the shorelines, the "
         "closing of narrow water and the size terms "
-        "(`coastmesh run --workers N` overrides it). `1` keeps the run on one core. "
+        "(`coastmesh run --workers N` overrides it). `1` keeps coastmesh's own work "
+        "on one core. "
         "The outputs are the same for any number",
     )
     scheduler: str | None = key(
