@@ -548,6 +548,20 @@ def test_a_result_under_the_bar_is_run_again_at_the_bar(monkeypatch):
     assert fell_back >= 1  # not vacuous
 
 
+@pytest.mark.parametrize("slack", [(2.0, 0.0), (0.0,)])
+def test_the_relief_on_two_threads_is_the_relief_on_one(monkeypatch, slack):
+    # measured aside while the collapses are prepared: the same mesh and report,
+    # whether the slack's step is kept or run again at the bar
+    monkeypatch.setattr(relief, "ANGLE_SLACK", slack)
+    mesh = notch_mesh()
+    keep = (30.5, 38.0)
+    one_mesh, one = relieve_time_step(mesh, velocity=1.0, keep_angles=keep)
+    two_mesh, two = relieve_time_step(mesh, velocity=1.0, keep_angles=keep, threads=2)
+    assert one.collapses > 0 and two == one
+    for name in ("points", "triangles", "boundary_edges", "boundary_ids"):
+        np.testing.assert_array_equal(getattr(two_mesh, name), getattr(one_mesh, name))
+
+
 def test_region_outlines_and_held_nodes_stay_where_they_are():
     base = lattice()
     centres = base.points[base.triangles].mean(axis=1)
@@ -626,13 +640,13 @@ def test_the_relief_of_a_global_mesh_works_with_lengths_on_the_earth(monkeypatch
     from coastmesh.geometry.sphere import plane_crs
 
     seen = []
-    run = relief._relieve
+    run = relief._prepare
 
     def spy(*args):
         seen.append(args[-1])
         return run(*args)
 
-    monkeypatch.setattr(relief, "_relieve", spy)
+    monkeypatch.setattr(relief, "_prepare", spy)
     tri, ring = [[0, 1, 2]], [[0, 1], [1, 2], [2, 0]]
     depth = {"depth": np.full(3, 50.0)}
     world = [[-170.0, 0.0], [175.0, 0.0], [0.0, 10.0]]  # round the world

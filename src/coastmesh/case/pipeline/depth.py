@@ -95,6 +95,7 @@ def time_step_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
             velocity=0.0 if courant is None else courant.velocity,
             keep_angles=(cleanup.min_angle_before, cleanup.min_angle_p1_before),
             held=held,
+            threads=ctx.threads,
         )
         logger.info("time step: %s", report.summary())
         if not report.accepted:

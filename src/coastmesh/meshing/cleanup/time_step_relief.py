@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import logging
 import math
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -159,6 +160,7 @@ def relieve_time_step(
     passes: int = 3,
     keep_angles: tuple[float, float] | None = None,
     held: NDArray[np.bool_] | None = None,
+    threads: int = 1,
 ) -> tuple[Mesh, ThrottleReport]:
     """Collapse an edge of each element whose time step is far below the others'.
 
@@ -185,6 +187,10 @@ def relieve_time_step(
         footprints): as boundary nodes are, but never along a coast. The
         nodes on the outline between two regions of ``mesh.regions`` are
         held whether given or not.
+    threads : int, default 1
+        With 2 or more, the mesh is measured on one thread while the
+        collapses are prepared on another (numpy lets go of Python's lock);
+        the result is the same.
 
     Returns
     -------
@@ -233,31 +239,35 @@ def relieve_time_step(
         )
     to_plane = smoothing.local_plane(mesh)
     xy = smoothing.plane_points(mesh.points, to_plane)
-    before = _measures(mesh, xy, velocity, ratio)
-    # the bar: the given angles, or the input's where it is already under
-    # them (measured here to rounding, it may be by 1e-6 deg)
-    own = (before["min_angle"], before["min_angle_p1"])
-    keep = tuple(map(min, keep_angles, own)) if keep_angles else own
-    # no result may go under the bar; a step may, by the slack, on the way
-    bar = max(min_angle, keep[0])
-    accepted = False
     held = _held(mesh, held)
     plane = mesh.crs if to_plane is None else to_plane.target_crs
     radius = EARTH_RADIUS if plane is not None and is_world_plane(plane) else None
-    for slack in ANGLE_SLACK:
-        work, collapses, moves = _relieve(
-            mesh, xy, velocity, ratio, bar - slack, passes, held, radius
-        )
-        if not collapses and not moves:
-            break
-        new = work.result(mesh, to_plane)
-        after = _measures(new, work.xy[~work.removed], velocity, ratio)
-        logger.debug("throttle: %d collapses, %s -> %s", collapses, before, after)
-        if after["min_over_p1"] > before["min_over_p1"] and (
-            after["min_angle"] >= keep[0] and after["min_angle_p1"] >= keep[1]
-        ):
-            accepted = True
-            break
+    with ThreadPoolExecutor(1) as side:
+        aside = side.submit if threads > 1 else _done
+        first = aside(_prepare, mesh, xy, velocity, held, radius)
+        before = _measures(mesh, xy, velocity, ratio)  # while _prepare runs aside
+        # the bar: the given angles, or the input's where it is already under
+        # them (measured here to rounding, it may be by 1e-6 deg)
+        own = (before["min_angle"], before["min_angle_p1"])
+        keep = tuple(map(min, keep_angles, own)) if keep_angles else own
+        # no result may go under the bar; a step may, by the slack, on the way
+        bar = max(min_angle, keep[0])
+        accepted = False
+        for k, slack in enumerate(ANGLE_SLACK):
+            work = (
+                first.result() if k == 0 else _prepare(mesh, xy, velocity, held, radius)
+            )
+            collapses, moves = _passes(work, ratio, bar - slack, passes)
+            if not collapses and not moves:
+                break
+            new = work.result(mesh, to_plane)
+            after = _measures(new, work.xy[~work.removed], velocity, ratio, aside)
+            logger.debug("throttle: %d collapses, %s -> %s", collapses, before, after)
+            if after["min_over_p1"] > before["min_over_p1"] and (
+                after["min_angle"] >= keep[0] and after["min_angle_p1"] >= keep[1]
+            ):
+                accepted = True
+                break
     if not accepted:
         new, after, collapses, moves = mesh, before, 0, 0
     report = ThrottleReport(
@@ -286,10 +296,15 @@ def _held(mesh: Mesh, held: NDArray[np.bool_] | None) -> NDArray[np.bool_]:
     return out
 
 
-def _relieve(
-    mesh: Mesh, xy, velocity, ratio, floor, passes, held, radius=None
-) -> tuple:
-    """Run the passes on a fresh copy of ``mesh``; return it, collapses, moves.
+def _done(fn, *args) -> Future:
+    """Run ``fn(*args)`` now; return a future holding its result (one thread)."""
+    future: Future = Future()
+    future.set_result(fn(*args))
+    return future
+
+
+def _prepare(mesh: Mesh, xy, velocity, held, radius=None) -> _Collapser:
+    """Return a fresh :class:`_Collapser` of ``mesh``, ready for the passes.
 
     ``radius``: the sphere's, when ``xy`` is a world plane (its lengths are
     the sphere's times the plane's scale).
@@ -302,6 +317,11 @@ def _relieve(
     ids, counts = np.unique(mesh.boundary_ids, return_counts=True)
     work.edges_of = dict(zip(ids.tolist(), counts.tolist(), strict=True))
     work.open_ids = {k for k, kind in mesh.boundary_kinds.items() if kind == "open"}
+    return work
+
+
+def _passes(work: _Collapser, ratio, floor, passes) -> tuple[int, int]:
+    """Run the passes on ``work``; return the collapses and moves made."""
     collapses = moves = 0
     for _ in range(passes):
         made = work.run_pass(ratio, floor)
@@ -309,7 +329,7 @@ def _relieve(
         collapses, moves = collapses + made, moves + moved
         if not made and not moved:
             break
-    return work, collapses, moves
+    return collapses, moves
 
 
 def _coast_links(mesh: Mesh) -> dict[int, dict[int, int]]:
@@ -341,12 +361,19 @@ def _check_options(velocity: float, ratio: float, min_angle: float, passes: int)
             raise ConfigError(f"{name} = {value!r}: must be {rule}")
 
 
-def _measures(mesh: Mesh, xy: NDArray, velocity: float, ratio: float) -> dict:
-    """Return the report's numbers: time steps on the Earth, angles in the plane."""
+def _measures(
+    mesh: Mesh, xy: NDArray, velocity: float, ratio: float, aside=None
+) -> dict:
+    """Return the report's numbers: time steps on the Earth, angles in the plane.
+
+    ``aside(fn, *args)`` returns a future: the angles are measured there
+    while the time steps are measured here.
+    """
+    angles_of = (aside or _done)(smoothing.min_angles, xy, mesh.triangles)
     step = element_time_steps(mesh, velocity=velocity)["dt"]
     step = step[np.isfinite(step)]  # no NaN (no depth) nor inf (dry)
     p1 = float(np.percentile(step, 1)) if step.size else math.inf
-    angles = smoothing.min_angles(xy, mesh.triangles)
+    angles = angles_of.result()
     return {
         "throttling": int((step < ratio * p1).sum()),
         "min_over_p1": float(step.min()) / p1 if step.size and p1 > 0 else math.nan,
