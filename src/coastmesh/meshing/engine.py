@@ -12,7 +12,7 @@ from __future__ import annotations
 import logging
 import time
 import warnings
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import numpy as np
@@ -28,6 +28,7 @@ from coastmesh.geometry.projection import (
     sample_size,
     to_map_units,
 )
+from coastmesh.meshing.cleanup.aside import done_now
 from coastmesh.meshing.cleanup.report import CleanupOptions, combine, stats
 from coastmesh.meshing.gmsh.boundary_nodes import boundary_nodes
 from coastmesh.meshing.gmsh.model import (
@@ -370,7 +371,7 @@ def _mesh(
         # projected and the boundary checked, with more than one worker
         # (numpy lets go of the GIL): the two took 1.2 s together in a profile
         # of the NW-shelf fine case, of about 4 s after the parts are joined
-        aside = side.submit if threads > 1 else _done
+        aside = side.submit if threads > 1 else done_now
         cleaned = aside(
             _cleanup_report, results, points, triangles, edges, cleanup, moved
         )
@@ -509,16 +510,6 @@ def _cleanup_report(
     cleaned = combine([r.cleanup for r in results], after, seam_moved=moved)
     logger.info("cleanup: %s", cleaned.summary())
     return cleaned
-
-
-def _done(fn: Any, *args: Any) -> Future:
-    """Call ``fn(*args)`` now; return its result (or error) as a done Future."""
-    future: Future = Future()
-    try:
-        future.set_result(fn(*args))
-    except Exception as exc:  # raised by .result(), as a thread's would be
-        future.set_exception(exc)
-    return future
 
 
 def _check_args(domain: Any, size: Any, algorithm: str, seed: Any, parts: Any) -> None:

@@ -4,8 +4,8 @@
 splits), ``smoothing`` (interior nodes moved, the worst angles never lowered),
 ``time_step_relief`` (edges collapsed where elements throttle an explicit
 model's time step), ``report`` (what the cleanup did), ``editable`` (a mesh to
-edit in place) and ``planar`` (triangle measures in a plane, for the local
-decisions).
+edit in place), ``planar`` (triangle measures in a plane, for the local
+decisions) and ``aside`` (work on a side thread, or at once).
 """
 
 from __future__ import annotations

@@ -43,7 +43,7 @@ from __future__ import annotations
 
 import logging
 import math
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -54,6 +54,7 @@ from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import EARTH_RADIUS
 from coastmesh.geometry.sphere import is_world_plane
 from coastmesh.meshing.cleanup import smoothing
+from coastmesh.meshing.cleanup.aside import done_now
 from coastmesh.meshing.cleanup.planar import signed_areas, triangle_angles
 from coastmesh.meshing.quality.time_step import (
     MIN_OVER_P1_TARGET,
@@ -243,7 +244,7 @@ def relieve_time_step(
     plane = mesh.crs if to_plane is None else to_plane.target_crs
     radius = EARTH_RADIUS if plane is not None and is_world_plane(plane) else None
     with ThreadPoolExecutor(1) as side:
-        aside = side.submit if threads > 1 else _done
+        aside = side.submit if threads > 1 else done_now
         first = aside(_prepare, mesh, xy, velocity, held, radius)
         before = _measures(mesh, xy, velocity, ratio)  # while _prepare runs aside
         # the bar: the given angles, or the input's where it is already under
@@ -294,13 +295,6 @@ def _held(mesh: Mesh, held: NDArray[np.bool_] | None) -> NDArray[np.bool_]:
         out[region_interfaces(mesh).ravel()] = True
     out[mesh.line_edges()[0].ravel()] = True
     return out
-
-
-def _done(fn, *args) -> Future:
-    """Run ``fn(*args)`` now; return a future holding its result (one thread)."""
-    future: Future = Future()
-    future.set_result(fn(*args))
-    return future
 
 
 def _prepare(mesh: Mesh, xy, velocity, held, radius=None) -> _Collapser:
@@ -369,7 +363,7 @@ def _measures(
     ``aside(fn, *args)`` returns a future: the angles are measured there
     while the time steps are measured here.
     """
-    angles_of = (aside or _done)(smoothing.min_angles, xy, mesh.triangles)
+    angles_of = (aside or done_now)(smoothing.min_angles, xy, mesh.triangles)
     step = element_time_steps(mesh, velocity=velocity)["dt"]
     step = step[np.isfinite(step)]  # no NaN (no depth) nor inf (dry)
     p1 = float(np.percentile(step, 1)) if step.size else math.inf
