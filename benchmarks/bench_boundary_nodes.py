@@ -8,8 +8,8 @@ The case is built up to its meshing (shoreline sets, domain, slots, size
 field: about 25 s for the NW-shelf fine case); then, in the same process and in
 turn, :func:`coastmesh.meshing.gmsh.boundary_nodes.boundary_nodes` makes the
 boundary nodes with Gmsh's size view holding only the grid cells along the curves (as
-coastmesh does) and with the whole grid (as before), ``--runs`` times each on
-1 and on 2 Gmsh threads. The nodes must be the same, bit for bit. Prints a
+coastmesh does) and with the whole grid (as before), ``--runs`` times each (on
+one Gmsh thread, as always). The nodes must be the same, bit for bit. Prints a
 Markdown table: min and median seconds, and the ratio of the medians.
 """
 
@@ -32,13 +32,15 @@ class _Captured(Exception):
 def case_boundary(case: Path):
     """Return the case's resampled boundary rings, their ids, and the size grid."""
     from coastmesh.case import build as build_module
+    from coastmesh.case.pipeline import mesh as mesh_stage_module
     from coastmesh.geometry.projection import project_rings, sample_size, to_map_units
     from coastmesh.meshing.gmsh.resample import resample_rings
 
     def capture(domain, size, **kwargs):
         raise _Captured(domain, size, kwargs["mesh_crs"])
 
-    build_module.mesh_in_parts = capture  # this process only: stop at the meshing
+    # this process only: stop at the meshing stage's call
+    mesh_stage_module.mesh_in_parts = capture
     try:
         build_module.build_case(case, workers=1)
     except _Captured as stop:
@@ -71,36 +73,29 @@ def main() -> None:
         seen(gmsh, grid, bounds, near)
 
     curves.add_size_view = counted
-    times: dict[tuple[str, int], list[float]] = {}
+    times: dict[str, list[float]] = {}
     nodes = {}
     for _ in range(args.runs):
         for how in ("along the curves", "whole grid"):
             curves._along = along if how == "along the curves" else (lambda *a: None)
-            for threads in (1, 2):
-                started = time.perf_counter()
-                pieces, _ = curves.boundary_nodes(rings, ids, size, threads=threads)
-                times.setdefault((how, threads), []).append(
-                    time.perf_counter() - started
-                )
-                nodes[how] = np.concatenate([p for p, _ in pieces])
+            started = time.perf_counter()
+            pieces, _ = curves.boundary_nodes(rings, ids, size)
+            times.setdefault(how, []).append(time.perf_counter() - started)
+            nodes[how] = np.concatenate([p for p, _ in pieces])
     same = np.array_equal(nodes["along the curves"], nodes["whole grid"])
     count = len(nodes["whole grid"])
     print(
         f"{args.case}: {count:,} boundary nodes, the same bit for bit: {same}; "
         f"view cells {cells[True]:,} along the curves, {cells[False]:,} whole"
     )
-    print("\n| threads | view | min s | median s | whole / along (medians) |")
-    print("|---:|---|---:|---:|---:|")
-    for threads in (1, 2):
-        whole = statistics.median(times[("whole grid", threads)])
-        for how in ("along the curves", "whole grid"):
-            t = times[(how, threads)]
-            first = how == "along the curves"
-            ratio = f"{whole / statistics.median(t):.2f}" if first else ""
-            print(
-                f"| {threads} | {how} | {min(t):.2f} | {statistics.median(t):.2f} "
-                f"| {ratio} |"
-            )
+    print("\n| view | min s | median s | whole / along (medians) |")
+    print("|---|---:|---:|---:|")
+    whole = statistics.median(times["whole grid"])
+    for how in ("along the curves", "whole grid"):
+        t = times[how]
+        along_curves = how == "along the curves"
+        ratio = f"{whole / statistics.median(t):.2f}" if along_curves else ""
+        print(f"| {how} | {min(t):.2f} | {statistics.median(t):.2f} | {ratio} |")
     if not same:
         sys.exit("the boundary nodes differ")
 

@@ -149,16 +149,16 @@ def test_meshing_twice_gives_identical_arrays(square, coarse):
 def test_the_boundary_nodes_are_made_on_one_gmsh_thread(square, coarse, monkeypatch):
     # on more, Gmsh's size view octree makes them depend on thread timing in
     # the last bits (world.toml); a mesh asked for on 4 threads is the same
-    from coastmesh.meshing import engine
+    from coastmesh.meshing.gmsh import boundary_nodes as module
 
     seen = []
-    made = engine.boundary_nodes
+    options = module.set_options
 
-    def spy(*args, threads=1, **kwargs):
+    def spy(gmsh, *, threads, **kwargs):
         seen.append(threads)
-        return made(*args, threads=threads, **kwargs)
+        return options(gmsh, threads=threads, **kwargs)
 
-    monkeypatch.setattr(engine, "boundary_nodes", spy)
+    monkeypatch.setattr(module, "set_options", spy)
     again = generate_mesh(square, graded(300.0), threads=4)
     assert seen == [1]
     np.testing.assert_array_equal(again.points, coarse.points)

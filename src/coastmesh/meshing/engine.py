@@ -277,9 +277,7 @@ def mesh_in_parts(
     step(1)
     with ThreadPoolExecutor(1) as side:  # while Gmsh makes the boundary nodes
         warming = side.submit(start_workers, runner, parts, rings, map_size)
-        # on one Gmsh thread: on more, the nodes are not reproducible (see
-        # boundary_nodes' ``threads``)
-        pieces, water = boundary_nodes(resampled, ids, map_size, threads=1)
+        pieces, water = boundary_nodes(resampled, ids, map_size)
         if (error := warming.exception()) is not None:  # a head start only
             logger.warning("workers not started ahead: %s", error)
     plane = _inner_plane(inner, domain.crs, mesh_crs, map_size)

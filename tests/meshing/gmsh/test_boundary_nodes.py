@@ -95,7 +95,7 @@ def test_the_view_is_the_padded_grid_near_points_or_whole(nx, ny, count, seed):
     np.testing.assert_array_equal(whole, _literal_whole(size, bounds)[0])
 
 
-def _full_and_near(monkeypatch, rings, ids, size, threads=1):
+def _full_and_near(monkeypatch, rings, ids, size):
     """The boundary nodes with the view along the curves, then with the whole grid."""
     cells = []
     seen = curves.add_size_view
@@ -105,9 +105,9 @@ def _full_and_near(monkeypatch, rings, ids, size, threads=1):
         seen(gmsh, grid, bounds, near)
 
     monkeypatch.setattr(curves, "add_size_view", spy)
-    near = boundary_nodes(rings, ids, size, threads=threads)
+    near = boundary_nodes(rings, ids, size)
     monkeypatch.setattr(curves, "_along", lambda *a: None)
-    whole = boundary_nodes(rings, ids, size, threads=threads)
+    whole = boundary_nodes(rings, ids, size)
     return near, whole, cells
 
 
@@ -165,7 +165,7 @@ def test_boundary_nodes_of_orkney_are_those_of_the_whole_view(
         [[r] for r in rings], lambda xy: sample_size(size, xy)
     )
     ids = [[3]] * len(resampled)
-    near, whole, cells = _full_and_near(monkeypatch, resampled, ids, size, threads=2)
+    near, whole, cells = _full_and_near(monkeypatch, resampled, ids, size)
     _assert_same(near, whole)
     assert sum(len(p) for p, _ in near[0]) > 500
     assert cells[0] < 0.8 * cells[1]

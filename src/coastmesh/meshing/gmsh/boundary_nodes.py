@@ -35,10 +35,16 @@ def boundary_nodes(
     rings: list[list[list[NDArray[np.float64]]]],
     ids: list[list[int]],
     size: SizeGrid,
-    *,
-    threads: int = 1,
 ) -> tuple[list[tuple[NDArray[np.float64], int]], shapely.Polygon]:
     """Return the boundary as chains of its mesh nodes, and the water.
+
+    On one Gmsh thread, so that the nodes are the same bytes every run. On
+    two, Gmsh reads the size view through an octree that starts each search
+    from the element it found last, so which thread looked last picks, on an
+    element's edge, between two values that differ in the last bits, and
+    nodes move by some 1e-15 of the domain's size (seen on ``world.toml``:
+    one piece of 1,945 in some runs, and the mesh's nodes near it by up to
+    4e-9 degrees); in turns with two threads it was no slower.
 
     Parameters
     ----------
@@ -49,15 +55,6 @@ def boundary_nodes(
         Each ring's segments' physical ids.
     size : SizeGrid
         Target sizes in map units.
-    threads : int, default 1
-        Gmsh threads: separate pieces are meshed at once. Not reproducible on
-        more than one: Gmsh reads the size view through an octree that starts
-        each search from the element it found last, so which thread looked
-        last picks, on an element's edge, between two values that differ in
-        the last bits, and nodes move by some 1e-15 of the domain's size
-        (seen on ``world.toml`` on 2 threads: one piece of 1,945 in some runs,
-        and the mesh's nodes near it by up to 4e-9 degrees). The pipeline
-        uses 1.
 
     Returns
     -------
@@ -74,7 +71,7 @@ def boundary_nodes(
     """
     with gmsh_session() as gmsh:
         try:
-            set_options(gmsh, threads=threads, seed=0, algorithm="frontal-delaunay")
+            set_options(gmsh, threads=1, seed=0, algorithm="frontal-delaunay")
             by_ring = _ring_pieces(rings, ids)
             curves = _add_curves(gmsh, by_ring)
             xy = np.concatenate([p for p, _, _ in curves])
@@ -187,10 +184,11 @@ def _add_curves(
 def chunked(pieces: list[tuple[NDArray, int]], most: int = CURVE_POINTS) -> list:
     """Split (piece, id) pairs of more than ``most`` points; ends are shared.
 
-    Gmsh meshes curves on separate threads (when asked to), and one spline
-    through thousands of points is one long serial job: in chunks, the 1-D
-    meshing of the NW-shelf intermediate boundary takes 1.1 s on 2 threads
-    instead of 2.8 s on one. Chunks also keep Gmsh's work per curve short.
+    Made for Gmsh's threads (one spline through thousands of points is one
+    long serial job: in chunks, the NW-shelf intermediate boundary took 1.1 s
+    on 2 threads instead of 2.8 s on one). The boundary is meshed on one
+    thread now (:func:`boundary_nodes`); the chunks stay, as the splines they
+    make decide where the nodes go.
 
     Examples
     --------
