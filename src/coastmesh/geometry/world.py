@@ -275,8 +275,11 @@ class WorldLand:
     def frame(self, shell: shapely.Polygon | None = None) -> shapely.Polygon:
         """Return the polar land as a polygon: a wide box less ``shell``."""
         shell = self.shell if shell is None else shell
-        box = shapely.box(*shapely.buffer(shell, shell.length / 100).bounds)
-        return box.difference(shell)
+        # the bounds a buffer of the shell would have; buffering a full
+        # resolution coast to read its bounds took a second
+        wide = shell.length / 100
+        x0, y0, x1, y1 = shapely.bounds(shell)
+        return shapely.box(x0 - wide, y0 - wide, x1 + wide, y1 + wide).difference(shell)
 
 
 def world_land(
