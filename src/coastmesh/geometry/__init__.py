@@ -14,6 +14,7 @@
 :mod:`.closing`           narrow water closed, on rasters of that plane
 :mod:`.cells`             land on cells: winding numbers, morphology, tracing
 :mod:`.inlets`            narrow inlets found along a coast, cut off
+:mod:`.unions`            unions of many polygons that overlay only what meets
 ========================  =====================================================
 """
 

@@ -54,12 +54,11 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 from numpy.typing import NDArray
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from coastmesh.geometry import cells
 from coastmesh.geometry.earth import EARTH_RADIUS
 from coastmesh.geometry.inlets import inlet_patches
+from coastmesh.geometry.unions import group_labels, groups_of, meeting_pairs
 
 __all__ = ["IslandChange", "close_narrow_water", "earth_areas", "island_changes"]
 
@@ -151,11 +150,17 @@ def close_narrow_water(
     if len(active) == 0:
         return np.concatenate([active, polygons]), 0
     edges = _Edges.of(active, region.box)
-    land_pairs = _touching(active)
+    land_pairs = meeting_pairs(active)
     big = _big(active, keep_area, land_pairs)
     shapely.prepare(active)
     tree = shapely.STRtree(active)
     with ThreadPoolExecutor(max(1, int(threads))) as pool:
+        # and the inlets narrower than a cell that open on the sea, which the
+        # rasters see as coast (but those a patch covers already): found on
+        # the coast itself, beside the rings
+        inlets_found = pool.submit(
+            inlet_patches, active, _INLET * width, _INLET_REACH * width
+        )
         done = list(
             pool.map(
                 lambda r: _close_ring(
@@ -164,11 +169,9 @@ def close_narrow_water(
                 region.rings,
             )
         )
+        inlets = inlets_found.result()
     adds = np.array([p for added, _ in done for p in added], dtype=object)
     cuts = np.array([p for _, cut in done for p in cut], dtype=object)
-    # and the inlets narrower than a cell that open on the sea, which the
-    # rasters see as coast (but those a patch covers already)
-    inlets = inlet_patches(active, _INLET * width, _INLET_REACH * width)
     point = shapely.get_coordinates(shapely.point_on_surface(inlets))
     new = region.holds(point[:, 0], point[:, 1])
     new[shapely.STRtree(adds).query(inlets, predicate="covered_by")[0]] = False
@@ -329,7 +332,7 @@ def _big(
     """
     if keep_area <= 0:
         return np.zeros(len(polygons), dtype=bool)
-    label = _labels(len(polygons), land)
+    label = group_labels(len(polygons), land)
     return np.bincount(label, weights=earth_areas(polygons))[label] >= keep_area
 
 
@@ -605,51 +608,6 @@ def _changeable(ring: _Ring, origin: NDArray[np.float64]) -> NDArray[np.bool_]:
     return inside
 
 
-def _touching(
-    geoms: NDArray[np.object_], among: NDArray[np.object_] | None = None
-) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-    """Return the pairs ``i < j`` of ``geoms`` that intersect (``among`` them).
-
-    With ``among``, the indices of its geometries follow those of ``geoms``,
-    and only pairs with one of them are found. Each pair is tested with the
-    one with more vertices prepared, so a continent is tested against a small
-    patch in the patch's time, not its own (:meth:`shapely.STRtree.query` with
-    a predicate would prepare the patch).
-    """
-    everything = geoms if among is None else np.concatenate([geoms, among])
-    if among is None:
-        i, j = shapely.STRtree(geoms).query(geoms)
-        i, j = i[i < j], j[i < j]
-    else:
-        j, i = shapely.STRtree(everything).query(among)
-        j = j + len(geoms)
-        i, j = np.minimum(i, j), np.maximum(i, j)
-        i, j = i[i < j], j[i < j]
-    size = shapely.get_num_coordinates(everything)
-    swap = size[i] < size[j]
-    first, second = np.where(swap, j, i), np.where(swap, i, j)
-    shapely.prepare(everything[np.unique(first)])
-    hit = shapely.intersects(everything[first], everything[second])
-    return i[hit], j[hit]
-
-
-def _labels(n: int, pairs: tuple[NDArray[np.intp], NDArray[np.intp]]) -> NDArray:
-    """Return the group of each of ``n`` geometries that ``pairs`` of them join."""
-    i, j = pairs
-    graph = coo_matrix((np.ones(len(i)), (i, j)), shape=(n, n))
-    return connected_components(graph, directed=False)[1]
-
-
-def _groups(
-    n: int, pairs: tuple[NDArray[np.intp], NDArray[np.intp]]
-) -> list[NDArray[np.intp]]:
-    """Return the groups of ``n`` geometries that ``pairs`` of them join."""
-    label = _labels(n, pairs)
-    order = np.argsort(label, kind="stable")
-    starts = np.flatnonzero(np.r_[True, label[order][1:] != label[order][:-1]])
-    return np.split(order, starts[1:])
-
-
 def _apply(
     polygons: NDArray[np.object_],
     adds: NDArray[np.object_],
@@ -670,8 +628,8 @@ def _apply(
     """
     n = len(polygons)
     geoms = np.concatenate([polygons, adds])
-    i, j = _touching(polygons, adds)
-    groups = _groups(len(geoms), (np.r_[land[0], i], np.r_[land[1], j]))
+    i, j = meeting_pairs(polygons, adds)
+    groups = groups_of(len(geoms), (np.r_[land[0], i], np.r_[land[1], j]))
     changed = [g for g in groups if len(g) > 1 or g[0] >= n]
     changed.sort(key=lambda g: -int(shapely.get_num_coordinates(geoms[g]).sum()))
     with ThreadPoolExecutor(max(1, int(threads))) as pool:

@@ -23,6 +23,7 @@ from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry.earth import metres_per_unit, reproject
 from coastmesh.geometry.layers import valid_polygons
 from coastmesh.geometry.sphere import is_world_plane
+from coastmesh.geometry.unions import union_meeting
 from coastmesh.types import BoundarySegment, Domain, Report
 
 __all__ = [
@@ -183,7 +184,7 @@ def build_domain(
     geoms = np.asarray(land, dtype=object).ravel()
     geoms = geoms[~(shapely.is_missing(geoms) | shapely.is_empty(geoms))]
     polygons = valid_polygons(geoms)
-    merged = shapely.union_all(polygons)
+    merged = shapely.multipolygons(union_meeting(polygons))
     overlaps = len(polygons) - len(shapely.get_parts(merged))
 
     lines = [shapely.LineString(b.coords) for b in open_boundaries]

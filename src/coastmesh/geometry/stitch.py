@@ -31,6 +31,7 @@ from pyproj import CRS
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import metres_per_unit
 from coastmesh.geometry.layers import valid_polygons
+from coastmesh.geometry.unions import union_meeting
 from coastmesh.types import Report
 
 __all__ = ["ShorelineSet", "StitchReport", "stitch_shorelines"]
@@ -214,13 +215,14 @@ def _union(
     """Union the pieces; those that meet at a seam on the precision grid.
 
     Snap-rounding costs about 20 times a floating overlay, and only pieces that
-    touch a seam share near-coincident edges, so only they are snapped.
+    touch a seam share near-coincident edges, so only they are snapped. Of
+    the rest, only those that meet are overlaid (:func:`union_meeting`).
     """
     if seams is None or len(pieces) == 0:
-        return shapely.union_all(pieces)
+        return shapely.multipolygons(union_meeting(pieces))
     touch = shapely.dwithin(pieces, seams, 2 * grid)
     seamed = shapely.union_all(pieces[touch], grid_size=grid)
-    return shapely.union_all([seamed, *pieces[~touch]])
+    return shapely.multipolygons(union_meeting([seamed, *pieces[~touch]]))
 
 
 def _grid_size(sets: Sequence[ShorelineSet]) -> float:
