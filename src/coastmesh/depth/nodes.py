@@ -309,7 +309,7 @@ def depth_at_nodes(
         limited_depth = limit_slope(mesh, depth, max_slope)
         limited = int((limited_depth != depth).sum())
         depth = limited_depth
-    coarse = _coarse_at_coast(sources, mesh, source, coast | land_nodes)
+    coarse, radius = _coarse_at_coast(sources, mesh, source, coast | land_nodes, radius)
     rules = np.zeros(len(depth), dtype=np.int8)
     for code, where in enumerate(
         (coast & (land == "wet"), took_wet, tapered_nodes, raised, held, gap),
@@ -340,7 +340,7 @@ def depth_at_nodes(
     )
     if report.coarse:
         warnings.warn(
-            _coarse_message(sources, mesh, source, coarse),
+            _coarse_message(sources, mesh, source, coarse, radius),
             CoarseRasterWarning,
             stacklevel=2,
         )
@@ -464,17 +464,21 @@ def _coast_distance(mesh: Mesh, nodes: NDArray[np.int64]):
 
 
 def _coarse_at_coast(
-    sources: DepthSources, mesh: Mesh, source, at_coast
-) -> NDArray[np.bool_]:
-    """Return the nodes beside land cells with elements finer than their cells."""
+    sources: DepthSources, mesh: Mesh, source, at_coast, radius=None
+) -> tuple[NDArray[np.bool_], NDArray[np.float64] | None]:
+    """Return the nodes beside land cells with elements finer than their cells.
+
+    And each node's :func:`_node_radius` (``radius``, or measured here if it
+    is needed and None), for :func:`_coarse_message`.
+    """
     if not at_coast.any():
-        return at_coast
-    edge = 2.0 * _node_radius(mesh)
+        return at_coast, radius
+    radius = _node_radius(mesh) if radius is None else radius
     cells = np.asarray(sources.cells_m)[np.maximum(source, 0)]
-    return at_coast & (source >= 0) & (COARSE_RATIO * edge < cells)
+    return at_coast & (source >= 0) & (COARSE_RATIO * (2.0 * radius) < cells), radius
 
 
-def _coarse_message(sources: DepthSources, mesh: Mesh, source, coarse) -> str:
+def _coarse_message(sources: DepthSources, mesh: Mesh, source, coarse, radius) -> str:
     """Name the coarse rasters, the share of nodes, where, and a finer source."""
     n = len(coarse)
     parts = []
@@ -483,7 +487,7 @@ def _coarse_message(sources: DepthSources, mesh: Mesh, source, coarse) -> str:
         if not mine.any():
             continue
         lon, lat = reproject_points(mesh.points[mine], mesh.crs, "EPSG:4326").T
-        edge = 2.0 * float(np.median(_node_radius(mesh)[mine]))
+        edge = 2.0 * float(np.median(radius[mine]))
         parts.append(
             f"bathymetry raster {name} (cells of {cell / 1e3:.3g} km) is coarser than "
             f"the mesh at the coast: {mine.sum():,} of {n:,} nodes ({mine.mean():.1%}) "
