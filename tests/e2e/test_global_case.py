@@ -185,7 +185,13 @@ def test_a_cut_takes_a_sea_off_with_an_open_boundary(world, tmp_path):
     cuba = (nodes[:, 0] > -85.5) & (nodes[:, 0] < -82.0) & (nodes[:, 1] < 24.0)
     assert cuba.sum() <= 5  # short runs of Cuba's coast, made open
     on = _xyz(nodes[~cuba])
-    assert np.abs(on @ normal).max() < 2e-5
+    # on the line, but where the channel stage cut the open boundary back: a
+    # strip one element wide along it (between the line and Cuba's fattened
+    # west end, at 150 km, as the boundary nodes fall) goes, and the open
+    # boundary runs along its inner side, one node off the line per strip
+    off = np.abs(on @ normal) >= 2e-5
+    assert off.sum() <= result.report.channels.strips
+    assert (np.abs(on @ normal) < 0.03).all()  # within an element (190 km)
     # the ocean lost the Gulf of Mexico: about 1.6 M km2
     lost = _area(whole) - _area(mesh)
     assert 1.0e12 < lost < 2.0e12
