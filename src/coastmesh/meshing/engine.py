@@ -116,7 +116,7 @@ def generate_mesh(
         more, where a cut crosses the water several times). Each cut is
         discretised once and both parts get its nodes, so the mesh conforms
         (:mod:`~coastmesh.meshing.parts.tasks`). ``"auto"``: one part per 200,000
-        expected triangles, rounded down to a power of two (at most 64). Fewer
+        expected triangles, to the nearest power of two (at most 64). Fewer
         parts are made where no clean cut exists (a warning says so when
         ``parts`` is a number). The same ``parts`` and ``seed`` give the same
         mesh whatever ``runner``: nodes are numbered in order of x, then y.

@@ -104,6 +104,14 @@ def test_one_part_has_no_cut_and_auto_grows_in_powers_of_two():
         np.arange(0.0, 12001, 50), np.arange(0.0, 8001, 50), np.full((161, 241), 10.0)
     )  # 2,194,000 triangles: 11.0 parts
     assert auto_parts(water, fine) == 8
+
+    def at(h: float) -> SizeGrid:
+        return SizeGrid(fine.x, fine.y, np.full_like(fine.values, h))
+
+    # the nearest power of two, by ratio: 6.0 parts' worth is 8, 5.0's is 4
+    assert expected_triangles(water, at(13.52)) / 200_000 == pytest.approx(6.0, 0.01)
+    assert auto_parts(water, at(13.52)) == 8
+    assert auto_parts(water, at(14.81)) == 4
     with pytest.raises(ValueError, match="parts is 0"):
         cut_lines(water, _grid(5.0, 0.0), 0)
 

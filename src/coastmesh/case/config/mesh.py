@@ -224,8 +224,9 @@ class MeshConfig:
         "(`[run]`). The boundary nodes are made once for the whole boundary and "
         "each cut is discretised once, so the parts share their nodes: one "
         "conforming mesh, no duplicate nodes; cuts are not boundaries and carry no "
-        'id. `"auto"`: one part per 200,000 expected triangles, rounded down to a '
-        "power of two (1 to 64). The mesh depends on the case and `parts` only, "
+        'id. `"auto"`: one part per 200,000 expected triangles, to the nearest '
+        "power of two (1 to 64; a case of under 283,000 is one part). The mesh "
+        "depends on the case and `parts` only, "
         "never on `--workers` or the cluster. Fewer parts are made where no clean "
         "cut exists (a number warns whenever a cut it asks for is not made, even "
         "if cutting a large part again brings the count back up); a part left "

@@ -58,14 +58,19 @@ __all__ = [
 
 #: Triangles per unit area of an equilateral mesh of edge h: 4 / (sqrt(3) h^2).
 _DENSITY = 4.0 / np.sqrt(3.0)
-#: ``parts = "auto"``: the largest power of two at most the expected triangles
-#: over this, from 1 to :data:`MAX_AUTO_PARTS`. It depends on the case only,
-#: never on the machine, so a case gives the same mesh on any number of cores.
-#: Every cut leaves a band a few elements wide where Gmsh's triangles are a
-#: little worse; the NW-shelf fine case (3.1 M expected triangles, oblique
-#: cuts) had a 1st-percentile angle of 44.92 deg in one part, 44.41 in 8
-#: wanted parts (14 faces), 44.03 in 16 (32) and 43.70 in 64 (93), so a part
-#: holds about 200,000 (the issue's bound is 1 deg below one part).
+#: ``parts = "auto"``: the power of two nearest (by ratio) the expected
+#: triangles over this, from 1 to :data:`MAX_AUTO_PARTS`: a part is planned
+#: to hold 141,000 to 283,000. It depends on the case only, never on the
+#: machine, so a case gives the same mesh on any number of cores. Every cut
+#: leaves a band a few elements wide where Gmsh's triangles are a little
+#: worse; the NW-shelf fine case (3.1 M expected triangles, oblique cuts) had
+#: a 1st-percentile angle of 44.92 deg in one part, 44.41 in 8 wanted parts
+#: (14 faces), 44.03 in 16 (32) and 43.70 in 64 (93), so a part holds about
+#: 200,000 (the issue's bound is 1 deg below one part). Rounded down instead,
+#: a part held up to 400,000, which Gmsh meshes slower per triangle, and the
+#: largest was left alone at the end: world.toml (1.40 M expected) in 4
+#: wanted parts took 124.8 s on 1 worker and 73.7 on 2, in 8 117.6 and 68.4,
+#: 1st-percentile angle 44.77 and 44.74 deg.
 TRIANGLES_PER_PART = 200_000
 MAX_AUTO_PARTS = 64
 #: A region is not cut into parts of fewer expected triangles than this, so
@@ -145,10 +150,11 @@ def auto_parts(polygon: shapely.Polygon, grid: SizeGrid) -> int:
     >>> g = SizeGrid(np.arange(0.0, 100_001, 500), np.arange(0.0, 100_001, 500),
     ...              np.full((201, 201), 100.0))
     >>> auto_parts(shapely.box(0, 0, 100_000, 100_000), g)  # 2,286,365 triangles
-    8
+    16
     """
     n = expected_triangles(polygon, grid) / TRIANGLES_PER_PART
-    return int(min(2 ** max(int(np.floor(np.log2(max(n, 1.0)))), 0), MAX_AUTO_PARTS))
+    power = int(np.floor(np.log2(max(n, 1.0)) + 0.5))  # the nearest, by ratio
+    return int(min(2**power, MAX_AUTO_PARTS))
 
 
 class CutPlan(NamedTuple):
