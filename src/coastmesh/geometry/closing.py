@@ -157,9 +157,14 @@ def close_narrow_water(
     with ThreadPoolExecutor(max(1, int(threads))) as pool:
         # and the inlets narrower than a cell that open on the sea, which the
         # rasters see as coast (but those a patch covers already): found on
-        # the coast itself, beside the rings
+        # the coast itself, beside the rings, on copies of the land (GEOS
+        # builds a prepared polygon's index on its first use, and the rings
+        # ask the originals, one thread at a time: _PREPARED)
         inlets_found = pool.submit(
-            inlet_patches, active, _INLET * width, _INLET_REACH * width
+            inlet_patches,
+            shapely.transform(active, lambda xy: xy),
+            _INLET * width,
+            _INLET_REACH * width,
         )
         done = list(
             pool.map(
