@@ -366,3 +366,28 @@ def test_thin_parts_of_big_land_are_thickened_to_the_width_not_removed():
     union = shapely.union_all(out)
     assert union.intersection(shapely.box(110e3, 0, 130e3, 100e3)).area < 1e6
     assert union.intersection(shapely.box(-310e3, 0, -290e3, 400e3)).area < 1e6
+
+
+def test_no_wedge_of_water_is_left_where_rings_meet():
+    # GSHHG low at Taliabu and Mangole (125.4 E, 2 S), closed at 20 km: the
+    # edge of two of the plane's rings runs along Mangole's south coast. The
+    # outer ring, at its larger scale, saw a neck there as thin and grew it;
+    # the inner ring did not, and the grown land, cut off at the outer ring's
+    # edge, left a wedge of water 3 km wide and 25 km long (an element there
+    # capped a global mesh's time step at 0.44 of its 1st percentile)
+    coast = read_features(data_path("world_gshhg_l.zip"))
+    box = shapely.box(123.5, -3.5, 127.5, -0.5)
+    crs = plane_crs((0, -90))
+    land = coast.geometry[shapely.intersects(coast.geometry, box)]
+    land = shapely.get_parts(reproject(land, coast.crs, crs))
+    width = 20e3
+    out, _ = close_narrow_water(land, width, keep_area=math.pi * width**2 / 4)
+    near = reproject(shapely.box(125.0, -2.3, 125.9, -1.6), "EPSG:4326", crs)
+    water = shapely.difference(near, shapely.union_all(out))
+    # water a disk of a quarter of the width cannot reach (at the plane's
+    # scale there): only slivers at corners of the coast (up to 4 km2; the
+    # wedge was 49 km2)
+    k = 1.0 + (shapely.centroid(near).distance(shapely.points(0, 0)) / R2) ** 2
+    r = width * k / 8
+    narrow = shapely.difference(water, water.buffer(-r).buffer(r))
+    assert shapely.area(shapely.get_parts(narrow)).max() / k**2 < 10e6

@@ -39,7 +39,10 @@ than ``width`` taken away) on the same rasters; land of ``keep_area`` or more
 is never opened, but its thin parts (what the opening would take farther
 than ``width / 2`` from the land it keeps: spits, peninsulas, long necks) are
 grown by ``width / 2`` each side and closed again, so that it too can be
-resolved at ``width``. The buffers' closing is kept in the tests, which
+resolved at ``width``. Which land is thin is judged by the ring it lies in
+alone, and that ring keeps all it grows, past its edge too: rings judge at
+scales up to 20 % apart, and a neck grown by one and cut off at its edge left
+a wedge of water beside it. The buffers' closing is kept in the tests, which
 compare the two (``tests/geometry/closing_reference.py``).
 """
 
@@ -70,6 +73,9 @@ _HALO = 7 * _DISK + 4  #: the closing, the opening, the thickening and the
 #: closing again reach 2, 2, 1 and 2 disks
 _WINDOW = _TILE + 2 * _HALO  #: a tile's window, cells a side
 _OVERLAP = 2  #: cells past a tile's core (and a ring's edge) traced too
+_THICK = 2 * _DISK  #: how far (cells) the thickening reaches from the thin land
+#: it grows (a disk less a cell, then the closing's disk): a ring traces that
+#: far past its edges, so what it grows from its own thin land is all kept
 _INLET = 1 / 6  #: inlets narrower than this (of width) found on the coast: a cell
 #: at any ring's scale (width / 8, and up to 20 % more in its inner part)
 _INLET_REACH = 2.0  #: and up to this (of width) round
@@ -280,8 +286,14 @@ class _Ring:
 
     @property
     def band(self) -> tuple[float, float]:
-        """The radii whose cells this ring changes: itself and an overlap."""
-        m = _OVERLAP * self.cell
+        """The radii whose cells this ring changes: itself and an overlap.
+
+        The overlap holds all that the ring grows from the thin land in it
+        (:data:`_THICK`): a neighbouring ring, at its own scale, may not see
+        that land as thin, and would leave a wedge of water beside a thickened
+        neck cut off at the edge.
+        """
+        m = (_OVERLAP + _THICK) * self.cell
         return max(self.r0 - m, 0.0), min(self.r1 + m, self.region.outer)
 
 
@@ -500,7 +512,7 @@ def _close_tiles(
         )
     opened = cells.dilate(cells.erode(closed, _DISK), _DISK)
     with_big = cells.joined(closed, big_land & land)
-    thick = _thickened(closed, opened, with_big)
+    thick = _thickened(closed, opened, with_big & _own(ring, origin))
     region = _changeable(ring, origin)
     first = _HALO - _OVERLAP  # the first cell traced
     patch = _patch(thick, land, coast)
@@ -590,6 +602,25 @@ def _cut(
     """
     removed = closed & ~opened & ~with_big
     return removed | (cells.dilate(removed, 1) & ~closed)
+
+
+def _own(ring: _Ring, origin: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Return which cells of the tiles' windows lie in the ring itself.
+
+    Only the ring judges whether big land there is thin: each thin neck is
+    thickened by one ring, at one scale, however near a ring's edge.
+    """
+    cell, r0, r1 = ring.cell, ring.r0, ring.r1
+    offset = (np.arange(_WINDOW) + 0.5) * cell
+    x0, y0 = (origin + offset[0]).T
+    x1, y1 = (origin + offset[-1]).T
+    whole = (_gap(x0, y0, x1, y1) >= r0) & (_top(x0, y0, x1, y1) < r1)
+    own = np.ones((len(origin), _WINDOW, _WINDOW), dtype=bool)
+    for t in np.flatnonzero(~whole):
+        x, y = np.meshgrid(origin[t, 0] + offset, origin[t, 1] + offset)
+        r = np.hypot(x, y)
+        own[t] = (r >= r0) & (r < r1)
+    return own
 
 
 def _changeable(ring: _Ring, origin: NDArray[np.float64]) -> NDArray[np.bool_]:
