@@ -281,7 +281,7 @@ def mesh_in_parts(
         if (error := warming.exception()) is not None:  # a head start only
             logger.warning("workers not started ahead: %s", error)
     plane = _inner_plane(inner, domain.crs, mesh_crs, map_size)
-    pieces, chords, wanted = _cut(pieces, water, map_size, parts, plane)
+    pieces, chords, wanted = _cut(pieces, water, map_size, parts, plane, threads)
     faces = split_faces(
         pieces,
         water,
@@ -536,6 +536,7 @@ def _cut(
     size: SizeGrid,
     parts: int | str,
     plane: InnerPlane,
+    threads: int = 1,
 ) -> tuple[list, list[NDArray[np.float64]], int]:
     """Cut the water into parts: the pieces joined to the cuts, chords, aim.
 
@@ -544,11 +545,11 @@ def _cut(
     """
     if parts == 1:
         return pieces, [], 1
-    wanted = auto_parts(water, size) if parts == "auto" else int(parts)
+    wanted = auto_parts(water, size, threads) if parts == "auto" else int(parts)
     if wanted == 1:
         return pieces, [], 1
     ends = np.array([p[i] for p, _ in pieces for i in (0, -1)])
-    cuts, missed = plan_cuts(water, size, wanted, ends=ends)
+    cuts, missed = plan_cuts(water, size, wanted, ends=ends, threads=threads)
     if parts != "auto" and missed:
         # counted as asked: a part cut again for its size (OVERSIZE) is not
         # one of them, so the count of parts alone would hide a shortfall

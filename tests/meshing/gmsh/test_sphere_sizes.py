@@ -234,6 +234,25 @@ def test_the_cells_weigh_the_sphere():
     assert weight.sum() == pytest.approx(4 * math.pi * EARTH_RADIUS**2, rel=1e-4)
 
 
+def test_the_cells_of_a_part_are_its_nodes_on_any_number_of_threads():
+    lon = np.linspace(-180.0, 180.0, 721)
+    lat = np.linspace(-90.0, 90.0, 361)
+    size = SphereSizeGrid(SizeGrid(lon, lat, np.ones((361, 721))), pole=(0.0, -90.0))
+    part = shapely.Point(3e6, -2e6).buffer(12e6)  # the nodes in its box are asked
+    one, two = size.cells(part), size.cells(part, threads=2)
+    assert len(one[0]) > 100_000  # two chunks of over 50,000
+    for a, b in zip(one, two, strict=True):
+        assert np.array_equal(a, b)
+    # every node of the grid asked, on one thread: as many, the same
+    glon, glat = np.meshgrid(lon[:-1], lat)
+    to_plane = Transformer.from_crs(
+        "EPSG:4326", plane_crs((0.0, -90.0)), always_xy=True
+    )
+    px, py = to_plane.transform(glon, glat)
+    literal = shapely.contains_xy(part, px, py)
+    assert np.array_equal(one[0], px[literal])
+
+
 # --- a whole world, meshed --------------------------------------------------
 
 

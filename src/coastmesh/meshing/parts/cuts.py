@@ -42,6 +42,7 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from coastmesh.geometry.cells import points_inside
 from coastmesh.meshing.parts.crossings import PENALTY, Turned, coast_tree, edges_across
 from coastmesh.types import SizeGrid
 
@@ -103,21 +104,34 @@ _WIDER = 0.15
 _OBLIQUE = (45.0, 135.0, 30.0, 60.0, 120.0, 150.0)
 
 
+#: The last water asked for and its cells: the engine asks for the same water
+#: twice (``parts = "auto"``, then the cuts), 0.4 s each on world.toml
+_LAST_CELLS: list[tuple] = []
+
+
 def _cells(
-    polygon: shapely.Polygon, grid: SizeGrid
+    polygon: shapely.Polygon, grid: SizeGrid, threads: int = 1
 ) -> tuple[NDArray, NDArray, NDArray]:
     """Grid nodes in the water and the expected triangles each stands for."""
+    for was, of, found in _LAST_CELLS:
+        if was is polygon and of is grid:
+            return found
     if not isinstance(grid, SizeGrid):  # a SphereSizeGrid: areas on the sphere
-        x, y, weight = grid.cells(polygon)
-        return x, y, _DENSITY * weight
-    gx, gy = np.meshgrid(grid.x, grid.y)
-    inside = shapely.contains_xy(polygon, gx, gy)
-    cell = abs(grid.x[1] - grid.x[0]) * abs(grid.y[1] - grid.y[0])
-    weight = _DENSITY * cell / grid.values[inside] ** 2
-    return gx[inside], gy[inside], weight
+        x, y, weight = grid.cells(polygon, threads)
+        found = (x, y, _DENSITY * weight)
+    else:
+        gx, gy = np.meshgrid(grid.x, grid.y)
+        inside = points_inside(polygon, gx, gy, threads)
+        cell = abs(grid.x[1] - grid.x[0]) * abs(grid.y[1] - grid.y[0])
+        weight = _DENSITY * cell / grid.values[inside] ** 2
+        found = (gx[inside], gy[inside], weight)
+    _LAST_CELLS[:] = [(polygon, grid, found)]
+    return found
 
 
-def expected_triangles(polygon: shapely.Polygon, grid: SizeGrid) -> float:
+def expected_triangles(
+    polygon: shapely.Polygon, grid: SizeGrid, threads: int = 1
+) -> float:
     """Return the expected triangle count of ``polygon`` meshed at ``grid``.
 
     Parameters
@@ -126,6 +140,8 @@ def expected_triangles(polygon: shapely.Polygon, grid: SizeGrid) -> float:
         The water, in the grid's coordinates (metres).
     grid : SizeGrid
         Target sizes, metres, at least 2 x 2 nodes.
+    threads : int, default 1
+        Threads that find the grid nodes in the water.
 
     Returns
     -------
@@ -139,10 +155,10 @@ def expected_triangles(polygon: shapely.Polygon, grid: SizeGrid) -> float:
     >>> round(expected_triangles(shapely.box(0, 0, 1000, 1000), g))  # 99 x 99 inside
     226
     """
-    return float(_cells(polygon, grid)[2].sum())
+    return float(_cells(polygon, grid, threads)[2].sum())
 
 
-def auto_parts(polygon: shapely.Polygon, grid: SizeGrid) -> int:
+def auto_parts(polygon: shapely.Polygon, grid: SizeGrid, threads: int = 1) -> int:
     """Return the number of parts ``parts = "auto"`` means for this water.
 
     Examples
@@ -152,7 +168,7 @@ def auto_parts(polygon: shapely.Polygon, grid: SizeGrid) -> int:
     >>> auto_parts(shapely.box(0, 0, 100_000, 100_000), g)  # 2,286,365 triangles
     16
     """
-    n = expected_triangles(polygon, grid) / TRIANGLES_PER_PART
+    n = expected_triangles(polygon, grid, threads) / TRIANGLES_PER_PART
     power = int(np.floor(np.log2(max(n, 1.0)) + 0.5))  # the nearest, by ratio
     return int(min(2**power, MAX_AUTO_PARTS))
 
@@ -170,6 +186,7 @@ def plan_cuts(
     parts: int,
     *,
     ends: NDArray[np.float64] | None = None,
+    threads: int = 1,
 ) -> CutPlan:
     """Return straight cuts that split the water into ``parts`` of equal cost.
 
@@ -187,6 +204,8 @@ def plan_cuts(
     ends : ndarray of shape (k, 2), optional
         Points of the boundary a cut should not end within half a target edge
         of: the ends of its curves (a cut there leaves a sliver of curve).
+    threads : int, default 1
+        Threads that find the grid nodes in the water (the cuts are the same).
 
     Returns
     -------
@@ -214,7 +233,7 @@ def plan_cuts(
     """
     if isinstance(parts, bool) or not isinstance(parts, int | np.integer) or parts < 1:
         raise ValueError(f"parts is {parts!r}; expected an integer >= 1")
-    x, y, w = _cells(polygon, grid)
+    x, y, w = _cells(polygon, grid, threads)
     cuts: list[shapely.LineString] = []
     coast = (
         coast_tree(polygon),
