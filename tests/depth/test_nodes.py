@@ -347,3 +347,17 @@ def test_keep_with_min_depth_is_refused_and_coarse_rasters_warn(etopo):
         beside = (plain <= 0) | ((wet > 0) & (wet != plain))
     assert report.coarse == int(beside.sum()) > 0
     assert f"{report.coarse:,} (" in report.summary()
+
+
+def test_the_depths_and_warning_are_the_same_on_two_threads(etopo):
+    # the element sizes of the coast's check are measured on a side thread
+    mesh = _grid_mesh(-3.4, -2.6, 58.7, 59.2)
+    found = []
+    for threads in (1, 2):
+        with pytest.warns(CoarseRasterWarning) as caught:
+            depth, report = depth_at_nodes(mesh, etopo, threads=threads)
+        found.append((depth, report, [str(w.message) for w in caught]))
+    (one, r1, w1), (two, r2, w2) = found
+    assert np.array_equal(one, two)
+    assert r1.summary() == r2.summary() and np.array_equal(r1.rules, r2.rules)
+    assert w1 == w2

@@ -11,8 +11,9 @@ positive down.
 from __future__ import annotations
 
 import warnings
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -192,6 +193,7 @@ def depth_at_nodes(
     land: str = "wet",
     land_distance: float | None = None,
     max_land_share: float | None = None,
+    threads: int = 1,
 ) -> tuple[NDArray[np.float64], DepthReport]:
     """Interpolate bathymetry onto the nodes of a mesh.
 
@@ -235,6 +237,10 @@ def depth_at_nodes(
         wet cell around them), the rasters are too coarse for the coast: an
         :class:`InputDataError` that names them and gives the share. None for
         no limit (the caller chose ``land`` knowingly).
+    threads : int, default 1
+        With 2 or more, the nodes' element sizes (for the warning of a coarse
+        raster) are measured on a side thread while the rasters are sampled.
+        The result is the same.
 
     Returns
     -------
@@ -283,6 +289,8 @@ def depth_at_nodes(
     _check_args(mesh, method, min_depth, outside, land, land_distance)
     sources = _stack(raster, positive)
     radius = _node_radius(mesh) if method == "mean" else None
+    # else measured for the check of the coast, on a side thread if it can
+    later = _aside(_node_radius, mesh) if radius is None and threads > 1 else None
     sample, plain, source = _sample(sources, mesh, radius, outside)
     gap = sample.uncovered
     wet = sources.sample(mesh.points, mesh.crs, radius=radius, wet=True).depth
@@ -309,6 +317,8 @@ def depth_at_nodes(
         limited_depth = limit_slope(mesh, depth, max_slope)
         limited = int((limited_depth != depth).sum())
         depth = limited_depth
+    if later is not None:
+        radius = later.result()
     coarse, radius = _coarse_at_coast(sources, mesh, source, coast | land_nodes, radius)
     rules = np.zeros(len(depth), dtype=np.int8)
     for code, where in enumerate(
@@ -461,6 +471,14 @@ def _coast_distance(mesh: Mesh, nodes: NDArray[np.int64]):
     xyz, _ = mesh_earth_centred(mesh)
     d, _ = cKDTree(xyz[coast]).query(xyz[nodes])
     return d
+
+
+def _aside(fn: Any, *args: Any) -> Future:
+    """Return the future of ``fn(*args)``, called on a thread of its own."""
+    pool = ThreadPoolExecutor(1)
+    future = pool.submit(fn, *args)
+    pool.shutdown(wait=False)  # the call runs on; the thread ends after it
+    return future
 
 
 def _coarse_at_coast(

@@ -8,6 +8,7 @@ the warnings here turn the counts into advice, with places.
 from __future__ import annotations
 
 import warnings
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import replace
 
 import numpy as np
@@ -15,6 +16,7 @@ import numpy as np
 from coastmesh.case.pipeline.state import CaseRun, RunContext, missing
 from coastmesh.errors import CoastmeshWarning
 from coastmesh.meshing import QualityReport, mesh_quality
+from coastmesh.meshing.cleanup.aside import done_now
 from coastmesh.meshing.quality import sphere_quality
 from coastmesh.meshing.quality.measure import places
 from coastmesh.meshing.quality.time_step import element_time_steps
@@ -33,7 +35,13 @@ def quality_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     if not config.outputs.quality:
         return run
     courant = run.time_step
-    with ctx.timed("mesh quality"):
+    with ctx.timed("mesh quality"), ThreadPoolExecutor(1) as side:
+        # a global mesh (lon/lat) is checked on the sphere too: on a side
+        # thread, with 2 or more (numpy lets go of Python's lock)
+        aside = side.submit if ctx.threads > 1 else done_now
+        sphere = None
+        if config.domain.kind == "global":
+            sphere = aside(sphere_quality, state.mesh)
         quality = mesh_quality(
             state.mesh,
             dt=None if courant is None else model_time_step(state.mesh, courant),
@@ -41,8 +49,8 @@ def quality_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
             courant_max=None if courant is None else courant.courant_max,
             courant_min=None if courant is None else courant.courant_min,
         )
-        if config.domain.kind == "global":  # lon/lat: checked on the sphere too
-            quality = replace(quality, sphere=sphere_quality(state.mesh))
+        if sphere is not None:
+            quality = replace(quality, sphere=sphere.result())
     warn_avoidable_corners(quality, state.mesh)
     size = run.size or missing("size field")
     warn_spanning(

@@ -68,7 +68,7 @@ def depth_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
         with warnings.catch_warnings(record=relief_due(run.config)) as caught:
             if caught is not None:
                 warnings.simplefilter("always", CoastmeshWarning)
-            mesh, report = node_depths(b, state.mesh, rasters, progress)
+            mesh, report = node_depths(b, state.mesh, rasters, progress, ctx.threads)
     if run.site:
         check_clearance(run.site, mesh)
     depth = DepthState(rasters, report, deferred=tuple(caught or ()))
@@ -104,7 +104,9 @@ def time_step_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
         # the merged nodes took their pair's mean depth: read the rasters there
         # (its warnings, about this mesh, replace those held back)
         b = config.bathymetry or missing("[bathymetry]")
-        relieved, depth_report = node_depths(b, relieved, depth.rasters, progress)
+        relieved, depth_report = node_depths(
+            b, relieved, depth.rasters, progress, ctx.threads
+        )
     return replace(
         run,
         mesh=replace(state, mesh=relieved),
@@ -125,7 +127,11 @@ def relief_due(config: CaseConfig) -> bool:
 
 
 def node_depths(
-    b: NodeDepthConfig, mesh: Mesh, rasters: DepthSources, progress: Progress
+    b: NodeDepthConfig,
+    mesh: Mesh,
+    rasters: DepthSources,
+    progress: Progress,
+    threads: int = 1,
 ) -> tuple[Mesh, DepthReport]:
     """Return ``mesh`` with ``depth`` at its nodes from ``rasters``, and the report."""
     depth, report = depth_at_nodes(
@@ -139,6 +145,7 @@ def node_depths(
         land="wet" if b.land is None else b.land,
         land_distance=b.land_distance,
         max_land_share=MAX_LAND_SHARE if b.land is None else None,
+        threads=threads,
     )
     progress(2, 2)
     logger.info("%s", report.summary())
