@@ -59,9 +59,34 @@ def test_corner_triangle_is_flipped():
     assert report.boundary_flips + report.boundary_splits == 1
     _check_valid(m, clean)
     data = report.to_dict()
-    assert data == {f: getattr(report, f) for f in data} and len(data) == 19
+    assert data == {f: getattr(report, f) for f in data} and len(data) == 20
     assert report.accepted == "cleaned"
     assert "cleaned: all-boundary triangles 1 -> 0" in report.summary()
+
+
+def test_a_cap_at_a_cape_whose_flip_is_barred_is_split():
+    # a cape tip A (0, 0) on the coast P-A-B: its water, 270 deg, shared by two
+    # triangles, (A, B, C) flat (175 deg at A). The flip of B-C would make
+    # (A, B, D) of three coast nodes; a new node on B-C lifts it instead
+    pts = [
+        [-1000, 1000],  # P
+        [0, 0],  # A
+        [-1000, -1000],  # B
+        [300, -1000],  # D
+        [2000, -1000],  # E
+        [2000, 1000],  # F
+        [700, 600],  # C
+    ]
+    P, A, B, D, E, F, C = range(7)
+    tri = [[P, A, C], [A, B, C], [B, D, C], [D, E, C], [E, F, C], [F, P, C]]
+    edges = [[P, A], [A, B], [B, D], [D, E], [E, F], [F, P]]
+    m = Mesh(pts, tri, edges, [1, 1, 2, 2, 2, 2], 1, "EPSG:32630")
+    clean, report = clean_mesh(m)
+    _check_valid(m, clean)
+    assert report.sliver_flips == 0 and report.sliver_splits == 1
+    assert len(clean.points) == len(m.points) + 1
+    assert report.min_angle_before < 3.0 < report.min_angle_after
+    assert "1 splits" in report.summary()
 
 
 def _fan(n: int = 12) -> Mesh:

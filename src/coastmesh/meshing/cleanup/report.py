@@ -67,8 +67,9 @@ class CleanupReport(Report):
         Most triangles at an interior node.
     slivers_before, slivers_after : int
         Triangles with a minimum angle below ``min_angle``.
-    valence_flips, sliver_flips : int
-        Flips that lowered crowded nodes' valence; that raised slivers' angles.
+    valence_flips, sliver_flips, sliver_splits : int
+        Flips that lowered crowded nodes' valence; flips and edge splits that
+        raised slivers' angles.
     min_angle_before, min_angle_after, min_angle_p1_before, min_angle_p1_after
         Smallest angle, and 1st percentile of minimum angles, degrees (float).
     radius_ratio_before, radius_ratio_after : float
@@ -101,6 +102,7 @@ class CleanupReport(Report):
     radius_ratio_before: float
     radius_ratio_after: float
     accepted: Literal["cleaned", "cleaned_partly", "smoothed_only", "input"]
+    sliver_splits: int = 0
 
     def summary(self) -> str:
         """Return a one-line summary."""
@@ -111,7 +113,8 @@ class CleanupReport(Report):
             f"{self.boundary_edge_splits} splits); max valence "
             f"{self.max_valence_before} -> {self.max_valence_after} "
             f"({self.valence_flips} flips); slivers {self.slivers_before} -> "
-            f"{self.slivers_after} ({self.sliver_flips} flips); "
+            f"{self.slivers_after} ({self.sliver_flips} flips, "
+            f"{self.sliver_splits} splits); "
             f"{self.smoothed_nodes} nodes smoothed; min angle "
             f"{self.min_angle_before:.1f} -> {self.min_angle_after:.1f} deg, 1st "
             f"percentile {self.min_angle_p1_before:.1f} -> "
@@ -236,6 +239,7 @@ def combine(
         "boundary_edge_splits",
         "valence_flips",
         "sliver_flips",
+        "sliver_splits",
         "smoothed_nodes",
     )
     return CleanupReport(
