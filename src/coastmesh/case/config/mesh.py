@@ -140,7 +140,8 @@ class CleanupConfig:
         20.0,
         check=schema.number,
         doc="triangles with a smaller minimum angle (degrees, on the Earth) are "
-        "slivers; the edge opposite the widest angle is flipped when that helps",
+        "slivers; the edge opposite the widest angle is flipped, else split, when "
+        "that helps",
     )
     smooth: bool = key(
         True,
