@@ -80,6 +80,17 @@ def test_expected_triangles_matches_the_literal_sum():
     )
 
 
+def test_the_water_asked_twice_is_found_once_and_let_go_by_the_cuts():
+    water, grid = shapely.Polygon(OUTER, [ISLAND]), _grid()
+    first = expected_triangles(water, grid)
+    assert parts_module._LAST_CELLS[0][0] is water
+    assert expected_triangles(water, grid, threads=2) == first
+    other = shapely.Polygon(OUTER)  # another water: found anew, not the last
+    assert expected_triangles(other, grid) > first
+    plan_cuts(other, grid, 2)
+    assert parts_module._LAST_CELLS == []
+
+
 @settings(max_examples=25, deadline=None)
 @given(parts=st.integers(2, 7), slope=st.floats(0.0, 0.01), h=st.floats(5, 15))
 def test_cuts_balance_the_expected_triangles(parts, slope, h):

@@ -339,9 +339,9 @@ class _Work(EditableMesh):
 
         Returns the flips and the splits. A split (a new node on the edge,
         joined to both opposite corners) lifts a cap whose flip cannot: a
-        coast node at a cape, its angle of water shared by two triangles,
-        one of them flat (Point Barrow on world.toml: 12.6 deg, radius ratio
-        0.10).
+        coast node at a cape, its angle of water shared by two triangles, one
+        of them flat, where the flip would make a triangle of three coast
+        nodes.
         """
         done, n = [0, 0], len(self.valence)
         xy, tri, _ = self.arrays()

@@ -105,7 +105,8 @@ _OBLIQUE = (45.0, 135.0, 30.0, 60.0, 120.0, 150.0)
 
 
 #: The last water asked for and its cells: the engine asks for the same water
-#: twice (``parts = "auto"``, then the cuts), 0.4 s each on world.toml
+#: twice (``parts = "auto"``, then the cuts), 0.4 s each on world.toml; the
+#: cuts let go of it
 _LAST_CELLS: list[tuple] = []
 
 
@@ -234,6 +235,7 @@ def plan_cuts(
     if isinstance(parts, bool) or not isinstance(parts, int | np.integer) or parts < 1:
         raise ValueError(f"parts is {parts!r}; expected an integer >= 1")
     x, y, w = _cells(polygon, grid, threads)
+    _LAST_CELLS.clear()  # the cuts need them no more: a world's are 100 MB
     cuts: list[shapely.LineString] = []
     coast = (
         coast_tree(polygon),
