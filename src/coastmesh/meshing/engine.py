@@ -29,6 +29,7 @@ from coastmesh.geometry.projection import (
     to_map_units,
 )
 from coastmesh.meshing.cleanup.aside import done_now
+from coastmesh.meshing.cleanup.fixes import fix_seam_slivers
 from coastmesh.meshing.cleanup.report import CleanupOptions, combine, stats
 from coastmesh.meshing.gmsh.boundary_nodes import boundary_nodes
 from coastmesh.meshing.gmsh.model import (
@@ -363,7 +364,7 @@ def _mesh(
 ) -> tuple[Mesh, Any]:
     """Make the joined parts the mesh (in the output CRS); its cleanup's report."""
     mesh_crs, output_crs = crss
-    points, triangles, edges, edge_ids, moved = joined
+    points, triangles, edges, edge_ids, seam = joined
     with ThreadPoolExecutor(1) as side:
         # measured in a thread while the triangles are oriented, the nodes
         # projected and the boundary checked, with more than one worker
@@ -371,7 +372,7 @@ def _mesh(
         # of the NW-shelf fine case, of about 4 s after the parts are joined
         aside = side.submit if threads > 1 else done_now
         cleaned = aside(
-            _cleanup_report, results, points, triangles, edges, cleanup, moved
+            _cleanup_report, results, points, triangles, edges, cleanup, seam
         )
         target = aside(sample_size, size, points)
         # oriented in the plane: conformal, so it is the orientation on the
@@ -469,13 +470,16 @@ def _parts_report(
 
 
 def _joined(results: list, cleanup: CleanupOptions | None, held: set[int]) -> tuple:
-    """Join the parts; smooth the cuts; points, triangles, edges, ids, moved.
+    """Join the parts; smooth the cuts; points, triangles, edges, ids, seam.
+
+    ``seam``: the nodes moved at the cuts, and the slivers flipped and split
+    there.
 
     ``held``: the shared numbers of the nodes that never move (region
     outlines, turbines).
     """
     points, triangles, edges, edge_ids = merge_parts(results)
-    moved = 0
+    moved, fixes = 0, (0, 0)
     if cleanup is not None and cleanup.smooth and len(results) > 1:
         # the cuts' nodes (numbered first) were held in the parts: smooth them
         count = max(int(r.shared.max()) + 1 for r in results)
@@ -484,10 +488,14 @@ def _joined(results: list, cleanup: CleanupOptions | None, held: set[int]) -> tu
         seam = np.flatnonzero(~fixed[:count])
         if len(seam):
             points, moved = smooth_seams(points, triangles, edges, seam, fixed)
+            # and the slivers there, which no part could reach whole
+            points, triangles, fixes = fix_seam_slivers(
+                points, triangles, edges, seam, fixed, cleanup.min_angle
+            )
     points, triangles, edges, edge_ids = canonical_order(
         points, triangles, edges, edge_ids
     )
-    return points, triangles, edges, edge_ids, moved
+    return points, triangles, edges, edge_ids, (moved, fixes)
 
 
 def _cleanup_report(
@@ -496,7 +504,7 @@ def _cleanup_report(
     triangles: NDArray[np.int64],
     edges: NDArray[np.int64],
     cleanup: CleanupOptions | None,
-    moved: int,
+    seam: tuple[int, tuple[int, int]],
 ) -> Any:
     """Return the parts' cleanup reports combined, None without a cleanup."""
     if cleanup is None:
@@ -505,7 +513,9 @@ def _cleanup_report(
     on_boundary = np.zeros(len(points), dtype=bool)
     on_boundary[edges.ravel()] = True
     after = stats(points, triangles, on_boundary, cleanup.min_angle)
-    cleaned = combine([r.cleanup for r in results], after, seam_moved=moved)
+    cleaned = combine(
+        [r.cleanup for r in results], after, seam_moved=seam[0], seam_fixes=seam[1]
+    )
     logger.info("cleanup: %s", cleaned.summary())
     return cleaned
 

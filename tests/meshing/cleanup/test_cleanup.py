@@ -12,7 +12,9 @@ from hypothesis import strategies as st
 
 from coastmesh.errors import ConfigError
 from coastmesh.meshing import mesh_quality
-from coastmesh.meshing.cleanup.fixes import _Work, clean_mesh
+from coastmesh.meshing.cleanup.fixes import _Work, clean_mesh, fix_seam_slivers
+from coastmesh.meshing.cleanup.planar import signed_areas
+from coastmesh.meshing.cleanup.smoothing import min_angles
 from coastmesh.types import Mesh
 from coastmesh.types.topology import boundary_rings
 
@@ -87,6 +89,29 @@ def test_a_cap_at_a_cape_whose_flip_is_barred_is_split():
     assert len(clean.points) == len(m.points) + 1
     assert report.min_angle_before < 3.0 < report.min_angle_after
     assert "1 splits" in report.summary()
+
+
+def test_seam_slivers_are_fixed_once_the_parts_are_joined():
+    # the cape of the test above, C a node of a cut: its sliver is fixed at
+    # the seam, after the parts are joined; not when it touches no seam, nor
+    # across an edge of held nodes (a line's)
+    pts = np.array(
+        [[-1000, 1000], [0, 0], [-1000, -1000], [300, -1000], [2000, -1000],
+         [2000, 1000], [700, 600]], dtype=float
+    )  # fmt: skip
+    P, A, B, D, E, F, C = range(7)
+    tri = np.array([[P, A, C], [A, B, C], [B, D, C], [D, E, C], [E, F, C], [F, P, C]])
+    edges = np.array([[P, A], [A, B], [B, D], [D, E], [E, F], [F, P]])
+    free = np.zeros(7, dtype=bool)
+    xy, out, (flips, splits) = fix_seam_slivers(pts, tri, edges, [C], free, 20.0)
+    assert (flips, splits) == (0, 1) and len(xy) == 8 and len(out) == 8
+    assert min_angles(xy, out).min() > 3.0 > min_angles(pts, tri).min()
+    assert (signed_areas(xy[out]) > 0).all()
+    same = fix_seam_slivers(pts, tri, edges, [F], free, 20.0)
+    assert same[2] == (0, 0) and same[0] is pts
+    held = free.copy()
+    held[[B, C]] = True
+    assert fix_seam_slivers(pts, tri, edges, [C], held, 20.0)[2] == (0, 0)
 
 
 def _fan(n: int = 12) -> Mesh:

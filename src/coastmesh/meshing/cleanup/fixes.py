@@ -56,8 +56,9 @@ from coastmesh.meshing.cleanup.report import (
     stats,
 )
 from coastmesh.types import Mesh
+from coastmesh.types.topology import unique_edges
 
-__all__ = ["CleanupOptions", "CleanupReport", "clean_mesh"]
+__all__ = ["CleanupOptions", "CleanupReport", "clean_mesh", "fix_seam_slivers"]
 
 logger = logging.getLogger(__name__)
 #: where an edge split may put its node: weighted means of the edge's ends and
@@ -167,6 +168,67 @@ def clean_mesh(
         return work.result(xy), report
     points = smoothing.moved_points(mesh.points, work.xy, xy, work.to_plane)
     return smoothing.mesh_with(mesh, points=points), report
+
+
+def fix_seam_slivers(
+    points: NDArray[np.float64],
+    triangles: NDArray[np.int64],
+    edges: NDArray[np.int64],
+    seam: NDArray[np.int64],
+    held: NDArray[np.bool_],
+    min_angle: float,
+) -> tuple[NDArray[np.float64], NDArray[np.int64], tuple[int, int]]:
+    """Flip, else split, the slivers at the seams of a mesh joined from parts.
+
+    A part's cleanup cannot reach a sliver whose widest angle faces the cut:
+    the edge there has its other triangle in the next part (a cut ending at
+    a cape's tip leaves one, flat, at the coast). Joined, the edge is inside:
+    the slivers with a node in ``seam`` get the pass of :func:`clean_mesh`
+    (flip, else split; each raises its pair's smaller angle). ``points`` are
+    plane coordinates (a conformal plane); the ``held`` nodes (lines,
+    outlines, turbines) neither move nor lose an edge.
+
+    Returns the points (new nodes last), the triangles, and the flips and
+    splits made.
+    """
+    xy = np.asarray(points, dtype=np.float64)[:, :2]
+    at_seam = np.zeros(len(xy), dtype=bool)
+    at_seam[seam] = True
+    near = np.flatnonzero(at_seam[triangles].any(axis=1))
+    slivers = near[smoothing.min_angles(xy, triangles[near]) < min_angle]
+    if not len(slivers):
+        return points, triangles, (0, 0)
+    # the triangles within two of the slivers' nodes, as a mesh of their own:
+    # its edges with one triangle are its boundary (never flipped or split),
+    # so a fix there is one in the whole mesh
+    around = np.zeros(len(xy), dtype=bool)
+    around[triangles[slivers].ravel()] = True
+    for _ in range(2):
+        around[triangles[around[triangles].any(axis=1)].ravel()] = True
+    local = np.flatnonzero(around[triangles].all(axis=1))
+    nodes, sub = np.unique(triangles[local], return_inverse=True)
+    sub = sub.reshape(-1, 3)
+    pairs, count = unique_edges(sub, len(nodes))
+    probe = Mesh(
+        xy[nodes], sub, pairs[count == 1], [1] * int((count == 1).sum()), 1, None
+    )
+    work = _Work(probe, np.asarray(held, dtype=bool)[nodes], (False, None, min_angle))
+    # no edge between held nodes is flipped or split (a line's, an outline's)
+    for t in work.tri.values():
+        for u, v in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+            if work.fixed[u] and work.fixed[v] and held[nodes[u]] and held[nodes[v]]:
+                work.locked.add((min(u, v), max(u, v)))
+    # only the seam's slivers: the parts' own cleanups tried the rest
+    where = np.searchsorted(local, slivers)
+    flips, splits = work.flip_slivers(min_angle, None, where)
+    if not flips + splits:
+        return points, triangles, (0, 0)
+    new_xy, new_tri, _ = work.arrays()
+    extra = new_xy[len(nodes) :]
+    number = np.concatenate([nodes, len(xy) + np.arange(len(extra))])
+    out = np.delete(triangles, local, axis=0)
+    out = np.concatenate([out, number[new_tri]])
+    return np.concatenate([xy, extra]), out, (flips, splits)
 
 
 def _smoothed(xy: NDArray, tri: NDArray, held: NDArray, good: float) -> tuple:
@@ -334,8 +396,12 @@ class _Work(EditableMesh):
                     flips += 1
         return flips
 
-    def flip_slivers(self, min_angle: float, limit: int | None) -> tuple[int, int]:
+    def flip_slivers(
+        self, min_angle: float, limit: int | None, only: NDArray | None = None
+    ) -> tuple[int, int]:
         """Flip, else split, the edge opposite each sliver's widest angle.
+
+        ``only``: the triangles to try (default: every sliver).
 
         Returns the flips and the splits. A split (a new node on the edge,
         joined to both opposite corners) lifts a cap whose flip cannot: a
@@ -344,8 +410,10 @@ class _Work(EditableMesh):
         nodes.
         """
         done, n = [0, 0], len(self.valence)
-        xy, tri, _ = self.arrays()
-        for k in np.flatnonzero(triangle_angles(xy[tri]).min(axis=1) < min_angle):
+        if only is None:
+            xy, tri, _ = self.arrays()
+            only = np.flatnonzero(triangle_angles(xy[tri]).min(axis=1) < min_angle)
+        for k in only:
             t = self.tri[k]
             angles = triangle_angles(np.array([[self.point(v) for v in t]]))[0]
             if angles.min() >= min_angle:

@@ -191,7 +191,11 @@ class PartCleanup:
 
 
 def combine(
-    parts: Sequence[PartCleanup], after: dict, *, seam_moved: int = 0
+    parts: Sequence[PartCleanup],
+    after: dict,
+    *,
+    seam_moved: int = 0,
+    seam_fixes: tuple[int, int] = (0, 0),
 ) -> CleanupReport:
     """Return the report of a mesh cleaned in parts.
 
@@ -205,6 +209,10 @@ def combine(
         (:func:`~coastmesh.meshing.parts.seams.smooth_seams`); they count in
         ``smoothed_nodes`` too (a node moved in its part and again there
         counts twice).
+    seam_fixes : (int, int)
+        Sliver flips and splits made at the cuts after the parts were joined
+        (:func:`~coastmesh.meshing.cleanup.fixes.fix_seam_slivers`); they
+        count in ``sliver_flips`` and ``sliver_splits`` too.
 
     Returns
     -------
@@ -245,7 +253,11 @@ def combine(
     return CleanupReport(
         **{f"{name}_before": value for name, value in before.items()},
         **{f"{name}_after": value for name, value in after.items()},
-        **{name: sum(getattr(r, name) for r in reports) for name in counts[:-1]},
+        **{name: sum(getattr(r, name) for r in reports) for name in counts[:-1]}
+        | {
+            "sliver_flips": sum(r.sliver_flips for r in reports) + seam_fixes[0],
+            "sliver_splits": sum(r.sliver_splits for r in reports) + seam_fixes[1],
+        },
         smoothed_nodes=sum(r.smoothed_nodes for r in reports) + seam_moved,
         accepted=accepted,
     )
