@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import shapely
 from hypothesis import settings
+from scipy.spatial import Delaunay
 
 from coastmesh.data import path as data_path
 
@@ -81,6 +82,20 @@ def coarse_example_text(**replace: str) -> str:
         assert old in text, old
         text = text.replace(old, new)
     return text
+
+
+def clustered_delaunay(seed: int, n: int, clusters: int):
+    """Delaunay triangles of random points in a square, some in tight clusters."""
+    rng = np.random.default_rng(seed)
+    points = [[[0, 0], [1, 0], [1, 1], [0, 1]], rng.random((n, 2))]
+    for centre in rng.random((clusters, 2)):
+        points.append(centre + rng.normal(0, 0.01, (3, 2)))  # slivers around it
+    xy = np.vstack(points).clip(0, 1) * 1000
+    tri = Delaunay(xy).simplices.astype(np.int64)
+    d1, d2 = xy[tri[:, 1]] - xy[tri[:, 0]], xy[tri[:, 2]] - xy[tri[:, 0]]
+    area = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+    tri[area < 0] = tri[area < 0][:, [0, 2, 1]]
+    return xy, tri[np.abs(area) > 1e-6]
 
 
 def one_triangle(crs=None):

@@ -6,9 +6,9 @@ import math
 
 import numpy as np
 import pytest
+from conftest import clustered_delaunay
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
-from scipy.spatial import Delaunay
 
 from coastmesh.errors import ConfigError
 from coastmesh.meshing import SmoothingReport, mesh_quality, smooth_mesh
@@ -154,20 +154,6 @@ def smooth_reference(xy, triangles, fixed, iterations, method, good_angle):
     return np.array(xy), sweeps
 
 
-def random_mesh(seed: int, n: int, clusters: int):
-    """Delaunay triangles of random points in a square, some in tight clusters."""
-    rng = np.random.default_rng(seed)
-    points = [[[0, 0], [1, 0], [1, 1], [0, 1]], rng.random((n, 2))]
-    for centre in rng.random((clusters, 2)):
-        points.append(centre + rng.normal(0, 0.01, (3, 2)))  # slivers around it
-    xy = np.vstack(points).clip(0, 1) * 1000
-    tri = Delaunay(xy).simplices.astype(np.int64)
-    d1, d2 = xy[tri[:, 1]] - xy[tri[:, 0]], xy[tri[:, 2]] - xy[tri[:, 0]]
-    area = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
-    tri[area < 0] = tri[area < 0][:, [0, 2, 1]]
-    return xy, tri[np.abs(area) > 1e-6]
-
-
 def _unchanged_or_better(before, after, ratios=None):
     """Minimum angle, 1st percentile and worst radius ratio did not fall."""
     assert after.min() > 0
@@ -191,7 +177,7 @@ def _unchanged_or_better(before, after, ratios=None):
 @example(seed=1382, n=32, clusters=1, method="angle", good_angle=25.0, iterations=1)
 @example(seed=1, n=40, clusters=3, method="laplacian", good_angle=90.0, iterations=5)
 def test_matches_reference(seed, n, clusters, method, good_angle, iterations):
-    xy, tri = random_mesh(seed, n, clusters)
+    xy, tri = clustered_delaunay(seed, n, clusters)
     fixed = boundary_nodes(tri, len(xy))
     options = {"iterations": iterations, "method": method, "good_angle": good_angle}
     got, sweeps = smooth_points(xy, tri, fixed, **options)
@@ -213,7 +199,7 @@ def test_matches_reference(seed, n, clusters, method, good_angle, iterations):
 )
 def test_guarantees(seed, n, clusters, extra_fixed, method):
     """Fixed nodes stay; no triangle turns over; min and 1st percentile hold."""
-    xy, tri = random_mesh(seed, n, clusters)
+    xy, tri = clustered_delaunay(seed, n, clusters)
     fixed = boundary_nodes(tri, len(xy))
     fixed |= np.random.default_rng(seed).random(len(xy)) < extra_fixed
     before = xy.copy()

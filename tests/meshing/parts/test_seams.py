@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import numpy as np
+from conftest import clustered_delaunay
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_smoothing import random_mesh
 
 from coastmesh.meshing.cleanup.planar import radius_ratios
 from coastmesh.meshing.cleanup.smoothing import (
@@ -54,7 +54,7 @@ def _boundary_edges(tri, n):
     share=st.floats(0.0, 0.5),
 )
 def test_matches_reference_and_moves_only_the_seam(seed, n, clusters, share):
-    xy, tri = random_mesh(seed, n, clusters)
+    xy, tri = clustered_delaunay(seed, n, clusters)
     edges = _boundary_edges(tri, len(xy))
     rng = np.random.default_rng(seed)
     seam = np.flatnonzero(rng.random(len(xy)) < share)
@@ -73,7 +73,7 @@ def test_matches_reference_and_moves_only_the_seam(seed, n, clusters, share):
 
 
 def test_no_seam_moves_nothing():
-    xy, tri = random_mesh(3, 30, 2)
+    xy, tri = clustered_delaunay(3, 30, 2)
     got, moved = smooth_seams(xy, tri, _boundary_edges(tri, len(xy)), np.array([], int))
     assert moved == 0
     np.testing.assert_array_equal(got, xy)
