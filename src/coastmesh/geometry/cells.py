@@ -13,13 +13,15 @@ and :mod:`contourpy` (marching squares) traces.
 * :func:`dilate`, :func:`erode`: by a disk of cells, by shifted ORs;
 * :func:`joined`: the cells joined to seed cells;
 * :func:`trace`: the polygons of True cells;
-* :func:`points_inside`: which of many points a polygon holds, on threads.
+* :func:`points_inside`: which of many points a polygon holds, on threads;
+* :func:`copies`: new GEOS objects of geometries, for another thread.
 """
 
 from __future__ import annotations
 
 import math
 from concurrent.futures import ThreadPoolExecutor
+from typing import Any
 
 import contourpy
 import numpy as np
@@ -29,7 +31,16 @@ from scipy import ndimage
 
 from coastmesh.geometry.dem import _polygons
 
-__all__ = ["crossed", "dilate", "erode", "joined", "points_inside", "trace", "winding"]
+__all__ = [
+    "copies",
+    "crossed",
+    "dilate",
+    "erode",
+    "joined",
+    "points_inside",
+    "trace",
+    "winding",
+]
 
 #: Points per thread below which :func:`points_inside` runs on one
 _POINTS_PER_THREAD = 50_000
@@ -38,6 +49,23 @@ _POINTS_PER_THREAD = 50_000
 def _same(xy: NDArray) -> NDArray:
     """Return the coordinates as they are: :func:`shapely.transform` copies so."""
     return xy
+
+
+def copies(geoms: Any) -> Any:
+    """Return new GEOS objects of ``geoms``, for a thread of their own.
+
+    GEOS's prepared geometry (which shapely's predicates make and keep) is
+    not safe to share between threads, even once built: each thread that asks
+    a geometry while another may asks its own copy.
+
+    Examples
+    --------
+    >>> box = shapely.box(0, 0, 1, 1)
+    >>> copy = copies(box)
+    >>> copy is box, copy.equals_exact(box, 0.0)
+    (False, True)
+    """
+    return shapely.transform(geoms, _same)
 
 
 def points_inside(
@@ -64,12 +92,12 @@ def points_inside(
     # contains_xy makes of each) is not safe to share between threads, even
     # once its point index is built (GEOS 3.14: heap corruption, every few
     # runs); the caller's own is never asked from a thread
-    copies = [shapely.transform(polygon, _same) for _ in range(chunks)]
+    own = [copies(polygon) for _ in range(chunks)]
     edges = np.linspace(0, len(x), chunks + 1).astype(int)
     with ThreadPoolExecutor(chunks) as pool:
         parts = pool.map(
             lambda i: shapely.contains_xy(
-                copies[i], x[edges[i] : edges[i + 1]], y[edges[i] : edges[i + 1]]
+                own[i], x[edges[i] : edges[i + 1]], y[edges[i] : edges[i + 1]]
             ),
             range(chunks),
         )

@@ -168,7 +168,7 @@ def close_narrow_water(
         # ask the originals, one thread at a time: _PREPARED)
         inlets_found = pool.submit(
             inlet_patches,
-            shapely.transform(active, lambda xy: xy),
+            cells.copies(active),
             _INLET * width,
             _INLET_REACH * width,
         )
@@ -610,35 +610,38 @@ def _own(ring: _Ring, origin: NDArray[np.float64]) -> NDArray[np.bool_]:
     Only the ring judges whether big land there is thin: each thin neck is
     thickened by one ring, at one scale, however near a ring's edge.
     """
-    cell, r0, r1 = ring.cell, ring.r0, ring.r1
-    offset = (np.arange(_WINDOW) + 0.5) * cell
-    x0, y0 = (origin + offset[0]).T
-    x1, y1 = (origin + offset[-1]).T
-    whole = (_gap(x0, y0, x1, y1) >= r0) & (_top(x0, y0, x1, y1) < r1)
-    own = np.ones((len(origin), _WINDOW, _WINDOW), dtype=bool)
-    for t in np.flatnonzero(~whole):
-        x, y = np.meshgrid(origin[t, 0] + offset, origin[t, 1] + offset)
-        r = np.hypot(x, y)
-        own[t] = (r >= r0) & (r < r1)
-    return own
+    offset = (np.arange(_WINDOW) + 0.5) * ring.cell
+    return _in_band(origin, offset, ring.r0, ring.r1)
 
 
 def _changeable(ring: _Ring, origin: NDArray[np.float64]) -> NDArray[np.bool_]:
     """Return which cells of the tiles' cores (and overlap) the ring may change."""
-    cell, (lo, hi), zone = ring.cell, ring.band, ring.region.zone
-    offset = (np.arange(_HALO - _OVERLAP, _HALO + _TILE + _OVERLAP) + 0.5) * cell
+    offset = (np.arange(_HALO - _OVERLAP, _HALO + _TILE + _OVERLAP) + 0.5) * ring.cell
+    return _in_band(origin, offset, *ring.band, ring.region.zone)
+
+
+def _in_band(
+    origin: NDArray[np.float64],
+    offset: NDArray[np.float64],
+    lo: float,
+    hi: float,
+    zone: shapely.Geometry | None = None,
+) -> NDArray[np.bool_]:
+    """Return which cells (centres ``origin + offset``) lie at radii in [lo, hi).
+
+    And in ``zone``, if given. Tiles wholly in the band (and the zone) are
+    wholly in; the rest are measured cell by cell.
+    """
     x0, y0 = (origin + offset[0]).T
     x1, y1 = (origin + offset[-1]).T
-    # tiles wholly in the band (and the zone) are wholly changed; the rest,
-    # cell by cell
-    whole = (_gap(x0, y0, x1, y1) >= lo) & (_top(x0, y0, x1, y1) <= hi)
+    whole = (_gap(x0, y0, x1, y1) >= lo) & (_top(x0, y0, x1, y1) < hi)
     if zone is not None:
         whole &= shapely.contains(zone, shapely.box(x0, y0, x1, y1))
     inside = np.ones((len(origin), len(offset), len(offset)), dtype=bool)
     for t in np.flatnonzero(~whole):
         x, y = np.meshgrid(origin[t, 0] + offset, origin[t, 1] + offset)
         r = np.hypot(x, y)
-        inside[t] = (r >= lo) & (r <= hi)
+        inside[t] = (r >= lo) & (r < hi)
         if zone is not None and inside[t].any():
             inside[t] &= shapely.contains_xy(zone, x, y)
     return inside

@@ -216,7 +216,7 @@ def fix_seam_slivers(
     # no edge between held nodes is flipped or split (a line's, an outline's)
     for t in work.tri.values():
         for u, v in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
-            if work.fixed[u] and work.fixed[v] and held[nodes[u]] and held[nodes[v]]:
+            if held[nodes[u]] and held[nodes[v]]:
                 work.locked.add((min(u, v), max(u, v)))
     # only the seam's slivers: the parts' own cleanups tried the rest
     where = np.searchsorted(local, slivers)
