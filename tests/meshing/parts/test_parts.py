@@ -80,15 +80,21 @@ def test_expected_triangles_matches_the_literal_sum():
     )
 
 
-def test_the_water_asked_twice_is_found_once_and_let_go_by_the_cuts():
-    water, grid = shapely.Polygon(OUTER, [ISLAND]), _grid()
-    first = expected_triangles(water, grid)
-    assert parts_module._LAST_CELLS[0][0] is water
-    assert expected_triangles(water, grid, threads=2) == first
-    other = shapely.Polygon(OUTER)  # another water: found anew, not the last
-    assert expected_triangles(other, grid) > first
-    plan_cuts(other, grid, 2)
-    assert parts_module._LAST_CELLS == []
+def test_cells_found_once_give_the_same_parts_and_cuts(monkeypatch):
+    water, grid = shapely.Polygon(OUTER, [ISLAND]), _grid(8.0, 0.004, step=50.0)
+    cells = parts_module.water_cells(water, grid, threads=2)
+    assert cells.weight.sum() == pytest.approx(_reference_expected(water, grid))
+    wanted = auto_parts(water, grid)
+    cuts = plan_cuts(water, grid, 3)
+
+    def again(*args, **kwargs):
+        raise AssertionError("the cells were found again")
+
+    monkeypatch.setattr(parts_module, "water_cells", again)
+    assert auto_parts(water, grid, cells=cells) == wanted
+    given_cells = plan_cuts(water, grid, 3, cells=cells)
+    assert [c.wkt for c in given_cells.cuts] == [c.wkt for c in cuts.cuts]
+    assert given_cells.missed == cuts.missed
 
 
 @settings(max_examples=25, deadline=None)

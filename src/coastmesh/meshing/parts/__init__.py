@@ -10,15 +10,23 @@ and ``report`` (what each part cost).
 
 from __future__ import annotations
 
-from coastmesh.meshing.parts.cuts import auto_parts, expected_triangles, plan_cuts
+from coastmesh.meshing.parts.cuts import (
+    WaterCells,
+    auto_parts,
+    expected_triangles,
+    plan_cuts,
+    water_cells,
+)
 from coastmesh.meshing.parts.report import PartsReport
 from coastmesh.meshing.parts.tasks import Runner, serial_runner
 
 __all__ = [
     "PartsReport",
     "Runner",
+    "WaterCells",
     "auto_parts",
     "expected_triangles",
     "plan_cuts",
     "serial_runner",
+    "water_cells",
 ]

@@ -51,10 +51,12 @@ __all__ = [
     "OVERSIZE",
     "TRIANGLES_PER_PART",
     "CutPlan",
+    "WaterCells",
     "auto_parts",
     "cut_lines",
     "expected_triangles",
     "plan_cuts",
+    "water_cells",
 ]
 
 #: Triangles per unit area of an equilateral mesh of edge h: 4 / (sqrt(3) h^2).
@@ -104,30 +106,48 @@ _WIDER = 0.15
 _OBLIQUE = (45.0, 135.0, 30.0, 60.0, 120.0, 150.0)
 
 
-#: The last water asked for and its cells: the engine asks for the same water
-#: twice (``parts = "auto"``, then the cuts), 0.4 s each on world.toml; the
-#: cuts let go of it
-_LAST_CELLS: list[tuple] = []
+class WaterCells(NamedTuple):
+    """The size grid's nodes in the water, and the expected triangles of each.
+
+    What :func:`water_cells` returns; :func:`auto_parts` and :func:`plan_cuts`
+    take it so that the engine finds the nodes once (0.4 s on world.toml).
+    """
+
+    x: NDArray[np.float64]
+    y: NDArray[np.float64]
+    weight: NDArray[np.float64]
 
 
-def _cells(
+def water_cells(
     polygon: shapely.Polygon, grid: SizeGrid, threads: int = 1
-) -> tuple[NDArray, NDArray, NDArray]:
-    """Grid nodes in the water and the expected triangles each stands for."""
-    for was, of, found in _LAST_CELLS:
-        if was is polygon and of is grid:
-            return found
+) -> WaterCells:
+    """Return the grid nodes inside ``polygon`` and the triangles each stands for.
+
+    Parameters
+    ----------
+    polygon : shapely.Polygon
+        The water, in the grid's coordinates (metres).
+    grid : SizeGrid or SphereSizeGrid
+        Target sizes; on a sphere grid each node's area is measured on the sphere.
+    threads : int, default 1
+        Threads that find the nodes in the water.
+
+    Examples
+    --------
+    >>> g = SizeGrid(np.arange(0.0, 1001, 10), np.arange(0.0, 1001, 10),
+    ...              np.full((101, 101), 100.0))
+    >>> cells = water_cells(shapely.box(0, 0, 1000, 1000), g)
+    >>> len(cells.x), round(float(cells.weight.sum()))  # 99 x 99 inside
+    (9801, 226)
+    """
     if not isinstance(grid, SizeGrid):  # a SphereSizeGrid: areas on the sphere
         x, y, weight = grid.cells(polygon, threads)
-        found = (x, y, _DENSITY * weight)
-    else:
-        gx, gy = np.meshgrid(grid.x, grid.y)
-        inside = points_inside(polygon, gx, gy, threads)
-        cell = abs(grid.x[1] - grid.x[0]) * abs(grid.y[1] - grid.y[0])
-        weight = _DENSITY * cell / grid.values[inside] ** 2
-        found = (gx[inside], gy[inside], weight)
-    _LAST_CELLS[:] = [(polygon, grid, found)]
-    return found
+        return WaterCells(x, y, _DENSITY * weight)
+    gx, gy = np.meshgrid(grid.x, grid.y)
+    inside = points_inside(polygon, gx, gy, threads)
+    cell = abs(grid.x[1] - grid.x[0]) * abs(grid.y[1] - grid.y[0])
+    weight = _DENSITY * cell / grid.values[inside] ** 2
+    return WaterCells(gx[inside], gy[inside], weight)
 
 
 def expected_triangles(
@@ -156,11 +176,20 @@ def expected_triangles(
     >>> round(expected_triangles(shapely.box(0, 0, 1000, 1000), g))  # 99 x 99 inside
     226
     """
-    return float(_cells(polygon, grid, threads)[2].sum())
+    return float(water_cells(polygon, grid, threads).weight.sum())
 
 
-def auto_parts(polygon: shapely.Polygon, grid: SizeGrid, threads: int = 1) -> int:
+def auto_parts(
+    polygon: shapely.Polygon,
+    grid: SizeGrid,
+    threads: int = 1,
+    *,
+    cells: WaterCells | None = None,
+) -> int:
     """Return the number of parts ``parts = "auto"`` means for this water.
+
+    ``cells``, if given, are :func:`water_cells` of ``polygon`` and ``grid``,
+    found already.
 
     Examples
     --------
@@ -169,7 +198,9 @@ def auto_parts(polygon: shapely.Polygon, grid: SizeGrid, threads: int = 1) -> in
     >>> auto_parts(shapely.box(0, 0, 100_000, 100_000), g)  # 2,286,365 triangles
     16
     """
-    n = expected_triangles(polygon, grid, threads) / TRIANGLES_PER_PART
+    if cells is None:
+        cells = water_cells(polygon, grid, threads)
+    n = float(cells.weight.sum()) / TRIANGLES_PER_PART
     power = int(np.floor(np.log2(max(n, 1.0)) + 0.5))  # the nearest, by ratio
     return int(min(2**power, MAX_AUTO_PARTS))
 
@@ -188,6 +219,7 @@ def plan_cuts(
     *,
     ends: NDArray[np.float64] | None = None,
     threads: int = 1,
+    cells: WaterCells | None = None,
 ) -> CutPlan:
     """Return straight cuts that split the water into ``parts`` of equal cost.
 
@@ -207,6 +239,8 @@ def plan_cuts(
         of: the ends of its curves (a cut there leaves a sliver of curve).
     threads : int, default 1
         Threads that find the grid nodes in the water (the cuts are the same).
+    cells : WaterCells, optional
+        :func:`water_cells` of ``polygon`` and ``grid``, if found already.
 
     Returns
     -------
@@ -234,8 +268,7 @@ def plan_cuts(
     """
     if isinstance(parts, bool) or not isinstance(parts, int | np.integer) or parts < 1:
         raise ValueError(f"parts is {parts!r}; expected an integer >= 1")
-    x, y, w = _cells(polygon, grid, threads)
-    _LAST_CELLS.clear()  # the cuts need them no more: a world's are 100 MB
+    x, y, w = water_cells(polygon, grid, threads) if cells is None else cells
     cuts: list[shapely.LineString] = []
     coast = (
         coast_tree(polygon),
