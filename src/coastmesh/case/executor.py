@@ -34,6 +34,7 @@ from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from typing import Any
 
+from coastmesh.case.processes import process_context
 from coastmesh.errors import ConfigError, MeshingError
 from coastmesh.meshing.parts.tasks import Runner, serial_runner
 
@@ -115,10 +116,8 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
     """Return a runner on a local process pool, replaced once if a worker dies."""
 
     def new_pool(n: int) -> ProcessPoolExecutor:
-        # spawn: a worker starts clean, with no copy of this process's threads
-        pool = ProcessPoolExecutor(
-            max_workers=n, mp_context=multiprocessing.get_context("spawn")
-        )
+        # forked from a clean server, or spawned: no copy of this process's threads
+        pool = ProcessPoolExecutor(max_workers=n, mp_context=process_context())
         pools.append(pool)
         return pool
 

@@ -192,7 +192,8 @@ class CaseResult:
             ``stage(label)`` returns a context manager (for a progress bar).
         workers : int, default 1
             Processes the figures of a large mesh are drawn on
-            (:mod:`coastmesh.case.figures`; spawned: a script that passes more
+            (:mod:`coastmesh.case.figures`; started as spawned ones are, by
+            importing the main script: a script that passes more
             than 1 runs under ``if __name__ == "__main__":``), while this one
             writes the mesh files. The files are the same for any number.
         figures : FigureJobs, optional

@@ -20,6 +20,7 @@ from typing import Any
 from coastmesh.case.build import as_case, build_drawing, worker_count
 from coastmesh.case.config import CaseConfig, StudyCase
 from coastmesh.case.figures import FigureJobs
+from coastmesh.case.processes import start_server
 from coastmesh.case.result import CaseResult, write_case_copy
 from coastmesh.io import atomic_directory, check_directory
 from coastmesh.types import StageFactory, quiet_stage
@@ -86,6 +87,8 @@ def run_case(
     # the figures are drawn on local processes, whatever meshed the parts, and
     # each starts as soon as what it shows is made
     local = worker_count(workers if workers is not None else config.run.workers)
+    if local > 1:
+        start_server()  # the workers' fork server imports while this one reads
     with FigureJobs(local) as figures:
         result = build_drawing(
             config, stage=stage, workers=workers, scheduler=scheduler, figures=figures
