@@ -37,7 +37,12 @@ from coastmesh.meshing.gmsh.model import (
 )
 from coastmesh.meshing.gmsh.resample import check_boundary, resample_rings
 from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
-from coastmesh.meshing.parts.cuts import MIN_PART_TRIANGLES, auto_parts, plan_cuts
+from coastmesh.meshing.parts.cuts import (
+    MIN_PART_TRIANGLES,
+    auto_parts,
+    plan_cuts,
+    water_cells,
+)
 from coastmesh.meshing.parts.faces import (
     canonical_order,
     split_faces,
@@ -278,7 +283,9 @@ def mesh_in_parts(
     step(1)
     with ThreadPoolExecutor(1) as side:  # while Gmsh makes the boundary nodes
         warming = side.submit(start_workers, runner, parts, rings, map_size)
-        pieces, water = boundary_nodes(resampled, ids, map_size)
+        pieces, water = boundary_nodes(
+            resampled, ids, map_size, runner or serial_runner
+        )
         if (error := warming.exception()) is not None:  # a head start only
             logger.warning("workers not started ahead: %s", error)
     plane = _inner_plane(inner, domain.crs, mesh_crs, map_size)
@@ -555,11 +562,13 @@ def _cut(
     """
     if parts == 1:
         return pieces, [], 1
-    wanted = auto_parts(water, size, threads) if parts == "auto" else int(parts)
+    cells = water_cells(water, size, threads)  # a world's are 100 MB: let go below
+    wanted = auto_parts(water, size, cells=cells) if parts == "auto" else int(parts)
     if wanted == 1:
         return pieces, [], 1
     ends = np.array([p[i] for p, _ in pieces for i in (0, -1)])
-    cuts, missed = plan_cuts(water, size, wanted, ends=ends, threads=threads)
+    cuts, missed = plan_cuts(water, size, wanted, ends=ends, cells=cells)
+    del cells
     if parts != "auto" and missed:
         # counted as asked: a part cut again for its size (OVERSIZE) is not
         # one of them, so the count of parts alone would hide a shortfall

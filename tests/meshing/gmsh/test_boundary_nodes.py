@@ -13,6 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from pyproj import Transformer
 
+from coastmesh.case.executor import open_runner
 from coastmesh.geometry.projection import sample_size
 from coastmesh.meshing.gmsh import boundary_nodes as curves
 from coastmesh.meshing.gmsh.boundary_nodes import boundary_nodes
@@ -140,9 +141,8 @@ def test_boundary_nodes_are_those_of_the_whole_view(sides, seed):
     assert cells[0] < cells[1]
 
 
-def test_boundary_nodes_of_orkney_are_those_of_the_whole_view(
-    monkeypatch, orkney_geojson
-):
+def _orkney(orkney_geojson):
+    """Orkney's water in UTM, resampled, sized 60 m at the coast to 1 km offshore."""
     to_utm = Transformer.from_crs(4326, 32630, always_xy=True)
     features = json.loads(orkney_geojson.read_text())["features"]
     land = [shapely.geometry.shape(f["geometry"]) for f in features]
@@ -164,11 +164,60 @@ def test_boundary_nodes_of_orkney_are_those_of_the_whole_view(
     resampled, _ = resample_rings(
         [[r] for r in rings], lambda xy: sample_size(size, xy)
     )
-    ids = [[3]] * len(resampled)
+    return resampled, [[3]] * len(resampled), size
+
+
+def test_boundary_nodes_of_orkney_are_those_of_the_whole_view(
+    monkeypatch, orkney_geojson
+):
+    resampled, ids, size = _orkney(orkney_geojson)
     near, whole, cells = _full_and_near(monkeypatch, resampled, ids, size)
     _assert_same(near, whole)
     assert sum(len(p) for p, _ in near[0]) > 500
     assert cells[0] < 0.8 * cells[1]
+
+
+def _ends(piece):
+    return tuple(piece[0]), tuple(piece[-1])
+
+
+def test_a_long_boundary_is_meshed_in_batches_the_same_on_any_runner(
+    monkeypatch, orkney_geojson
+):
+    resampled, ids, size = _orkney(orkney_geojson)
+    alone = boundary_nodes(resampled, ids, size)  # under BATCH_CURVES: one batch
+    count = len(alone[0])
+    monkeypatch.setattr(curves, "BATCH_CURVES", 7)
+    seen = []
+
+    def runner(fn, items):
+        seen.append(list(items))
+        return [fn(item) for item in items]
+
+    batched = boundary_nodes(resampled, ids, size, runner)
+    (batches,) = seen
+    # cut at equal shares of points: a share inside one long piece is no cut
+    assert 1 < len(batches) <= -(-count // 7)
+    # every piece once, in order, and a ring cut between batches is no whole run
+    pieces = [p for b in batches for run, _ in b.runs for p in run]
+    assert len(pieces) == count
+    assert sum(b.expected for b in batches) == sum(len(p) for p, _ in pieces)
+    by_ring = curves._ring_pieces(resampled, ids)
+    ring_of = {_ends(p): r for r, ring in enumerate(by_ring) for p, _ in ring}
+    for batch in batches:
+        for run, whole in batch.runs:
+            rings = {ring_of[_ends(p)] for p, _ in run}
+            assert len(rings) == 1
+            assert whole == (len(run) == len(by_ring[rings.pop()]))
+    assert not all(whole for b in batches for _, whole in b.runs)  # a ring was cut
+    # the same nodes but for the last bits of the size view's search
+    for (a, pid_a), (b, pid_b) in zip(alone[0], batched[0], strict=True):
+        assert pid_a == pid_b and a.shape == b.shape
+        np.testing.assert_array_equal(a[[0, -1]], b[[0, -1]])
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-6)
+    with open_runner(2) as pool:
+        on_workers = boundary_nodes(resampled, ids, size, pool)
+    _assert_same(on_workers, batched)  # the same bytes on 2 workers
 
 
 def test_a_spline_that_misses_its_points_gets_the_whole_view():

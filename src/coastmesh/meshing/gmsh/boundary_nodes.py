@@ -4,17 +4,18 @@ Gmsh meshes each boundary piece (a spline through the points of
 :func:`~coastmesh.meshing.gmsh.resample.resample_rings`, at most
 :data:`~coastmesh.meshing.gmsh.boundary_nodes.CURVE_POINTS` points) from the size grid:
 equal steps of the integral of 1/h, rounded up, so no boundary edge is longer
-than its target. That is done here once, for the whole boundary, before the
-water is cut; the nodes are then fixed, and every part (or the whole water)
-is meshed inside them. So the boundary nodes, where the worst triangles of a
-coastal mesh sit, are the same however the water is cut, and a cut that ends
-on a boundary curve cannot move the nodes along it.
+than its target. That is done here once, for the whole boundary (a long one
+in batches, on the workers), before the water is cut; the nodes are then
+fixed, and every part (or the whole water) is meshed inside them. So the
+boundary nodes, where the worst triangles of a coastal mesh sit, are the same
+however the water is cut, and a cut that ends on a boundary curve cannot move
+the nodes along it.
 """
 
 from __future__ import annotations
 
 import itertools
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import shapely
@@ -23,28 +24,64 @@ from numpy.typing import NDArray
 from coastmesh.errors import MeshingError
 from coastmesh.meshing.gmsh.model import add_size_view, gmsh_session, set_options
 from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
-from coastmesh.types import SizeGrid
+from coastmesh.types import Runner, SizeGrid, serial_runner
 
-__all__ = ["CURVE_POINTS", "boundary_nodes", "chunked"]
+__all__ = [
+    "BATCH_CURVES",
+    "CURVE_POINTS",
+    "BoundaryBatch",
+    "batch_nodes",
+    "boundary_nodes",
+    "chunked",
+]
 
 #: The most points of one Gmsh spline (:func:`chunked`).
 CURVE_POINTS = 500
+
+
+#: Curves per batch of the boundary (:func:`boundary_nodes`).
+BATCH_CURVES = 500
+
+
+class BoundaryBatch(NamedTuple):
+    """Runs of boundary pieces meshed in one Gmsh session (:func:`batch_nodes`).
+
+    ``runs``: per run, consecutive pieces of one ring as ``(points, id)`` and
+    whether they are the whole ring (its last piece ends on its first point).
+    ``expected`` (the pieces' points) orders the batches for the runner,
+    longest first.
+    """
+
+    runs: tuple[tuple[tuple[tuple[NDArray[np.float64], int], ...], bool], ...]
+    size: Any
+    expected: float
+    label: str
 
 
 def boundary_nodes(
     rings: list[list[list[NDArray[np.float64]]]],
     ids: list[list[int]],
     size: SizeGrid,
+    runner: Runner = serial_runner,
 ) -> tuple[list[tuple[NDArray[np.float64], int]], shapely.Polygon]:
     """Return the boundary as chains of its mesh nodes, and the water.
 
-    On one Gmsh thread, so that the nodes are the same bytes every run. On
-    two, Gmsh reads the size view through an octree that starts each search
-    from the element it found last, so which thread looked last picks, on an
-    element's edge, between two values that differ in the last bits, and
-    nodes move by some 1e-15 of the domain's size (seen on ``world.toml``:
-    one piece of 1,945 in some runs, and the mesh's nodes near it by up to
-    4e-9 degrees); in turns with two threads it was no slower.
+    Each curve is meshed alone, so the boundary can be meshed in batches:
+    one of more than :data:`BATCH_CURVES` curves is split, by their points, into
+    batches of about that many, each meshed in a Gmsh session of its own as a
+    task of ``runner`` (``world.toml``: 1,944 curves, 4 batches; 2.9 s one after
+    the other, 1.5 s on 2 workers). The batches depend on the boundary alone,
+    never on the workers, so the nodes are the same on any number of them.
+
+    Each batch is meshed on one Gmsh thread, so that its nodes are the same
+    bytes every run. On two, Gmsh reads the size view through an octree that
+    starts each search from the element it found last, so which thread looked
+    last picks, on an element's edge, between two values that differ in the
+    last bits, and nodes move by some 1e-15 of the domain's size (seen on
+    ``world.toml``: one piece of 1,945 in some runs, and the mesh's nodes near
+    it by up to 4e-9 degrees); in turns with two threads it was no slower.
+    For the same reason a curve's nodes in a batch can differ from those in the
+    whole boundary by such bits (``world.toml``: 3 curves of 1,944, by 2e-9 m).
 
     Parameters
     ----------
@@ -55,6 +92,8 @@ def boundary_nodes(
         Each ring's segments' physical ids.
     size : SizeGrid
         Target sizes in map units.
+    runner : Runner, default serial_runner
+        Runs the batches (:mod:`coastmesh.case.executor`).
 
     Returns
     -------
@@ -69,28 +108,86 @@ def boundary_nodes(
     MeshingError
         If Gmsh fails.
     """
-    with gmsh_session() as gmsh:
-        try:
-            set_options(gmsh, threads=1, seed=0, algorithm="frontal-delaunay")
-            by_ring = _ring_pieces(rings, ids)
-            curves = _add_curves(gmsh, by_ring)
-            xy = np.concatenate([p for p, _, _ in curves])
-            bounds = (*xy.min(axis=0), *xy.max(axis=0))
-            add_size_view(gmsh, size, bounds, _along(gmsh, curves, size))
-            gmsh.model.mesh.generate(1)
-            pieces = []
-            for piece, pid, tag in curves:
-                _, coords, params = gmsh.model.mesh.getNodes(1, tag)
-                inner = coords.reshape(-1, 3)[np.argsort(params), :2]
-                pieces.append((np.vstack([piece[:1], inner, piece[-1:]]), pid))
-        except Exception as exc:  # gmsh raises bare Exception with its last error
-            raise MeshingError(f"Gmsh failed on the boundary: {exc}") from exc
+    by_ring = _ring_pieces(rings, ids)
+    batches = _batches(by_ring, size)
+    if len(batches) == 1:
+        inner = batch_nodes(batches[0])
+    else:
+        inner = [nodes for done in runner(batch_nodes, batches) for nodes in done]
+    flat = [piece for pieces in by_ring for piece in pieces]
+    pieces = [
+        (np.vstack([piece[:1], nodes, piece[-1:]]), pid)
+        for (piece, pid), nodes in zip(flat, inner, strict=True)
+    ]
     starts = np.cumsum([0] + [len(r) for r in by_ring])
     coords = [
         np.concatenate([pieces[a][0][:1], *(p[1:] for p, _ in pieces[a:b])])
         for a, b in itertools.pairwise(starts)
     ]
     return pieces, shapely.Polygon(coords[0], coords[1:])
+
+
+def batch_nodes(batch: BoundaryBatch) -> list[NDArray[np.float64]]:
+    """Mesh a batch's curves in a Gmsh session; return each one's inner nodes.
+
+    In piece order, each ``(m, 2)``, from the piece's first point to its last
+    (neither included).
+
+    Raises
+    ------
+    MeshingError
+        If Gmsh fails.
+    """
+    with gmsh_session() as gmsh:
+        try:
+            set_options(gmsh, threads=1, seed=0, algorithm="frontal-delaunay")
+            curves = _add_curves(gmsh, batch.runs)
+            xy = np.concatenate([p for p, _, _ in curves])
+            bounds = (*xy.min(axis=0), *xy.max(axis=0))
+            add_size_view(gmsh, batch.size, bounds, _along(gmsh, curves, batch.size))
+            gmsh.model.mesh.generate(1)
+            inner = []
+            for _, _, tag in curves:
+                _, coords, params = gmsh.model.mesh.getNodes(1, tag)
+                inner.append(coords.reshape(-1, 3)[np.argsort(params), :2])
+        except Exception as exc:  # gmsh raises bare Exception with its last error
+            raise MeshingError(
+                f"Gmsh failed on the boundary ({batch.label}): {exc}"
+            ) from exc
+    return inner
+
+
+def _batches(by_ring: list[list], size: Any) -> list[BoundaryBatch]:
+    """Split the rings' pieces into batches of about :data:`BATCH_CURVES` curves.
+
+    The pieces in order, cut where their running count of points passes each
+    equal share; a ring cut between batches is a run in each.
+    """
+    where = [(r, k) for r, pieces in enumerate(by_ring) for k in range(len(pieces))]
+    count = max(int(np.ceil(len(where) / BATCH_CURVES)), 1)
+    points = np.cumsum([len(by_ring[r][k][0]) for r, k in where])
+    cuts = np.searchsorted(points, points[-1] * np.arange(1, count) / count)
+    edges = np.unique(np.concatenate([[0], cuts, [len(where)]]))
+    batches = []
+    for a, b in itertools.pairwise(edges):
+        runs: list[tuple[int, list]] = []
+        for r, k in where[a:b]:
+            if runs and runs[-1][0] == r:
+                runs[-1][1].append(by_ring[r][k])
+            else:
+                runs.append((r, [by_ring[r][k]]))
+        batches.append(
+            BoundaryBatch(
+                runs=tuple(
+                    (tuple(pieces), len(pieces) == len(by_ring[r]))
+                    for r, pieces in runs
+                ),
+                size=size,
+                expected=float(points[b - 1] - (points[a - 1] if a else 0)),
+                label=f"curves {a + 1} to {b} of {len(where)}",
+            )
+        )
+    return batches
 
 
 def _along(
@@ -161,18 +258,21 @@ def _ring_pieces(rings: list, ids: list) -> list[list]:
     ]
 
 
-def _add_curves(
-    gmsh: Any, by_ring: list[list]
-) -> list[tuple[NDArray[np.float64], int, int]]:
-    """Add each ring's pieces as Gmsh splines; return (piece, id, curve tag)."""
+def _add_curves(gmsh: Any, runs: tuple) -> list[tuple[NDArray[np.float64], int, int]]:
+    """Add each run's pieces as Gmsh splines; return (piece, id, curve tag).
+
+    The pieces of a run share their end points; those of a whole ring close
+    on its first point.
+    """
     geo = gmsh.model.geo
     out = []
-    for pieces in by_ring:
+    for pieces, whole in runs:
         first = geo.addPoint(*pieces[0][0][0], 0.0)
         start = first
         for k, (piece, pid) in enumerate(pieces):
             inner = [geo.addPoint(x, y, 0.0) for x, y in piece[1:-1]]
-            end = first if k == len(pieces) - 1 else geo.addPoint(*piece[-1], 0.0)
+            last = whole and k == len(pieces) - 1
+            end = first if last else geo.addPoint(*piece[-1], 0.0)
             tags = [start, *inner, end]
             curve = geo.addLine(*tags) if len(tags) == 2 else geo.addSpline(tags)
             out.append((np.asarray(piece, dtype=np.float64), pid, curve))
