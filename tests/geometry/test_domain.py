@@ -9,7 +9,7 @@ import pytest
 import shapely
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from pyproj import CRS
+from pyproj import CRS, Transformer
 
 from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError, InputDataError
@@ -79,6 +79,32 @@ def test_seed_chooses_the_face_and_errors():
         build_domain(land, walls, crs="EPSG:32630", seed=(50.0, 50.0))
     with pytest.raises(InputDataError, match="enclose no sea"):
         build_domain(land, [], crs="EPSG:32630")
+
+
+def test_no_sea_says_which_open_boundary_ends_short_and_where():
+    bay = shapely.box(0, 0, 10_000, 10_000).difference(
+        shapely.box(2000, 2000, 8000, 12_000)
+    )
+    short = OpenBoundary(np.array([(1000.0, 9000.0), (6000.0, 9000.0)]), "mouth", 3)
+    with pytest.raises(InputDataError) as error:
+        build_domain([bay], [short], crs="EPSG:32630")
+    message = str(error.value)
+    assert "enclose no sea: open boundary 'mouth' (id 3) ends at (" in message
+    assert "(lon, lat), 2 km from land and the other open boundaries" in message
+    assert message.count("ends at") == 1  # its west end is on land
+    lon, lat = Transformer.from_crs(32630, 4326, always_xy=True).transform(6000, 9000)
+    assert f"ends at ({lon:.4f}, {lat:.4f}) (lon, lat)" in message
+    inland = OpenBoundary(np.array([(100.0, 100.0), (500.0, 100.0)]), "dyke", 4)
+    with pytest.raises(InputDataError, match="'dyke' .id 4. lies wholly on land"):
+        build_domain([bay], [inland], crs="EPSG:32630")
+    with pytest.raises(InputDataError, match="there are no open boundaries"):
+        build_domain([bay], [], crs="EPSG:32630")
+    # both ends on the coast, or on another open boundary: nothing named
+    mouth = OpenBoundary(np.array([(1000.0, 9000.0), (4000.0, 9000.0)]), "a", 3)
+    rest = OpenBoundary(np.array([(4000.0, 9000.0), (4000.0, 9500.0)]), "b", 5)
+    with pytest.raises(InputDataError) as error:
+        build_domain([bay], [mouth, rest], crs="EPSG:32630")
+    assert "'a'" not in str(error.value) and "'b' (id 5) ends at" in str(error.value)
 
 
 def test_repairs_and_merges_dirty_land():

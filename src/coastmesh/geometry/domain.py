@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS, Geod
 
 from coastmesh.errors import ConfigError, InputDataError
-from coastmesh.geometry.earth import metres_per_unit, reproject
+from coastmesh.geometry.earth import metres_per_unit, reproject, reproject_points
 from coastmesh.geometry.layers import valid_polygons
 from coastmesh.geometry.sphere import is_world_plane
 from coastmesh.geometry.unions import union_meeting
@@ -192,10 +192,7 @@ def build_domain(
     faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(linework)))
     sea = faces[~shapely.within(shapely.point_on_surface(faces), merged)]
     if len(sea) == 0:
-        raise InputDataError(
-            "the shorelines and open boundaries enclose no sea: check that the open "
-            "boundaries cross the coast"
-        )
+        raise _no_sea(merged, open_boundaries, crs)
     if seed is not None:
         point = shapely.Point(seed)
         if shapely.contains(merged, point):
@@ -222,6 +219,50 @@ def build_domain(
         segments=counts,
     )
     return Domain(domain, tuple(segments), crs, surface_id), report
+
+
+#: An open boundary's end farther than this from land and from the other open
+#: boundaries (metres) leaves the water open there (:func:`_no_sea`).
+_REACH = 1.0
+
+
+def _no_sea(
+    land: shapely.Geometry, open_boundaries: list[OpenBoundary], crs: CRS
+) -> InputDataError:
+    """Return the error for shorelines and open boundaries that close no water.
+
+    Each end of an open boundary must reach land or another open boundary:
+    the ends that do not are named, in lon/lat, with how far they stop short;
+    so is a boundary that lies wholly on land.
+    """
+    lines = [shapely.LineString(b.coords) for b in open_boundaries]
+    unit = metres_per_unit(crs)
+    faults = []
+    for i, (boundary, line) in enumerate(zip(open_boundaries, lines, strict=True)):
+        label = f"open boundary {boundary.name!r} (id {boundary.physical_id})"
+        if shapely.covered_by(line, land):
+            faults.append(f"{label} lies wholly on land")
+            continue
+        ends = shapely.points(np.asarray(boundary.coords, dtype=np.float64)[[0, -1]])
+        others = [land, *lines[:i], *lines[i + 1 :]]
+        gaps = np.min([shapely.distance(g, ends) for g in others], axis=0) * unit
+        lonlat = reproject_points(shapely.get_coordinates(ends), crs, "EPSG:4326")
+        faults += [
+            f"{label} ends at ({lon:.4f}, {lat:.4f}) (lon, lat), {gap / 1000:.3g} km "
+            "from land and the other open boundaries"
+            for (lon, lat), gap in zip(lonlat, gaps, strict=True)
+            if gap > _REACH
+        ]
+    if not open_boundaries:
+        faults.append("there are no open boundaries")
+    why = "; ".join(faults) or (
+        "each open boundary reaches land at both ends, but with the coast they "
+        "close no water"
+    )
+    return InputDataError(
+        f"the shorelines and open boundaries enclose no sea: {why}. An open "
+        "boundary must cross the coast, or meet another open boundary, at both ends"
+    )
 
 
 def domain_with_land(
