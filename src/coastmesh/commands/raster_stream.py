@@ -24,6 +24,7 @@ scheduler's address.
 from __future__ import annotations
 
 import logging
+import time
 from collections.abc import Iterator, Sequence
 from contextlib import closing, contextmanager
 from dataclasses import dataclass
@@ -49,6 +50,8 @@ __all__ = ["StreamTotals", "open_client", "stream_raster"]
 logger = logging.getLogger(__name__)
 
 _SPLIT_EVERY = 8  # partial sums combined per node of the reduction tree
+#: Seconds between looks at the chunks under way (:func:`_finished`).
+_POLL = 0.05
 
 
 @dataclass(frozen=True, slots=True)
@@ -269,17 +272,38 @@ def _modes(
 
 def _wait(client: Any, persisted: Any, report: Progress, steps: int) -> None:
     """Wait for a persisted collection's tasks, reporting each; raise an error."""
-    from distributed import as_completed, futures_of
+    from distributed import futures_of
 
     futures = futures_of(persisted)
+    pending, count = list(futures), 0
     try:
-        for done, future in enumerate(as_completed(futures, loop=client.loop), 1):
-            if future.status == "error":
-                _result(future)  # raises the task's exception
-            report(done, steps)
+        while pending:
+            done = _finished(pending)
+            for future in done:
+                if future.status == "error":
+                    _result(future)  # raises the task's exception
+                count += 1
+                report(count, steps)
+            gone = {id(f) for f in done}
+            pending = [f for f in pending if id(f) not in gone]
     except BaseException:
         client.cancel(futures)
         raise
+
+
+def _finished(futures: Sequence[Any]) -> list[Any]:
+    """Wait until some of ``futures`` are done; return those, in their order.
+
+    Each future's own state is looked at every :data:`_POLL` seconds, where
+    ``distributed.as_completed`` tracks the futures with callbacks on one
+    client's event loop: the test suite, which has a second client in the
+    process (a fixture's beside the command's), hung once in its wait.
+    """
+    while True:
+        done = [future for future in futures if future.done()]
+        if done:
+            return done
+        time.sleep(_POLL)
 
 
 def _result(future: Any) -> Any:
@@ -302,27 +326,24 @@ def _computed(
     At most ``limit`` items are under way. A task's error is raised here, and
     the items not yet done are cancelled.
     """
-    from distributed import as_completed
-
     queue = iter(enumerate(items))
     running: dict[str, tuple[int, list[Any]]] = {}
-    ready = as_completed(loop=client.loop)
 
     def submit() -> None:
         item = next(queue, None)
         if item is not None:
             futures = client.compute(item[1])
             running[futures[0].key] = (item[0], futures)
-            ready.add(futures[0])
 
     for _ in range(limit):
         submit()
     try:
-        for future in ready:
-            index, futures = running.pop(future.key)
-            results = [_result(f) for f in futures]
-            submit()
-            yield index, results
+        while running:
+            for future in _finished([futures[0] for _, futures in running.values()]):
+                index, futures = running.pop(future.key)
+                results = [_result(f) for f in futures]
+                submit()
+                yield index, results
     finally:
         client.cancel([f for _, futures in running.values() for f in futures])
 
