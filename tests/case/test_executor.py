@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import functools
 import os
+import subprocess
+import sys
 import time
 from pathlib import Path
 
@@ -133,3 +135,33 @@ def test_a_task_that_kills_every_dask_worker_it_meets_is_named(cluster):
         run(_die, [0, 1])
     with open_runner(1, cluster) as run:  # the nannies brought the workers back
         assert run(_square, [2, 3]) == [4, 9]
+
+
+_UNGUARDED = """
+import gc, time
+from coastmesh.case.executor import open_runner
+from coastmesh.case.processes import start_server
+
+start_server()
+with open_runner(2) as run:
+    run.warm(2, gc.collect)  # started ahead: they die before their tasks come
+    time.sleep(1.0)
+    print(run(abs, [-1, -2, -3]))
+"""
+
+
+def test_a_script_without_a_main_guard_is_told_to_add_one(tmp_path):
+    script = tmp_path / "unguarded.py"
+    script.write_text(_UNGUARDED)
+    done = subprocess.run(
+        [sys.executable, str(script)],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        cwd=tmp_path,
+    )
+    assert done.returncode != 0
+    last = done.stderr.strip().splitlines()[-1]
+    assert last.startswith("coastmesh.errors.MeshingError: a worker process died")
+    assert 'must do it under `if __name__ == "__main__":`' in last
+    assert "An attempt has been made to start a new process" not in done.stderr

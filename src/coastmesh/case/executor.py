@@ -26,7 +26,6 @@ stops the run with the part named, before anything is written.
 from __future__ import annotations
 
 import logging
-import multiprocessing
 import warnings
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
@@ -34,7 +33,7 @@ from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
 from typing import Any
 
-from coastmesh.case.processes import process_context
+from coastmesh.case.processes import GUARD, check_main, process_context
 from coastmesh.errors import ConfigError, MeshingError
 from coastmesh.meshing.parts.tasks import Runner, serial_runner
 
@@ -44,11 +43,6 @@ logger = logging.getLogger(__name__)
 
 #: Seconds to wait for a Dask scheduler to answer and to have a worker.
 SCHEDULER_TIMEOUT = 20.0
-_GUARD = (
-    "a worker process started by coastmesh ran your script again: Python starts "
-    "worker processes by importing the main script, so a script that builds a "
-    'case must do it under `if __name__ == "__main__":` (or pass workers=1)'
-)
 
 
 @contextmanager
@@ -81,9 +75,7 @@ def open_runner(
     ...     run(abs, [-1, 2, -3])
     [1, 2, 3]
     """
-    if getattr(multiprocessing.current_process(), "_inheriting", False):
-        # a spawned worker is importing the user's script again: stop at once
-        raise RuntimeError(_GUARD)
+    check_main()  # a worker importing the user's script again: stop at once
     if scheduler is not None:
         client = _connect(scheduler, timeout or SCHEDULER_TIMEOUT)
         try:
@@ -149,8 +141,12 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
         todo = _longest_first(items)
         for attempt in range(2):
             pool = pool_for(len(todo))
-            futures = {i: pool.submit(fn, items[i]) for i in todo}
-            broken = []
+            futures, broken = {}, []
+            for i in todo:
+                try:
+                    futures[i] = pool.submit(fn, items[i])
+                except BrokenProcessPool:  # a worker started ahead died already
+                    broken.append(i)
             for i, future in futures.items():
                 try:
                     results[i] = future.result()
@@ -164,7 +160,7 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
                 more = f" and {len(broken) - 3} more" if len(broken) > 3 else ""
                 raise MeshingError(
                     f"a worker process died twice while meshing {names}{more}; "
-                    f"nothing was written. If this runs from a script: {_GUARD}"
+                    f"nothing was written. If this runs from a script: {GUARD}"
                 )
             logger.warning("a worker process died; running %d parts again", len(broken))
             todo = broken

@@ -26,6 +26,7 @@ from __future__ import annotations
 import io
 import os
 from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -34,7 +35,8 @@ import numpy as np
 from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline.depth import relief_due
 from coastmesh.case.pipeline.farms import turbine_rows
-from coastmesh.case.processes import process_context
+from coastmesh.case.processes import GUARD, process_context
+from coastmesh.errors import CoastmeshError
 from coastmesh.geometry import reproject_points
 
 if TYPE_CHECKING:
@@ -274,6 +276,14 @@ def render(function: str, args: tuple, kwargs: dict[str, Any]) -> bytes:
 NICE = 10
 
 
+def _died() -> CoastmeshError:
+    """Return the error for a figure process that died (as in an unguarded script)."""
+    return CoastmeshError(
+        "a process drawing the figures died; nothing was written. If this runs "
+        f"from a script: {GUARD}"
+    )
+
+
 def _in_the_background() -> None:
     """Lower this process's priority: the figures take only the idle cores.
 
@@ -328,11 +338,12 @@ class FigureJobs:
                 initializer=_in_the_background,
             )
         rank = {stem: i for i, stem in enumerate(_SLOW_FIRST)}
-        for stem, function, args, kwargs in sorted(
-            jobs, key=lambda job: rank.get(job[0], len(rank))
-        ):
-            if stem not in self.futures:
-                self.futures[stem] = self.pool.submit(render, function, args, kwargs)
+        for job in sorted(jobs, key=lambda job: rank.get(job[0], len(rank))):
+            if job[0] not in self.futures:
+                try:
+                    self.futures[job[0]] = self.pool.submit(render, *job[1:])
+                except BrokenProcessPool as exc:
+                    raise _died() from exc
 
     def follow(self, run: CaseRun) -> None:
         """Start the figures a run can draw now that a stage is done; each once.
@@ -390,9 +401,13 @@ class FigureJobs:
             return []
         self.start(jobs, triangles)
         (folder / "figures").mkdir()
-        for stem, function, args, kwargs in jobs:
+        for job in jobs:
+            stem = job[0]
             future = self.futures.get(stem)
-            png = render(function, args, kwargs) if future is None else future.result()
+            try:
+                png = render(*job[1:]) if future is None else future.result()
+            except BrokenProcessPool as exc:
+                raise _died() from exc
             (folder / "figures" / f"{stem}.png").write_bytes(png)
         return [f"figures/{stem}.png" for stem, *_ in jobs]
 

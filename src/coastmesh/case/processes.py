@@ -17,7 +17,7 @@ from __future__ import annotations
 import multiprocessing
 from multiprocessing.context import BaseContext
 
-__all__ = ["PRELOAD", "process_context", "start_server"]
+__all__ = ["GUARD", "PRELOAD", "check_main", "process_context", "start_server"]
 
 #: What the fork server imports before it forks a worker: what mesh_part
 #: and the figures import (matplotlib's Agg canvas with coastmesh.plot).
@@ -28,6 +28,25 @@ PRELOAD = (
     "coastmesh.plot",
     "matplotlib.backends.backend_agg",
 )
+
+
+#: What a worker that is importing the user's script again says.
+GUARD = (
+    "a worker process started by coastmesh ran your script again: Python starts "
+    "worker processes by importing the main script, so a script that builds a "
+    'case must do it under `if __name__ == "__main__":` (or pass workers=1)'
+)
+
+
+def check_main() -> None:
+    """Stop a worker that is importing the user's script: raise RuntimeError.
+
+    A worker started by spawning, or by the fork server, imports the main
+    script before its task; one without ``if __name__ == "__main__":`` would
+    build the case again there, and start workers of its own.
+    """
+    if getattr(multiprocessing.current_process(), "_inheriting", False):
+        raise RuntimeError(GUARD)
 
 
 def process_context() -> BaseContext:
@@ -44,7 +63,15 @@ def process_context() -> BaseContext:
 
 
 def start_server() -> None:
-    """Start the fork server now (it imports :data:`PRELOAD` on its own core)."""
+    """Start the fork server now (it imports :data:`PRELOAD` on its own core).
+
+    Raises
+    ------
+    RuntimeError
+        In a worker importing a script that has no ``__main__`` guard
+        (:func:`check_main`).
+    """
+    check_main()
     context = process_context()
     if context.get_start_method() == "forkserver":
         from multiprocessing import forkserver
