@@ -103,11 +103,12 @@ def test_the_view_covers_the_plane_with_cells_turning_the_right_way():
     np.testing.assert_allclose(tris[:, 5], 0.0, atol=1e-6)
 
 
-def _reference_view(size: SphereSizeGrid, bounds) -> list[list[float]]:
+def _reference_view(size: SphereSizeGrid, bounds, cells=None) -> list[list[float]]:
     """The view's quadrangles one cell at a time, each corner projected alone.
 
     Rows south to north, then west to east; kept when every corner is finite,
-    the cell's extent meets ``bounds`` and it is not wholly beyond the reach.
+    the cell's extent meets ``bounds`` and it is not wholly beyond the reach;
+    and, given ``cells`` (a set of (row, column)), when it is one of them.
     """
     forward = Transformer.from_crs("EPSG:4326", plane_crs(size.pole), always_xy=True)
     lon, lat, v = size.grid.x, size.grid.y, size.grid.values
@@ -115,6 +116,8 @@ def _reference_view(size: SphereSizeGrid, bounds) -> list[list[float]]:
     out = []
     for j in range(rows):
         for i in range(len(lon) - 1):
+            if cells is not None and (j, i) not in cells:
+                continue
             at = [(j, i), (j, i + 1), (j + 1, i + 1), (j + 1, i)]
             xy = [forward.transform(lon[c], lat[r]) for r, c in at]
             h = [
@@ -159,6 +162,47 @@ def test_the_view_is_the_literal_one_cell_by_cell(lon0, lat0, map_units, x0, y0,
     got = size.view_data(bounds)["SQ"].reshape(-1, 16)
     want = np.array(_reference_view(size, bounds)).reshape(-1, 16)
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-6)
+
+
+def _around(size: SphereSizeGrid, points) -> set[tuple[int, int]]:
+    """Literal: the cells holding each point (plane) and the 3 x 3 around it."""
+    back = Transformer.from_crs(plane_crs(size.pole), "EPSG:4326", always_xy=True)
+    lon, lat = size.grid.x, size.grid.y
+    out = set()
+    for x, y in points:
+        a, b = back.transform(x, y)
+        a = (a - lon[0]) % 360.0 + lon[0]
+        b = min(max(b, lat[0]), lat[-1])
+        i = min(max(int(np.searchsorted(lon, a, side="right")) - 1, 0), len(lon) - 2)
+        j = min(max(int(np.searchsorted(lat, b, side="right")) - 1, 0), len(lat) - 2)
+        for dj in (-1, 0, 1):
+            for di in (-1, 0, 1):
+                if 0 <= j + dj <= len(lat) - 2:
+                    out.add((j + dj, (i + di) % (len(lon) - 1)))
+    return out
+
+
+@settings(max_examples=8, deadline=None)
+@given(
+    st.floats(-180.0, 180.0),
+    st.floats(-80.0, 80.0),
+    st.booleans(),
+    st.integers(0, 2**32 - 1),
+)
+def test_the_view_near_points_is_the_literal_and_the_whole_views_cells(
+    lon0, lat0, map_units, seed
+):
+    """Cells near points (a boundary's samples): their corners projected alone
+    give the whole grid's numbers, bit for bit, and the literal loop's cells."""
+    size = SphereSizeGrid(_grid(step=15.0, lat0=-75.0), (lon0, lat0), map_units, 3e7)
+    rng = np.random.default_rng(seed)
+    near = rng.uniform(-1.2e7, 1.2e7, (int(rng.integers(1, 12)), 2))
+    bounds = (-1.3e7, -1.3e7, 1.3e7, 1.3e7)
+    got = size.view_data(bounds, near)["SQ"].reshape(-1, 16)
+    want = np.array(_reference_view(size, bounds, _around(size, near)))
+    np.testing.assert_allclose(got, want.reshape(-1, 16), rtol=1e-12, atol=1e-6)
+    whole = {tuple(row) for row in size.view_data(bounds)["SQ"].reshape(-1, 16)}
+    assert all(tuple(row) in whole for row in got)
 
 
 def _quads(data) -> list[shapely.Polygon]:

@@ -39,8 +39,13 @@ __all__ = [
 CURVE_POINTS = 500
 
 
-#: Curves per batch of the boundary (:func:`boundary_nodes`).
+#: A boundary of more curves than this is meshed in :data:`BATCHES` batches
+#: (:func:`boundary_nodes`).
 BATCH_CURVES = 500
+#: The batches of a long boundary. Each carries the size grid to its worker:
+#: on ``world_fine.toml`` (28,072 curves, a grid of 49 MB) 4 batches took
+#: 5.5 s on 2 workers, 57 batches of 500 curves 9.5 s (9.8 s in one).
+BATCHES = 4
 
 
 class BoundaryBatch(NamedTuple):
@@ -67,11 +72,12 @@ def boundary_nodes(
     """Return the boundary as chains of its mesh nodes, and the water.
 
     Each curve is meshed alone, so the boundary can be meshed in batches:
-    one of more than :data:`BATCH_CURVES` curves is split, by their points, into
-    batches of about that many, each meshed in a Gmsh session of its own as a
-    task of ``runner`` (``world.toml``: 1,944 curves, 4 batches; 2.9 s one after
-    the other, 1.5 s on 2 workers). The batches depend on the boundary alone,
-    never on the workers, so the nodes are the same on any number of them.
+    one of more than :data:`BATCH_CURVES` curves is split, at equal shares of
+    its points, into :data:`BATCHES`, each meshed in a Gmsh session of its own
+    as a task of ``runner`` (``world.toml``: 1,944 curves, 2.6 s in one
+    session, 1.6 s on 2 workers; ``world_fine.toml``: 28,072 curves, 9.4 s
+    and 5.5 s). The batches depend on the boundary alone, never on the
+    workers, so the nodes are the same on any number of them.
 
     Each batch is meshed on one Gmsh thread, so that its nodes are the same
     bytes every run. On two, Gmsh reads the size view through an octree that
@@ -158,13 +164,14 @@ def batch_nodes(batch: BoundaryBatch) -> list[NDArray[np.float64]]:
 
 
 def _batches(by_ring: list[list], size: Any) -> list[BoundaryBatch]:
-    """Split the rings' pieces into batches of about :data:`BATCH_CURVES` curves.
+    """Split the rings' pieces into :data:`BATCHES` batches, or one if few.
 
-    The pieces in order, cut where their running count of points passes each
-    equal share; a ring cut between batches is a run in each.
+    One batch for at most :data:`BATCH_CURVES` pieces. The pieces in order,
+    cut where their running count of points passes each equal share; a ring
+    cut between batches is a run in each.
     """
     where = [(r, k) for r, pieces in enumerate(by_ring) for k in range(len(pieces))]
-    count = max(int(np.ceil(len(where) / BATCH_CURVES)), 1)
+    count = BATCHES if len(where) > BATCH_CURVES else 1
     points = np.cumsum([len(by_ring[r][k][0]) for r, k in where])
     cuts = np.searchsorted(points, points[-1] * np.arange(1, count) / count)
     edges = np.unique(np.concatenate([[0], cuts, [len(where)]]))
