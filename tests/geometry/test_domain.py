@@ -95,7 +95,7 @@ def test_no_sea_says_which_open_boundary_ends_short_and_where():
     lon, lat = Transformer.from_crs(32630, 4326, always_xy=True).transform(6000, 9000)
     assert f"ends at ({lon:.4f}, {lat:.4f}) (lon, lat)" in message
     inland = OpenBoundary(np.array([(100.0, 100.0), (500.0, 100.0)]), "dyke", 4)
-    with pytest.raises(InputDataError, match="'dyke' .id 4. lies wholly on land"):
+    with pytest.raises(InputDataError, match=r"'dyke' \(id 4\) lies wholly on land"):
         build_domain([bay], [inland], crs="EPSG:32630")
     with pytest.raises(InputDataError, match="there are no open boundaries"):
         build_domain([bay], [], crs="EPSG:32630")

@@ -55,7 +55,8 @@ __all__ = [
 ]
 
 #: meshes with fewer triangles have their figures drawn in this process:
-#: starting the worker processes (1-2 s each) would cost more than it saves
+#: starting the worker processes (1-2 s each when spawned) and sending each
+#: figure its data would cost more than it saves
 POOL_MIN_TRIANGLES = 200_000
 #: the figures in the order they are started on the pool, longest first; as
 #: drawn alone on world.toml (s): time_step 4.4, depth_rules 3.0, parts 2.6,
