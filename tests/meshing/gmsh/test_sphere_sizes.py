@@ -146,11 +146,13 @@ def _reference_view(size: SphereSizeGrid, bounds, cells=None) -> list[list[float
     return out
 
 
+#: a plane's pole (lon, lat) and whether the sizes are in map units
+_POLE_AND_UNITS = (st.floats(-180.0, 180.0), st.floats(-80.0, 80.0), st.booleans())
+
+
 @settings(max_examples=8, deadline=None)
 @given(
-    st.floats(-180.0, 180.0),
-    st.floats(-80.0, 80.0),
-    st.booleans(),
+    *_POLE_AND_UNITS,
     st.floats(-1.2e7, 1.2e7),
     st.floats(-1.2e7, 1.2e7),
     st.floats(1e5, 1.2e7),
@@ -183,12 +185,7 @@ def _around(size: SphereSizeGrid, points) -> set[tuple[int, int]]:
 
 
 @settings(max_examples=8, deadline=None)
-@given(
-    st.floats(-180.0, 180.0),
-    st.floats(-80.0, 80.0),
-    st.booleans(),
-    st.integers(0, 2**32 - 1),
-)
+@given(*_POLE_AND_UNITS, st.integers(0, 2**32 - 1))
 def test_the_view_near_points_is_the_literal_and_the_whole_views_cells(
     lon0, lat0, map_units, seed
 ):
