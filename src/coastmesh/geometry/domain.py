@@ -243,6 +243,8 @@ def _no_sea(
         if shapely.covered_by(line, land):
             faults.append(f"{label} lies wholly on land")
             continue
+        if line.is_closed:  # a loop: no loose end
+            continue
         ends = shapely.points(np.asarray(boundary.coords, dtype=np.float64)[[0, -1]])
         others = [land, *lines[:i], *lines[i + 1 :]]
         gaps = np.min([shapely.distance(g, ends) for g in others], axis=0) * unit

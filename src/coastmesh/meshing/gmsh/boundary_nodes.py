@@ -27,6 +27,7 @@ from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
 from coastmesh.types import Runner, SizeGrid, serial_runner
 
 __all__ = [
+    "BATCHES",
     "BATCH_CURVES",
     "CURVE_POINTS",
     "BoundaryBatch",
