@@ -15,6 +15,7 @@ __all__ = [
     "InputDataError",
     "MeshingError",
     "OutputExistsError",
+    "RepairedBoundaryWarning",
     "RepairedGeometryWarning",
 ]
 
@@ -88,3 +89,7 @@ class CoastmeshWarning(UserWarning):
 
 class RepairedGeometryWarning(CoastmeshWarning):
     """Geometries made invalid by smoothing were repaired."""
+
+
+class RepairedBoundaryWarning(CoastmeshWarning):
+    """A mesh file's boundary lists broke its model's rules and were repaired."""

@@ -7,7 +7,7 @@ import pytest
 
 from coastmesh.data import path as data_path
 from coastmesh.io import read_mesh, read_msh, write_mesh, write_msh
-from coastmesh.io.adcirc import read_fort14
+from coastmesh.io.adcirc import read_fort14, read_fort14_mesh
 
 
 @pytest.fixture
@@ -30,7 +30,11 @@ def test_convert_to_fort14_with_bathymetry(run_cli, case_msh, tmp_path):
     mesh = read_msh(src)
     assert grid["np"] == len(mesh.points) and grid["ne"] == len(mesh.triangles)
     assert grid["depth"].min() == 2.0
-    assert grid["nope"] >= 4  # kinds come from the physical names open:NAME
+    # kinds come from the physical names open:NAME: 4 open boundaries, which
+    # ADCIRC lists as one segment where they meet (the ids in its comment)
+    back = read_fort14_mesh(dst)
+    assert sum(kind == "open" for kind in back.boundary_kinds.values()) >= 4
+    assert grid["nope"] >= 1
 
 
 def test_convert_needs_kinds_for_plain_msh(run_cli, tmp_path):

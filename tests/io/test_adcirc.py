@@ -116,10 +116,11 @@ def test_fort14_boundaries(tmp_path, square):
     assert grid["neta"] == sum(len(b["nodes"]) for b in grid["open_boundaries"]) == 5
     assert grid["nbou"] == len(grid["land_boundaries"]) == 2
     mainland, island = grid["land_boundaries"]
-    # mainland starts where it meets the open boundary, runs counter-clockwise
-    assert mainland["nodes"].tolist() == MAINLAND and mainland["ibtype"] == 0
-    # island: IBTYPE 1, closed by repeating its first node, clockwise
-    assert island["ibtype"] == 1
+    # mainland starts where it meets the open boundary, runs counter-clockwise;
+    # natural no-normal-flow types by default (20 external, 21 island)
+    assert mainland["nodes"].tolist() == MAINLAND and mainland["ibtype"] == 20
+    # island: IBTYPE 21, closed by repeating its first node, clockwise
+    assert island["ibtype"] == 21
     assert island["nodes"][0] == island["nodes"][-1]
     assert same_cycle(island["nodes"][:-1], ISLAND_CW)
     assert signed_area(square.points[island["nodes"][:-1] - 1]) < 0
@@ -192,7 +193,8 @@ def test_exterior_of_one_land_id(tmp_path, name):
     ring = [node(x, 0, 2) + 1 for x in (0, 1, 2)] + [node(2, 1, 2) + 1]
     ring += [node(x, 2, 2) + 1 for x in (2, 1, 0)] + [node(0, 1, 2) + 1]
     lists = [b["nodes"].tolist() for b in grid["land_boundaries"]]
-    assert all(b["ibtype"] == 0 for b in grid["land_boundaries"])
+    external = 20 if name == "fort.14" else 0
+    assert all(b["ibtype"] == external for b in grid["land_boundaries"])
     if name == "fort.14":
         (closed,) = lists
         assert closed[0] == closed[-1] and same_cycle(closed[:-1], ring)
@@ -204,23 +206,44 @@ def test_exterior_of_one_land_id(tmp_path, name):
 
 
 @pytest.mark.parametrize(("name", "writer"), WRITERS)
-def test_island_of_two_ids_is_two_mainland_segments(tmp_path, name, writer):
+def test_island_of_two_ids_is_one_island_segment(tmp_path, name, writer):
+    """ADCIRC and SCHISM take an island as one segment, whatever its ids."""
+
     def ids(p, q):
         found = south_open(p, q)
         if found == 3 and min(p[1], q[1]) >= 1 and p[1] == q[1] == 2:
             return 4  # the north side of the hole
         return found
 
-    mesh = grid_mesh(4, {(1, 1)}, ids, {**KINDS, 4: "shoreline"})
+    mesh = grid_mesh(
+        4,
+        {(1, 1)},
+        ids,
+        {**KINDS, 4: "shoreline"},
+        names={1: "coast", 2: "south", 3: "rock", 4: "reef"},
+    )
     writer(tmp_path / name, mesh)
-    land = read_fort14(tmp_path / name)["land_boundaries"]
-    assert [b["ibtype"] for b in land] == [0, 0, 0]
-    first, second = (b["nodes"].tolist() for b in land[1:])
-    assert first[-1] == second[0] and second[-1] == first[0]  # not closed, linked
-    assert sorted([first, second], key=len) == [
-        [node(1, 2) + 1, node(2, 2) + 1],
-        [node(2, 2) + 1, node(2, 1) + 1, node(1, 1) + 1, node(1, 2) + 1],
-    ]
+    grid = read_fort14(tmp_path / name)
+    land = grid["land_boundaries"]
+    island = land[1]["nodes"].tolist()
+    if name == "fort.14":
+        assert [b["ibtype"] for b in land] == [20, 21]
+        assert island[0] == island[-1]  # closed by repeating the first node
+        island = island[:-1]
+    else:
+        assert [b["ibtype"] for b in land] == [0, 1]
+        assert island[0] != island[-1]  # SCHISM: not repeated
+    assert same_cycle(island, ISLAND_CW)
+    # the ids of its edges are in the comment, and read back
+    assert (
+        "id 3 rock; id 4 @" in land[1]["comment"]
+        or "id 4 reef; id 3 @" in (land[1]["comment"])
+    )
+    back = read_fort14_mesh(tmp_path / name, crs="EPSG:32630")
+    assert edge_ids(back.boundary_edges, back.boundary_ids) == edge_ids(
+        mesh.boundary_edges, mesh.boundary_ids
+    )
+    assert back.boundary_names == mesh.boundary_names
 
 
 @pytest.fixture(scope="module")
@@ -253,7 +276,8 @@ def test_generated_mesh_covers_every_boundary_edge_once(
     for key, kind in seen.items():
         assert kind == ("open" if want[key] == 2 else "land")
     ibtypes = [b["ibtype"] for b in grid["land_boundaries"]]
-    assert ibtypes == [0, 1, 1]  # mainland first, then the two islands
+    # mainland first, then the two islands
+    assert ibtypes == ([20, 21, 21] if name == "fort.14" else [0, 1, 1])
 
 
 @pytest.mark.parametrize(("name", "writer"), WRITERS)
@@ -402,18 +426,18 @@ def test_files_without_id_comments_number_the_segments(tmp_path, square, name, w
 
 
 def test_reading_fort14_written_by_hand(tmp_path):
-    """Clockwise elements, an island of IBTYPE 21 closed by repetition, DP up."""
+    """Clockwise elements, a land segment of IBTYPE 20, DP up."""
     path = tmp_path / "fort.14"
     path.write_text(
         "made by hand\n2 4\n1 0 0 -1\n2 1 0 -2\n3 1 1 -3\n4 0 1 -4\n"
         "1 3 1 3 2\n2 3 1 4 3\n"  # both clockwise
         "1\n2\n2 0\n1\n2\n"  # one open segment: 1 -> 2
-        "1\n4\n4 21\n2\n3\n4\n2\n"  # land: 2 -> 3 -> 4 -> 2, type 21
+        "1\n4\n4 20\n2\n3\n4\n1\n"  # land: 2 -> 3 -> 4 -> 1, type 20
     )
     back = read_fort14_mesh(path, positive="up", crs="EPSG:32630")
     assert back.triangles.tolist() == [[0, 1, 2], [0, 2, 3]]
     assert (signed_areas(back) > 0).all()
-    assert back.boundary_edges.tolist() == [[0, 1], [1, 2], [2, 3], [3, 1]]
+    assert back.boundary_edges.tolist() == [[0, 1], [1, 2], [2, 3], [3, 0]]
     assert back.boundary_ids.tolist() == [1, 2, 2, 2]
     assert back.boundary_kinds == {1: "open", 2: "shoreline"}
     assert back.point_data["depth"].tolist() == [1.0, 2.0, 3.0, 4.0]

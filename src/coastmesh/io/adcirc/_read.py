@@ -10,13 +10,14 @@ from __future__ import annotations
 
 import os
 import re
+import warnings
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 from pyproj import CRS
 
-from coastmesh.errors import ConfigError, InputDataError
+from coastmesh.errors import ConfigError, InputDataError, RepairedBoundaryWarning
 from coastmesh.io._inputs import (
     check_input,
     counter_clockwise,
@@ -27,13 +28,16 @@ from coastmesh.io._model import POSITIVE
 from coastmesh.io._table import TextLines
 from coastmesh.io.adcirc._regions import with_region_file
 from coastmesh.types import Mesh
+from coastmesh.types.topology import unique_edges
 
 __all__ = ["read_fort14", "read_fort14_mesh", "read_gr3_mesh"]
 
-# the comment coastmesh writes after a segment's counts: "...: id 2 north sea"
-_ID_COMMENT = re.compile(r":\s*id\s+(\d+)\b\s*(.*)$")
+# the comment coastmesh writes after a segment's counts: "...: id 2 north sea", or
+# for a segment of several ids, "...: id 10 near; id 5 @301 far" (the edges from
+# its 301st node on have id 5; coastmesh.io.adcirc._segments.label)
+_ID_COMMENT = re.compile(r":\s*(id\s+\d+\b.*)$")
+_ID_RUN = re.compile(r"^id\s+(\d+)(?:\s+@(\d+))?\b\s*(.*)$")
 _TITLE_CRS = re.compile(r"^coastmesh EPSG:(\d+)$")
-_ISLAND = 1  # IBTYPE 1, 11, 21: internal (island) boundary
 _BARRIER_PAIRS = (4, 5)  # IBTYPE 4, 24, 5, 25: node pairs across a barrier
 
 
@@ -288,9 +292,11 @@ def _read_grid(path: str | os.PathLike[str], *, crs: Any, positive: str) -> Mesh
         (b["nodes"] - 1, "shoreline", b["ibtype"], b["comment"])
         for b in grid["land_boundaries"]
     ]
-    ids, names, kinds = _segment_ids(segments, name)
-    edges = [_edges(nodes, ibtype) for nodes, _, ibtype, _ in segments]
-    edge_ids = [np.full(len(e), pid) for e, pid in zip(edges, ids, strict=True)]
+    runs, names, kinds = _segment_ids(segments, name)
+    edges, edge_ids = _boundary(segments, runs, grid["elements"] - 1, name)
+    if len(edge_ids) and edge_ids.max() > max(kinds, default=0):
+        fresh = int(edge_ids.max())  # the land the lists left out (_boundary)
+        names[fresh], kinds[fresh] = "unlisted", "shoreline"
     match = _TITLE_CRS.match(grid["title"])
     stored = CRS.from_epsg(int(match.group(1))) if match else None
     found = resolve_crs(stored, crs, name)
@@ -299,8 +305,8 @@ def _read_grid(path: str | os.PathLike[str], *, crs: Any, positive: str) -> Mesh
         name,
         grid["xy"],
         counter_clockwise(grid["xy"], grid["elements"] - 1, sphere=sphere),
-        np.concatenate(edges) if edges else np.empty((0, 2), np.int64),
-        np.concatenate(edge_ids) if edge_ids else np.empty(0, np.int64),
+        edges,
+        edge_ids,
         1,
         found,
         {"depth": grid["depth"] if positive == "down" else -grid["depth"]},
@@ -338,31 +344,148 @@ def _segment_list(
 
 def _segment_ids(
     segments: list[tuple[Any, str, int | None, str]], name: str
-) -> tuple[list[int], dict[int, str], dict[int, str]]:
-    """Return the id of each segment, and the names and kinds of the ids."""
+) -> tuple[list[list[tuple[int, int]]], dict[int, str], dict[int, str]]:
+    """Return the id runs of each segment, and the names and kinds of the ids.
+
+    A run ``(k, id)`` gives id ``id`` to the segment's edges from its node ``k``
+    (0-based) on. Without coastmesh's comments on every segment, each segment
+    is one run, numbered in file order (the open segments first).
+    """
     found = [_ID_COMMENT.search(comment) for *_, comment in segments]
     if not all(found):
-        ids = list(range(1, len(segments) + 1))
-        return ids, {}, {pid: s[1] for pid, s in zip(ids, segments, strict=True)}
-    ids = [int(m.group(1)) for m in found if m]
+        return (
+            [[(0, pid)] for pid in range(1, len(segments) + 1)],
+            {},
+            {pid: s[1] for pid, s in enumerate(segments, start=1)},
+        )
+    runs: list[list[tuple[int, int]]] = []
     names: dict[int, str] = {}
     kinds: dict[int, str] = {}
-    for pid, m, (_, kind, _, _) in zip(ids, found, segments, strict=True):
-        if kinds.setdefault(pid, kind) != kind:
-            raise InputDataError(
-                f"boundary id {pid} is on both an open and a land segment (segment "
-                f"comments such as ': id {pid}'); ids must keep one kind",
-                path=name,
-            )
-        if m and m.group(2).strip():
-            names.setdefault(pid, m.group(2).strip())
-    return ids, names, kinds
+    for k, (m, (_, kind, _, _)) in enumerate(zip(found, segments, strict=True)):
+        segment_runs = []
+        for part in m.group(1).split(";") if m else ():
+            run = _ID_RUN.match(part.strip())
+            if run is None:
+                raise InputDataError(
+                    f"segment {k + 1} ({kind}): the id comment part {part.strip()!r} "
+                    "is not 'id N', 'id N @K' or either with a name",
+                    path=name,
+                )
+            pid = int(run.group(1))
+            start = int(run.group(2)) - 1 if run.group(2) else 0
+            if kinds.setdefault(pid, kind) != kind:
+                raise InputDataError(
+                    f"boundary id {pid} is on both an open and a land segment "
+                    f"(segment comments such as ': id {pid}'); ids must keep one kind",
+                    path=name,
+                )
+            if run.group(3).strip():
+                names.setdefault(pid, run.group(3).strip())
+            segment_runs.append((start, pid))
+        runs.append(segment_runs)
+    return runs, names, kinds
 
 
-def _edges(nodes: NDArray[np.int64], ibtype: int | None) -> NDArray[np.int64]:
-    """Return the edges of one segment: consecutive nodes, an island closed."""
-    edges = np.column_stack([nodes[:-1], nodes[1:]])
-    island = ibtype is not None and ibtype % 10 == _ISLAND
-    if island and len(nodes) > 2 and nodes[0] != nodes[-1]:
-        edges = np.vstack([edges, [nodes[-1], nodes[0]]])
-    return edges.astype(np.int64).reshape(-1, 2)
+def _boundary(
+    segments: list[tuple[Any, str, int | None, str]],
+    runs: list[list[tuple[int, int]]],
+    triangles: NDArray[np.int64],
+    name: str,
+) -> tuple[NDArray[np.int64], NDArray[np.int64]]:
+    """Return the boundary edges and their ids, from the segments' node lists.
+
+    Each two consecutive nodes of a segment are an edge, with the id of its run.
+    A boundary edge of the triangles that no segment lists is given the id of
+    the segment whose two ends it joins (a SCHISM island, an ADCIRC ring open
+    all round), else a new land id, with a :class:`RepairedBoundaryWarning`:
+    ADCIRC puts no flux through such an edge, and SCHISM stops on it.
+
+    Raises
+    ------
+    InputDataError
+        If two consecutive nodes of a segment are not a boundary edge of the
+        triangles, or one edge is listed twice.
+    """
+    n = max(
+        [int(triangles.max()) + 1 if triangles.size else 0]
+        + [int(nodes.max()) + 1 for nodes, *_ in segments if len(nodes)]
+    )
+    parts = []
+    for k, ((nodes, *_), segment_runs) in enumerate(zip(segments, runs, strict=True)):
+        starts = np.array([start for start, _ in segment_runs], dtype=np.int64)
+        run_of = np.searchsorted(starts, np.arange(len(nodes) - 1), side="right") - 1
+        pids = np.array([pid for _, pid in segment_runs], dtype=np.int64)
+        parts.append(
+            np.column_stack(
+                [
+                    nodes[:-1],
+                    nodes[1:],
+                    pids[np.maximum(run_of, 0)],
+                    np.full(len(nodes) - 1, k),
+                ]
+            ).reshape(-1, 4)
+        )
+    table = np.concatenate(parts) if parts else np.empty((0, 4), np.int64)
+    table = table[table[:, 0] != table[:, 1]]  # a node repeated in place: no edge
+    keys = np.minimum(table[:, 0], table[:, 1]) * n + np.maximum(
+        table[:, 0], table[:, 1]
+    )
+    order = np.argsort(keys, kind="stable")
+    twice = np.flatnonzero(keys[order][1:] == keys[order][:-1])
+    if len(twice):
+        first, second = table[order[twice[0]]], table[order[twice[0] + 1]]
+        raise InputDataError(
+            f"the edge between nodes {first[0] + 1} and {first[1] + 1} is listed "
+            f"twice: in {_which(segments, first[3])} and in "
+            f"{_which(segments, second[3])}; "
+            "each boundary edge belongs to one segment",
+            path=name,
+        )
+    edges_all, count = unique_edges(triangles, n)
+    boundary = edges_all[count == 1]
+    boundary_keys = boundary[:, 0] * n + boundary[:, 1]
+    off = np.flatnonzero(~np.isin(keys, boundary_keys))
+    if len(off):
+        a, b, _, k = table[off[0]]
+        raise InputDataError(
+            f"{_which(segments, k)} lists nodes {a + 1} and {b + 1} one after the "
+            "other, but they are not joined by a boundary edge of the mesh (an edge "
+            "of one element); a segment follows the boundary",
+            path=name,
+        )
+    missing = boundary[~np.isin(boundary_keys, keys)]
+    ends = {}  # a segment's last node back to its first: the edge that closes it
+    for (nodes, *_), segment_runs in zip(segments, runs, strict=True):
+        if len(nodes) > 2 and nodes[0] != nodes[-1]:
+            a, b = int(nodes[0]), int(nodes[-1])
+            ends.setdefault(min(a, b) * n + max(a, b), (b, a, segment_runs[-1][1]))
+    fresh = int(table[:, 2].max(initial=0)) + 1
+    extra, unlisted = [], []
+    for a, b in missing.tolist():
+        found = ends.get(a * n + b)
+        if found is None:
+            unlisted.append((a, b))
+            found = (a, b, fresh)
+        extra.append(found)
+    if unlisted:
+        a, b = unlisted[0]
+        warnings.warn(
+            f"{name}: {len(unlisted)} boundary edge(s) of the mesh are in no segment "
+            f"(the first between nodes {a + 1} and {b + 1}); they are read as land, "
+            f"boundary id {fresh} 'unlisted' (ADCIRC lets no water through an edge "
+            "no segment lists; SCHISM stops on one)",
+            RepairedBoundaryWarning,
+            stacklevel=4,
+        )
+    more = np.array(extra, dtype=np.int64).reshape(-1, 3)
+    return (
+        np.concatenate([table[:, :2], more[:, :2]]),
+        np.concatenate([table[:, 2], more[:, 2]]),
+    )
+
+
+def _which(segments: list[tuple[Any, str, int | None, str]], k: int) -> str:
+    """Name segment ``k`` of the lists: its place in its list and its kind."""
+    kind = segments[k][1]
+    before = sum(1 for s in segments[:k] if s[1] == kind)
+    return f"{'open' if kind == 'open' else 'land'} segment {before + 1}"

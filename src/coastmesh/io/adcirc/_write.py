@@ -10,7 +10,6 @@ from __future__ import annotations
 import logging
 import os
 import warnings
-from collections.abc import Iterator
 from typing import IO
 
 import numpy as np
@@ -18,29 +17,22 @@ from numpy.typing import NDArray
 
 from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.io._atomic import AtomicOutputs
-from coastmesh.io._model import (
-    check_mesh,
-    mesh_boundary_strings,
-    node_depth,
-    require_kinds,
-)
+from coastmesh.io._model import check_mesh, node_depth, require_kinds
 from coastmesh.io._table import put_lines, write_table
 from coastmesh.io.adcirc._regions import (
     check_region_file,
     has_regions,
     write_region_file,
 )
+from coastmesh.io.adcirc._segments import Segment, grid_segments, label, land_codes
 from coastmesh.io.sphere import on_sphere, pole_triangles
 from coastmesh.types import Mesh
-from coastmesh.types.topology import BoundaryString
 
 __all__ = ["write_fort14", "write_gr3"]
 
 logger = logging.getLogger(__name__)
 
 SIGNIFICANT = 15  # significant digits written for floats (float64 holds ~15.9)
-
-_Segment = tuple[NDArray[np.int64], str, str]
 
 
 def write_fort14(
@@ -51,6 +43,7 @@ def write_fort14(
     positive: str = "down",
     title: str | None = None,
     regions: bool = True,
+    land: str = "natural",
 ) -> None:
     """Write a mesh as an ADCIRC ``fort.14`` grid with its boundary segments.
 
@@ -80,6 +73,15 @@ def write_fort14(
         footprint: ``mesh.regions``), also write the nodal attributes file
         ``fort.13`` beside the grid: the grid's stem with the ending ``.13``
         (``fort.14`` -> ``fort.13``, ``case.14`` -> ``case.13``). See Notes.
+    land : {"natural", "essential"}, default "natural"
+        The type of the land segments: ADCIRC's natural no-normal-flow
+        boundaries, ``IBTYPE`` 20 (external) and 21 (islands), which set the
+        flux through the coast to zero in the continuity equation only, or its
+        essential ones, ``IBTYPE`` 0 and 1, which also set the normal velocity
+        to zero at every coast node. The default follows ADCIRC's own advice
+        (``flux_specified_boundaries.rst``: types 0 to 5 "can introduce
+        instabilities into the ADCIRC solution; types 20-25 ... are therefore
+        preferred").
 
     Raises
     ------
@@ -88,7 +90,7 @@ def write_fort14(
         or the depth has the wrong shape or non-finite values; or, with a region
         file to write, the grid's own name ends in ``.13``.
     ConfigError
-        If ``positive`` or ``title`` is invalid.
+        If ``positive``, ``title`` or ``land`` is invalid.
     OutputExistsError
         If ``path``, or the ``.13`` file to write, exists and ``overwrite`` is
         false; then nothing is written.
@@ -101,17 +103,32 @@ def write_fort14(
 
     Notes
     -----
-    Open boundaries (kind ``"open"``) are elevation-specified segments,
-    ``IBTYPEE = 0``, one per run of edges with one id, in order along the
-    boundary. Land boundaries (kind ``"shoreline"``) are ``IBTYPE = 0``
-    (mainland) segments, except an island ring whose edges all have one land id,
-    which is one ``IBTYPE = 1`` segment closed by repeating its first node. An
-    island ring with several ids, or with open parts, is written as separate,
-    non-closed ``IBTYPE = 0`` segments. Exterior segments come first, each
-    starting where two boundaries meet; nodes run with the domain on the left
-    (land on the right), counter-clockwise around the exterior and clockwise
-    around islands, as the ADCIRC manual asks (``NBVV``). A header comment after
-    each segment's counts names its boundary id and name.
+    The boundary segments follow ADCIRC's rules, from its documentation and
+    source (:mod:`coastmesh.io.adcirc._segments` names each):
+
+    - the open boundaries (kind ``"open"``) are elevation-specified segments,
+      ``IBTYPEE = 0``; open boundaries that meet at a corner are one segment,
+      so no node is listed twice (ADCIRC adds the tide once per listing), and
+      a ring open all round lists each node once;
+    - each stretch of coast (kind ``"shoreline"``) between two open boundaries
+      is one external land segment, from the end node of one open segment to
+      the start node of the next, whatever shoreline sets make it up; a ring of
+      coast with no open boundary on it (a lake) is one external segment closed
+      by repeating its first node;
+    - each island is one internal segment (``IBTYPE`` 21, or 1 with
+      ``land="essential"``) closed by repeating its first node, whatever
+      shoreline sets make it up;
+    - the external segments come first, in order around the domain, then the
+      islands; nodes run with the domain on the left (land on the right),
+      counter-clockwise around the exterior and clockwise around islands, as
+      the ADCIRC manual asks (``NBVV``).
+
+    The boundary ids and names a segment cannot carry are kept in the comment
+    after its counts, which ADCIRC skips: ``= Number of nodes for land boundary
+    1: id 10 near; id 5 @301 far`` says that the segment's edges have id 10 up
+    to its 301st node and id 5 from there
+    (:func:`~coastmesh.io.adcirc._segments.label`).
+    :func:`~coastmesh.io.adcirc.read_fort14_mesh` gives every edge its id back.
 
     A global mesh (:func:`~coastmesh.io.sphere.on_sphere`) keeps its longitudes
     in [-180, 180): ADCIRC finds each element that crosses the antimeridian by
@@ -147,7 +164,7 @@ def write_fort14(
     >>> [(b["nodes"].tolist(), b["ibtypee"]) for b in grid["open_boundaries"]]
     [([1, 2], 0)]
     >>> [(b["nodes"].tolist(), b["ibtype"]) for b in grid["land_boundaries"]]
-    [([2, 3, 4, 1], 0)]
+    [([2, 3, 4, 1], 20)]
 
     With a farm (region 20) in the second triangle, ``fort.13`` comes beside it:
 
@@ -177,6 +194,7 @@ def write_fort14(
         positive=positive,
         title=title,
         regions=regions,
+        land=land,
     )
 
 
@@ -226,13 +244,26 @@ def write_gr3(
 
     Notes
     -----
-    As :func:`write_fort14`, with SCHISM's conventions (``hgrid.md``): an open
-    segment header holds the node count only; land segments have flag ``0``
-    (land) or ``1`` (island); an island lists its nodes without repeating the
-    first one; a whole ring of one id with no other boundary on it (no open
-    boundary at all, or a fully open ring) is split into two segments that share
-    their end nodes. Counts carry SCHISM's comments (``= Number of open
-    boundaries``, ...), which SCHISM and ADCIRC both skip.
+    The boundary segments follow SCHISM's rules, from its source and
+    ``hgrid.md`` (:mod:`coastmesh.io.adcirc._segments` names each):
+
+    - each open boundary id is one open segment, whose header holds the node
+      count only; open boundaries that meet share their corner node (SCHISM
+      allows a node on two open segments) and each gets its own line in
+      ``bctides.in``;
+    - each stretch of coast between two open boundaries is one land segment,
+      flag ``0``, whatever shoreline sets make it up; each island is one
+      segment, flag ``1``, that lists its nodes without repeating the first;
+    - a ring with no other boundary on it (a lake, or a ring open all round)
+      is two segments linked at both ends, as SCHISM stops on an open segment
+      that ends on its first node;
+    - every boundary node is on a segment; the exterior runs
+      counter-clockwise, its segments first.
+
+    As in :func:`write_fort14`, the comment after a segment's counts keeps the
+    boundary ids of its edges (``: id 10 near; id 5 @301 far``), and the
+    counts carry SCHISM's comments (``= Number of open boundaries``, ...);
+    SCHISM and ADCIRC skip both.
 
     A global mesh is written as :func:`write_fort14` writes it: longitudes in
     [-180, 180), every element counter-clockwise on the sphere, the boundary
@@ -280,6 +311,7 @@ def _write_grid(
     positive: str,
     title: str | None,
     regions: bool,
+    land: str = "natural",
 ) -> None:
     """Check everything, then write a fort.14 (``flavour="fort14"``) or gr3.
 
@@ -288,13 +320,14 @@ def _write_grid(
     """
     check_mesh(mesh)
     name = os.fspath(path)
+    land_codes(land)
     beside = None
     if regions and has_regions(mesh):
         beside = check_region_file(path, flavour, overwrite=overwrite)
     depth = node_depth(mesh, name, positive=positive, stacklevel=4)
     line = _title(mesh, title)
     kinds = require_kinds(mesh, name)
-    open_segments, land_segments = _segments(mesh, name, kinds, flavour)
+    open_segments, land_segments = grid_segments(mesh, name, kinds, flavour, land=land)
     if flavour == "fort14":
         _warn_poles(mesh, name)
     with AtomicOutputs(overwrite=overwrite) as outputs:
@@ -321,7 +354,7 @@ def _put_grid(
     mesh: Mesh,
     line: str,
     depth: NDArray[np.float64],
-    segment_lists: tuple[list[_Segment], list[_Segment]],
+    segment_lists: tuple[list[Segment], list[Segment]],
 ) -> None:
     """Write the grid: title, counts, nodes, elements, open then land segments."""
     n, m = len(mesh.points), len(mesh.triangles)
@@ -344,15 +377,17 @@ def _put_grid(
         put_lines(
             handle,
             f"{len(segments)} = Number of {word} boundaries",
-            f"{sum(len(s[0]) for s in segments)} = Total number of {word} "
+            f"{sum(len(s.nodes) for s in segments)} = Total number of {word} "
             "boundary nodes",
         )
-        for k, (nodes, code, label) in enumerate(segments, start=1):
+        for k, segment in enumerate(segments, start=1):
+            code = "" if segment.code is None else f" {segment.code}"
             put_lines(
                 handle,
-                f"{len(nodes)}{code} = Number of nodes for {word} boundary {k}{label}",
+                f"{len(segment.nodes)}{code} = Number of nodes for {word} boundary "
+                f"{k}{label(segment.runs, mesh.boundary_names)}",
             )
-            write_table(handle, [(nodes + 1, None)])
+            write_table(handle, [(segment.nodes + 1, None)])
 
 
 def _warn_poles(mesh: Mesh, name: str) -> None:
@@ -375,52 +410,6 @@ def _warn_poles(mesh: Mesh, name: str) -> None:
             CoastmeshWarning,
             stacklevel=4,
         )
-
-
-def _segments(
-    mesh: Mesh, name: str, kinds: dict[int, str], flavour: str
-) -> tuple[list[_Segment], list[_Segment]]:
-    """Return the open and the land segments: (nodes, type after count, label)."""
-    # IBTYPEE = 0: elevation specified; SCHISM's open header holds the count only
-    open_code = " 0" if flavour == "fort14" else ""
-    opened: list[_Segment] = []
-    land: list[_Segment] = []
-    for string in mesh_boundary_strings(mesh, name):
-        label = _label(mesh, string.physical_id)
-        is_open = kinds[string.physical_id] == "open"
-        island = string.closed and not string.exterior and not is_open
-        for nodes in _pieces(string, flavour, island=island):
-            if is_open:
-                opened.append((nodes, open_code, label))
-            else:
-                land.append((nodes, f" {1 if island else 0}", label))
-    return opened, land
-
-
-def _pieces(
-    string: BoundaryString, flavour: str, *, island: bool
-) -> Iterator[NDArray[np.int64]]:
-    """Yield the node lists (0-based) that a boundary string is written as."""
-    nodes = string.nodes
-    if not string.closed:
-        yield nodes
-    elif flavour == "fort14":
-        # ADCIRC: islands and boundaries surrounding the domain are closed by
-        # repeating the first node as the last node
-        yield np.append(nodes, nodes[0])
-    elif island:
-        # SCHISM hgrid.md: the last island node differs from the first
-        yield nodes
-    else:
-        # SCHISM hgrid.md: a ring with no other boundary is two linked segments
-        half = len(nodes) // 2
-        yield nodes[: half + 1]
-        yield np.append(nodes[half:], nodes[0])
-
-
-def _label(mesh: Mesh, pid: int) -> str:
-    name = mesh.boundary_names.get(pid)
-    return f": id {pid}" + (f" {' '.join(name.split())}" if name else "")
 
 
 def _title(mesh: Mesh, title: str | None) -> str:
