@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
+from conftest import assert_clean_failure
 
 from coastmesh.data import path as data_path
 from coastmesh.io import read_mesh, read_msh, write_mesh, write_msh
@@ -114,3 +117,68 @@ def test_write_only_and_missing_inputs(run_cli, mesh_with_islands, tmp_path):
     missing = run_cli("convert", tmp_path / "none.14", tmp_path / "n.vtu")
     assert missing.exit_code == 1 and "none.14: file not found" in missing.output
     assert sorted(p.name for p in tmp_path.iterdir()) == ["m.cli", "m.slf"]
+
+
+MODELS = Path(__file__).parents[1] / "data" / "models"
+
+
+@pytest.mark.parametrize(
+    ("src", "dst", "rules"),
+    [
+        (
+            "before_bc770b9.14",
+            "fort.14",
+            ["A5 at node 7", "A3 at node 19", "A3 at node 31"],
+        ),
+        ("before_bc770b9.gr3", "hgrid.gr3", ["S4 at node 19", "S4 at node 31"]),
+    ],
+)
+def test_convert_repairs_a_grid_that_breaks_its_models_rules(
+    run_cli, tmp_path, src, dst, rules
+):
+    """A fort.14 / gr3 written before the rules: each break said, then repaired."""
+    from model_rules import check_adcirc, check_schism
+
+    result = run_cli("convert", MODELS / src, tmp_path / dst)
+    assert result.exit_code == 0, result.output
+    said = [line for line in result.output.splitlines() if ": repaired: " in line]
+    assert [line.split(": repaired: ")[1].split(" (")[0] for line in said] == rules
+    assert "written by the rules" in said[0]
+    check = check_adcirc if dst == "fort.14" else check_schism
+    assert check(tmp_path / dst) == []
+    # to a format without lists, nothing to repair
+    result = run_cli("convert", MODELS / src, tmp_path / "mesh.nc")
+    assert result.exit_code == 0 and "repaired" not in result.output
+
+
+def test_convert_refuses_lists_that_do_not_follow_the_boundary(run_cli, tmp_path):
+    text = (MODELS / "before_bc770b9.14").read_text()
+    # the island's second segment made to jump from node 31 to node 33
+    broken = text.replace(
+        "5 0 = Number of nodes for land boundary 3: id 4 reef\n31\n32\n33",
+        "5 0 = Number of nodes for land boundary 3: id 4 reef\n31\n33\n32",
+    )
+    (tmp_path / "bad.14").write_text(broken)
+    result = run_cli("convert", tmp_path / "bad.14", tmp_path / "out.14")
+    assert_clean_failure(
+        result,
+        "bad.14",
+        "land segment 3 lists nodes 31 and 33",
+        "a segment follows the boundary",
+    )
+    assert not (tmp_path / "out.14").exists()
+
+
+def test_convert_refuses_a_pinched_boundary_naming_the_node(run_cli, tmp_path):
+    """Two triangles that touch at a corner: no model's lists can pass it once."""
+    from coastmesh.types import Mesh
+
+    m = Mesh([[0, 0], [1, 0], [0, 1], [2, 0], [1, 1]], [[0, 1, 2], [1, 3, 4]],
+             [[0, 1], [1, 2], [2, 0], [1, 3], [3, 4], [4, 1]], [2, 1, 1, 1, 1, 1],
+             1, None, boundary_kinds={1: "shoreline", 2: "open"})  # fmt: skip
+    write_mesh(tmp_path / "pinched.nc", m)
+    result = run_cli("convert", tmp_path / "pinched.nc", tmp_path / "fort.14")
+    assert_clean_failure(
+        result, "node 1 (0-based; 2 in a file numbered from 1)", "Illegal bnd node"
+    )
+    assert not (tmp_path / "fort.14").exists()

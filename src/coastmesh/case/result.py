@@ -25,12 +25,14 @@ from coastmesh.case.figures import FigureJobs, figure_jobs
 from coastmesh.case.pipeline.farms import write_turbines
 from coastmesh.case.pipeline.state import CaseRun
 from coastmesh.case.report import CaseReport
+from coastmesh.errors import ConfigError
 from coastmesh.geometry import OpenBoundary
 from coastmesh.io import (
     atomic_directory,
     mesh_format,
     write_domain,
     write_mesh,
+    write_model_test,
     write_raster,
     write_report,
 )
@@ -39,7 +41,9 @@ from coastmesh.types import Domain, Features, Mesh, SizeGrid, StageFactory, quie
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["CaseResult", "write_case_copy"]
+    from coastmesh.meshing import QualityReport
+
+__all__ = ["CaseResult", "model_dt", "write_case_copy"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -274,6 +278,7 @@ def _write_case(
     ):
         figures.start(jobs, triangles)  # on the pool, while the files are written
         files = _write_models(result, partial, outputs)
+        files += _write_model_tests(result, partial, outputs.model_test)
         if result.site is not None and result.site.turbines:
             write_turbines(partial / "turbines.csv", result.site, result.mesh)
             files.append("turbines.csv")
@@ -346,6 +351,48 @@ def _write_models(result: CaseResult, folder: Path, outputs: OutputConfig) -> li
         ends = fmt.companions_for(result.mesh)
         files += [f"{Path(filename).stem}{ext}" for ext in ends]
     return files
+
+
+def _write_model_tests(
+    result: CaseResult, folder: Path, models: tuple[str, ...]
+) -> list[str]:
+    """Write the smoke-test run folders of ``[output] model_test``.
+
+    The time step is the one the case measured its Courant numbers at (the
+    Courant term's ``dt``), else the mesh's largest stable one.
+    """
+    if not models:
+        return []
+    dt = model_dt(result.report.quality)
+    files = []
+    for model in models:
+        sub = folder / "model_test" / model
+        written = write_model_test(sub, result.mesh, model, dt=dt)
+        files += [f"model_test/{model}/{name}" for name in written]
+    return files
+
+
+def model_dt(quality: QualityReport | None) -> float:
+    """Return the time step a case reports for its mesh, s.
+
+    The Courant term's ``dt`` (``quality.time_step.courant.dt``), else the
+    largest time step at which every element is stable
+    (``quality.time_step.min``).
+
+    Raises
+    ------
+    ConfigError
+        If the report has no time step (a mesh without depths).
+    """
+    step = None if quality is None else quality.time_step
+    if step is None:
+        raise ConfigError(
+            "the mesh has no time step in its quality report (no depths at the "
+            "nodes): a model test needs [bathymetry]"
+        )
+    if step.courant is not None:
+        return float(step.courant.dt)
+    return float(step.min)
 
 
 def _write_domain(path: Path, result: CaseResult) -> None:

@@ -170,5 +170,7 @@ def convert(
         positive=positive,
         overwrite=overwrite,
     )
+    for line in result.repaired:
+        click.echo(f"{src}: repaired: {line}", err=True)
     if not ctx.find_root().obj.get("quiet", False):
         click.echo(result.summary())

@@ -41,6 +41,11 @@ class ConvertResult(Report):
         The counts of the mesh.
     depth : Report, optional
         The depth interpolation report, if bathymetry was given.
+    repaired : tuple of str
+        The rules of the output's model that the input's boundary lists broke
+        (a ``fort.14`` or ``hgrid.gr3`` from another tool written as a
+        ``fort.14`` or ``hgrid.gr3``), which the output follows:
+        :func:`~coastmesh.io.adcirc.rule_breaks`, one line each.
 
     Examples
     --------
@@ -54,6 +59,7 @@ class ConvertResult(Report):
     triangles: int
     boundary_edges: int
     depth: Any = None
+    repaired: tuple[str, ...] = ()
 
     def summary(self) -> str:
         """Return a one-line summary."""
@@ -63,6 +69,11 @@ class ConvertResult(Report):
         )
         if self.depth is not None:
             text += f"; {self.depth.summary()}"
+        if self.repaired:
+            text += (
+                f"; repaired {len(self.repaired)} break(s) of the model's boundary "
+                f"rules in the input (first: {self.repaired[0]})"
+            )
         return text
 
 
@@ -195,6 +206,7 @@ def convert_mesh(
                 f"{os.fspath(dst)}: the {fmt.name} format has no depth sign to set"
             )
         options["positive"] = positive
+    repaired = _repairs(src, mesh, fmt.name)
     write_mesh(dst, mesh, format=fmt.name, overwrite=overwrite, **options)
     result = ConvertResult(
         os.fspath(dst),
@@ -203,9 +215,37 @@ def convert_mesh(
         len(mesh.triangles),
         len(mesh.boundary_edges),
         depth_report,
+        repaired,
     )
     logger.info("%s", result.summary())
     return result
+
+
+# the model whose boundary rules each grid format follows
+_RULES = {"fort14": "adcirc", "gr3": "schism"}
+
+
+def _repairs(
+    src: str | os.PathLike[str], mesh: Mesh, out_format: str
+) -> tuple[str, ...]:
+    """Return the rules of the output's model that the input grid's lists break.
+
+    Only for a ``fort.14`` or ``hgrid.gr3`` written as one of them: the writers
+    lay the lists out by the model's rules from the mesh's boundary edges, so
+    each break found in the input is repaired in the output.
+    """
+    from coastmesh.io import format_for_path
+    from coastmesh.io.adcirc import read_fort14, rule_breaks
+
+    model = _RULES.get(out_format)
+    try:
+        source_format = format_for_path(src).name
+    except FormatError:
+        return ()
+    if model is None or source_format not in _RULES:
+        return ()
+    breaks = rule_breaks(read_fort14(src), mesh, model)
+    return tuple(f"{b}; written by the rules" for b in breaks)
 
 
 def _stack(paths: Any, positive: Any, blend: Any, mesh: Mesh) -> Any:

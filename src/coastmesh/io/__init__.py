@@ -13,6 +13,8 @@
 :func:`mesh_formats`     the mesh formats, by name, with their readers and writers
 :func:`formats_table`    the formats as a Markdown table: what each holds
 :func:`write_domain`     :class:`~coastmesh.types.Domain` -> GeoPackage
+:func:`write_model_test` a smoke-test run folder for ADCIRC or SCHISM
+                         (:mod:`coastmesh.io.model_tests`)
 :func:`write_report`     a report -> JSON (``to_dict()``) and text (``summary()``)
 :func:`check_on_sphere`  a lon/lat mesh's triangles rebuilt and measured on the
                          sphere (:mod:`coastmesh.io.sphere`, global meshes)
@@ -49,6 +51,7 @@ if TYPE_CHECKING:
         write_mesh,
     )
     from coastmesh.io.domain_gpkg import write_domain
+    from coastmesh.io.model_tests import write_model_test
     from coastmesh.io.msh import read_msh, write_msh
     from coastmesh.io.raster import raster_transform, read_raster, write_raster
     from coastmesh.io.raster_stream import (
@@ -96,6 +99,7 @@ __all__ = [
     "write_domain",
     "write_features",
     "write_mesh",
+    "write_model_test",
     "write_msh",
     "write_raster",
     "write_report",
@@ -134,6 +138,7 @@ _HOME = {
     "register_mesh_format": "coastmesh.io._registry",
     "write_mesh": "coastmesh.io._registry",
     "write_domain": "coastmesh.io.domain_gpkg",
+    "write_model_test": "coastmesh.io.model_tests",
     "write_report": "coastmesh.io.report",
     "SphereCheck": "coastmesh.io.sphere",
     "check_on_sphere": "coastmesh.io.sphere",

@@ -110,8 +110,11 @@ def boundary_rings(mesh: Mesh) -> list[BoundaryRing]:
     if (counts > 1).any():
         node = int(starts[counts > 1][0])
         raise FormatError(
-            f"node {node} lies on two boundary passes (two rings or two parts of a "
-            "ring touch there); boundary node strings need simple rings"
+            f"node {node} (0-based; {node + 1} in a file numbered from 1) lies on "
+            "two boundary passes (two rings or two parts of a ring touch there); "
+            "boundary node strings need simple rings: each model's boundary lists "
+            "pass a node once (SCHISM stops on it: 'Illegal bnd node'), so split "
+            "the node or remove the element that pinches the water there"
         )
     following[directed[:, 0]] = directed[:, 1]
     edge_of[directed[:, 0]] = np.arange(len(directed))

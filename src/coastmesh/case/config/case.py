@@ -311,6 +311,7 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
             "needs the depth; add [mesh_size.bathymetry] or [bathymetry]"
         )
     _check_sites(case, label, names, owners)
+    _check_model_tests(case, label)
     for k, g in enumerate(case["size"].gradations):
         for n in g.lines:
             if n not in names:
@@ -319,6 +320,29 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
                     "shoreline set, open boundary, farm or structure; known: "
                     f"{sorted(names)}"
                 )
+
+
+def _check_model_tests(case: dict[str, Any], label: str) -> None:
+    """``[output] model_test``: a regional case with depths and open boundaries."""
+    tests = case["outputs"].model_test
+    if not tests:
+        return
+    what = f"{label}: output.model_test = {list(tests)}"
+    if case["domain"].kind == "global":
+        raise ConfigError(
+            f"{what}: a global case cannot be described by these smoke tests, "
+            "which force a regional model through its open boundaries (a global "
+            "ocean needs tidal potential, and ADCIRC a rotation of the poles); "
+            "remove the key, or mesh a regional case"
+        )
+    if case.get("bathymetry") is None:
+        raise ConfigError(
+            f"{what}: a model needs depths at the nodes; add [bathymetry]"
+        )
+    if not case["boundaries"]:
+        raise ConfigError(
+            f"{what}: the case has no open boundary to force the tide through"
+        )
 
 
 def _check_sites(

@@ -290,6 +290,23 @@ def _formats(value: Any, key: str) -> tuple[str, ...]:
     return names
 
 
+def _model_tests(value: Any, key: str) -> tuple[str, ...]:
+    from coastmesh.io.model_tests import MODEL_TESTS
+
+    if isinstance(value, list | tuple) and not value:
+        return ()
+    names = schema.names(value, key)
+    for k, n in enumerate(names):
+        if n not in MODEL_TESTS:
+            raise ConfigError(
+                f"{key}[{k}] = {n!r}: no smoke test for this model; known: "
+                f"{', '.join(MODEL_TESTS)}"
+            )
+    if len(set(names)) != len(names):
+        raise ConfigError(f"{key} = {list(names)}: a model is listed twice")
+    return names
+
+
 def _signs(value: Any, key: str) -> dict[str, str]:
     from coastmesh.io import mesh_formats
 
@@ -359,4 +376,14 @@ class OutputConfig:
         doc="write the nodes as x, y, z on the sphere (radius 6,371,008.8 m) in "
         "the formats that hold `sphere_xyz` (`coastmesh formats`), for Fluidity "
         "and Thetis meshes of the globe",
+    )
+    model_test: tuple[str, ...] = key(
+        (),
+        check=_model_tests,
+        default_doc="none",
+        doc="smoke-test run folders, `model_test/adcirc/` and `model_test/schism/`: "
+        "the mesh, an M2 tide of 0.5 m on every open boundary after a 6 h ramp, "
+        "the mesh's own `dt`, Manning friction, wetting and drying, ready to run "
+        "([formats.md](formats.md#smoke-tests-run-the-model-on-the-mesh)); a "
+        "smoke test, not a calibrated model; regional cases only",
     )

@@ -7,23 +7,26 @@ manual (``adcirc/adcirc``: ``docs/technical_reference/input_files/fort14.rst`` a
 ``parameter_definitions/index.rst``) and the SCHISM manual (``schism-dev/schism``:
 ``docs/input-output/hgrid.md``, "same as fort.14 of ADCIRC").
 
-The two differ only in how boundary segments are listed:
+Each model has its own rules for the boundary lists, read in its source and docs
+and named in :mod:`coastmesh.io.adcirc._segments` (A1 to A5, S1 to S4):
 
 =========================  ================================  ==========================
                            ``fort.14`` (ADCIRC)              ``hgrid.gr3`` (SCHISM)
 =========================  ================================  ==========================
 open segment header        ``NVDLL IBTYPEE`` (``IBTYPEE=0``)  ``NVDLL`` only
-island (closed land ring)  ``IBTYPE 1``, first node repeated  ``1``, first node not
-                           at the end                        repeated
-whole ring of one id       first node repeated at the end    two segments that share
-(no other boundary on it)  (a lake, ``IBTYPE 0``)            their end nodes
+open boundaries that meet  one segment: no node listed       one segment per id, the
+                           twice (A5)                        corner shared (S2)
+coast between two open     one segment, ``IBTYPE 20`` (or 0),  one segment, flag ``0``
+boundaries                 whatever its shoreline sets (A4)
+island (closed land ring)  one segment, ``IBTYPE 21`` (or    one segment, flag ``1``,
+                           1), first node repeated (A3)      first node not repeated
+whole ring of one kind     land: first node repeated (A2);   two segments that share
+(no other boundary on it)  open: each node once (A5)         their end nodes (S1, S4)
 =========================  ================================  ==========================
 
-Sources: ADCIRC "General Notes for Normal Flow Boundary Conditions" (islands and
-external boundaries that surround the domain "should be closed by repeating the
-first node as the last node"); SCHISM ``hgrid.md`` (the last island node "is
-different from the first node"; "if you have no open boundary, you can create two
-land boundary segments that are linked to each other", and likewise for open).
+The boundary ids a segment holds are kept in the comment after its counts
+(``: id 10 near; id 5 @301 far``), which both models skip and the readers give
+back; :func:`rule_breaks` lists the rules a file from another tool breaks.
 
 A mesh with regions (farms, turbine footprints: ``Mesh.regions``) also gets its
 region ids in a file beside the grid, in each model's convention: an ADCIRC
@@ -44,6 +47,7 @@ meshes of millions of triangles write in seconds (:mod:`coastmesh.io._table`).
 :func:`read_fort13`          ``fort.13`` -> dict, as written
 :func:`node_regions`         each node's region id, as ``fort.13`` holds it
 :func:`regions_from_nodes`   each triangle's region id from the nodes' ids
+:func:`rule_breaks`          the model rules a file's boundary lists break
 ===========================  =================================================
 """
 
@@ -51,15 +55,18 @@ from __future__ import annotations
 
 from coastmesh.io.adcirc._read import read_fort14, read_fort14_mesh, read_gr3_mesh
 from coastmesh.io.adcirc._regions import node_regions, read_fort13, regions_from_nodes
+from coastmesh.io.adcirc._rules import RuleBreak, rule_breaks
 from coastmesh.io.adcirc._write import write_fort14, write_gr3
 
 __all__ = [
+    "RuleBreak",
     "node_regions",
     "read_fort13",
     "read_fort14",
     "read_fort14_mesh",
     "read_gr3_mesh",
     "regions_from_nodes",
+    "rule_breaks",
     "write_fort14",
     "write_gr3",
 ]

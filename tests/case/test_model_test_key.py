@@ -1,0 +1,82 @@
+"""``[output] model_test``: smoke-test run folders written with a case's outputs."""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+
+import pytest
+from conftest import EXAMPLE, coarse_example_text
+from model_rules import check_adcirc, check_schism
+
+from coastmesh.case import parse_case
+from coastmesh.case.result import model_dt
+from coastmesh.errors import ConfigError
+
+ROOT = Path(__file__).parents[2]
+
+
+def test_the_key_takes_model_names():
+    text = coarse_example_text().replace(
+        "[output]", '[output]\nmodel_test = ["adcirc", "schism"]', 1
+    )
+    assert parse_case(text, EXAMPLE).outputs.model_test == ("adcirc", "schism")
+    assert parse_case(coarse_example_text(), EXAMPLE).outputs.model_test == ()
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        ('["fvcom"]', "'fvcom': no smoke test for this model; known: adcirc, schism"),
+        ('["adcirc", "adcirc"]', "a model is listed twice"),
+        ("3", "expected a name or a list of names"),
+    ],
+)
+def test_bad_models_are_named(value, message):
+    text = coarse_example_text().replace(
+        "[output]", f"[output]\nmodel_test = {value}", 1
+    )
+    with pytest.raises(ConfigError, match=message) as info:
+        parse_case(text, EXAMPLE)
+    assert "output.model_test" in str(info.value)
+
+
+def test_a_global_case_is_refused_with_why():
+    world = ROOT / "examples" / "global" / "world.toml"
+    text = world.read_text().replace("[output]", '[output]\nmodel_test = ["adcirc"]', 1)
+    assert text != world.read_text()
+    with pytest.raises(ConfigError, match="a global case cannot be described") as info:
+        parse_case(text, world)
+    assert "world.toml" in str(info.value) and "tidal potential" in str(info.value)
+
+
+def test_a_case_without_depths_is_refused():
+    text = coarse_example_text().replace(
+        "[output]", '[output]\nmodel_test = ["schism"]', 1
+    )
+    start = text.index("[bathymetry]")
+    end = text.index("\n[", start + 1)
+    with pytest.raises(
+        ConfigError, match=r"needs depths at the nodes; add \[bathymetry\]"
+    ):
+        parse_case(text[:start] + text[end + 1 :], EXAMPLE)
+
+
+@pytest.mark.xdist_group("coarse")
+def test_a_case_writes_both_run_folders(coarse_case, tmp_path):
+    outputs = dataclasses.replace(
+        coarse_case.config.outputs, model_test=("adcirc", "schism"), figures=False
+    )
+    result = dataclasses.replace(
+        coarse_case, config=dataclasses.replace(coarse_case.config, outputs=outputs)
+    ).write(tmp_path / "out")
+    folder = tmp_path / "out" / "model_test"
+    assert "model_test/adcirc/fort.15" in result.files
+    assert "model_test/schism/param.nml" in result.files
+    assert check_adcirc(folder / "adcirc" / "fort.14") == []
+    assert check_schism(folder / "schism" / "hgrid.gr3") == []
+    dt = model_dt(coarse_case.report.quality)
+    assert dt == coarse_case.report.quality.time_step.courant.dt
+    assert f"{dt:g} ! DTDP" in (folder / "adcirc" / "fort.15").read_text()
+    assert f"dt = {dt:g}" in (folder / "schism" / "param.nml").read_text()
+    assert (folder / "schism" / "outputs").is_dir()

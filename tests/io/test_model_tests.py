@@ -1,0 +1,202 @@
+"""Smoke-test run folders for ADCIRC and SCHISM (coastmesh.io.model_tests).
+
+The files are parsed here line by line, as each model reads them: fort.15's
+forcing must list one amplitude and phase per open-boundary node of the fort.14
+(``NETA``), bctides.in one block per open segment of the hgrid.gr3 with its node
+count, and every file the models need must be there.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from io_meshes import cell_mesh
+from model_rules import check_adcirc, check_schism, parse_grid
+
+from coastmesh.errors import ConfigError, OutputExistsError
+from coastmesh.io import write_model_test
+from coastmesh.io.model_tests import M2_PERIOD, ModelTest
+from coastmesh.types import Mesh
+
+
+def ids(p, q):
+    """South side open (2), east side open (5), the rest coast (1); a rock (3)."""
+    if p[1] == q[1] == 0:
+        return 2
+    if p[0] == q[0] == 4:
+        return 5
+    if p[0] == q[0] == 0 or p[1] == q[1] == 4:
+        return 1
+    return 3
+
+
+KINDS = {1: "shoreline", 2: "open", 3: "shoreline", 5: "open"}
+
+
+@pytest.fixture(scope="module")
+def mesh():
+    """4 x 4 cells of 1 km (UTM 30N), a rock, open south and east sides, a farm."""
+    m = cell_mesh(4, {(1, 1)}, ids, KINDS, names={1: "coast", 2: "south", 3: "rock",
+                                                  5: "east"})  # fmt: skip
+    points = m.points * 1000.0 + [500000.0, 6500000.0]
+    regions = np.where(np.arange(len(m.triangles)) < 4, 20, 1)
+    return Mesh(
+        points, m.triangles, m.boundary_edges, m.boundary_ids, 1, "EPSG:32630",
+        {"depth": 10.0 + m.points[:, 0]}, m.boundary_names, m.boundary_kinds,
+        regions=regions,
+    )  # fmt: skip
+
+
+def _values(path):
+    """``value ! comment`` lines of a fort.15, by comment's first word."""
+    out = {}
+    for line in path.read_text().splitlines():
+        if " ! " in line:
+            value, what = line.split(" ! ", 1)
+            out.setdefault(what.split()[0].rstrip(":"), value.split())
+    return out
+
+
+def test_adcirc_folder_has_what_adcirc_reads(tmp_path, mesh):
+    folder = tmp_path / "adcirc"
+    files = write_model_test(folder, mesh, "adcirc", dt=2.5,
+                             region_manning={20: 0.04})  # fmt: skip
+    assert files == ["fort.14", "fort.13", "fort.15", "README.txt"]
+    assert sorted(p.name for p in folder.iterdir()) == sorted(files)
+    assert check_adcirc(folder / "fort.14") == []
+    grid = parse_grid(folder / "fort.14")
+    neta = sum(len(n) for n, _, _ in grid.open)
+    lines = (folder / "fort.15").read_text().splitlines()
+    at = next(i for i, line in enumerate(lines) if line.startswith("M2 ! EALPHA"))
+    forcing = lines[at + 1 : at + 1 + neta]
+    assert forcing == ["0.5 0.0"] * neta
+    assert lines[at + 1 + neta].endswith("! ANGINN")
+    values = _values(folder / "fort.15")
+    assert values["DTDP"] == ["2.5"]
+    assert values["ICS"] == ["1"] and values["NCOR"] == ["0"]  # projected
+    assert float(values["RNDAY"][0]) * 86400 == pytest.approx(6 * 3600 + M2_PERIOD)
+    assert float(values["DRAMP"][0]) == pytest.approx(0.25)
+    assert values["NWP"] == ["1"]
+    lat = 58.64  # 6500 km north in UTM 30N
+    cori = float(values["CORI"][0])
+    assert cori == pytest.approx(
+        2 * 7.292115e-5 * math.sin(math.radians(lat)), rel=1e-2
+    )
+    # fort.13: Manning's n, 0.04 at the farm's nodes
+    f13 = (folder / "fort.13").read_text().splitlines()
+    assert f13[1] == str(len(mesh.points)) and f13[3] == "mannings_n_at_sea_floor"
+    assert f13[6] == "0.025"
+    listed = {int(line.split()[0]): float(line.split()[1]) for line in f13[9:]}
+    farm = np.unique(mesh.triangles[mesh.regions == 20]) + 1
+    assert set(listed) == set(farm.tolist()) and set(listed.values()) == {0.04}
+    assert "NOT a calibrated model" in (folder / "README.txt").read_text()
+
+
+def test_schism_folder_has_what_schism_reads(tmp_path, mesh):
+    folder = tmp_path / "schism"
+    write_model_test(folder, mesh, "schism", dt=2.5)
+    assert (folder / "outputs").is_dir()
+    assert check_schism(folder / "hgrid.gr3") == []
+    grid = parse_grid(folder / "hgrid.gr3")
+    lines = (folder / "bctides.in").read_text().splitlines()
+    assert lines[1].split()[0] == "0" and lines[2].split()[0] == "1"  # ntip, nbfr
+    nope = int(lines[5].split()[0])
+    assert nope == len(grid.open) == 2  # south and east: one segment each
+    at = 6
+    for nodes, _, _ in grid.open:
+        head = lines[at].split()
+        assert [int(v) for v in head[:5]] == [len(nodes), 3, 0, 0, 0]
+        assert lines[at + 1] == "M2"
+        assert lines[at + 2 : at + 2 + len(nodes)] == ["0.5 0.0"] * len(nodes)
+        at += 2 + len(nodes)
+    assert at == len(lines)
+    # hgrid.ll: the same grid in lon/lat
+    ll = parse_grid(folder / "hgrid.ll")
+    np.testing.assert_array_equal(ll.elements, grid.elements)
+    assert (abs(ll.xy[:, 0] + 3.0) < 0.2).all() and (
+        abs(ll.xy[:, 1] - 58.6) < 0.2
+    ).all()
+    param = (folder / "param.nml").read_text()
+    for setting in ("dt = 2.5", "ics = 1", "ncor = 1", "nchi = -1", "ibc = 1",
+                    "iof_hydro(25) = 0", "dramp = 0.25"):  # fmt: skip
+        assert setting in param
+    manning = (folder / "manning.gr3").read_text().splitlines()
+    assert manning[1].split() == [str(len(mesh.triangles)), str(len(mesh.points))]
+    values = {float(line.split()[3]) for line in manning[2 : 2 + len(mesh.points)]}
+    assert values == {0.025}
+    assert (folder / "vgrid.in").read_text().splitlines()[1].split()[0] == "2"
+
+
+def test_a_geographic_mesh_runs_in_lonlat(tmp_path, mesh):
+    from pyproj import Transformer
+
+    to = Transformer.from_crs("EPSG:32630", "EPSG:4326", always_xy=True)
+    lonlat = np.column_stack(to.transform(*mesh.points.T))
+    m = Mesh(lonlat, mesh.triangles, mesh.boundary_edges, mesh.boundary_ids, 1,
+             "EPSG:4326", mesh.point_data, mesh.boundary_names,
+             mesh.boundary_kinds)  # fmt: skip
+    write_model_test(tmp_path / "a", m, "adcirc", dt=3.0)
+    values = _values(tmp_path / "a" / "fort.15")
+    assert values["ICS"] == ["2"] and values["NCOR"] == ["1"]
+    lon, _ = (float(v) for v in values["SLAM0"])
+    assert lon == pytest.approx(lonlat[:, 0].min() / 2 + lonlat[:, 0].max() / 2)
+    write_model_test(tmp_path / "s", m, "schism", dt=3.0)
+    assert "ics = 2" in (tmp_path / "s" / "param.nml").read_text()
+
+
+@pytest.mark.parametrize("model", ["adcirc", "schism"])
+def test_what_a_smoke_test_cannot_describe_is_refused(tmp_path, mesh, model):
+    land = Mesh(mesh.points, mesh.triangles, mesh.boundary_edges,
+                np.ones(len(mesh.boundary_ids), int), 1, "EPSG:32630",
+                mesh.point_data, boundary_kinds={1: "shoreline"})  # fmt: skip
+    with pytest.raises(ConfigError, match="no open boundary"):
+        write_model_test(tmp_path / "x", land, model, dt=1.0)
+    bare = Mesh(mesh.points, mesh.triangles, mesh.boundary_edges, mesh.boundary_ids, 1,
+                None, mesh.point_data, boundary_kinds=mesh.boundary_kinds)  # fmt: skip
+    with pytest.raises(ConfigError, match="no CRS"):
+        write_model_test(tmp_path / "x", bare, model, dt=1.0)
+    with pytest.raises(ConfigError, match="dt = -1"):
+        write_model_test(tmp_path / "x", mesh, model, dt=-1)
+    with pytest.raises(ConfigError, match="unknown model"):
+        write_model_test(tmp_path / "x", mesh, "fvcom", dt=1.0)
+    assert not (tmp_path / "x").exists()
+
+
+def test_a_global_mesh_is_refused_with_why(tmp_path):
+    # a band round the equator: triangles across the antimeridian
+    lon = np.arange(-180, 180, 30.0)
+    pts = np.array([(x, y) for y in (-10.0, 10.0) for x in lon])
+    k = len(lon)
+    tri = []
+    for i in range(k):
+        a, b, c, d = i, (i + 1) % k, k + (i + 1) % k, k + i
+        tri += [[a, b, c], [a, c, d]]
+    edges = [[i, (i + 1) % k] for i in range(k)] + [
+        [k + (i + 1) % k, k + i] for i in range(k)
+    ]
+    m = Mesh(pts, tri, edges, [2] * k + [1] * k, 1, "EPSG:4326",
+             {"depth": np.full(2 * k, 4000.0)},
+             boundary_kinds={1: "shoreline", 2: "open"})  # fmt: skip
+    with pytest.raises(ConfigError, match="on the sphere"):
+        write_model_test(tmp_path / "g", m, "adcirc", dt=60.0)
+
+
+def test_an_existing_folder_is_kept_unless_overwrite(tmp_path, mesh):
+    folder = tmp_path / "adcirc"
+    folder.mkdir()
+    (folder / "mine.txt").write_text("keep")
+    with pytest.raises(OutputExistsError):
+        write_model_test(folder, mesh, "adcirc", dt=1.0)
+    assert [p.name for p in folder.iterdir()] == ["mine.txt"]
+    write_model_test(folder, mesh, "adcirc", dt=1.0, overwrite=True)
+    assert not (folder / "mine.txt").exists()
+
+
+def test_model_test_values_are_checked():
+    with pytest.raises(ConfigError, match="amplitude"):
+        ModelTest(1.0, amplitude=0)
+    with pytest.raises(ConfigError, match="region_manning"):
+        ModelTest(1.0, region_manning={20: -1})
+    assert ModelTest(2.0).duration == pytest.approx(21600 + M2_PERIOD)
