@@ -169,6 +169,27 @@ def example_run(tmp_path_factory):
     return result, out
 
 
+def model_rule_breaks(mesh, folder: Path) -> list:
+    """Write ``mesh`` as fort.14, hgrid.gr3 and SELAFIN; every model rule broken.
+
+    The checker (``tests/model_rules.py``) parses the files itself.
+    """
+    from model_rules import check_adcirc, check_schism, check_telemac
+
+    import coastmesh
+
+    folder.mkdir(parents=True, exist_ok=True)
+    for name in ("fort.14", "hgrid.gr3", "mesh.slf"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            coastmesh.write_mesh(folder / name, mesh, overwrite=True)
+    return (
+        check_adcirc(folder / "fort.14")
+        + check_schism(folder / "hgrid.gr3")
+        + check_telemac(folder / "mesh.slf", folder / "mesh.cli")
+    )
+
+
 def assert_clean_failure(result, *expected: str, code: int = 1) -> None:
     """A command failed cleanly: exit ``code``, the ``expected`` texts, no traceback.
 

@@ -80,3 +80,44 @@ def test_a_case_writes_both_run_folders(coarse_case, tmp_path):
     assert f"{dt:g} ! DTDP" in (folder / "adcirc" / "fort.15").read_text()
     assert f"dt = {dt:g}" in (folder / "schism" / "param.nml").read_text()
     assert (folder / "schism" / "outputs").is_dir()
+
+
+@pytest.mark.parametrize(
+    ("value", "message"),
+    [
+        (
+            '{ fort15 = { land = "essential" } }',
+            "output.options.fort15: unknown format",
+        ),
+        ('{ fort14 = { lnd = "x" } }', "output.options.fort14.lnd: not an option"),
+        ('{ fort14 = { positive = "up" } }', "it is output.positive"),
+        ("{ gr3 = { regions = false } }", "the case writes the region files"),
+        ('{ fort14 = "essential" }', "expected a table of options"),
+    ],
+)
+def test_bad_writer_options_are_named(value, message):
+    text = coarse_example_text().replace("[output]", f"[output]\noptions = {value}", 1)
+    with pytest.raises(ConfigError, match=message):
+        parse_case(text, EXAMPLE)
+
+
+@pytest.mark.xdist_group("coarse")
+def test_writer_options_reach_the_writer_and_the_smoke_test(coarse_case, tmp_path):
+    from model_rules import parse_grid
+
+    outputs = dataclasses.replace(
+        coarse_case.config.outputs,
+        formats=("fort14",),
+        options={"fort14": {"land": "essential"}},
+        model_test=("adcirc",),
+        figures=False,
+    )
+    config = dataclasses.replace(coarse_case.config, outputs=outputs)
+    result = dataclasses.replace(coarse_case, config=config).write(tmp_path / "out")
+    for path in (
+        tmp_path / "out" / f"{result.name}.14",
+        tmp_path / "out" / "model_test" / "adcirc" / "fort.14",
+    ):
+        codes = {code for _, code, _ in parse_grid(path).land}
+        assert codes <= {0, 1} and 1 in codes, path
+        assert check_adcirc(path) == []

@@ -11,6 +11,7 @@ import warnings
 from pathlib import Path
 
 import pytest
+from conftest import model_rule_breaks
 
 from coastmesh.case import run_case
 
@@ -102,3 +103,8 @@ def test_it_draws_its_channels_and_time_steps(fjord):
     _, out, _ = fjord
     for name in ("channels", "time_step", "mesh", "size"):
         assert (out / "figures" / f"{name}.png").stat().st_size > 10_000
+
+
+def test_the_models_rules_hold(fjord, tmp_path):
+    result, _, _ = fjord
+    assert model_rule_breaks(result.mesh, tmp_path) == []

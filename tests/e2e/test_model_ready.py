@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import model_rule_breaks
 
 from coastmesh.case import run_case
 
@@ -63,6 +64,11 @@ def test_it_builds_and_writes_its_mesh(coast):
     result, _ = coast
     assert result.report.quality.triangles > 1_000
     assert (result.output / f"{result.name}.msh").stat().st_size > 0
+
+
+def test_the_models_rules_hold(coast, tmp_path):
+    result, _ = coast
+    assert model_rule_breaks(result.mesh, tmp_path) == []
 
 
 def test_no_triangle_spans_a_channel(coast):

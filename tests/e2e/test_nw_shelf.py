@@ -9,6 +9,7 @@ import numpy as np
 import pyogrio.raw
 import pytest
 import shapely
+from conftest import model_rule_breaks
 
 from coastmesh.case import run_case
 from coastmesh.geometry import densify_long_edges
@@ -34,6 +35,7 @@ def _boundaries(path: Path):
 
 def test_coarse_mesh(tmp_path):
     result = _run("coarse", tmp_path)
+    assert model_rule_breaks(result.mesh, tmp_path / "rules") == []
     out = tmp_path / "coarse"
     mesh = read_msh(out / "nw_shelf_coarse.msh")
     # the paper's coarse mesh has 4,307 vertices, meshed in lon/lat; on the Earth
@@ -59,6 +61,7 @@ def test_coarse_mesh(tmp_path):
 
 def test_intermediate_mesh(tmp_path):
     result = _run("intermediate", tmp_path)
+    assert model_rule_breaks(result.mesh, tmp_path / "rules") == []
     mesh = read_msh(tmp_path / "intermediate" / "nw_shelf_intermediate.msh")
     # paper: 75,368 vertices / 134,072 triangles, meshed in lon/lat; on the Earth
     # the same sizes give fewer, and the default gradation limit some more

@@ -53,6 +53,16 @@ def test_example_writes_every_output(example_run):
     assert result.seconds < 60
 
 
+def test_the_models_rules_hold_in_its_files(example_run):
+    """The example's own fort.14, gr3 and SELAFIN files, by the models' rules."""
+    from model_rules import check_adcirc, check_schism, check_telemac
+
+    _, out = example_run
+    assert check_adcirc(out / "pentland_firth.14") == []
+    assert check_schism(out / "pentland_firth.gr3") == []
+    assert check_telemac(out / "pentland_firth.slf", out / "pentland_firth.cli") == []
+
+
 def test_msh_round_trip_and_boundary_ids(example_run):
     result, out = example_run
     case = read_case(EXAMPLE)

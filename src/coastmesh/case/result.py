@@ -346,6 +346,7 @@ def _write_models(result: CaseResult, folder: Path, outputs: OutputConfig) -> li
             options["positive"] = outputs.positive[fmt_name]
         if outputs.sphere_xyz and "sphere_xyz" in fmt.holds:
             options["sphere_xyz"] = True
+        options |= (outputs.options or {}).get(fmt_name, {})
         write_mesh(folder / filename, result.mesh, format=fmt_name, **options)
         files.append(filename)
         ends = fmt.companions_for(result.mesh)
@@ -364,10 +365,11 @@ def _write_model_tests(
     if not models:
         return []
     dt = model_dt(result.report.quality)
+    land = (result.config.outputs.options or {}).get("fort14", {}).get("land")
     files = []
     for model in models:
         sub = folder / "model_test" / model
-        written = write_model_test(sub, result.mesh, model, dt=dt)
+        written = write_model_test(sub, result.mesh, model, dt=dt, land=land)
         files += [f"model_test/{model}/{name}" for name in written]
     return files
 

@@ -23,6 +23,29 @@ def _ids(ctx: click.Context, param: click.Parameter, value: str | None):
         ) from None
 
 
+def _write_options(
+    ctx: click.Context, param: click.Parameter, values: tuple[str, ...]
+) -> dict[str, object]:
+    """``NAME=VALUE`` pairs; true/false become booleans, numbers numbers."""
+    out: dict[str, object] = {}
+    for text in values:
+        name, sep, raw = text.partition("=")
+        if not sep or not name.strip():
+            raise click.BadParameter(f"{text!r}: expected NAME=VALUE", ctx, param)
+        value: object = raw
+        if raw.lower() in ("true", "false"):
+            value = raw.lower() == "true"
+        else:
+            for kind in (int, float):
+                try:
+                    value = kind(raw)
+                    break
+                except ValueError:
+                    pass
+        out[name.strip()] = value
+    return out
+
+
 @click.command("convert")
 @click.argument("src", metavar="MESH", type=click.Path(dir_okay=False, path_type=Path))
 @click.argument("dst", metavar="OUT", type=click.Path(dir_okay=False, path_type=Path))
@@ -108,6 +131,16 @@ def _ids(ctx: click.Context, param: click.Parameter, value: str | None):
     "MESH stores: msh physical names open:NAME, fort.14/gr3 open and land lists, "
     "UGRID, GeoPackage, MIKE codes).",
 )
+@click.option(
+    "--write-option",
+    "write_options",
+    multiple=True,
+    callback=_write_options,
+    metavar="NAME=VALUE",
+    help="An option of OUT's writer (repeat for more), e.g. land=essential for a "
+    "fort.14 with ADCIRC's essential land types (IBTYPE 0/1, not 20/21); "
+    "`coastmesh formats` lists each writer's options.",
+)
 @crs_option
 @overwrite_option
 @click.pass_context
@@ -129,6 +162,7 @@ def convert(
     max_slope: float | None,
     positive: str | None,
     open_ids: list[int] | None,
+    write_options: dict[str, object],
     crs: object,
     overwrite: bool,
 ) -> None:
@@ -168,6 +202,7 @@ def convert(
         min_depth=min_depth,
         max_slope=max_slope,
         positive=positive,
+        options=write_options,
         overwrite=overwrite,
     )
     for line in result.repaired:

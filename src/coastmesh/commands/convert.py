@@ -94,6 +94,7 @@ def convert_mesh(
     land: str | None = None,
     land_distance: float | None = None,
     positive: str | None = None,
+    options: dict[str, Any] | None = None,
     overwrite: bool = False,
 ) -> ConvertResult:
     """Read a mesh in any readable format and write it in another.
@@ -130,6 +131,9 @@ def convert_mesh(
         is an error (:data:`~coastmesh.depth.nodes.MAX_LAND_SHARE`).
     positive : {"up", "down"}, optional
         The sign written, for formats that take one; default: the format's own.
+    options : dict, optional
+        More options of the output format's writer, such as ``{"land":
+        "essential"}`` for a fort.14 (:func:`coastmesh.io.write_mesh`).
     overwrite : bool
         Whether ``dst`` may be replaced.
 
@@ -199,7 +203,7 @@ def convert_mesh(
         )
         extra = {"depth_source": node_sources(mesh, stack)} if len(stack) > 1 else {}
         mesh = mesh.with_point_data(depth=depth, **extra)
-    options: dict[str, Any] = {}
+    options = dict(options or {})
     if positive is not None:
         if fmt.options is not None and "positive" not in fmt.options:
             raise FormatError(

@@ -110,11 +110,13 @@ BUILT_IN = (
         "fort14",
         (".14", ".grd"),
         write_fort14,
-        "ADCIRC fort.14: nodes with depth, elements, open boundary node strings "
-        "(`IBTYPEE 0`), land strings: mainland `IBTYPE 0`, islands `IBTYPE 1` "
-        "closed by repeating the first node; with regions, the nodal attributes "
-        "file `.13` (fort.13) beside it: `coastmesh_region_id` per node, default "
-        "the surface id",
+        "ADCIRC fort.14: nodes with depth, elements, boundary lists by ADCIRC's "
+        "rules: open boundaries that meet as one string (`IBTYPEE 0`, no node "
+        "twice), each coast between them one `IBTYPE 20` string, each island one "
+        '`IBTYPE 21` string closed by its first node (`land="essential"`: 0 '
+        "and 1), the ids along each in its comment; with regions, the nodal "
+        "attributes file `.13` (fort.13) beside it: `coastmesh_region_id` per "
+        "node, default the surface id",
         read=read_fort14_mesh,
         model="ADCIRC",
         holds=_TOPOLOGY | {"depth", "crs", "node_regions"},
@@ -125,9 +127,11 @@ BUILT_IN = (
         "gr3",
         (".gr3", ".ll"),
         write_gr3,
-        "SCHISM hgrid.gr3: the fort.14 layout; islands type 1, not closed; with "
-        "regions, the element property file `.regions.prop` beside it: "
-        "`element_number region_id` per element",
+        "SCHISM hgrid.gr3: the fort.14 layout by SCHISM's rules: one open string "
+        "per id (corners shared), each coast between them one string of flag 0, "
+        "each island one string of flag 1, not closed; with regions, the element "
+        "property file `.regions.prop` beside it: `element_number region_id` per "
+        "element",
         read=read_gr3_mesh,
         model="SCHISM",
         holds=_TOPOLOGY | {"depth", "crs", "regions"},

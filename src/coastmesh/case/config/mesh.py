@@ -307,6 +307,44 @@ def _model_tests(value: Any, key: str) -> tuple[str, ...]:
     return names
 
 
+# options the case sets itself, and why
+_CASE_OPTIONS = {
+    "positive": "it is output.positive",
+    "sphere_xyz": "it is output.sphere_xyz",
+    "regions": "the case writes the region files whenever the mesh has regions",
+}
+
+
+def _writer_options(value: Any, key: str) -> dict[str, dict[str, Any]]:
+    from coastmesh.io import mesh_formats
+
+    if not isinstance(value, Mapping):
+        raise ConfigError(
+            f"{key} = {value!r}: expected a table of formats, e.g. "
+            '{ fort14 = { land = "essential" } }'
+        )
+    known = mesh_formats()
+    out = {}
+    for name, table in value.items():
+        if name not in known:
+            raise ConfigError(
+                f"{key}.{name}: unknown format; known: {', '.join(known)}"
+            )
+        if not isinstance(table, Mapping):
+            raise ConfigError(f"{key}.{name} = {table!r}: expected a table of options")
+        takes = set(known[name].options or ())
+        for option in table:
+            if option in _CASE_OPTIONS or option not in takes:
+                offered = sorted(takes - set(_CASE_OPTIONS))
+                why = _CASE_OPTIONS.get(option, "not an option of the writer")
+                raise ConfigError(
+                    f"{key}.{name}.{option}: {why}; the {name} writer's options "
+                    f"here: {', '.join(offered) or 'none'}"
+                )
+        out[name] = dict(table)
+    return out
+
+
 def _signs(value: Any, key: str) -> dict[str, str]:
     from coastmesh.io import mesh_formats
 
@@ -376,6 +414,15 @@ class OutputConfig:
         doc="write the nodes as x, y, z on the sphere (radius 6,371,008.8 m) in "
         "the formats that hold `sphere_xyz` (`coastmesh formats`), for Fluidity "
         "and Thetis meshes of the globe",
+    )
+    options: Mapping[str, Mapping[str, Any]] | None = key(
+        None,
+        check=_writer_options,
+        default_doc="each writer's defaults",
+        doc="writer options per format, as `coastmesh.write_mesh` takes them, e.g. "
+        '`{ fort14 = { land = "essential" } }` (ADCIRC\'s essential land types, '
+        "IBTYPE 0/1, in place of the natural 20/21) or `{ msh2 = { binary = true "
+        "} }`; `coastmesh formats` lists each writer's options",
     )
     model_test: tuple[str, ...] = key(
         (),

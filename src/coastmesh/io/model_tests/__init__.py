@@ -51,6 +51,7 @@ from pyproj import CRS, Transformer
 from coastmesh.errors import ConfigError
 from coastmesh.io._atomic import atomic_directory
 from coastmesh.io.adcirc import node_regions
+from coastmesh.io.adcirc._segments import land_codes
 from coastmesh.io.sphere import on_sphere
 from coastmesh.types import Mesh
 
@@ -161,7 +162,7 @@ def place_of(mesh: Mesh) -> Place:
     )
 
 
-Writer = Callable[[Path, Mesh, ModelTest, Place], list[str]]
+Writer = Callable[[Path, Mesh, ModelTest, Place, str], list[str]]
 
 
 def _writers() -> dict[str, Writer]:
@@ -185,6 +186,7 @@ def write_model_test(
     cycles: float = 1.0,
     manning: float = 0.025,
     region_manning: Mapping[int, float] | None = None,
+    land: str | None = None,
     overwrite: bool = False,
 ) -> list[str]:
     """Write a smoke test of ``model`` on ``mesh`` into ``folder``, atomically.
@@ -204,6 +206,10 @@ def write_model_test(
         ``quality.time_step.courant.dt``).
     amplitude, ramp, cycles, manning, region_manning
         As :class:`ModelTest`.
+    land : {"natural", "essential"}, optional
+        ADCIRC's land types in the ``fort.14``
+        (:func:`~coastmesh.io.adcirc.write_fort14`); default natural. SCHISM
+        has no such choice.
     overwrite : bool, default False
         Whether a non-empty ``folder`` may be replaced.
 
@@ -244,9 +250,10 @@ def write_model_test(
         )
     test = ModelTest(dt, amplitude, ramp, cycles, manning, dict(region_manning or {}))
     check_regional(mesh, model)
+    land_codes(land or "natural")
     where = place_of(mesh)
     with atomic_directory(folder, overwrite=overwrite) as partial:
-        files = writers[model](partial, mesh, test, where)
+        files = writers[model](partial, mesh, test, where, land or "natural")
     return files
 
 

@@ -46,12 +46,14 @@ _TAU0 = -1  # the GWCE weight from the depth (module docstring)
 _ESLM = 5.0  # m2/s, lateral viscosity
 
 
-def write(folder: Path, mesh: Mesh, test: ModelTest, where: Place) -> list[str]:
+def write(
+    folder: Path, mesh: Mesh, test: ModelTest, where: Place, land: str
+) -> list[str]:
     """Write the ADCIRC run folder; return its files."""
-    write_fort14(folder / "fort.14", mesh, regions=False)
+    write_fort14(folder / "fort.14", mesh, regions=False, land=land)
     _write_fort13(folder / "fort.13", test.node_manning(mesh), test.manning)
     kinds = require_kinds(mesh, "fort.14")
-    opened, _ = grid_segments(mesh, "fort.14", kinds, "fort14")
+    opened, _ = grid_segments(mesh, "fort.14", kinds, "fort14", land=land)
     neta = sum(len(s.nodes) for s in opened)
     (folder / "fort.15").write_text(_fort15(test, where, neta), encoding="ascii")
     run = "adcirc          (serial; reads fort.14, fort.13 and fort.15)"

@@ -59,8 +59,11 @@ S levels
 """
 
 
-def write(folder: Path, mesh: Mesh, test: ModelTest, where: Place) -> list[str]:
-    """Write the SCHISM run folder; return its files."""
+def write(
+    folder: Path, mesh: Mesh, test: ModelTest, where: Place, land: str
+) -> list[str]:
+    """Write the SCHISM run folder; return its files (``land`` is ADCIRC's)."""
+    del land
     write_gr3(folder / "hgrid.gr3", mesh, regions=False)
     lonlat = mesh if where.geographic else _in_lonlat(mesh, where)
     write_gr3(folder / "hgrid.ll", lonlat, regions=False, title="coastmesh hgrid.ll")
