@@ -27,7 +27,8 @@ TVD limiter, with ``OLDIO=OFF``) and pass the binaries::
 fits the forcing to that grid's open nodes: the before-and-after of a writer
 change on the same mesh. ``--hours H`` stops each run after H model hours
 (default: the whole ramp and cycle). SCHISM runs as ``mpirun -np 2 pschism 1``
-(one process computes, one writes).
+(one process computes, one writes; the writer niced, as its busy wait would
+take a core from the computing one on a 2-core machine).
 """
 
 from __future__ import annotations
@@ -47,15 +48,15 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
-CASES = [
+CASES = [  # shortest runs first; the farm's 4.5 m footprints take 0.09 s steps
     "examples/orkney/pentland_firth.toml",
     "examples/nw_european_shelf/coarse.toml",
-    "examples/nw_european_shelf/intermediate.toml",
-    "examples/norway/fjords_mesh.toml",
-    "examples/orkney/inner_sound_farm.toml",
     "tests/data/coasts/oresund.toml",
     "tests/data/coasts/shetland.toml",
     "tests/data/coasts/vestfjorden.toml",
+    "examples/nw_european_shelf/intermediate.toml",
+    "examples/norway/fjords_mesh.toml",
+    "examples/orkney/inner_sound_farm.toml",
 ]
 
 
@@ -154,7 +155,24 @@ def run(folder: Path, model: str, binary: str, timeout: float) -> float:
     if model == "adcirc":
         command = [binary]
     else:
-        command = ["mpirun", "--oversubscribe", "-np", "2", binary, "1"]
+        # the scribe (the last process) only writes; niced, its busy wait gives
+        # the core to the computing process
+        command = [
+            "mpirun",
+            "--oversubscribe",
+            "-np",
+            "1",
+            binary,
+            "1",
+            ":",
+            "-np",
+            "1",
+            "nice",
+            "-n",
+            "19",
+            binary,
+            "1",
+        ]
     env = dict(
         os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1"
     )
@@ -207,11 +225,7 @@ def summarise(
     if model == "adcirc":
         fort16 = folder / "fort.16"
         text = log + (fort16.read_text(errors="replace") if fort16.exists() else "")
-        finished = "ADCIRC terminating normally" in text or (
-            "ADCIRC_Terminate" not in text
-            and (folder / "maxvel.63").exists()
-            and "ERROR" not in log
-        )
+        finished = "ADCIRC terminating normally" in text
         warns = text.count("Elevation.gt.WarnElev")
         errors = text.count("Elevation.gt.ErrorElev")
         elev = _adcirc_max(folder / "maxele.63", n)

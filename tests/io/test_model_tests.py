@@ -59,6 +59,27 @@ def _values(path):
     return out
 
 
+def _fort13(path, n):
+    """A fort.13 as ADCIRC reads it: {name: (default, {node: value})}."""
+    lines = path.read_text().splitlines()
+    assert int(lines[1]) == n
+    count = int(lines[2])
+    names, defaults, at = [], {}, 3
+    for _ in range(count):
+        name = lines[at]
+        names.append(name)
+        defaults[name] = float(lines[at + 3])
+        at += 4
+    out = {}
+    for _ in range(count):
+        name, k = lines[at], int(lines[at + 1])
+        rows = [line.split() for line in lines[at + 2 : at + 2 + k]]
+        out[name] = (defaults[name], {int(a): float(b) for a, b in rows})
+        at += 2 + k
+    assert at == len(lines) and set(out) == set(names)
+    return out
+
+
 def test_adcirc_folder_has_what_adcirc_reads(tmp_path, mesh):
     folder = tmp_path / "adcirc"
     files = write_model_test(folder, mesh, "adcirc", dt=2.5,
@@ -78,19 +99,23 @@ def test_adcirc_folder_has_what_adcirc_reads(tmp_path, mesh):
     assert values["ICS"] == ["1"] and values["NCOR"] == ["0"]  # projected
     assert float(values["RNDAY"][0]) * 86400 == pytest.approx(6 * 3600 + M2_PERIOD)
     assert float(values["DRAMP"][0]) == pytest.approx(0.25)
-    assert values["NWP"] == ["1"]
     lat = 58.64  # 6500 km north in UTM 30N
     cori = float(values["CORI"][0])
     assert cori == pytest.approx(
         2 * 7.292115e-5 * math.sin(math.radians(lat)), rel=1e-2
     )
-    # fort.13: Manning's n, 0.04 at the farm's nodes
-    f13 = (folder / "fort.13").read_text().splitlines()
-    assert f13[1] == str(len(mesh.points)) and f13[3] == "mannings_n_at_sea_floor"
-    assert f13[6] == "0.025"
-    listed = {int(line.split()[0]): float(line.split()[1]) for line in f13[9:]}
+    # fort.13: Manning's n (0.04 at the farm's nodes) and advection_state (off
+    # within two rings of nodes of the open boundary: nodes on the south and
+    # east sides, and the two columns and rows inside them)
+    assert values["NWP"] == ["2"]
+    attrs = _fort13(folder / "fort.13", len(mesh.points))
+    default, listed = attrs["mannings_n_at_sea_floor"]
     farm = np.unique(mesh.triangles[mesh.regions == 20]) + 1
-    assert set(listed) == set(farm.tolist()) and set(listed.values()) == {0.04}
+    assert default == 0.025 and listed == dict.fromkeys(farm.tolist(), 0.04)
+    default, listed = attrs["advection_state"]
+    xy = mesh.points - mesh.points.min(axis=0)
+    near = np.flatnonzero((xy[:, 1] <= 2000.0) | (xy[:, 0] >= 2000.0)) + 1
+    assert default == -999.0 and listed == dict.fromkeys(near.tolist(), 10000.0)
     assert "NOT a calibrated model" in (folder / "README.txt").read_text()
 
 

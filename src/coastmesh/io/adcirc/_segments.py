@@ -190,8 +190,9 @@ def grid_segments(
     groups: dict[str, list[Segment]] = {
         key: [] for key in ("open0", "open1", "land0", "land1", "islands")
     }
+    open_ids = np.array([i for i, kind in kinds.items() if kind == "open"], np.int64)
     for ring, out in zip(rings, outside, strict=True):
-        is_open = np.array([kinds[int(i)] == "open" for i in ring.ids], dtype=bool)
+        is_open = np.isin(ring.ids, open_ids)
         rank = "0" if out else "1"
         if not is_open.any():
             key = "land0" if out else "islands"

@@ -24,7 +24,23 @@ The ``fort.15`` follows ADCIRC's input description
   ``maxvel.63`` (the largest elevation and speed at each node);
 - ``&WarnElevControl``: ``WarnElev`` at 5 times the amplitude and ``ErrorElev``
   at 20 times, so a warning means something for a tide of this size (the
-  defaults are 20 m and 1000 m; ``src/read_input.F``).
+  defaults are 20 m and 1000 m; ``src/read_input.F``);
+- the advective terms off on the elements within three elements of an open
+  boundary: ``advection_state`` (a nodal attribute, ``fort13.rst``; advection
+  is off on an element when a node's depth is under the node's value) is
+  10,000 m at the open boundary nodes and the two rings of nodes inside them,
+  -999 m elsewhere. ADCIRC has no inflow condition for the advective terms at
+  an elevation boundary, and they grow there where flow runs along a coast into
+  the boundary: on ``examples/orkney/pentland_firth.toml`` the speed at the
+  node where the south boundary meets a straight north-south coast doubled
+  every 30 min until ADCIRC stopped at 14.2 h (43 m/s); the same with
+  essential land types (16.5 h), with ``TAU0 = 0.03`` or ADCIRC's ``tau0_gen``
+  rule (14.2 h), and with the coast's depth tapered to 5 m (4.5 h, on the
+  open boundary nodes in the shallower water); advection off on the elements
+  at the boundary alone moved it one element in (12.7 m/s, 160 warnings); off
+  within three elements, or everywhere, the run ended cleanly (0.80 and 0.77
+  m/s). The corner's triangles have angles of 45 to 72 degrees and meet at 90
+  degrees, so it is not the mesh's shape.
 """
 
 from __future__ import annotations
@@ -39,11 +55,14 @@ from coastmesh.io.adcirc import write_fort14
 from coastmesh.io.adcirc._segments import grid_segments
 from coastmesh.io.model_tests import M2_FREQUENCY, ModelTest, Place, readme
 from coastmesh.types import Mesh
+from coastmesh.types.topology import unique_edges
 
 _OUTPUT_EVERY = 1800.0  # s: global output during the cycles
 _H0 = 0.1  # m: ADCIRC's minimum depth for wetting and drying
 _TAU0 = -1  # the GWCE weight from the depth (module docstring)
 _ESLM = 5.0  # m2/s, lateral viscosity
+_QUIET_RINGS = 2  # rings of nodes inside the open boundary with advection off
+_ADVECTION_OFF, _ADVECTION_ON = 10_000.0, -999.0  # advection_state values, m
 
 
 def write(
@@ -51,10 +70,11 @@ def write(
 ) -> list[str]:
     """Write the ADCIRC run folder; return its files."""
     write_fort14(folder / "fort.14", mesh, regions=False, land=land)
-    _write_fort13(folder / "fort.13", test.node_manning(mesh), test.manning)
     kinds = require_kinds(mesh, "fort.14")
     opened, _ = grid_segments(mesh, "fort.14", kinds, "fort14", land=land)
     neta = sum(len(s.nodes) for s in opened)
+    quiet = _near(mesh, np.concatenate([s.nodes for s in opened]), _QUIET_RINGS)
+    _write_fort13(folder / "fort.13", test.node_manning(mesh), test.manning, quiet)
     (folder / "fort.15").write_text(_fort15(test, where, neta), encoding="ascii")
     run = "adcirc          (serial; reads fort.14, fort.13 and fort.15)"
     look = (
@@ -67,20 +87,42 @@ def write(
     return ["fort.14", "fort.13", "fort.15", "README.txt"]
 
 
-def _write_fort13(path: Path, n: np.ndarray, default: float) -> None:
-    """Write the nodal attributes: ``mannings_n_at_sea_floor`` (``nodalattr.F``)."""
+def _near(mesh: Mesh, nodes: np.ndarray, rings: int) -> np.ndarray:
+    """Return the nodes ``nodes`` and those within ``rings`` edges of them."""
+    edges, _ = unique_edges(mesh.triangles, len(mesh.points))
+    mark = np.zeros(len(mesh.points), dtype=bool)
+    mark[nodes] = True
+    for _ in range(rings):
+        reached = mark[edges[:, 0]] | mark[edges[:, 1]]
+        mark[edges[reached].ravel()] = True
+    return np.flatnonzero(mark)
+
+
+def _write_fort13(path: Path, n: np.ndarray, default: float, quiet: np.ndarray) -> None:
+    """Write the nodal attributes (``fort13.rst``, ``nodalattr.F``).
+
+    ``mannings_n_at_sea_floor`` from the region ids, and ``advection_state``:
+    advection off at the ``quiet`` nodes (module docstring).
+    """
     other = np.flatnonzero(n != default)
     lines = [
-        "coastmesh smoke test: Manning's n from the region ids",
+        "coastmesh smoke test: Manning's n from the region ids, advection_state",
         str(len(n)),
-        "1",
+        "2",
         "mannings_n_at_sea_floor",
         "s/m^(1/3)",
         "1",
         f"{default:g}",
+        "advection_state",
+        "m",
+        "1",
+        f"{_ADVECTION_ON:g}",
         "mannings_n_at_sea_floor",
         str(len(other)),
-    ] + [f"{k + 1} {n[k]:g}" for k in other]
+    ]
+    lines += [f"{k + 1} {n[k]:g}" for k in other]
+    lines += ["advection_state", str(len(quiet))]
+    lines += [f"{k + 1} {_ADVECTION_OFF:g}" for k in quiet]
     path.write_text("\n".join(lines) + "\n", encoding="ascii")
 
 
@@ -108,8 +150,9 @@ def _fort15(test: ModelTest, where: Place, neta: int) -> str:
         ("2", "NOLIFA: wetting and drying"),
         ("1", "NOLICA"),
         ("1", "NOLICAT"),
-        ("1", "NWP"),
+        ("2", "NWP"),
         ("mannings_n_at_sea_floor", "from fort.13"),
+        ("advection_state", "from fort.13: advection off near the open boundaries"),
         (str(ncor), "NCOR"),
         ("0", "NTIP"),
         ("0", "NWS"),
