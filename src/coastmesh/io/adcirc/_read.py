@@ -152,7 +152,9 @@ def read_fort14_mesh(
     InputDataError
         As :func:`read_fort14`; also if the node numbers are not ``1..NP`` in
         order, a land segment is an internal barrier (``IBTYPE`` 4, 24, 5, 25:
-        node pairs), or one boundary id is on both an open and a land segment;
+        node pairs), one boundary id is on both an open and a land segment, two
+        consecutive nodes of a segment are not a boundary edge of the elements,
+        or an edge is listed twice;
         or the ``fort.13`` beside it holds ``coastmesh_region_id`` but does not
         fit the grid (NumOfNodes, non-integer ids).
     ConfigError
@@ -161,16 +163,21 @@ def read_fort14_mesh(
     Notes
     -----
     Each segment's node list gives one boundary edge per two consecutive nodes;
-    an island (``IBTYPE`` 1, 11, 21) whose last node is not its first (as SCHISM
-    writes them) also gets the edge that closes it. Segments of the open list
-    (``NOPE``) are ``"open"``, all segments of the land list (``NBOU``) are
-    ``"shoreline"``, whatever their ``IBTYPE``.
+    a segment whose last node is joined to its first by a boundary edge that no
+    segment lists (a SCHISM island, an ADCIRC ring open all round) also gets
+    that edge. Segments of the open list (``NOPE``) are ``"open"``, all segments
+    of the land list (``NBOU``) are ``"shoreline"``, whatever their ``IBTYPE``.
+    Any other boundary edge of the elements that no segment lists is read as
+    land with a new id named ``unlisted``, with a
+    :class:`~coastmesh.errors.RepairedBoundaryWarning`.
 
     Boundary ids and names come from the comment coastmesh writes after each
     segment's counts (``4 0 = Number of nodes for open boundary 1: id 2 north``:
-    id 2, name ``north``). When a segment has no such comment (files written by
-    other tools), the segments are numbered in file order instead: the open
-    segments 1 to ``NOPE``, then the land segments ``NOPE + 1`` on, with no names.
+    id 2, name ``north``; for a segment of several ids, ``: id 10 near; id 5
+    @301 far``, id 5 from its 301st node on). When a segment has no such comment
+    (files written by other tools), the segments are numbered in file order
+    instead: the open segments 1 to ``NOPE``, then the land segments ``NOPE +
+    1`` on, with no names.
 
     Region ids come from the nodal attributes file beside the grid, its stem
     with the ending ``.13`` (``fort.14`` -> ``fort.13``), if it holds the
