@@ -93,15 +93,12 @@ class Segment:
         The number written after the count: ``IBTYPEE`` or ``IBTYPE`` in a
         ``fort.14``, the land flag in a ``hgrid.gr3``; None for a gr3 open
         segment, whose header holds the count only.
-    island : bool
-        Whether it is a whole island.
     """
 
     nodes: NDArray[np.int64]
     runs: tuple[tuple[int, int], ...]
     open: bool
     code: int | None
-    island: bool = False
 
 
 def land_codes(land: str) -> tuple[int, int]:
@@ -279,9 +276,9 @@ def _whole(
             nodes, ids = np.roll(nodes, -shift), np.roll(ids, -shift)
             return [Segment(nodes, _runs(ids[:-1]), True, 0)]
         # A2, A3: closed by repeating the first node
-        return [Segment(np.append(nodes, nodes[0]), _runs(ids), False, code, island)]
+        return [Segment(np.append(nodes, nodes[0]), _runs(ids), False, code)]
     if island:  # S4: one segment, last node not the first
-        return [Segment(nodes.copy(), _runs(ids), False, code, True)]
+        return [Segment(nodes.copy(), _runs(ids), False, code)]
     closed = np.append(nodes, nodes[0])
     if opened and len(_runs(ids)) > 1:  # S2: one segment per id, sharing corners
         return _open_by_id(closed, ids)
