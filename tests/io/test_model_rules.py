@@ -231,6 +231,16 @@ def good(tmp_path_factory):
     return folder
 
 
+def _package_rules(path: Path, model: str) -> list[tuple[str, str]]:
+    """What coastmesh's own audit (``rule_breaks``, used by convert) finds."""
+    from coastmesh.io.adcirc import read_fort14, read_fort14_mesh, rule_breaks
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoastmeshWarning)
+        mesh = read_fort14_mesh(path, crs="EPSG:32630")
+    return [(b.rule, b.segment) for b in rule_breaks(read_fort14(path), mesh, model)]
+
+
 def _edit(src: Path, dst: Path, old: str, new: str) -> Path:
     text = src.read_text()
     assert old in text, old
@@ -268,6 +278,7 @@ def test_adcirc_rules_catch_a_corner_listed_twice(good, tmp_path):
     (tmp_path / "fort.14").write_text(text)
     breaks = check_adcirc(tmp_path / "fort.14")
     assert [(b.rule, b.segment) for b in breaks] == [("A5", "open segment 2")]
+    assert _package_rules(tmp_path / "fort.14", "adcirc") == [("A5", "open segment 2")]
 
 
 def test_adcirc_rules_catch_an_unclosed_island_and_a_wrong_type(good, tmp_path):
@@ -276,6 +287,7 @@ def test_adcirc_rules_catch_an_unclosed_island_and_a_wrong_type(good, tmp_path):
     broken = "\n".join([head.replace(" 21 ", " 0 ", 1)] + body) + "\n"
     path = _edit(good / "fort.14", tmp_path / "fort.14", seg, broken)
     assert {b.rule for b in check_adcirc(path)} == {"A3"}
+    assert _package_rules(path, "adcirc") == [("A3", "land segment 2")]
 
 
 def test_adcirc_rules_catch_a_reversed_segment(good, tmp_path):
@@ -300,6 +312,10 @@ def test_schism_rules_catch_a_looped_open_segment_and_a_missing_node(good, tmp_p
     (tmp_path / "hgrid.gr3").write_text(text)
     rules = collections.Counter(b.rule for b in check_schism(tmp_path / "hgrid.gr3"))
     assert rules["S3"] == 1 and rules["S4"] == 1
+    assert {r for r, _ in _package_rules(tmp_path / "hgrid.gr3", "schism")} == {
+        "S3",
+        "S4",
+    }
 
 
 def test_telemac_rules_catch_a_solid_node_between_liquid_ones(good, tmp_path):
