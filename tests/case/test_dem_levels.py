@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 import shapely
 import xarray as xr
+from conftest import model_rule_breaks
 from pyproj import Geod
 
 from coastmesh.case import parse_case, run_case
@@ -135,6 +136,7 @@ def test_the_case_meshes_with_the_coast_at_2_m(tmp_path):
         result = run_case(path, output=tmp_path / "out")
     mesh = read_msh(tmp_path / "out" / "dem_shoreline.msh")
     assert len(mesh.triangles) == result.triangles > 3000
+    assert model_rule_breaks(result.mesh, tmp_path / "rules") == []
     assert set(np.unique(mesh.boundary_ids)) == {2, 3, 4, 5, 10}
     # the mesh covers the sea at 2 m, not the sea at 0 m (240 km2 less)
     corners = mesh.points[mesh.triangles]
