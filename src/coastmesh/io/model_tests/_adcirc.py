@@ -22,9 +22,11 @@ The ``fort.15`` follows ADCIRC's input description
 - global elevation and velocity (``fort.63``, ``fort.64``, ASCII) every 30 min
   of the cycles after the ramp, so ADCIRC also writes ``maxele.63`` and
   ``maxvel.63`` (the largest elevation and speed at each node);
-- ``&WarnElevControl``: ``WarnElev`` at 5 times the amplitude and ``ErrorElev``
-  at 20 times, so a warning means something for a tide of this size (the
-  defaults are 20 m and 1000 m; ``src/read_input.F``);
+- ``&WarnElevControl``: ``WarnElev`` at 10 times the amplitude and
+  ``ErrorElev`` at 50 times, so a warning means something for a tide of this
+  size (the defaults are 20 m and 1000 m; ``src/read_input.F``) while a basin
+  that resonates is not taken for a blow-up: on the NW shelf, the Severn
+  estuary raises the 0.5 m of the shelf edge to 2.8 m;
 - the advective terms off on the elements within three elements of an open
   boundary: ``advection_state`` (a nodal attribute, ``fort13.rst``; advection
   is off on an element when a node's depth is under the node's value) is
@@ -79,8 +81,8 @@ def write(
     run = "adcirc          (serial; reads fort.14, fort.13 and fort.15)"
     look = (
         "- the end of fort.16 and the screen: 'ADCIRC terminating normally'; no\n"
-        "  'WARNING: Elevation.gt.WarnElev' (set at 5 x the amplitude) and no\n"
-        "  'Elevation.gt.ErrorElev' (20 x), which stops the run;\n"
+        "  'WARNING: Elevation.gt.WarnElev' (set at 10 x the amplitude) and no\n"
+        "  'Elevation.gt.ErrorElev' (50 x), which stops the run;\n"
         "- maxele.63 and maxvel.63: the largest elevation and speed at each node.\n"
     )
     (folder / "README.txt").write_text(readme("ADCIRC", test, run, look))
@@ -193,5 +195,5 @@ def _fort15(test: ModelTest, where: Place, neta: int) -> str:
         ("1 0 1.0e-8 25", "ITITER ISLDIA CONVCR ITMAX"),
     ]
     text += "".join(f"{value} ! {what}\n" for value, what in more)
-    text += f"&WarnElevControl WarnElev = {5 * a:g}, ErrorElev = {20 * a:g} /\n"
+    text += f"&WarnElevControl WarnElev = {10 * a:g}, ErrorElev = {50 * a:g} /\n"
     return text
