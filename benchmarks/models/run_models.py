@@ -297,7 +297,7 @@ def main() -> None:
     p.add_argument("--out", type=Path, default=Path("runs/models"))
     p.add_argument("--writer", type=Path, help="src/ of another coastmesh checkout")
     p.add_argument("--label", default="now", help="a name for this set of runs")
-    p.add_argument("--land", default="natural", choices=["natural", "essential"])
+    p.add_argument("--land", default="essential", choices=["essential", "natural"])
     p.add_argument("--hours", type=float, help="stop each run after H model hours")
     p.add_argument("--timeout", type=float, default=6 * 3600, help="s per run")
     args = p.parse_args()
@@ -317,7 +317,7 @@ def main() -> None:
             if folder.exists():
                 shutil.rmtree(folder)
             coastmesh.io.write_model_test(folder, mesh, model, dt=dt)
-            if model == "adcirc" and args.land != "natural":
+            if model == "adcirc" and args.land != "essential":
                 coastmesh.write_mesh(
                     folder / "fort.14",
                     mesh,

@@ -108,7 +108,7 @@ def test_writer_options_reach_the_writer_and_the_smoke_test(coarse_case, tmp_pat
     outputs = dataclasses.replace(
         coarse_case.config.outputs,
         formats=("fort14",),
-        options={"fort14": {"land": "essential"}},
+        options={"fort14": {"land": "natural"}},
         model_test=("adcirc",),
         figures=False,
     )
@@ -119,5 +119,5 @@ def test_writer_options_reach_the_writer_and_the_smoke_test(coarse_case, tmp_pat
         tmp_path / "out" / "model_test" / "adcirc" / "fort.14",
     ):
         codes = {code for _, code, _ in parse_grid(path).land}
-        assert codes <= {0, 1} and 1 in codes, path
+        assert codes <= {20, 21} and 21 in codes, path
         assert check_adcirc(path) == []

@@ -117,10 +117,10 @@ def test_fort14_boundaries(tmp_path, square):
     assert grid["nbou"] == len(grid["land_boundaries"]) == 2
     mainland, island = grid["land_boundaries"]
     # mainland starts where it meets the open boundary, runs counter-clockwise;
-    # natural no-normal-flow types by default (20 external, 21 island)
-    assert mainland["nodes"].tolist() == MAINLAND and mainland["ibtype"] == 20
-    # island: IBTYPE 21, closed by repeating its first node, clockwise
-    assert island["ibtype"] == 21
+    # essential no-normal-flow types by default (0 external, 1 island)
+    assert mainland["nodes"].tolist() == MAINLAND and mainland["ibtype"] == 0
+    # island: IBTYPE 1, closed by repeating its first node, clockwise
+    assert island["ibtype"] == 1
     assert island["nodes"][0] == island["nodes"][-1]
     assert same_cycle(island["nodes"][:-1], ISLAND_CW)
     assert signed_area(square.points[island["nodes"][:-1] - 1]) < 0
@@ -193,8 +193,7 @@ def test_exterior_of_one_land_id(tmp_path, name):
     ring = [node(x, 0, 2) + 1 for x in (0, 1, 2)] + [node(2, 1, 2) + 1]
     ring += [node(x, 2, 2) + 1 for x in (2, 1, 0)] + [node(0, 1, 2) + 1]
     lists = [b["nodes"].tolist() for b in grid["land_boundaries"]]
-    external = 20 if name == "fort.14" else 0
-    assert all(b["ibtype"] == external for b in grid["land_boundaries"])
+    assert all(b["ibtype"] == 0 for b in grid["land_boundaries"])
     if name == "fort.14":
         (closed,) = lists
         assert closed[0] == closed[-1] and same_cycle(closed[:-1], ring)
@@ -226,12 +225,11 @@ def test_island_of_two_ids_is_one_island_segment(tmp_path, name, writer):
     grid = read_fort14(tmp_path / name)
     land = grid["land_boundaries"]
     island = land[1]["nodes"].tolist()
+    assert [b["ibtype"] for b in land] == [0, 1]
     if name == "fort.14":
-        assert [b["ibtype"] for b in land] == [20, 21]
         assert island[0] == island[-1]  # closed by repeating the first node
         island = island[:-1]
     else:
-        assert [b["ibtype"] for b in land] == [0, 1]
         assert island[0] != island[-1]  # SCHISM: not repeated
     assert same_cycle(island, ISLAND_CW)
     # the ids of its edges are in the comment, and read back
@@ -276,8 +274,7 @@ def test_generated_mesh_covers_every_boundary_edge_once(
     for key, kind in seen.items():
         assert kind == ("open" if want[key] == 2 else "land")
     ibtypes = [b["ibtype"] for b in grid["land_boundaries"]]
-    # mainland first, then the two islands
-    assert ibtypes == ([20, 21, 21] if name == "fort.14" else [0, 1, 1])
+    assert ibtypes == [0, 1, 1]  # mainland first, then the two islands
 
 
 @pytest.mark.parametrize(("name", "writer"), WRITERS)
@@ -476,3 +473,15 @@ def test_mesh_reader_needs_nodes_in_order_and_a_sign(tmp_path, square):
     write_gr3(tmp_path / "h.gr3", square)
     with pytest.raises(InputDataError, match="CRS is EPSG:32630, but crs=EPSG:4326"):
         read_fort14_mesh(tmp_path / "h.gr3", crs="EPSG:4326")
+
+
+def test_natural_land_types_on_request(tmp_path, square):
+    """``land="natural"``: ADCIRC's IBTYPE 20 and 21; anything else is refused."""
+    write_fort14(tmp_path / "fort.14", square, land="natural")
+    land = read_fort14(tmp_path / "fort.14")["land_boundaries"]
+    assert [b["ibtype"] for b in land] == [20, 21]
+    back = read_fort14_mesh(tmp_path / "fort.14")
+    assert back.boundary_kinds == square.boundary_kinds
+    with pytest.raises(ConfigError, match="land='weak'; expected one of"):
+        write_fort14(tmp_path / "x.14", square, land="weak")
+    assert not (tmp_path / "x.14").exists()

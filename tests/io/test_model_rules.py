@@ -181,7 +181,7 @@ def test_every_writer_follows_its_models_rules(tmp_path_factory, drawn):
         assert back.boundary_kinds == {i: KINDS[i] for i in set(want.values())}
     # ADCIRC: each island one closed segment, whatever sets make it up
     grid = parse_grid(folder / "fort.14")
-    islands = [s for s in grid.land if s[1] == 21]
+    islands = [s for s in grid.land if s[1] == 1]
     assert len(islands) == len(domain.polygon.interiors)
 
 
@@ -215,7 +215,7 @@ def test_the_same_mesh_written_now_follows_the_rules(tmp_path):
     grid = parse_grid(tmp_path / "fort.14")
     assert len(grid.open) == 1  # the south and east sides meet: one segment
     assert [len(n) for n, _, _ in grid.open] == [13]  # node 7 once
-    assert [code for _, code, _ in grid.land] == [20, 21]
+    assert [code for _, code, _ in grid.land] == [0, 1]
 
 
 # the checker catches each rule, on files broken by hand ---------------------------
@@ -284,7 +284,7 @@ def test_adcirc_rules_catch_a_corner_listed_twice(good, tmp_path):
 def test_adcirc_rules_catch_an_unclosed_island_and_a_wrong_type(good, tmp_path):
     seg = _segment_text(good / "fort.14", "land", 1)
     head, *body = seg.splitlines()
-    broken = "\n".join([head.replace(" 21 ", " 0 ", 1)] + body) + "\n"
+    broken = "\n".join([head.replace(" 1 = ", " 0 = ", 1)] + body) + "\n"
     path = _edit(good / "fort.14", tmp_path / "fort.14", seg, broken)
     assert {b.rule for b in check_adcirc(path)} == {"A3"}
     assert _package_rules(path, "adcirc") == [("A3", "land segment 2")]

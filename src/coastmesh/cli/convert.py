@@ -137,8 +137,8 @@ def _write_options(
     multiple=True,
     callback=_write_options,
     metavar="NAME=VALUE",
-    help="An option of OUT's writer (repeat for more), e.g. land=essential for a "
-    "fort.14 with ADCIRC's essential land types (IBTYPE 0/1, not 20/21); "
+    help="An option of OUT's writer (repeat for more), e.g. land=natural for a "
+    "fort.14 with ADCIRC's natural land types (IBTYPE 20/21, not 0/1); "
     "`coastmesh formats` lists each writer's options.",
 )
 @crs_option

@@ -112,9 +112,9 @@ BUILT_IN = (
         write_fort14,
         "ADCIRC fort.14: nodes with depth, elements, boundary lists by ADCIRC's "
         "rules: open boundaries that meet as one string (`IBTYPEE 0`, no node "
-        "twice), each coast between them one `IBTYPE 20` string, each island one "
-        '`IBTYPE 21` string closed by its first node (`land="essential"`: 0 '
-        "and 1), the ids along each in its comment; with regions, the nodal "
+        "twice), each coast between them one `IBTYPE 0` string, each island one "
+        '`IBTYPE 1` string closed by its first node (`land="natural"`: 20 '
+        "and 21), the ids along each in its comment; with regions, the nodal "
         "attributes file `.13` (fort.13) beside it: `coastmesh_region_id` per "
         "node, default the surface id",
         read=read_fort14_mesh,

@@ -321,7 +321,7 @@ def _writer_options(value: Any, key: str) -> dict[str, dict[str, Any]]:
     if not isinstance(value, Mapping):
         raise ConfigError(
             f"{key} = {value!r}: expected a table of formats, e.g. "
-            '{ fort14 = { land = "essential" } }'
+            '{ fort14 = { land = "natural" } }'
         )
     known = mesh_formats()
     out = {}
@@ -420,8 +420,8 @@ class OutputConfig:
         check=_writer_options,
         default_doc="each writer's defaults",
         doc="writer options per format, as `coastmesh.write_mesh` takes them, e.g. "
-        '`{ fort14 = { land = "essential" } }` (ADCIRC\'s essential land types, '
-        "IBTYPE 0/1, in place of the natural 20/21) or `{ msh2 = { binary = true "
+        '`{ fort14 = { land = "natural" } }` (ADCIRC\'s natural land types, '
+        "IBTYPE 20/21, in place of the essential 0/1) or `{ msh2 = { binary = true "
         "} }`; `coastmesh formats` lists each writer's options",
     )
     model_test: tuple[str, ...] = key(

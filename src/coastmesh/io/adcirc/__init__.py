@@ -16,10 +16,10 @@ and named in :mod:`coastmesh.io.adcirc._segments` (A1 to A5, S1 to S4):
 open segment header        ``NVDLL IBTYPEE`` (``IBTYPEE=0``)  ``NVDLL`` only
 open boundaries that meet  one segment: no node listed       one segment per id, the
                            twice (A5)                        corner shared (S2)
-coast between two open     one segment, ``IBTYPE 20`` (or 0),  one segment, flag ``0``
-boundaries                 whatever its shoreline sets (A4)
-island (closed land ring)  one segment, ``IBTYPE 21`` (or    one segment, flag ``1``,
-                           1), first node repeated (A3)      first node not repeated
+coast between two open     one segment, ``IBTYPE 0`` (or      one segment, flag ``0``
+boundaries                 20), whatever its sets (A4)
+island (closed land ring)  one segment, ``IBTYPE 1`` (or     one segment, flag ``1``,
+                           21), first node repeated (A3)     first node not repeated
 whole ring of one kind     land: first node repeated (A2);   two segments that share
 (no other boundary on it)  open: each node once (A5)         their end nodes (S1, S4)
 =========================  ================================  ==========================

@@ -24,7 +24,13 @@ from coastmesh.io.adcirc._regions import (
     has_regions,
     write_region_file,
 )
-from coastmesh.io.adcirc._segments import Segment, grid_segments, label, land_codes
+from coastmesh.io.adcirc._segments import (
+    DEFAULT_LAND,
+    Segment,
+    grid_segments,
+    label,
+    land_codes,
+)
 from coastmesh.io.sphere import on_sphere, pole_triangles
 from coastmesh.types import Mesh
 
@@ -43,7 +49,7 @@ def write_fort14(
     positive: str = "down",
     title: str | None = None,
     regions: bool = True,
-    land: str = "natural",
+    land: str = DEFAULT_LAND,
 ) -> None:
     """Write a mesh as an ADCIRC ``fort.14`` grid with its boundary segments.
 
@@ -73,15 +79,14 @@ def write_fort14(
         footprint: ``mesh.regions``), also write the nodal attributes file
         ``fort.13`` beside the grid: the grid's stem with the ending ``.13``
         (``fort.14`` -> ``fort.13``, ``case.14`` -> ``case.13``). See Notes.
-    land : {"natural", "essential"}, default "natural"
-        The type of the land segments: ADCIRC's natural no-normal-flow
-        boundaries, ``IBTYPE`` 20 (external) and 21 (islands), which set the
-        flux through the coast to zero in the continuity equation only, or its
-        essential ones, ``IBTYPE`` 0 and 1, which also set the normal velocity
-        to zero at every coast node. The default follows ADCIRC's own advice
-        (``flux_specified_boundaries.rst``: types 0 to 5 "can introduce
-        instabilities into the ADCIRC solution; types 20-25 ... are therefore
-        preferred").
+    land : {"essential", "natural"}, default "essential"
+        The type of the land segments: ADCIRC's essential no-normal-flow
+        boundaries, ``IBTYPE`` 0 (external) and 1 (islands), which set the
+        normal velocity to zero at every coast node, or its natural ones,
+        ``IBTYPE`` 20 and 21, which set the flux through the coast to zero in
+        the continuity equation only
+        (:func:`~coastmesh.io.adcirc._segments.land_codes` says why essential
+        is the default).
 
     Raises
     ------
@@ -115,8 +120,8 @@ def write_fort14(
       the start node of the next, whatever shoreline sets make it up; a ring of
       coast with no open boundary on it (a lake) is one external segment closed
       by repeating its first node;
-    - each island is one internal segment (``IBTYPE`` 21, or 1 with
-      ``land="essential"``) closed by repeating its first node, whatever
+    - each island is one internal segment (``IBTYPE`` 1, or 21 with
+      ``land="natural"``) closed by repeating its first node, whatever
       shoreline sets make it up;
     - the external segments come first, in order around the domain, then the
       islands; nodes run with the domain on the left (land on the right),
@@ -164,7 +169,7 @@ def write_fort14(
     >>> [(b["nodes"].tolist(), b["ibtypee"]) for b in grid["open_boundaries"]]
     [([1, 2], 0)]
     >>> [(b["nodes"].tolist(), b["ibtype"]) for b in grid["land_boundaries"]]
-    [([2, 3, 4, 1], 20)]
+    [([2, 3, 4, 1], 0)]
 
     With a farm (region 20) in the second triangle, ``fort.13`` comes beside it:
 
@@ -311,7 +316,7 @@ def _write_grid(
     positive: str,
     title: str | None,
     regions: bool,
-    land: str = "natural",
+    land: str = DEFAULT_LAND,
 ) -> None:
     """Check everything, then write a fort.14 (``flavour="fort14"``) or gr3.
 

@@ -51,7 +51,7 @@ from pyproj import CRS, Transformer
 from coastmesh.errors import ConfigError
 from coastmesh.io._atomic import atomic_directory
 from coastmesh.io.adcirc import node_regions
-from coastmesh.io.adcirc._segments import land_codes
+from coastmesh.io.adcirc._segments import DEFAULT_LAND, land_codes
 from coastmesh.io.sphere import on_sphere
 from coastmesh.types import Mesh
 
@@ -206,9 +206,9 @@ def write_model_test(
         ``quality.time_step.courant.dt``).
     amplitude, ramp, cycles, manning, region_manning
         As :class:`ModelTest`.
-    land : {"natural", "essential"}, optional
+    land : {"essential", "natural"}, optional
         ADCIRC's land types in the ``fort.14``
-        (:func:`~coastmesh.io.adcirc.write_fort14`); default natural. SCHISM
+        (:func:`~coastmesh.io.adcirc.write_fort14`); default essential. SCHISM
         has no such choice.
     overwrite : bool, default False
         Whether a non-empty ``folder`` may be replaced.
@@ -250,10 +250,11 @@ def write_model_test(
         )
     test = ModelTest(dt, amplitude, ramp, cycles, manning, dict(region_manning or {}))
     check_regional(mesh, model)
-    land_codes(land or "natural")
+    land = land or DEFAULT_LAND
+    land_codes(land)
     where = place_of(mesh)
     with atomic_directory(folder, overwrite=overwrite) as partial:
-        files = writers[model](partial, mesh, test, where, land or "natural")
+        files = writers[model](partial, mesh, test, where, land)
     return files
 
 
