@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -275,19 +275,25 @@ class RunConfig:
     )
 
 
-def _formats(value: Any, key: str) -> tuple[str, ...]:
-    from coastmesh.io import mesh_formats
-
+def _listed(
+    value: Any, key: str, known: Sequence[str], unknown: str, what: str
+) -> tuple[str, ...]:
+    """Names from ``known``, each once: ``unknown`` says what a name is not."""
     names = schema.names(value, key)
-    known = mesh_formats()
     for k, n in enumerate(names):
         if n not in known:
             raise ConfigError(
-                f"{key}[{k}] = {n!r}: unknown format; known: {', '.join(known)}"
+                f"{key}[{k}] = {n!r}: {unknown}; known: {', '.join(known)}"
             )
     if len(set(names)) != len(names):
-        raise ConfigError(f"{key} = {list(names)}: a format is listed twice")
+        raise ConfigError(f"{key} = {list(names)}: a {what} is listed twice")
     return names
+
+
+def _formats(value: Any, key: str) -> tuple[str, ...]:
+    from coastmesh.io import mesh_formats
+
+    return _listed(value, key, list(mesh_formats()), "unknown format", "format")
 
 
 def _model_tests(value: Any, key: str) -> tuple[str, ...]:
@@ -295,16 +301,7 @@ def _model_tests(value: Any, key: str) -> tuple[str, ...]:
 
     if isinstance(value, list | tuple) and not value:
         return ()
-    names = schema.names(value, key)
-    for k, n in enumerate(names):
-        if n not in MODEL_TESTS:
-            raise ConfigError(
-                f"{key}[{k}] = {n!r}: no smoke test for this model; known: "
-                f"{', '.join(MODEL_TESTS)}"
-            )
-    if len(set(names)) != len(names):
-        raise ConfigError(f"{key} = {list(names)}: a model is listed twice")
-    return names
+    return _listed(value, key, MODEL_TESTS, "no smoke test for this model", "model")
 
 
 # options the case sets itself, and why
