@@ -14,8 +14,9 @@ from typing import Any
 
 import numpy as np
 
+from coastmesh.io._model import mesh_boundary_rings
+from coastmesh.io.adcirc._segments import outside_rings
 from coastmesh.types import Mesh
-from coastmesh.types.topology import boundary_rings
 
 __all__ = ["RuleBreak", "rule_breaks"]
 
@@ -83,11 +84,11 @@ def rule_breaks(grid: dict[str, Any], mesh: Mesh, model: str) -> list[RuleBreak]
     >>> rule_breaks(grid, m, "schism")  # SCHISM lets two open segments share it
     []
     """
-    rings = boundary_rings(mesh)
+    rings = mesh_boundary_rings(mesh, "the grid")
     ring_of = np.full(len(mesh.points), -1)
     for k, ring in enumerate(rings):
         ring_of[ring.nodes] = k
-    outside = [_counter_clockwise(mesh, ring.nodes) for ring in rings]
+    outside = outside_rings(mesh, rings)
     opened = [
         (np.asarray(b["nodes"]), f"open segment {k}")
         for k, b in enumerate(grid["open_boundaries"], 1)
@@ -105,12 +106,6 @@ def rule_breaks(grid: dict[str, Any], mesh: Mesh, model: str) -> list[RuleBreak]
         out += _schism_open(opened)
         out += _schism_land(land, opened, ring_of, rings, outside, open_rings)
     return out
-
-
-def _counter_clockwise(mesh: Mesh, nodes: np.ndarray) -> bool:
-    xy = mesh.points[nodes] - mesh.points[nodes].mean(axis=0)
-    x, y = xy[:, 0], xy[:, 1]
-    return float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)) > 0
 
 
 def _adcirc_open(opened: list[tuple[np.ndarray, str]]) -> list[RuleBreak]:
@@ -136,7 +131,6 @@ def _adcirc_land(land, opened, ring_of, rings, outside, open_rings) -> list[Rule
     """A1 to A4 on the land segments."""
     out = []
     ends = {int(n[0]) for n, _ in opened} | {int(n[-1]) for n, _ in opened}
-    per_ring: dict[int, list[str]] = {}
     internal_seen = None
     for nodes, code, name in land:
         first, last = int(nodes[0]), int(nodes[-1])
@@ -154,7 +148,6 @@ def _adcirc_land(land, opened, ring_of, rings, outside, open_rings) -> list[Rule
             )
         if ring < 0:
             continue
-        per_ring.setdefault(ring, []).append(name)
         if ring in open_rings:
             for end in sorted({first, last} - ends):
                 out.append(

@@ -74,6 +74,7 @@ __all__ = [
     "grid_segments",
     "label",
     "land_codes",
+    "outside_rings",
 ]
 
 # fort.14 IBTYPE of (external land, island) for each choice of writer option
@@ -198,7 +199,7 @@ def grid_segments(
     """
     external, island = land_codes(land) if flavour == "fort14" else _GR3_FLAGS
     rings = mesh_boundary_rings(mesh, name)
-    outside = _outside(mesh, rings)
+    outside = outside_rings(mesh, rings)
     groups: dict[str, list[Segment]] = {
         key: [] for key in ("open0", "open1", "land0", "land1", "islands")
     }
@@ -247,8 +248,8 @@ def label(runs: tuple[tuple[int, int], ...], names: dict[int, str]) -> str:
     return ": " + "; ".join(parts)
 
 
-def _outside(mesh: Mesh, rings: list[BoundaryRing]) -> list[bool]:
-    """Whether each ring bounds the domain from outside (ADCIRC's "external").
+def outside_rings(mesh: Mesh, rings: list[BoundaryRing]) -> list[bool]:
+    """Return whether each ring bounds the domain from outside (ADCIRC's "external").
 
     On the sphere, the ring :func:`~coastmesh.io.sphere.sphere_boundary_rings`
     calls exterior. In the plane, every ring that runs counter-clockwise with
