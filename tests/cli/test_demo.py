@@ -108,6 +108,8 @@ def test_full_demo(run_cli, tmp_path, folder_listing):
         "figures/mesh.png",
         "figures/depth.png",
         "summary.txt",
+        "model_test/adcirc/fort.15",
+        "model_test/schism/param.nml",
     ):
         assert (case / name).is_file(), name
     assert "pentland_firth/figures/mesh.png" in result.stdout.splitlines()[-1]

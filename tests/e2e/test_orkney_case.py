@@ -45,8 +45,17 @@ def test_example_writes_every_output(example_run):
         "quality.txt",
     }
     expected |= {f"figures/{name}.png" for name in FIGURES}
+    runs = {
+        "adcirc": ["fort.14", "fort.13", "fort.15", "README.txt"],
+        "schism": ["hgrid.gr3", "hgrid.ll", "vgrid.in", "bctides.in", "manning.gr3",
+                   "param.nml", "README.txt"],
+    }  # fmt: skip
+    expected |= {
+        f"model_test/{m}/{name}" for m, names in runs.items() for name in names
+    }
     written = {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()}
     assert written == expected == set(result.files)
+    assert (out / "model_test" / "schism" / "outputs").is_dir()
     assert not list(out.parent.glob("*.partial-*"))
     report = json.loads((out / "report.json").read_text())
     assert report["mesh"]["nodes"] == result.nodes > 5_000

@@ -57,7 +57,8 @@ def run_demo(
     input and result. Then the bundled Orkney case (``pentland_firth.toml``) runs
     the whole chain into ``pentland_firth/``: shoreline PCA by region, loxodrome
     open boundaries, a graded Gmsh mesh, depths from the PCA of the ETOPO1 grid,
-    eight model formats, the quality report and the figures. ``README.txt`` lists
+    eight model formats, ADCIRC and SCHISM smoke-test run folders, the quality
+    report and the figures. ``README.txt`` lists
     the files.
 
     Parameters
@@ -137,7 +138,7 @@ def _demo_case(folder: Path, final: Path) -> DemoStep:
     title = (
         "Orkney and the Pentland Firth: shoreline PCA by region, loxodrome open "
         "boundaries, graded Gmsh mesh, depth from the PCA of ETOPO1, 8 model formats, "
-        "quality report"
+        "ADCIRC and SCHISM smoke tests, quality report"
     )
     outputs = ("pentland_firth/summary.txt", "pentland_firth/figures/mesh.png")
     # the folder is renamed from its .partial name when the demo ends

@@ -216,7 +216,8 @@ def write_model_test(
     Returns
     -------
     list of str
-        The files written, relative to ``folder``.
+        The files written, relative to ``folder`` (SCHISM also gets the empty
+        folder ``outputs/`` it writes into).
 
     Raises
     ------

@@ -91,9 +91,8 @@ def write(
         "bctides.in",
         "manning.gr3",
         "param.nml",
-        "outputs/",
         "README.txt",
-    ]
+    ]  # and the empty folder outputs/
 
 
 def _in_lonlat(mesh: Mesh, where: Place) -> Mesh:
