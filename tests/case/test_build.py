@@ -101,7 +101,12 @@ def test_write_writes_a_run(coarse, tmp_path):
     assert {"pentland_firth.msh", "pentland_firth.nc", "report.json"} <= set(
         written.files
     )
-    assert not any(name.endswith((".14", ".gr3")) for name in written.files)
+    # formats= replaces the case's formats; its smoke-test folders stay
+    models = [name for name in written.files if name.startswith("model_test/")]
+    assert {"model_test/adcirc/fort.14", "model_test/schism/hgrid.gr3"} <= set(models)
+    assert not any(
+        name.endswith((".14", ".gr3")) for name in set(written.files) - set(models)
+    )
     on_disk = {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file()}
     assert on_disk == set(written.files)
     report = json.loads((out / "report.json").read_text())

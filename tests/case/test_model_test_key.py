@@ -14,14 +14,23 @@ from coastmesh.case.result import model_dt
 from coastmesh.errors import ConfigError
 
 ROOT = Path(__file__).parents[2]
+#: the example case's own line (it writes both run folders)
+LINE = 'model_test = ["adcirc", "schism"]'
+
+
+def example_with(line: str) -> str:
+    """The coarse example with its ``model_test`` line replaced by ``line``."""
+    text = coarse_example_text()
+    assert text.count(LINE) == 1
+    return text.replace(LINE, line)
 
 
 def test_the_key_takes_model_names():
-    text = coarse_example_text().replace(
-        "[output]", '[output]\nmodel_test = ["adcirc", "schism"]', 1
-    )
+    text = coarse_example_text()
     assert parse_case(text, EXAMPLE).outputs.model_test == ("adcirc", "schism")
-    assert parse_case(coarse_example_text(), EXAMPLE).outputs.model_test == ()
+    one = parse_case(example_with('model_test = "schism"'), EXAMPLE)
+    assert one.outputs.model_test == ("schism",)
+    assert parse_case(example_with(""), EXAMPLE).outputs.model_test == ()
 
 
 @pytest.mark.parametrize(
@@ -33,9 +42,7 @@ def test_the_key_takes_model_names():
     ],
 )
 def test_bad_models_are_named(value, message):
-    text = coarse_example_text().replace(
-        "[output]", f"[output]\nmodel_test = {value}", 1
-    )
+    text = example_with(f"model_test = {value}")
     with pytest.raises(ConfigError, match=message) as info:
         parse_case(text, EXAMPLE)
     assert "output.model_test" in str(info.value)
@@ -51,9 +58,7 @@ def test_a_global_case_is_refused_with_why():
 
 
 def test_a_case_without_depths_is_refused():
-    text = coarse_example_text().replace(
-        "[output]", '[output]\nmodel_test = ["schism"]', 1
-    )
+    text = example_with('model_test = ["schism"]')
     start = text.index("[bathymetry]")
     end = text.index("\n[", start + 1)
     with pytest.raises(

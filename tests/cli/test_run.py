@@ -75,12 +75,17 @@ def test_run_writes_the_case_and_a_summary(run_cli, case_file, tmp_path):
     assert names == [
         "case.toml",
         "domain.gpkg",
+        "model_test",  # the example's ADCIRC and SCHISM smoke-test folders
         "pentland_firth.msh",
         "quality.json",
         "quality.txt",
         "report.json",
         "size.tif",
         "summary.txt",
+    ]
+    assert sorted(p.name for p in (tmp_path / "mesh" / "model_test").iterdir()) == [
+        "adcirc",
+        "schism",
     ]
     # a second run refuses to overwrite, then --overwrite replaces
     again = run_cli("run", case_file, "--output", tmp_path / "mesh")
