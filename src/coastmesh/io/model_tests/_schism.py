@@ -17,10 +17,17 @@ From SCHISM's own docs and source (``schism-dev/schism``: ``docs/input-output/``
 - ``manning.gr3``: Manning's n at each node, read with ``nchi = -1`` and
   ``hmin_man = 1`` m;
 - ``param.nml``: ``ibc = 1, ibtp = 0`` (barotropic), ``dramp`` the ramp in days
-  (``nramp_elev = 0``), ``indvel = 1, ihorcon = 0, ishapiro = 0`` (the docs'
-  choice for 2-D without viscosity), ``thetai = 0.6``, ``h0 = 0.01`` m (wetting
-  and drying), ``itur = 0``, ``rmaxvel = 10`` m/s (SCHISM's cap on the speed;
-  its default 5 would hide a blow-up under the 3 m/s a smoke test looks for);
+  (``nramp_elev = 0``); ``indvel = 0, ihorcon = 2, hvis_coef0 = 0.025,
+  ishapiro = 0`` (``param.md``'s starting point for the eddying regime:
+  discontinuous node velocities with bi-harmonic viscosity) and ``thetai = 1``
+  ("maximum stability for strong wet/dry"), chosen on the examples: with
+  ``indvel = 1`` and no viscosity, the NW shelf's coarse mesh blew up off
+  Ireland within 5 h of the ramp (150 m, the speed at SCHISM's cap), also with
+  ``thetai = 1``, at ``dt`` 25 s or in a projected frame, and with the
+  Shapiro filter (11 m), while with these it ran the cycle at 2.1 m and 1.4
+  m/s (ADCIRC: 2.2 m, 1.4 m/s); ``h0 = 0.01`` m (wetting and drying),
+  ``itur = 0``, ``rmaxvel = 10`` m/s (SCHISM's cap on the speed; its default
+  5 would hide a blow-up under the 3 m/s a smoke test looks for);
   elevation and depth-averaged velocity in ``outputs/out2d_1.nc`` every 10
   min, and none of the 3-D outputs SCHISM writes by default (each would need
   a scribe process of its own). ``&CORE`` lists every key, as SCHISM gives
@@ -176,10 +183,11 @@ def _param(test: ModelTest, where: Place) -> str:
         "ihot": 0,
         "dramp": f"{test.ramp / 86400.0:.10f}",
         "nramp_elev": 0,
-        "indvel": 1,
-        "ihorcon": 0,
+        "indvel": 0,
+        "ihorcon": 2,
+        "hvis_coef0": 0.025,
         "ishapiro": 0,
-        "thetai": 0.6,
+        "thetai": 1.0,
         "slam0": f"{lon:.6f}",
         "sfea0": f"{lat:.6f}",
         "nchi": -1,
