@@ -207,16 +207,34 @@ def test_turbines_csv_says_where_each_turbine_is(built, tmp_path):
     assert [r["name"] for r in rows] == ["discs_1", "discs_2", "nodes_1", "nodes_2"]
     assert tuple(rows[0]) == TURBINE_COLUMNS
     assert [int(r["region"]) for r in rows] == [100, 101, 20, 20]
-    for r in rows:
+    mesh = built.mesh
+    assert mesh.crs.is_geographic  # the example's output CRS: x, y are lon, lat
+    given = [p for group in built.config.turbines for p in group.positions]
+    assert len(given) == len(rows) == 4
+    for r, (lon, lat) in zip(rows, given, strict=True):
+        # the turbine: its place as the case gives it, in lon/lat and the mesh CRS
+        assert float(r["lon"]) == pytest.approx(lon, abs=1e-8)
+        assert float(r["lat"]) == pytest.approx(lat, abs=1e-8)
+        assert (float(r["x"]), float(r["y"])) == (lon, lat)  # as given, exactly
+        # its node: a mesh node, the nearest to the turbine
         node = int(r["node"])
-        assert float(r["x"]) == built.mesh.points[node, 0]
+        assert (float(r["node_x"]), float(r["node_y"])) == tuple(mesh.points[node])
+        gap = np.hypot(mesh.points[:, 0] - lon, mesh.points[:, 1] - lat)
+        assert gap[node] == gap.min()
         assert float(r["depth_m"]) == pytest.approx(
-            built.mesh.point_data["depth"][node], abs=1e-3
+            mesh.point_data["depth"][node], abs=1e-3
         )
-    for r in rows[2:]:  # the node turbines: their node is their place, to 1 mm
-        lon, lat = float(r["lon"]), float(r["lat"])
-        assert abs(lon - float(r["x"])) < 2e-8 and abs(lat - float(r["y"])) < 1e-8
-        assert float(r["element_size_m"]) == pytest.approx(4.5, rel=0.35)
+    utm = CRS.from_epsg(32630)
+    for r in rows:
+        turbine = reproject(shapely.Point(float(r["x"]), float(r["y"])), mesh.crs, utm)
+        node = reproject(
+            shapely.Point(float(r["node_x"]), float(r["node_y"])), mesh.crs, utm
+        )
+        if r["group"] == "discs":  # the nearest node of the footprint, not its centre
+            assert 1e-3 < turbine.distance(node) <= 9.0  # D/2
+        else:  # a node turbine: its node is its place, to 1 mm
+            assert turbine.distance(node) < 1e-3
+            assert float(r["element_size_m"]) == pytest.approx(4.5, rel=0.35)
 
 
 def test_footprint_ids_from_a_file_are_checked_too(tmp_path):

@@ -100,6 +100,74 @@ def test_default_output_is_relative_to_the_case_file(run_cli, case_file):
     assert str(case_file.parent / "out" / "pentland_firth") in result.output
 
 
+FARM_EXAMPLE = EXAMPLE.with_name("inner_sound_farm.toml")
+#: docs/sites.md's structure, a gradation naming it, and turbines from a file
+MORE_SITE = """
+[[structures]]
+name = "pier"
+id = 30
+polygon = [[-3.1372, 58.6415], [-3.1362, 58.6415], [-3.1362, 58.6445],
+           [-3.1372, 58.6445]]
+
+[[mesh_size.gradations]]
+lines = ["pier"]
+h_min = "25 m"
+d_grade = "4 km"
+
+[[turbines]]
+name = "spares"
+farm = "meygen"
+path = "spares.csv"
+crs = "EPSG:32630"
+diameter = "20 m"
+
+[[wakes]]
+of = "meygen"
+bearing = 100
+length = "1 km"
+sides = "flood"
+"""
+
+
+def test_check_lists_every_site_entry_and_what_it_is_checked_against(run_cli, tmp_path):
+    case = tmp_path / "site.toml"
+    case.write_text(FARM_EXAMPLE.read_text() + MORE_SITE)
+    result = run_cli("run", "--check", case)
+    assert result.exit_code == 0, result.output
+    head, *lines = result.output.splitlines()
+    assert head.startswith(f"{case}: OK: 3 shoreline sets, 2 regions, ")
+    assert (
+        "4 gradations, 1 farm, 4 turbines and 1 file of turbines, 2 wakes, 1 line, "
+        "1 structure; output"
+    ) in head
+    turbines = [(-3.145, 58.659), (-3.14, 58.659), (-3.135, 58.659), (-3.13, 58.659)]
+    assert lines == [
+        "  farm 'meygen': region 20, h 20 m; a polygon of 4 points, 1.55 km2",
+        "  turbines 'phase_1a': disc footprints, regions 100 to 103, h 0.25 D "
+        "(4.5 m), spacing 1 D (18 m), clearance 1 D (18 m), in farm 'meygen'",
+        *(
+            f"    turbine 'phase_1a_{n + 1}' at {lon}, {lat}, D 18 m, region {100 + n}"
+            for n, (lon, lat) in enumerate(turbines)
+        ),
+        # turbines from a file: their D is the file's, unknown to the check
+        "  turbines 'spares': a node each, h 0.25 D, spacing 1 D, clearance 1 D, in "
+        f"farm 'meygen'; from {tmp_path / 'spares.csv'} (x, y in EPSG:32630), D 20 "
+        "m unless the file gives it",
+        "  wake of turbines 'phase_1a': bearing 100 deg, length 20 D (360 m) both "
+        "ways, h 0.5 D (9 m)",
+        "  wake of farm 'meygen': bearing 100 deg, length 1,000 m flood side, h the "
+        "farm's (20 m)",
+        "  line 'array_cable': id 40; 2 points, 1,103 m long; h 9 m",
+        "  structure 'pier': boundary id 30; a polygon of 4 points, 19,405 m2",
+    ]
+    # a case without a site lists none of it
+    plain = run_cli("run", "--check", EXAMPLE)
+    assert plain.exit_code == 0, plain.output
+    assert len(plain.output.splitlines()) == 1
+    for word in ("farm", "turbine", "wake", "line", "structure"):
+        assert not re.search(rf"\b{word}", plain.output), word
+
+
 def test_unknown_key_is_a_usage_error_naming_it(run_cli, case_file, tmp_path):
     case_file.write_text(case_file.read_text().replace("[mesh]", "[mesh]\nsed = 1"))
     result = run_cli("run", case_file, "-o", tmp_path / "x")

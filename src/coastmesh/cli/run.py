@@ -86,12 +86,17 @@ def run(
                 f"{case}: OK: a {config.kind} study; output {output or config.output}"
             )
         elif not quiet:
+            from coastmesh.case.site_check import site_counts, site_lines
+
+            site = "".join(f", {count}" for count in site_counts(config))
             click.echo(
                 f"{case}: OK: {len(config.sets)} shoreline sets, "
                 f"{len(config.regions)} regions, {len(config.boundaries)} open "
-                f"boundaries, {len(config.size.gradations)} gradations; output "
-                f"{output or config.output}"
+                f"boundaries, {len(config.size.gradations)} gradations{site}; "
+                f"output {output or config.output}"
             )
+            for line in site_lines(config):
+                click.echo(f"  {line}")
         return
     from coastmesh.case import run_case
 

@@ -62,7 +62,7 @@ class Turbine:
     name: str
     group: str
     xy: tuple[float, float]
-    lonlat: tuple[float, float]
+    lonlat: tuple[float, float] | None  # as given; None if given in another CRS
     diameter: float
     h: float
     footprint: str
@@ -508,6 +508,8 @@ TURBINE_COLUMNS = (
     "x",
     "y",
     "node",
+    "node_x",
+    "node_y",
     "region",
     "diameter_m",
     "size_m",
@@ -519,22 +521,31 @@ TURBINE_COLUMNS = (
 def turbine_rows(site: SiteFeatures, mesh) -> list[dict[str, object]]:
     """Return a row per turbine: where it is and what the mesh has there.
 
-    ``x``, ``y`` are in the mesh's (output) CRS, ``node`` is the index of its
-    node (the nearest node of a footprint), ``region`` the physical id of its
-    footprint or of the triangles at its node, ``size_m`` the size asked,
-    ``element_size_m`` the mean length of the mesh edges at its node (metres,
-    in the meshing CRS), ``depth_m`` the depth there (empty without one).
+    ``lon``, ``lat`` are the turbine's place (as the case gives it, if in
+    lon/lat) and ``x``, ``y`` the same place in the mesh's (output) CRS;
+    ``node`` is the index of its node (the nearest node of a footprint, whose
+    centre is the turbine) and ``node_x``, ``node_y`` that node's place in the
+    mesh's CRS (a node turbine's, within 1 mm of its own). ``region`` is the
+    physical id of its footprint or of the triangles at its node, ``size_m``
+    the size asked, ``element_size_m`` the mean length of the mesh edges at
+    its node (metres, in the meshing CRS), ``depth_m`` the depth there (empty
+    without one).
     """
     nodes = turbine_nodes(site, mesh)
-    lonlat = reproject_points(
-        np.array([t.xy for t in site.turbines]), site.crs, _LONLAT
-    )
+    places = np.array([t.xy for t in site.turbines])
+    lonlat = reproject_points(places, site.crs, _LONLAT)
+    for k, t in enumerate(site.turbines):
+        if t.lonlat is not None:  # given in lon/lat: as given, not round-tripped
+            lonlat[k] = t.lonlat
+    placed = reproject_points(lonlat, _LONLAT, mesh.crs) if mesh.crs else places
     plane = (
         reproject_points(mesh.points, mesh.crs, site.crs) if mesh.crs else mesh.points
     )
     depth = mesh.point_data.get("depth")
     rows = []
-    for t, node, (lon, lat) in zip(site.turbines, nodes, lonlat, strict=True):
+    for t, node, (lon, lat), (x, y) in zip(
+        site.turbines, nodes, lonlat, placed, strict=True
+    ):
         at = np.flatnonzero((mesh.triangles == node).any(axis=1))
         neighbours = np.setdiff1d(np.unique(mesh.triangles[at]), [node])
         lengths = np.hypot(*(plane[neighbours] - plane[node]).T)
@@ -546,9 +557,11 @@ def turbine_rows(site: SiteFeatures, mesh) -> list[dict[str, object]]:
                 "group": t.group,
                 "lon": f"{lon:.8f}",
                 "lat": f"{lat:.8f}",
-                "x": repr(float(mesh.points[node, 0])),
-                "y": repr(float(mesh.points[node, 1])),
+                "x": repr(float(x)),
+                "y": repr(float(y)),
                 "node": int(node),
+                "node_x": repr(float(mesh.points[node, 0])),
+                "node_y": repr(float(mesh.points[node, 1])),
                 "region": region,
                 "diameter_m": f"{t.diameter:g}",
                 "size_m": f"{t.h:g}",
