@@ -252,11 +252,11 @@ def test_geodesic_areas_are_pyprojs_bit_for_bit():
 )
 def test_areas_in_a_world_plane_are_areas_on_the_earth(seed, pole):
     # islands of 50 to 2000 km2 anywhere but round the pole, in the plane of a
-    # global case: their areas (and min_area's test) are those on the sphere,
-    # not the plane's, which are k^2 larger
+    # global case: their areas (and min_area's test) are those on the WGS84
+    # ellipsoid, as in lon/lat, not the plane's (k^2 larger) nor the sphere's
     from pyproj import Geod
 
-    from coastmesh.geometry.earth import EARTH_RADIUS, reproject
+    from coastmesh.geometry.earth import reproject
     from coastmesh.geometry.sphere import plane_crs, stereographic_scale
 
     rng = np.random.default_rng(seed)
@@ -268,8 +268,10 @@ def test_areas_in_a_world_plane_are_areas_on_the_earth(seed, pole):
     boxes = shapely.segmentize(
         shapely.box(lon, lat, lon + side / np.cos(np.radians(lat)), lat + side), 0.01
     )
-    sphere = Geod(a=EARTH_RADIUS, b=EARTH_RADIUS)
-    literal = np.array([abs(sphere.geometry_area_perimeter(b)[0]) for b in boxes])
+    wgs84 = Geod(ellps="WGS84")
+    literal = np.array([abs(wgs84.geometry_area_perimeter(b)[0]) for b in boxes])
+    lonlat = CRS("EPSG:4326")
+    np.testing.assert_allclose(polygon_areas(boxes, lonlat), literal, rtol=1e-9)
     crs = plane_crs(pole)
     plane = reproject(boxes, "EPSG:4326", crs)
     got = polygon_areas(plane, crs)

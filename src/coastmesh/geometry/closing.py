@@ -57,9 +57,14 @@ from dataclasses import dataclass
 import numpy as np
 import shapely
 from numpy.typing import NDArray
+from pyproj import CRS
 
 from coastmesh.geometry import cells
-from coastmesh.geometry.earth import EARTH_RADIUS
+from coastmesh.geometry.earth import (
+    EARTH_RADIUS,
+    ellipsoid_area_scale,
+    reproject_points,
+)
 from coastmesh.geometry.inlets import inlet_patches
 from coastmesh.geometry.unions import group_labels, groups_of, meeting_pairs
 
@@ -92,6 +97,7 @@ def close_narrow_water(
     keep_area: float = 0.0,
     zone: shapely.Geometry | None = None,
     threads: int = 1,
+    crs: CRS | None = None,
 ) -> tuple[NDArray[np.object_], int]:
     """Close water narrower than ``width`` between and within land polygons.
 
@@ -124,6 +130,10 @@ def close_narrow_water(
     threads : int, default 1
         Threads the rings and the unions run on (numpy and GEOS let go of
         Python's lock). The result does not depend on it.
+    crs : pyproj.CRS, optional
+        The plane's CRS: ``keep_area`` is then measured on the WGS84
+        ellipsoid, as ``[shorelines] min_area`` is (:func:`earth_areas`);
+        without it, on the sphere.
 
     Returns
     -------
@@ -157,7 +167,7 @@ def close_narrow_water(
         return np.concatenate([active, polygons]), 0
     edges = _Edges.of(active, region.box)
     land_pairs = meeting_pairs(active)
-    big = _big(active, keep_area, land_pairs)
+    big = _big(active, keep_area, land_pairs, crs)
     shapely.prepare(active)
     tree = shapely.STRtree(active)
     with ThreadPoolExecutor(max(1, int(threads))) as pool:
@@ -341,6 +351,7 @@ def _big(
     polygons: NDArray[np.object_],
     keep_area: float,
     land: tuple[NDArray[np.intp], NDArray[np.intp]],
+    crs: CRS | None = None,
 ) -> NDArray[np.bool_]:
     """Return which polygons are land of ``keep_area`` or more on the Earth.
 
@@ -350,13 +361,24 @@ def _big(
     if keep_area <= 0:
         return np.zeros(len(polygons), dtype=bool)
     label = group_labels(len(polygons), land)
-    return np.bincount(label, weights=earth_areas(polygons))[label] >= keep_area
+    areas = earth_areas(polygons, crs)
+    return np.bincount(label, weights=areas)[label] >= keep_area
 
 
-def earth_areas(polygons: NDArray[np.object_]) -> NDArray[np.float64]:
+def earth_areas(
+    polygons: NDArray[np.object_], crs: CRS | None = None
+) -> NDArray[np.float64]:
     """Return the areas on the Earth of (multi)polygons in a stereographic plane.
 
-    In square metres; other geometries have none.
+    In square metres; other geometries have none. On the sphere of radius
+    :data:`~coastmesh.geometry.earth.EARTH_RADIUS` without ``crs``; with the
+    plane's ``crs``, on the WGS84 ellipsoid, as a regional case and
+    :func:`~coastmesh.geometry.domain.polygon_areas` in longitude and
+    latitude measure them: each polygon's sphere area times
+    :func:`~coastmesh.geometry.earth.ellipsoid_area_scale` at its centroid's
+    latitude (exact to first order in the polygon's span in latitude; an
+    island's area off by the sphere's 0.7 % at 70 N had it taken for one under
+    ``min_area``).
 
     The plane's area element is ``k^2`` times the Earth's, ``k = 1 + r^2 /
     4R^2``; by Green's theorem the Earth's area of a region is the integral of
@@ -390,6 +412,10 @@ def earth_areas(polygons: NDArray[np.object_]) -> NDArray[np.float64]:
     per_ring = np.abs(np.bincount(ring[:-1], term, len(rings)))
     exterior = np.r_[True, owner[1:] != owner[:-1]]
     area = np.bincount(owner, np.where(exterior, per_ring, -per_ring), len(polygons))
+    if crs is not None:
+        centre = shapely.get_coordinates(shapely.centroid(polygons))
+        scale = ellipsoid_area_scale(reproject_points(centre, crs, "EPSG:4326")[:, 1])
+        area *= np.where(np.isfinite(scale), scale, 1.0)  # empty: no centroid
     return np.bincount(of, area, len(geoms))
 
 
@@ -812,6 +838,7 @@ def island_changes(
     min_area: float,
     share: float = 0.1,
     framed: bool = False,
+    crs: CRS | None = None,
 ) -> tuple[int, list[IslandChange]]:
     """Return the islands of ``min_area`` or more whose area changed by ``share``.
 
@@ -827,6 +854,8 @@ def island_changes(
     framed : bool, default False
         ``after[0]`` is the frame round the ocean (a global case's polar land):
         an island joined to it is listed, with its ``after`` NaN.
+    crs : pyproj.CRS, optional
+        The plane's CRS: areas on the WGS84 ellipsoid (:func:`earth_areas`).
 
     Returns
     -------
@@ -847,7 +876,7 @@ def island_changes(
     """
     before = np.asarray(before, dtype=object)
     after = np.asarray(after, dtype=object)
-    area = earth_areas(before)
+    area = earth_areas(before, crs)
     point = shapely.get_coordinates(shapely.point_on_surface(before))
     holder = np.full(len(before), -1)
     shapely.prepare(after)
@@ -860,11 +889,11 @@ def island_changes(
     held_looked = looked & (holder >= 0)
     holders = np.unique(holder[held_looked])  # only their areas are needed
     lookup = np.zeros(len(after))
-    lookup[holders] = earth_areas(after[holders])
+    lookup[holders] = earth_areas(after[holders], crs)
     now = np.where(held_looked, lookup[np.maximum(holder, 0)], np.nan)
     for i in np.flatnonzero(looked & (holder < 0)):  # opened, or gone
         left = shapely.intersection(before[i], after[tree.query(before[i])])
-        now[i] = earth_areas(left).sum()
+        now[i] = earth_areas(left, crs).sum()
     polar = framed & (holder == 0)
     now[polar] = np.nan
     change = np.where(polar, np.inf, np.abs(now - area))

@@ -493,10 +493,10 @@ def polygon_areas(polygons: ArrayLike, crs: CRS) -> NDArray[np.float64]:
         if crs.to_epsg() != 4326:
             polygons = reproject(polygons, crs, "EPSG:4326")
         return np.array([abs(_geodesic_area(p)) for p in polygons])
-    if is_world_plane(crs):  # a global case's plane: the areas on the Earth
+    if is_world_plane(crs):  # a global case's plane: the areas on WGS84
         from coastmesh.geometry.closing import earth_areas  # (with scipy: late)
 
-        return earth_areas(polygons)
+        return earth_areas(polygons, crs)
     return shapely.area(polygons) * metres_per_unit(crs) ** 2
 
 

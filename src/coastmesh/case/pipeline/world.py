@@ -56,7 +56,11 @@ from coastmesh.case.pipeline.state import (
 from coastmesh.case.pipeline.strategy import Strategy
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry import simplify_shorelines
-from coastmesh.geometry.closing import close_narrow_water, island_changes
+from coastmesh.geometry.closing import (
+    close_narrow_water,
+    earth_areas,
+    island_changes,
+)
 from coastmesh.geometry.earth import (
     EARTH_RADIUS,
     METRES_PER_DEGREE,
@@ -183,9 +187,7 @@ def _check_seed(config: CaseConfig, world: WorldLand, lonlat: CRS) -> None:
         )
     hit = shapely.STRtree(world.islands).query(point, "within")
     if len(hit):
-        # its area on the Earth, roughly: the plane's k at the seed
-        k = 1.0 + (math.hypot(point.x, point.y) / (2.0 * EARTH_RADIUS)) ** 2
-        area = max(shapely.area(world.islands[hit])) / k**2
+        area = earth_areas(world.islands[hit], world.crs).max()
         if area >= kept_area(config):
             raise ConfigError(
                 f"{where}: lies on land in {config.shorelines.path} (an island or "
@@ -276,9 +278,12 @@ def _closed(
         _zone(config, s, world.crs, lonlat),
         keep_area=min_area,
         threads=threads,
+        crs=world.crs,
     )
     logger.info("%s: %d polygons joined across water under %g m", s.name, merged, close)
-    looked, changed = island_changes(islands, land, min_area=min_area, framed=True)
+    looked, changed = island_changes(
+        islands, land, min_area=min_area, framed=True, crs=world.crs
+    )
     where = np.reshape([c.point for c in changed], (-1, 2))
     points = reproject_points(where, world.crs, lonlat)
     closing = ClosingReport(
@@ -352,6 +357,7 @@ def _close(
     *,
     keep_area: float = 0.0,
     threads: int = 1,
+    crs: CRS | None = None,
 ) -> tuple[NDArray[np.object_], int]:
     """Close narrow water, only near ``zone`` (a region set's regions) if given.
 
@@ -365,7 +371,13 @@ def _close(
         scale = 1.0 + (far / (2.0 * EARTH_RADIUS)) ** 2  # the plane's k there
         near = zone.buffer(4.0 * width * scale)
     return close_narrow_water(
-        land, width, within=reach, keep_area=keep_area, zone=near, threads=threads
+        land,
+        width,
+        within=reach,
+        keep_area=keep_area,
+        zone=near,
+        threads=threads,
+        crs=crs,
     )
 
 
