@@ -7,6 +7,7 @@
 :mod:`.stitch`            one land geometry from shoreline sets by region
 :mod:`.rhumb`             loxodromes and great circles for open boundaries
 :mod:`.domain`            the sea polygon and its tagged boundary
+:mod:`.no_sea`            why a coast and open boundaries enclose no sea
 :mod:`.earth`             reprojection, earth-centred coordinates, lengths
 :mod:`.projection`        the conformal CRS meshes are made in, scale factors
 :mod:`.sphere`            lon/lat and vectors, the stereographic plane

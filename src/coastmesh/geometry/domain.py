@@ -20,8 +20,9 @@ from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS, Geod
 
 from coastmesh.errors import ConfigError, InputDataError
-from coastmesh.geometry.earth import metres_per_unit, reproject, reproject_points
+from coastmesh.geometry.earth import metres_per_unit, reproject
 from coastmesh.geometry.layers import valid_polygons
+from coastmesh.geometry.no_sea import no_sea_error
 from coastmesh.geometry.sphere import is_world_plane
 from coastmesh.geometry.unions import union_meeting
 from coastmesh.types import BoundarySegment, Domain, Report
@@ -191,8 +192,9 @@ def build_domain(
     linework = shapely.node(shapely.union_all([shapely.boundary(merged), *lines]))
     faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(linework)))
     sea = faces[~shapely.within(shapely.point_on_surface(faces), merged)]
+    sea = sea[shapely.area(sea) > _degenerate_area(linework)]
     if len(sea) == 0:
-        raise _no_sea(merged, open_boundaries, crs)
+        raise no_sea_error(merged, open_boundaries, crs)
     if seed is not None:
         point = shapely.Point(seed)
         if shapely.contains(merged, point):
@@ -221,50 +223,15 @@ def build_domain(
     return Domain(domain, tuple(segments), crs, surface_id), report
 
 
-#: An open boundary's end farther than this from land and from the other open
-#: boundaries (metres) leaves the water open there (:func:`_no_sea`).
-_REACH = 1.0
+def _degenerate_area(linework: shapely.Geometry) -> float:
+    """Return the area of a face that is only rounding: a point or a sliver.
 
-
-def _no_sea(
-    land: shapely.Geometry, open_boundaries: list[OpenBoundary], crs: CRS
-) -> InputDataError:
-    """Return the error for shorelines and open boundaries that close no water.
-
-    Each end of an open boundary must reach land or another open boundary:
-    the ends that do not are named, in lon/lat, with how far they stop short;
-    so is a boundary that lies wholly on land.
+    A land polygon of no area (a DEM sample a hair above the level at the
+    raster's edge gives one, 1e-29 square degrees) polygonizes to a face that
+    is not within the land; it is no sea.
     """
-    lines = [shapely.LineString(b.coords) for b in open_boundaries]
-    unit = metres_per_unit(crs)
-    faults = []
-    for i, (boundary, line) in enumerate(zip(open_boundaries, lines, strict=True)):
-        label = f"open boundary {boundary.name!r} (id {boundary.physical_id})"
-        if shapely.covered_by(line, land):
-            faults.append(f"{label} lies wholly on land")
-            continue
-        if line.is_closed:  # a loop: no loose end
-            continue
-        ends = shapely.points(np.asarray(boundary.coords, dtype=np.float64)[[0, -1]])
-        others = [land, *lines[:i], *lines[i + 1 :]]
-        gaps = np.min([shapely.distance(g, ends) for g in others], axis=0) * unit
-        lonlat = reproject_points(shapely.get_coordinates(ends), crs, "EPSG:4326")
-        faults += [
-            f"{label} ends at ({lon:.4f}, {lat:.4f}) (lon, lat), {gap / 1000:.3g} km "
-            "from land and the other open boundaries"
-            for (lon, lat), gap in zip(lonlat, gaps, strict=True)
-            if gap > _REACH
-        ]
-    if not open_boundaries:
-        faults.append("there are no open boundaries")
-    why = "; ".join(faults) or (
-        "each open boundary reaches land at both ends, but with the coast they "
-        "close no water"
-    )
-    return InputDataError(
-        f"the shorelines and open boundaries enclose no sea: {why}. An open "
-        "boundary must cross the coast, or meet another open boundary, at both ends"
-    )
+    minx, miny, maxx, maxy = shapely.bounds(linework)
+    return 1e-18 * max(maxx - minx, maxy - miny) ** 2
 
 
 def domain_with_land(
