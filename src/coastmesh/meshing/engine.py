@@ -32,10 +32,10 @@ from coastmesh.meshing.cleanup.aside import done_now
 from coastmesh.meshing.cleanup.fixes import fix_seam_slivers
 from coastmesh.meshing.cleanup.report import CleanupOptions, combine, stats
 from coastmesh.meshing.gmsh.boundary_nodes import boundary_nodes
+from coastmesh.meshing.gmsh.crossings import boundary_crossings, resample_valid
 from coastmesh.meshing.gmsh.model import (
     ALGORITHMS,
 )
-from coastmesh.meshing.gmsh.resample import check_boundary, resample_rings
 from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
 from coastmesh.meshing.parts.cuts import (
     MIN_PART_TRIANGLES,
@@ -288,6 +288,7 @@ def mesh_in_parts(
         )
         if (error := warming.exception()) is not None:  # a head start only
             logger.warning("workers not started ahead: %s", error)
+    _check_nodes(water, mesh_crs)
     plane = _inner_plane(inner, domain.crs, mesh_crs, map_size)
     pieces, chords, wanted = _cut(pieces, water, map_size, parts, plane, threads)
     faces = split_faces(
@@ -340,9 +341,12 @@ def _boundary(domain: Domain, mesh_crs: CRS, map_size: Any) -> tuple[list, list,
     (an island whose perimeter is under three target edges is dropped).
     """
     rings, ids = project_rings(domain, mesh_crs)
-    resampled, dropped = resample_rings(rings, lambda xy: sample_size(map_size, xy))
+    resampled, dropped = resample_valid(
+        rings,
+        lambda xy: sample_size(map_size, xy),
+        lambda x, y: _lonlat(x, y, mesh_crs),
+    )
     ids = [ring_ids for r, ring_ids in enumerate(ids) if r not in set(dropped)]
-    check_boundary(resampled, lambda x, y: _lonlat(x, y, mesh_crs))
     logger.info(
         "boundary: %d rings, %d -> %d nodes, %d islands dropped",
         len(rings),
@@ -351,6 +355,25 @@ def _boundary(domain: Domain, mesh_crs: CRS, map_size: Any) -> tuple[list, list,
         len(dropped),
     )
     return rings, resampled, ids
+
+
+def _check_nodes(water: shapely.Polygon, mesh_crs: CRS) -> None:
+    """Raise if the boundary's mesh nodes bound no valid polygon, naming where.
+
+    Gmsh places the nodes along the resampled coast at the size, so two
+    coasts closer than that can still cross between nodes; the overlays of
+    the parts would then fail in GEOS ("side location conflict") far from
+    the cause.
+    """
+    rings = [[[np.asarray(r.coords)]] for r in (water.exterior, *water.interiors)]
+    crossing = boundary_crossings(rings)
+    if len(crossing):
+        raise MeshingError(
+            f"the boundary's mesh nodes cross at {len(crossing)} places, the "
+            f"first at {_lonlat(*crossing[0, :2], mesh_crs)}: two coasts there "
+            "are closer than the size resolves; close the water there ([domain] "
+            "close at least the size), or make the size there smaller"
+        )
 
 
 def _lonlat(x: float, y: float, crs: CRS) -> str:
