@@ -263,3 +263,21 @@ def test_islands_of_keep_area_are_never_opened_away():
     assert area_over(kept, bar) > 0.99  # whole (to the seam clean-up's metre)
     assert area_over(kept, big) > 0.99  # with its spit
     assert area_over(kept, small) == 0.0  # under keep_area: opened away
+
+
+def test_a_geos_error_on_the_world_layer_names_the_place_in_lonlat():
+    import shapely.errors
+
+    from coastmesh.errors import InputDataError
+    from coastmesh.geometry.sphere import plane_crs
+    from coastmesh.geometry.world import geos_errors_named
+
+    message = (
+        "TopologyException: side location conflict at -4803976.18 -3753404.44. "
+        "This can occur if the input geometry is invalid."
+    )
+    with pytest.raises(InputDataError, match=r"world\.gpkg") as caught:
+        with geos_errors_named("world.gpkg", plane_crs((0.0, -90.0))):
+            raise shapely.errors.GEOSException(message)
+    assert "at (128.0009, 38.8625) (lon, lat)" in str(caught.value)
+    assert "side location conflict" in str(caught.value)

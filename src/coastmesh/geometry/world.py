@@ -31,6 +31,9 @@ latitude are taken as spherical coordinates, as they are there.
 
 from __future__ import annotations
 
+import re
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numpy as np
@@ -40,13 +43,14 @@ from pyproj import CRS
 
 from coastmesh.errors import InputDataError
 from coastmesh.geometry.closing import close_narrow_water
-from coastmesh.geometry.earth import reproject
+from coastmesh.geometry.earth import reproject, reproject_points
 from coastmesh.geometry.layers import valid_polygons
 from coastmesh.geometry.sphere import plane_crs
 
 __all__ = [
     "WorldLand",
     "WorldOcean",
+    "geos_errors_named",
     "join_dateline",
     "polar_ring",
     "world_land",
@@ -358,3 +362,40 @@ def _check_cover(geoms: NDArray[np.object_]) -> None:
             f"{y0:.1f} to {y1:.1f}: a global case needs a world layer that covers "
             "both hemispheres (GSHHG level 1 with Antarctica, level 5 or 6)"
         )
+
+
+@contextmanager
+def geos_errors_named(path: str, plane: CRS | None) -> Iterator[None]:
+    """Turn a GEOS error on the world layer into one that names the place.
+
+    GEOS names a point of the plane ("side location conflict at -4803976.18
+    -3753404.44"), which a user cannot find; this gives it in lon/lat, with
+    the layer, and what to do.
+
+    Raises
+    ------
+    InputDataError
+        For a ``shapely.errors.GEOSException`` inside the block.
+
+    Examples
+    --------
+    >>> with geos_errors_named("world.gpkg", None):
+    ...     pass
+    """
+    try:
+        yield
+    except shapely.errors.GEOSException as exc:
+        number = r"(-?\d+(?:\.\d+)?(?:[eE][-+]?\d+)?)"
+        found = re.search(number + r"[ ,]+" + number, str(exc))
+        place = ""
+        if found and plane is not None:
+            xy = np.array([[float(found[1]), float(found[2])]])
+            lon, lat = reproject_points(xy, plane, "EPSG:4326")[0]
+            place = f" at ({lon:.4f}, {lat:.4f}) (lon, lat)"
+        raise InputDataError(
+            f"GEOS could not combine the world layer's polygons{place}: {exc}. "
+            "The layer's polygons there may be invalid or touch themselves "
+            "once in the plane: repair them (ogr2ogr -makevalid), or leave "
+            "that place out with a [[cuts]] line",
+            path=path,
+        ) from exc

@@ -67,7 +67,8 @@ from coastmesh.geometry.earth import (
     reproject,
     reproject_points,
 )
-from coastmesh.geometry.world import WorldLand, world_land
+from coastmesh.geometry.sphere import plane_crs
+from coastmesh.geometry.world import WorldLand, geos_errors_named, world_land
 from coastmesh.io import read_raster
 from coastmesh.meshing.gmsh import SphereSizeGrid
 from coastmesh.sizing.grid import SphereGrid
@@ -92,7 +93,10 @@ class Global(Strategy):
         with ctx.timed("reading shorelines"):
             features, crs = read_shorelines(config)
         _check_lonlat(config, crs)
-        with ctx.timed("the world in the plane"):
+        named = geos_errors_named(
+            str(config.shorelines.path), plane_crs(config.domain.pole)
+        )
+        with ctx.timed("the world in the plane"), named:
             world = _world(config, features, crs)
         _check_seed(config, world, crs)
         _warn_near_pole(config, world, crs)
@@ -107,7 +111,8 @@ class Global(Strategy):
         )
         sets, reports = {}, {}
         for s in config.sets:
-            with ctx.timed(set_label(s)) as progress:
+            named = geos_errors_named(str(config.shorelines.path), plane)
+            with ctx.timed(set_label(s)) as progress, named:
                 land, reports[s.name] = build_shoreline_set(
                     s, islands, plane, kept_area(config), progress, workers=ctx.threads
                 )
@@ -120,7 +125,8 @@ class Global(Strategy):
         """Build the ocean in the plane; mesh there, write in lon/lat."""
         config, shorelines = run.config, run.shorelines or missing("shorelines")
         plane = shorelines.plane or missing("the plane")
-        with ctx.timed("building the domain"):
+        named = geos_errors_named(str(config.shorelines.path), plane)
+        with ctx.timed("building the domain"), named:
             return build_case_domain(
                 config,
                 shorelines.sets,
