@@ -101,31 +101,90 @@ def test_modules_are_small():
 
 FUNCTION_LINES = 80
 
+# Functions over FUNCTION_LINES that are still to be split, each with its file
+# and name. Temporary: issue 49 (the counter subtracted docstring blank lines
+# it never counted). Empty this once they are split; do not add to it.
+TOO_LONG_FOR_NOW = {
+    ("meshing/engine.py", "mesh_in_parts"),  # issue 49: being edited elsewhere
+}
+
+
+def _code_lines(node: ast.FunctionDef | ast.AsyncFunctionDef, lines: list[str]) -> int:
+    """Lines of ``node`` that are neither blank, a comment nor its docstring."""
+    docstring = set()
+    body = node.body
+    if (
+        body
+        and isinstance(body[0], ast.Expr)
+        and isinstance(body[0].value, ast.Constant)
+        and isinstance(body[0].value.value, str)
+    ):
+        docstring = set(range(body[0].lineno, body[0].end_lineno + 1))
+    return sum(
+        1
+        for number in range(node.lineno, node.end_lineno + 1)
+        if number not in docstring
+        and lines[number - 1].strip()
+        and not lines[number - 1].strip().startswith("#")
+    )
+
+
+def test_code_lines_count_neither_docstring_blanks_nor_comments():
+    """Blank lines inside a docstring are not code, and are not taken off twice."""
+    source = '''def f(x):
+    """Summary.
+
+    More text.
+
+    """
+    # a comment
+
+    y = x + 1
+    return y
+'''
+    node = ast.parse(source).body[0]
+    assert _code_lines(node, source.splitlines()) == 3
+
 
 @pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(PACKAGE)))
 def test_functions_are_short(path):
-    """No function has more than 80 lines of code (its docstring aside)."""
+    """No function has more than 80 lines of code.
+
+    Code is every line from ``def`` to the function's last line that is not
+    blank, not a comment and not in its docstring (nested functions count
+    towards the function that holds them).
+    """
     text = path.read_text(encoding="utf-8")
     lines = text.splitlines()
+    name = path.relative_to(PACKAGE).as_posix()
     for node in ast.walk(ast.parse(text)):
         if not isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
             continue
-        body = node.body
-        doc = 0
-        if (
-            body
-            and isinstance(body[0], ast.Expr)
-            and isinstance(getattr(body[0], "value", None), ast.Constant)
-        ):
-            doc = body[0].end_lineno - body[0].lineno + 1
-        code = [
-            line
-            for line in lines[node.lineno - 1 : node.end_lineno]
-            if line.strip() and not line.strip().startswith("#")
-        ]
-        assert len(code) - doc <= FUNCTION_LINES, (
+        if (name, node.name) in TOO_LONG_FOR_NOW:
+            continue
+        code = _code_lines(node, lines)
+        assert code <= FUNCTION_LINES, (
             f"{path.relative_to(ROOT)}:{node.lineno} {node.name} has "
-            f"{len(code) - doc} lines of code (at most {FUNCTION_LINES})"
+            f"{code} lines of code (at most {FUNCTION_LINES})"
+        )
+
+
+def test_the_allowlist_of_long_functions_is_still_needed():
+    """Each function allowed over the limit still exists and is still too long."""
+    for name, function in TOO_LONG_FOR_NOW:
+        path = PACKAGE / name
+        text = path.read_text(encoding="utf-8")
+        lines = text.splitlines()
+        found = [
+            _code_lines(node, lines)
+            for node in ast.walk(ast.parse(text))
+            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)
+            and node.name == function
+        ]
+        assert found, f"{name} has no function {function}: drop it from the list"
+        assert max(found) > FUNCTION_LINES, (
+            f"{name} {function} has {max(found)} lines of code now: "
+            "drop it from TOO_LONG_FOR_NOW"
         )
 
 

@@ -307,16 +307,7 @@ def depth_at_nodes(
     held = (dry & ~took_wet) | (coast if land != "wet" else False)
     if land == "min_depth" and min_depth is not None:
         held &= ~dry  # the floor replaced them
-    shallow, raised = 0, np.zeros(len(depth), dtype=bool)
-    if min_depth is not None:
-        raised = depth < min_depth
-        shallow = int(raised.sum())
-        depth = np.maximum(depth, min_depth)
-    limited = 0
-    if max_slope is not None:
-        limited_depth = limit_slope(mesh, depth, max_slope)
-        limited = int((limited_depth != depth).sum())
-        depth = limited_depth
+    depth, raised, limited = _floor_and_slope(mesh, depth, min_depth, max_slope)
     if later is not None:
         radius = later.result()
     coarse, radius = _coarse_at_coast(sources, mesh, source, coast | land_nodes, radius)
@@ -331,7 +322,7 @@ def depth_at_nodes(
         method=method,
         averaged=int(sample.averaged.sum()),
         nearest=int(gap.sum()),
-        below_min_depth=shallow,
+        below_min_depth=int(raised.sum()),
         slope_limited=limited,
         min=float(depth.min()),
         max=float(depth.max()),
@@ -355,6 +346,29 @@ def depth_at_nodes(
             stacklevel=2,
         )
     return depth, report
+
+
+def _floor_and_slope(
+    mesh: Mesh,
+    depth: NDArray[np.float64],
+    min_depth: float | None,
+    max_slope: float | None,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_], int]:
+    """Raise depths to ``min_depth``, then limit the slope.
+
+    Returns the depths, the nodes raised, and the number of nodes the slope
+    limit changed.
+    """
+    raised = np.zeros(len(depth), dtype=bool)
+    if min_depth is not None:
+        raised = depth < min_depth
+        depth = np.maximum(depth, min_depth)
+    limited = 0
+    if max_slope is not None:
+        limited_depth = limit_slope(mesh, depth, max_slope)
+        limited = int((limited_depth != depth).sum())
+        depth = limited_depth
+    return depth, raised, limited
 
 
 def _sample(sources: DepthSources, mesh: Mesh, radius, outside: str):

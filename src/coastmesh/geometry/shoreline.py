@@ -133,19 +133,7 @@ def simplify_shorelines(
     modes = check_modes(modes, window)
     workers = check_workers(workers)
     geoms = np.asarray(geometries, dtype=object).ravel()
-    present = ~(shapely.is_missing(geoms) | shapely.is_empty(geoms))
-    types = shapely.get_type_id(geoms)
-    polygonal = present & np.isin(types, _POLYGONAL)
-    linear = present & np.isin(types, _LINEAR)
-    other = present & ~(polygonal | linear)
-    if other.any():
-        check_coordinates(geoms)  # a bad coordinate is named first
-        bad = int(np.flatnonzero(other)[0])
-        raise InputDataError(
-            f"geometry type {shapely.get_type_id(geoms[bad])} "
-            f"({geoms[bad].geom_type}) is not a polygon or a line",
-            feature=bad,
-        )
+    present, types, polygonal = _check_types(geoms)
 
     # Flatten: parts, then rings (polygons) or lines, then coordinates.
     parts, part_feature = shapely.get_parts(geoms, return_index=True)
@@ -210,6 +198,33 @@ def simplify_shorelines(
         repaired=int(repaired.sum()),
     )
     return result, report
+
+
+def _check_types(
+    geoms: NDArray[np.object_],
+) -> tuple[NDArray[np.bool_], NDArray[np.int64], NDArray[np.bool_]]:
+    """Return which features are present, their type ids, and which are polygonal.
+
+    Raises
+    ------
+    InputDataError
+        If a present feature is neither polygonal nor linear (after naming any
+        non-finite coordinate first); ``feature`` is its index.
+    """
+    present = ~(shapely.is_missing(geoms) | shapely.is_empty(geoms))
+    types = shapely.get_type_id(geoms)
+    polygonal = present & np.isin(types, _POLYGONAL)
+    linear = present & np.isin(types, _LINEAR)
+    other = present & ~(polygonal | linear)
+    if other.any():
+        check_coordinates(geoms)  # a bad coordinate is named first
+        bad = int(np.flatnonzero(other)[0])
+        raise InputDataError(
+            f"geometry type {shapely.get_type_id(geoms[bad])} "
+            f"({geoms[bad].geom_type}) is not a polygon or a line",
+            feature=bad,
+        )
+    return present, types, polygonal
 
 
 def _count_points(geoms) -> int:

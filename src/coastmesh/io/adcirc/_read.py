@@ -417,23 +417,7 @@ def _boundary(
         [int(triangles.max()) + 1 if triangles.size else 0]
         + [int(nodes.max()) + 1 for nodes, *_ in segments if len(nodes)]
     )
-    parts = []
-    for k, ((nodes, *_), segment_runs) in enumerate(zip(segments, runs, strict=True)):
-        starts = np.array([start for start, _ in segment_runs], dtype=np.int64)
-        run_of = np.searchsorted(starts, np.arange(len(nodes) - 1), side="right") - 1
-        pids = np.array([pid for _, pid in segment_runs], dtype=np.int64)
-        parts.append(
-            np.column_stack(
-                [
-                    nodes[:-1],
-                    nodes[1:],
-                    pids[np.maximum(run_of, 0)],
-                    np.full(len(nodes) - 1, k),
-                ]
-            ).reshape(-1, 4)
-        )
-    table = np.concatenate(parts) if parts else np.empty((0, 4), np.int64)
-    table = table[table[:, 0] != table[:, 1]]  # a node repeated in place: no edge
+    table = _segment_edges(segments, runs)
     keys = np.minimum(table[:, 0], table[:, 1]) * n + np.maximum(
         table[:, 0], table[:, 1]
     )
@@ -489,6 +473,34 @@ def _boundary(
         np.concatenate([table[:, :2], more[:, :2]]),
         np.concatenate([table[:, 2], more[:, 2]]),
     )
+
+
+def _segment_edges(
+    segments: list[tuple[Any, str, int | None, str]],
+    runs: list[list[tuple[int, int]]],
+) -> NDArray[np.int64]:
+    """Return the segments' edges, one row each: node, node, id, segment.
+
+    Each two consecutive nodes of a segment are an edge, with the id of the run
+    it lies in; a node repeated in place makes no edge.
+    """
+    parts = []
+    for k, ((nodes, *_), segment_runs) in enumerate(zip(segments, runs, strict=True)):
+        starts = np.array([start for start, _ in segment_runs], dtype=np.int64)
+        run_of = np.searchsorted(starts, np.arange(len(nodes) - 1), side="right") - 1
+        pids = np.array([pid for _, pid in segment_runs], dtype=np.int64)
+        parts.append(
+            np.column_stack(
+                [
+                    nodes[:-1],
+                    nodes[1:],
+                    pids[np.maximum(run_of, 0)],
+                    np.full(len(nodes) - 1, k),
+                ]
+            ).reshape(-1, 4)
+        )
+    table = np.concatenate(parts) if parts else np.empty((0, 4), np.int64)
+    return table[table[:, 0] != table[:, 1]]
 
 
 def _which(segments: list[tuple[Any, str, int | None, str]], k: int) -> str:

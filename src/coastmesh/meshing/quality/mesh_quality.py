@@ -284,20 +284,25 @@ def mesh_quality(
         ),
         histograms=histograms(shape, edges),
     )
+    _log_quality(report, started)
+    return report
+
+
+def _log_quality(report: QualityReport, started: float) -> None:
+    """Log the report's one-line summary (INFO) and the time taken (DEBUG)."""
     logger.info(
         "quality: %d triangles, min angle %.2f deg, %d below 30, %d all-boundary, "
         "%d boundary corners below %g deg",
         report.triangles,
         report.min_angle.min,
         report.min_angle.below_30,
-        len(all_boundary),
-        corners.sharp,
+        len(report.all_boundary_triangles),
+        report.corners.sharp,
         SHARP_ANGLE,
     )
-    if time_step is not None:
-        logger.info("quality: %s", time_step.summary())
+    if report.time_step is not None:
+        logger.info("quality: %s", report.time_step.summary())
     logger.debug("quality measured in %.2f s", time.perf_counter() - started)
-    return report
 
 
 def _time_step(
