@@ -255,6 +255,50 @@ def test_smooth_land_tapers_to_min_depth_at_the_coast(etopo):
     assert report.tapered == int(((d < width) & (sea > 2.0)).sum()) > 50
 
 
+def test_the_summary_gives_the_share_at_min_depth_then_its_causes(etopo):
+    # "smooth" tapers the coast nodes to min_depth exactly: more nodes end at
+    # the floor than were raised to it, and the summary gives the former
+    from coastmesh.geometry.earth import earth_centred
+
+    mesh = _grid_mesh(-3.4, -2.6, 58.7, 59.2)
+    plain, _ = depth_at_nodes(mesh, etopo, land="keep")
+    sea, _ = depth_at_nodes(mesh, etopo, land="nearest_sea")
+    depth, report = depth_at_nodes(
+        mesh, etopo, land="smooth", land_distance=10e3, min_depth=2.0
+    )
+    at_floor = depth == 2.0
+    n = len(depth)
+    assert report.min_depth == 2.0
+    assert report.at_min_depth == int(at_floor.sum())
+    assert report.at_min_depth > report.below_min_depth > 0  # the counts differ
+    causes = report.at_min_depth_causes
+    assert sum(causes.values()) == report.at_min_depth
+    assert causes["raised"] + causes["raised_on_land"] == report.below_min_depth
+    # tapered to the floor: the coast nodes whose nearest wet cell is deeper
+    xyz = earth_centred(mesh.points, mesh.crs)
+    coast = np.unique(mesh.boundary_edges[mesh.boundary_ids == 1])
+    d = np.linalg.norm(xyz[:, None, :] - xyz[None, coast, :], axis=2).min(axis=1)
+    assert causes["tapered"] == int(((d == 0) & (sea > 2.0)).sum()) > 0
+    raised = at_floor & ~((d < 10e3) & (sea > 2.0))
+    assert causes["raised_on_land"] == int((raised & (plain <= 0)).sum()) > 0
+    assert causes["raised"] == int((raised & (plain > 0)).sum()) > 0
+    assert causes["rasters"] == 0
+    text = report.summary()
+    share = f"{report.at_min_depth:,} ({report.at_min_depth / n:.1%})"
+    assert f"; {share} at min_depth 2 m, by cause: " in text
+    raised_share = f"{causes['raised']:,} ({causes['raised'] / n:.1%})"
+    assert f"by cause: {raised_share} raised from shallower sea depths, " in text
+    assert f"{causes['tapered']:,} (" in text and "tapered to it at the coast" in text
+    assert "raised to the minimum depth" not in text
+    data = report.to_dict()
+    assert data["at_min_depth"] == report.at_min_depth and data["min_depth"] == 2.0
+    assert data["at_min_depth_causes"] == causes
+    # without a floor, the summary says so and counts nothing
+    _, bare = depth_at_nodes(mesh, etopo, land="nearest_sea")
+    assert bare.at_min_depth == 0 and bare.at_min_depth_causes == {}
+    assert "; no min_depth; " in bare.summary()
+
+
 def test_wet_rule_never_gives_a_sea_node_a_land_value(etopo):
     # the default: nodes beside land cells read the wet cells alone; nodes with
     # no wet cell around take the nearest wet cell (brute force below)

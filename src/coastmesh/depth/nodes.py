@@ -11,6 +11,7 @@ positive down.
 from __future__ import annotations
 
 import warnings
+from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
@@ -30,6 +31,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "DEPTH_METHODS",
+    "FLOOR_CAUSES",
     "LAND_TREATMENTS",
     "MAX_LAND_SHARE",
     "OUTSIDE_RULES",
@@ -68,6 +70,14 @@ RULES = (
     "land value",
     "outside the rasters",
 )
+#: Why a node's depth ends at ``min_depth`` (``DepthReport.at_min_depth_causes``),
+#: each with the words of the summary.
+FLOOR_CAUSES = {
+    "raised": "raised from shallower sea depths",
+    "raised_on_land": "raised on land in the rasters",
+    "tapered": "tapered to it at the coast",
+    "rasters": "the rasters' own depth",
+}
 #: Above this share of the nodes on land in the rasters, a raster is too
 #: coarse for the coast: an error unless ``land`` is given (the case decides).
 MAX_LAND_SHARE = 0.5
@@ -94,7 +104,8 @@ class DepthReport(Report):
         Nodes beyond every source's cover that took the nearest valid cell on
         the Earth (``outside="nearest"``).
     below_min_depth : int
-        Nodes raised to the minimum depth.
+        Nodes raised to the minimum depth from shallower (sea or land): one of
+        the causes of ``at_min_depth``, not the share at the floor.
     slope_limited : int
         Nodes made shallower by the slope limit.
     min, max : float
@@ -128,6 +139,17 @@ class DepthReport(Report):
         Nodes at the coast (land cells around them) whose elements are
         smaller than their raster's cells: the raster cannot tell their
         depths apart.
+    min_depth : float, optional
+        The depth floor, metres; None for none.
+    at_min_depth : int
+        Nodes whose depth ends at exactly ``min_depth``, whatever the cause.
+    at_min_depth_causes : dict of str to int
+        Those nodes by cause (:data:`FLOOR_CAUSES`), adding up to
+        ``at_min_depth``: ``"raised"`` sea nodes raised from shallower depths;
+        ``"raised_on_land"`` nodes on land in the rasters (as ``land`` counts
+        them) that the floor raised; ``"tapered"`` nodes tapered to it at the
+        coast; ``"rasters"`` nodes whose depth from the rasters (or the slope
+        limit) is ``min_depth`` itself. Empty without ``min_depth``.
     rules : ndarray of int8, shape (N,), optional
         What each node got, by :data:`RULES` (not in ``to_dict``): for
         ``figures/depth_rules.png``.
@@ -152,6 +174,9 @@ class DepthReport(Report):
     took_wet: int = 0
     land_values: int = 0
     coarse: int = 0
+    min_depth: float | None = None
+    at_min_depth: int = 0
+    at_min_depth_causes: dict[str, int] = field(default_factory=dict)
     rules: NDArray[np.int8] | None = field(
         default=None, repr=False, compare=False, metadata={"to_dict": False}
     )
@@ -175,9 +200,22 @@ class DepthReport(Report):
             f"{share(self.took_wet)} took the nearest wet cell, {self.tapered:,} "
             f"tapered), {share(self.coast_cells)} beside land cells; "
             f"{share(self.land_values)} hold land values; "
-            f"{share(self.below_min_depth)} raised to the minimum depth; "
+            f"{self._floor_summary(share)}; "
             f"{share(self.coarse)} at a coast finer than the raster; "
             f"{self.slope_limited:,} changed by the slope limit"
+        )
+
+    def _floor_summary(self, share: Callable[[int], str]) -> str:
+        """Return the nodes at ``min_depth`` in all, then by cause."""
+        if self.min_depth is None:
+            return "no min_depth"
+        causes = ", ".join(
+            f"{share(self.at_min_depth_causes.get(cause, 0))} {label}"
+            for cause, label in FLOOR_CAUSES.items()
+        )
+        return (
+            f"{share(self.at_min_depth)} at min_depth {self.min_depth:g} m, "
+            f"by cause: {causes}"
         )
 
 
@@ -317,6 +355,7 @@ def depth_at_nodes(
         start=1,
     ):
         rules[where] = code
+    causes = _floor_causes(depth, min_depth, raised, land_nodes, tapered_nodes)
     report = DepthReport(
         nodes=len(depth),
         method=method,
@@ -337,6 +376,9 @@ def depth_at_nodes(
         took_wet=int(took_wet.sum()),
         land_values=int(held.sum()),
         coarse=int(coarse.sum()),
+        min_depth=min_depth,
+        at_min_depth=sum(causes.values()),
+        at_min_depth_causes=causes,
         rules=rules,
     )
     if report.coarse:
@@ -369,6 +411,32 @@ def _floor_and_slope(
         limited = int((limited_depth != depth).sum())
         depth = limited_depth
     return depth, raised, limited
+
+
+def _floor_causes(
+    depth: NDArray[np.float64],
+    min_depth: float | None,
+    raised: NDArray[np.bool_],
+    land: NDArray[np.bool_],
+    tapered: NDArray[np.bool_],
+) -> dict[str, int]:
+    """Count the nodes that end at exactly ``min_depth``, by cause.
+
+    The causes (:data:`FLOOR_CAUSES`) do not overlap: raised from a shallower
+    sea depth, raised on land in the rasters (``land``), tapered to the floor,
+    and the rest (the rasters' own depth, or the slope limit). Empty without a
+    floor.
+    """
+    if min_depth is None:
+        return {}
+    at = depth == min_depth
+    groups = {
+        "raised": at & raised & ~land,
+        "raised_on_land": at & raised & land,
+        "tapered": at & ~raised & tapered,
+        "rasters": at & ~raised & ~tapered,
+    }
+    return {cause: int(where.sum()) for cause, where in groups.items()}
 
 
 def _sample(sources: DepthSources, mesh: Mesh, radius, outside: str):
