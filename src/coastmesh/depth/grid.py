@@ -76,8 +76,9 @@ def depth_on_grid(
     gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
     nodes = np.column_stack([gx.ravel(), gy.ravel()])
     if sea is not None:
-        stack = raster if isinstance(raster, DepthSources) else None
-        if stack is None:
+        if isinstance(raster, DepthSources):
+            stack = raster
+        else:
             stack = DepthSources([DepthSource(raster, positive)])
         depth = stack.sample(nodes, crs, wet=True).depth
         dry = np.flatnonzero(sea.ravel() & (depth <= 0))

@@ -28,6 +28,7 @@ from coastmesh.types.topology import unique_edges
 
 if TYPE_CHECKING:
     import xarray as xr
+    from pyproj import CRS
 
 __all__ = [
     "DEPTH_METHODS",
@@ -331,7 +332,7 @@ def depth_at_nodes(
     later = _aside(_node_radius, mesh) if radius is None and threads > 1 else None
     sample, plain, source = _sample(sources, mesh, radius, outside)
     gap = sample.uncovered
-    wet = sources.sample(mesh.points, mesh.crs, radius=radius, wet=True).depth
+    wet = sources.sample(mesh.points, _crs(mesh), radius=radius, wet=True).depth
     wet[gap] = plain[gap]
     with np.errstate(invalid="ignore"):
         coast = (wet > 0) & (wet != plain)
@@ -445,7 +446,8 @@ def _sample(sources: DepthSources, mesh: Mesh, radius, outside: str):
     Returns the sample, the depths (plain bilinear, or cell means) and the
     source of each node.
     """
-    sample = sources.sample(mesh.points, mesh.crs, radius=radius)
+    crs = _crs(mesh)
+    sample = sources.sample(mesh.points, crs, radius=radius)
     for name, hit, k in zip(
         sources.names, sample.hits, range(len(sources)), strict=True
     ):
@@ -459,12 +461,12 @@ def _sample(sources: DepthSources, mesh: Mesh, radius, outside: str):
     if gap.any():
         if outside == "error":
             raise InputDataError(
-                sources.uncovered_message(sample, mesh.points, mesh.crs)
+                sources.uncovered_message(sample, mesh.points, crs)
                 + "; add a source that covers them, or set outside = 'nearest'"
             )
-        plain[gap], source[gap], _ = sources.nearest(mesh.points[gap], mesh.crs)
+        plain[gap], source[gap], _ = sources.nearest(mesh.points[gap], crs)
         warnings.warn(
-            sources.uncovered_message(sample, mesh.points, mesh.crs)
+            sources.uncovered_message(sample, mesh.points, crs)
             + ": they took the nearest valid cell (outside = 'nearest')",
             CoastmeshWarning,
             stacklevel=3,
@@ -606,11 +608,12 @@ def _coarse_message(sources: DepthSources, mesh: Mesh, source, coarse, radius) -
 def node_sources(mesh: Mesh, raster: xr.DataArray | DepthSources) -> NDArray:
     """Return the index of the source each node's depth came from (-1: none)."""
     sources = _stack(raster, "up")
-    sample = sources.sample(mesh.points, mesh.crs)
+    crs = _crs(mesh)
+    sample = sources.sample(mesh.points, crs)
     source = sample.source.copy()
     gap = sample.uncovered
     if gap.any():
-        _, source[gap], _ = sources.nearest(mesh.points[gap], mesh.crs)
+        _, source[gap], _ = sources.nearest(mesh.points[gap], crs)
     return source
 
 
@@ -645,8 +648,14 @@ def _check_args(mesh, method, min_depth, outside, land, land_distance) -> None:
                 f"land_distance = {land_distance}: land = 'smooth' needs the width "
                 "of the coastal taper, a distance > 0 m"
             )
+    _crs(mesh)
+
+
+def _crs(mesh: Mesh) -> CRS:
+    """Return the mesh's CRS, which the depths are sampled in; raise without one."""
     if mesh.crs is None:
         raise ConfigError("the mesh has no CRS: give the CRS of its coordinates")
+    return mesh.crs
 
 
 def _taper(mesh: Mesh, depth, min_depth: float, width: float):

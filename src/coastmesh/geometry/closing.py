@@ -185,7 +185,7 @@ def close_narrow_water(
         done = list(
             pool.map(
                 lambda r: _close_ring(
-                    _Ring(*r, width, region), edges, big, active, tree
+                    _Ring(r[0], r[1], width, region), edges, big, active, tree
                 ),
                 region.rings,
             )
@@ -416,7 +416,7 @@ def earth_areas(
         centre = shapely.get_coordinates(shapely.centroid(polygons))
         scale = ellipsoid_area_scale(reproject_points(centre, crs, "EPSG:4326")[:, 1])
         area *= np.where(np.isfinite(scale), scale, 1.0)  # empty: no centroid
-    return np.bincount(of, area, len(geoms))
+    return np.bincount(of, area, len(geoms)).astype(np.float64, copy=False)
 
 
 def _close_ring(
@@ -435,7 +435,7 @@ def _close_ring(
     ):
         batch = tiles[start : start + _BATCH]
         edge, tile = pairs[i:j, 0], pairs[i:j, 1] - start
-        origin = (batch * _TILE - _HALO) * ring.cell
+        origin = (batch * _TILE - _HALO).astype(np.float64) * ring.cell
         added, cut = _close_tiles(ring, edges, edge, tile, origin, big, polygons, tree)
         adds += added
         cuts += cut
@@ -636,13 +636,14 @@ def _own(ring: _Ring, origin: NDArray[np.float64]) -> NDArray[np.bool_]:
     Only the ring judges whether big land there is thin: each thin neck is
     thickened by one ring, at one scale, however near a ring's edge.
     """
-    offset = (np.arange(_WINDOW) + 0.5) * ring.cell
+    offset = (np.arange(_WINDOW, dtype=np.float64) + 0.5) * ring.cell
     return _in_band(origin, offset, ring.r0, ring.r1)
 
 
 def _changeable(ring: _Ring, origin: NDArray[np.float64]) -> NDArray[np.bool_]:
     """Return which cells of the tiles' cores (and overlap) the ring may change."""
-    offset = (np.arange(_HALO - _OVERLAP, _HALO + _TILE + _OVERLAP) + 0.5) * ring.cell
+    span = np.arange(_HALO - _OVERLAP, _HALO + _TILE + _OVERLAP, dtype=np.float64)
+    offset = (span + 0.5) * ring.cell
     return _in_band(origin, offset, *ring.band, ring.region.zone)
 
 

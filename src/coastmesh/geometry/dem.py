@@ -9,6 +9,7 @@ where the linear interpolation of the two samples equals the level.
 from __future__ import annotations
 
 import logging
+from typing import cast
 
 import contourpy
 import numpy as np
@@ -107,7 +108,11 @@ def land_from_grid(
         corner_mask=False,
         fill_type=contourpy.FillType.OuterOffset,
     )
-    points, offsets = generator.filled(float(level), np.inf)
+    # FillType.OuterOffset: contourpy returns (points, offsets), one per polygon
+    points, offsets = cast(
+        "tuple[list[NDArray[np.float64]], list[NDArray[np.uint32]]]",
+        generator.filled(float(level), np.inf),
+    )
     polygons = _polygons(points, offsets)
     invalid = int((~shapely.is_valid(polygons)).sum())
     land = valid_polygons(polygons)

@@ -453,18 +453,18 @@ def polygon_areas(polygons: ArrayLike, crs: CRS) -> NDArray[np.float64]:
     >>> polygon_areas([shapely.box(0, 0, 10, 20)], CRS("EPSG:32630")).tolist()
     [200.0]
     """
-    polygons = np.asarray(polygons, dtype=object).ravel()
-    if len(polygons) == 0:
+    geoms = np.asarray(polygons, dtype=object).ravel()
+    if len(geoms) == 0:
         return np.zeros(0)
     if crs.is_geographic:
         if crs.to_epsg() != 4326:
-            polygons = reproject(polygons, crs, "EPSG:4326")
-        return np.array([abs(_geodesic_area(p)) for p in polygons])
+            geoms = reproject(geoms, crs, "EPSG:4326")
+        return np.array([abs(_geodesic_area(p)) for p in geoms])
     if is_world_plane(crs):  # a global case's plane: the areas on WGS84
         from coastmesh.geometry.closing import earth_areas  # (with scipy: late)
 
-        return earth_areas(polygons, crs)
-    return shapely.area(polygons) * metres_per_unit(crs) ** 2
+        return earth_areas(geoms, crs)
+    return shapely.area(geoms) * metres_per_unit(crs) ** 2
 
 
 def _geodesic_area(geometry: Any) -> float:
@@ -562,12 +562,12 @@ def _check_ids(shorelines, open_boundaries) -> None:
 
 def _tag_boundary(domain, open_boundaries, shorelines):
     # every open-boundary line cut into its 2-point pieces, in one R-tree
-    pieces, owners = [], []
+    pieces, owned = [], []
     for k, b in enumerate(open_boundaries):
         pieces.append(shapely.linestrings(np.stack([b.coords[:-1], b.coords[1:]], 1)))
-        owners.append(np.full(len(b.coords) - 1, k))
+        owned.append(np.full(len(b.coords) - 1, k))
     tree = shapely.STRtree(np.concatenate(pieces) if pieces else [])
-    owners = np.concatenate(owners) if owners else np.empty(0, dtype=int)
+    owners = np.concatenate(owned) if owned else np.empty(0, dtype=int)
     extent = max(np.ptp(np.asarray(domain.exterior.coords), axis=0).max(), 1.0)
     tolerance = 1e-9 * extent
     background = next(k for k, (_, _, r) in enumerate(shorelines) if r is None)

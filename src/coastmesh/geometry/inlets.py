@@ -86,8 +86,8 @@ def inlet_patches(
     pairs = np.concatenate(found)
     if len(pairs) == 0:
         return np.empty(0, dtype=object)
-    first, lag = _largest(pairs, pos, ring)
-    return _pieces(xy, start[ring[first]], n[first], pos[first], lag)
+    first, lags = _largest(pairs, pos, ring)
+    return _pieces(xy, start[ring[first]], n[first], pos[first], lags)
 
 
 def _steps(

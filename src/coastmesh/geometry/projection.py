@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import logging
 from concurrent.futures import ThreadPoolExecutor
+from typing import Protocol
 
 import numpy as np
 import shapely
@@ -23,6 +24,7 @@ from coastmesh.geometry.earth import reproject_points, transformer
 from coastmesh.types import Domain, SizeGrid
 
 __all__ = [
+    "PlaneSizes",
     "default_mesh_crs",
     "project_points",
     "project_rings",
@@ -32,6 +34,18 @@ __all__ = [
 ]
 
 logger = logging.getLogger(__name__)
+
+
+class PlaneSizes(Protocol):
+    """A size field that samples itself in the plane (a ``SphereSizeGrid``).
+
+    The meshing layer's lon/lat grid, named here by what it does, since this
+    layer cannot import it.
+    """
+
+    def sample(self, xy: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Return the target edge lengths at points ``xy`` of the plane."""
+
 
 # Geographic segments are densified to this fraction of the domain's extent before
 # projection, so straight lines in the domain CRS stay (almost) straight.
@@ -140,13 +154,16 @@ def _oblique_stereographic(lat: float, lon: float) -> CRS:
     )
 
 
-def sample_size(grid: SizeGrid, xy: NDArray[np.float64]) -> NDArray[np.float64]:
+def sample_size(
+    grid: SizeGrid | PlaneSizes, xy: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """Interpolate a size grid bilinearly, clamped to its edge values outside.
 
     Parameters
     ----------
-    grid : SizeGrid
-        Target edge lengths in metres on cell centres.
+    grid : SizeGrid or PlaneSizes
+        Target edge lengths in metres on cell centres; or a field that samples
+        itself (a ``SphereSizeGrid``).
     xy : ndarray of shape (n, 2)
         Positions in the grid's CRS.
 

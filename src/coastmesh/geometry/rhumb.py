@@ -169,7 +169,7 @@ class Loxodrome:
         object.__setattr__(self, "azimuth", az)
         if self.end_lat is not None:
             _check_end("end_lat", self.end_lat, lat0, np.cos(np.radians(az)), az)
-        else:
+        elif self.end_lon is not None:  # one of the two, checked above
             _check_end("end_lon", self.end_lon, lon0, np.sin(np.radians(az)), az)
 
     @classmethod
@@ -196,6 +196,16 @@ class Loxodrome:
         return cls((lon0, lat0), azimuth, end_lat=lat1)
 
     @property
+    def _end_longitude(self) -> float:
+        """``end_lon``: given whenever ``end_lat`` is not (or the line is a parallel).
+
+        ``__post_init__`` checks it: exactly one is given, and a parallel never
+        reaches a latitude.
+        """
+        assert self.end_lon is not None
+        return self.end_lon
+
+    @property
     def _parallel(self) -> bool:
         return bool(np.isclose(np.cos(np.radians(self.azimuth)), 0.0, atol=1e-12))
 
@@ -213,7 +223,7 @@ class Loxodrome:
         if self._parallel:
             phi = np.radians(lat0)
             n = _GEOD.a / np.sqrt(1 - (_E * np.sin(phi)) ** 2)
-            return float(n * np.cos(phi) * np.radians(abs(self.end_lon - lon0)))
+            return float(n * np.cos(phi) * np.radians(abs(self._end_longitude - lon0)))
         lat1 = self._end_latitude()
         arc = _meridian_arc(np.array([lat0, lat1]))
         return float(abs(arc[1] - arc[0]) / abs(np.cos(alpha)))
@@ -223,7 +233,10 @@ class Loxodrome:
         if self.end_lat is not None:
             return float(self.end_lat)
         tan = np.tan(np.radians(self.azimuth))
-        psi = _isometric(np.array([lat0]))[0] + np.radians(self.end_lon - lon0) / tan
+        psi = (
+            _isometric(np.array([lat0]))[0]
+            + np.radians(self._end_longitude - lon0) / tan
+        )
         return float(_latitude_of_isometric(np.array([psi]))[0])
 
     def points(self, fractions: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -242,7 +255,9 @@ class Loxodrome:
         t = np.asarray(fractions, dtype=float)
         lon0, lat0 = self.start
         if self._parallel:
-            return np.stack([lon0 + t * (self.end_lon - lon0), np.full_like(t, lat0)])
+            return np.stack(
+                [lon0 + t * (self._end_longitude - lon0), np.full_like(t, lat0)]
+            )
         arc0, arc1 = _meridian_arc(np.array([lat0, self._end_latitude()]))
         lat = _latitude_of_arc(arc0 + t * (arc1 - arc0))
         lat = np.where(t == 0, lat0, lat)

@@ -368,7 +368,7 @@ def _make_valid(geoms, workers):
     if workers == 1 or len(geoms) < 2:
         return repair(geoms)
     sizes = shapely.get_num_coordinates(geoms)
-    shares = [[] for _ in range(workers)]
+    shares: list[list[int]] = [[] for _ in range(workers)]
     loads = np.zeros(workers)
     for k in np.argsort(-sizes, kind="stable").tolist():
         least = int(np.argmin(loads))

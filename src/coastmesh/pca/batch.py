@@ -323,7 +323,8 @@ def _ring_batch(coords, starts, counts, inside, window, modes):
     z = framed[:, window - 1 : window - 1 + size] * np.repeat(inside, 2, axis=0)
     ahead = sliding_window_view(framed[:, window - 1 :], window, axis=1)  # (2k, N, L)
     lags = np.einsum("rj,rjd->rd", z, ahead)  # cyclic: r[d] = sum_j z[j] z[j+d]
-    u = _centrosymmetric_modes(*_halves(lags, n), window, modes)
+    even, odd = _halves(lags, n)
+    u = _centrosymmetric_modes(even, odd, window, modes)
     taps = sliding_window_view(framed, 2 * window - 1, axis=1)[:, :size]
     total = np.einsum("rji,ri->rj", taps, _kernels(u))
     return total / window, shift

@@ -6,6 +6,7 @@ Shared by the kernels and the pipeline, which checks them before it reads any in
 from __future__ import annotations
 
 import numbers
+from collections.abc import Iterable
 
 import numpy as np
 
@@ -30,12 +31,13 @@ def check_window_2d(window: object) -> tuple[int, int]:
     if isinstance(window, numbers.Integral) and not isinstance(window, bool):
         w = check_window(window)
         return w, w
+    bad = f"window = {window!r}: must be an int or a (rows, columns) pair"
+    if not isinstance(window, Iterable):
+        raise ConfigError(bad)
     try:
-        wy, wx = window  # type: ignore[misc]
+        wy, wx = window
     except (TypeError, ValueError):
-        raise ConfigError(
-            f"window = {window!r}: must be an int or a (rows, columns) pair"
-        ) from None
+        raise ConfigError(bad) from None
     return check_window(wy, "window rows"), check_window(wx, "window columns")
 
 
@@ -43,7 +45,7 @@ def check_modes(modes: object, size: int) -> int:
     """Return ``modes`` as an int in ``[1, size]``, or raise naming the parameter."""
     if isinstance(modes, bool) or not isinstance(modes, numbers.Integral):
         raise ConfigError(f"modes = {modes!r}: must be an integer")
-    if not 1 <= modes <= size:
+    if not 1 <= int(modes) <= size:
         raise ConfigError(
             f"modes = {modes}: must be between 1 and the partition size ({size})"
         )

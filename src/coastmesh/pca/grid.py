@@ -37,6 +37,8 @@ read from a file by parallel tasks). Cost:
 
 from __future__ import annotations
 
+from typing import Protocol
+
 import numpy as np
 import scipy.fft
 from numpy.typing import ArrayLike, NDArray
@@ -47,13 +49,20 @@ from coastmesh.pca._eigen import centred_covariance, leading_eigenvectors
 from coastmesh.pca.checks import check_modes, check_window_2d
 from coastmesh.types import Progress
 
-__all__ = ["raster_modes", "simplify_raster"]
+__all__ = ["RowSliced", "raster_modes", "simplify_raster"]
 
 _STRIP_CELLS = 1 << 22  # cells per strip of rows (working memory ~100 B a cell)
 
 
+class RowSliced(Protocol):
+    """A grid read by strips of rows: numpy, memmap, h5py, netCDF4, xarray, dask."""
+
+    def __getitem__(self, rows: slice, /) -> ArrayLike:
+        """Return the rows ``rows`` of the grid."""
+
+
 def simplify_raster(
-    values: ArrayLike,
+    values: RowSliced,
     window: int | tuple[int, int],
     modes: int,
     *,
@@ -178,7 +187,8 @@ def raster_modes(
     _, gram, n_windows, _ = _covariance_sums(values, strips, wy, wx, None, 0)
     if n_windows == 0:
         raise ValueError("the raster has no complete window without missing cells")
-    return np.linalg.eigvalsh(centred_covariance(gram, n_windows))[::-1]
+    energy = np.linalg.eigvalsh(centred_covariance(gram, n_windows))[::-1]
+    return energy.astype(np.float64, copy=False)
 
 
 def _check_grid(values, wy: int, wx: int) -> tuple[int, int]:

@@ -83,11 +83,12 @@ def distance_to_lines(
     """
     crs = CRS.from_user_input(crs)
     vertices = line_vertices(lines, crs, resolution)
-    nodes = grid_nodes(x, y, crs)
+    xs, ys = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+    nodes = grid_nodes(xs, ys, crs)
     arc = nearest_arcs(
         vertices, nodes, resolution=resolution, max_distance=max_distance
     )
-    return arc.reshape(len(y), len(x))
+    return arc.reshape(len(ys), len(xs))
 
 
 def grid_nodes(x: ArrayLike, y: ArrayLike, crs: CRS) -> NDArray[np.float64]:

@@ -82,7 +82,10 @@ def grid_axes(
     minx, miny, maxx, maxy = (float(v) for v in bounds)
     nx = int(np.ceil((maxx - minx) / cell)) + 1
     ny = int(np.ceil((maxy - miny) / cell)) + 1
-    return minx + cell * np.arange(nx), miny + cell * np.arange(ny)
+    return (
+        minx + cell * np.arange(nx, dtype=np.float64),
+        miny + cell * np.arange(ny, dtype=np.float64),
+    )
 
 
 class Grid:
@@ -506,7 +509,7 @@ class SphereGrid(Grid):
         (:func:`~coastmesh.depth.grid.depth_on_grid` with ``sea``).
         """
         depth = depth_on_grid(
-            wrapped(raster),
+            raster if isinstance(raster, DepthSources) else wrapped(raster),
             self.x[:-1],
             self.y,
             crs=_LONLAT,

@@ -136,7 +136,7 @@ def narrow_channels(
     h_min: float,
     cell: float,
     min_length: float | None = None,
-) -> tuple[NDArray[np.int32], list[tuple[float, float, float, float]]]:
+) -> tuple[NDArray[np.int32], list[tuple[int, int, float, float]]]:
     """Label the stretches of water narrower than ``NARROW_ELEMENTS * h_min``.
 
     Parameters

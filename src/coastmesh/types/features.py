@@ -135,7 +135,7 @@ class Features:
         Features
         """
         return Features(
-            geometry=geometry,
+            geometry=_as_object_array(geometry),
             crs=self.crs,
             fields=self.fields,
             fids=self.fids,

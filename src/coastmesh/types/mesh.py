@@ -5,11 +5,12 @@ Frozen dataclasses, validated when built; constructors never read files.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS
 
 from coastmesh.types._checks import check_positive_int
@@ -186,7 +187,8 @@ class Mesh:
     point_data: dict[str, NDArray] = field(default_factory=dict)
     boundary_names: dict[int, str] = field(default_factory=dict)
     boundary_kinds: dict[int, str] = field(default_factory=dict)
-    regions: NDArray[np.int64] | None = None
+    # None gives surface_id everywhere: __post_init__ always stores an array
+    regions: NDArray[np.int64] = None  # type: ignore[assignment]
     region_names: dict[int, str] = field(default_factory=dict)
     lines: tuple[MeshLine, ...] = ()
 
@@ -322,7 +324,7 @@ class Mesh:
         )
 
 
-def _lines(values: object) -> tuple[MeshLine, ...]:
+def _lines(values: Iterable[tuple[int, str, ArrayLike]] | None) -> tuple[MeshLine, ...]:
     """Return the lines checked: an id >= 1, a name, two nodes or more."""
     out = []
     for k, line in enumerate(values or ()):
