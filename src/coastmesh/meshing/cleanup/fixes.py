@@ -37,6 +37,8 @@ library edits triangle meshes in place).
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -50,6 +52,7 @@ from coastmesh.meshing.cleanup.planar import (
     triangle_angles,
 )
 from coastmesh.meshing.cleanup.report import (
+    Accepted,
     CleanupOptions,
     CleanupReport,
     no_worse,
@@ -122,7 +125,9 @@ def clean_mesh(
     # (accepted, least angle and radius ratio a boundary fix leaves, least
     # angle and radius ratio a valence flip leaves)
     rr = before["radius_ratio"]
-    floors = [("cleaned", min_angle / 2, 0.0, 0.0, 0.0)]
+    floors: list[tuple[Accepted, float, float, float, float]] = [
+        ("cleaned", min_angle / 2, 0.0, 0.0, 0.0)
+    ]
     if (boundary_triangles and before["boundary_triangles"]) or max_valence:
         # only the fixes and flips that keep the input's smallest angle and
         # radius ratio, then the fixes that keep its 1st percentile: one fix
@@ -209,9 +214,8 @@ def fix_seam_slivers(
     nodes, sub = np.unique(triangles[local], return_inverse=True)
     sub = sub.reshape(-1, 3)
     pairs, count = unique_edges(sub, len(nodes))
-    probe = Mesh(
-        xy[nodes], sub, pairs[count == 1], [1] * int((count == 1).sum()), 1, None
-    )
+    edges = pairs[count == 1]
+    probe = Mesh(xy[nodes], sub, edges, np.ones(len(edges), dtype=np.int64), 1, None)
     work = _Work(probe, np.asarray(held, dtype=bool)[nodes], (False, None, min_angle))
     # no edge between held nodes is flipped or split (a line's, an outline's)
     for t in work.tri.values():
@@ -317,9 +321,14 @@ class _Work(EditableMesh):
         self, floor: float, rr_floor: float = 0.0
     ) -> tuple[int, int, int]:
         done = [0, 0, 0]  # flips, centroid splits, edge splits
+        fixes: tuple[Callable[..., None], ...] = (
+            self._apply,
+            self._split,
+            self._split_edge,
+        )
         # candidates found at once with numpy; the loop visits only those
         candidates = np.flatnonzero(self.on_boundary[self.mesh.triangles].all(axis=1))
-        for k in candidates:
+        for k in candidates.tolist():
             t = self.tri[k]
             if not self.all_boundary(t):
                 continue
@@ -328,7 +337,7 @@ class _Work(EditableMesh):
             pieces = [[corners[i], corners[(i + 1) % 3], centre] for i in range(3)]
             # (quality, preference on a tie, kind, arguments, smallest r_in,
             # new triangles)
-            options = [
+            options: list[tuple[float, int, int, tuple[Any, ...], float, Any]] = [
                 (
                     triangle_angles(np.array(pieces)).min(),
                     1,
@@ -360,7 +369,7 @@ class _Work(EditableMesh):
             ]
             if options:
                 _, _, kind, arguments, *_ = max(options, key=lambda o: o[:2])
-                (self._apply, self._split, self._split_edge)[kind](k, *arguments)
+                fixes[kind](k, *arguments)
                 done[kind] += 1
         return done[0], done[1], done[2]
 
@@ -413,7 +422,7 @@ class _Work(EditableMesh):
         if only is None:
             xy, tri, _ = self.arrays()
             only = np.flatnonzero(triangle_angles(xy[tri]).min(axis=1) < min_angle)
-        for k in only:
+        for k in only.tolist():
             t = self.tri[k]
             angles = triangle_angles(np.array([[self.point(v) for v in t]]))[0]
             if angles.min() >= min_angle:

@@ -446,7 +446,7 @@ def _run(start, alive, rest, side_id, by_side) -> set[int]:
     return run
 
 
-def _sides(tri: tuple[int, int, int]) -> tuple[tuple[int, int], ...]:
+def _sides(tri: tuple[int, ...]) -> tuple[tuple[int, int], ...]:
     a, b, c = tri
     return (_edge(a, b), _edge(b, c), _edge(c, a))
 
@@ -697,7 +697,8 @@ def _short_runs(edges, ids, kinds, min_edges: int) -> list[tuple[list[int], list
     for start, sid in enumerate(ids):
         if start in seen or kinds.get(sid) != "shoreline":
             continue
-        run, ends, stack = {start}, [], [start]
+        run, stack = {start}, [start]
+        ends: list[int | None] = []  # the ids beyond the run's ends (None: none)
         while stack:  # the edges of this id joined end to end
             k = stack.pop()
             for node in edges[k]:

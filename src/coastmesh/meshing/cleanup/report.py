@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -23,7 +23,17 @@ from coastmesh.meshing.cleanup import smoothing
 from coastmesh.meshing.cleanup.planar import sines_and_ratios
 from coastmesh.types import Report
 
-__all__ = ["CleanupOptions", "CleanupReport", "PartCleanup", "combine", "stats"]
+__all__ = [
+    "Accepted",
+    "CleanupOptions",
+    "CleanupReport",
+    "PartCleanup",
+    "combine",
+    "stats",
+]
+
+#: Which mesh :func:`~coastmesh.meshing.cleanup.fixes.clean_mesh` returned.
+Accepted = Literal["cleaned", "cleaned_partly", "smoothed_only", "input"]
 
 #: the acceptances, from the least done to the most
 ACCEPTED = ("input", "smoothed_only", "cleaned_partly", "cleaned")
@@ -101,7 +111,7 @@ class CleanupReport(Report):
     min_angle_p1_after: float
     radius_ratio_before: float
     radius_ratio_after: float
-    accepted: Literal["cleaned", "cleaned_partly", "smoothed_only", "input"]
+    accepted: Accepted
     sliver_splits: int = 0
 
     def summary(self) -> str:
@@ -224,7 +234,7 @@ def combine(
     cut = np.concatenate([p.cut_nodes for p in parts])
     weights = np.concatenate([p.cut_valence for p in parts])
     at_cuts = np.bincount(cut, weights=weights).max(initial=0) if len(cut) else 0
-    before = {
+    before: dict[str, Any] = {  # as stats() gives them
         "boundary_triangles": sum(r.boundary_triangles_before for r in reports),
         "max_valence": int(max(*(r.max_valence_before for r in reports), at_cuts)),
         "slivers": sum(r.slivers_before for r in reports),
@@ -235,6 +245,7 @@ def combine(
         "radius_ratio": min(r.radius_ratio_before for r in reports),
     }
     kinds = {r.accepted for r in reports}
+    accepted: Accepted
     if len(kinds) == 1:
         accepted = kinds.pop()
     elif kinds <= {"input", "smoothed_only"}:

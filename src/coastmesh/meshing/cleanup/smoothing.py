@@ -145,8 +145,14 @@ def smooth_mesh(
     fixed = boundary_nodes(mesh.triangles, len(xy))
     fixed[mesh.boundary_edges.ravel()] = True
     fixed[mesh.line_edges()[0].ravel()] = True  # a line's nodes stay on it
-    options = {"iterations": iterations, "method": method, "good_angle": good_angle}
-    new_xy, sweeps = smooth_points(xy, mesh.triangles, fixed, **options)
+    new_xy, sweeps = smooth_points(
+        xy,
+        mesh.triangles,
+        fixed,
+        iterations=iterations,
+        method=method,
+        good_angle=good_angle,
+    )
     before = min_angles(xy, mesh.triangles)
     after = min_angles(new_xy, mesh.triangles)
     report = SmoothingReport(
@@ -367,7 +373,8 @@ def moved_points(
     if to_plane is None:
         points[moved] = after[moved]
     elif moved.any():
-        back = to_plane.transform(*after[moved].T, direction="INVERSE")
+        x, y = after[moved].T
+        back = to_plane.transform(x, y, direction="INVERSE")
         points[moved] = np.column_stack(back)
     return points
 

@@ -569,15 +569,15 @@ class _Collapser:
         if len(ends) != 2 or len(sids) != 1 or sids & self.open_ids or moved:
             return None
         b = self.xy[node]
-        places, off = [], []
+        tried, off = [], []
         for end, other in ((ends[0], ends[1]), (ends[1], ends[0])):
             for f in _SLIDES:
                 p = b + f * (self.xy[end] - b)
                 c = self.xy[other]
                 shortest = min(np.linalg.norm(self.xy[end] - p), np.linalg.norm(c - p))
                 off.append(_to_segment(b, p, c) <= COAST_TOLERANCE * shortest)
-                places.append(p)
-        places = np.asarray(places)[np.asarray(off)]
+                tried.append(p)
+        places = np.asarray(tried)[np.asarray(off)]
         if not len(places):
             return None
         star = self._star(node)
@@ -685,7 +685,8 @@ class _Collapser:
 
         :data:`MIN_RUN` edges or fewer (Telemac needs three).
         """
-        edges, ends = 0, []
+        edges = 0
+        ends: list[int | None] = []  # the ids beyond the run's ends (None: none)
         for first in self.coast[node]:
             prev, at = node, first
             while True:

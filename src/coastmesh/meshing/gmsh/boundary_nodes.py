@@ -218,6 +218,7 @@ def _along(
     # every span of every curve at once: its chord, its samples, their parameters
     points = np.concatenate([piece for piece, _, _ in curves])
     at = np.delete(np.arange(len(points) - 1), np.cumsum(spans + 1)[:-1] - 1)
+    step: float | NDArray[np.float64]  # one for the plane, one per span on the sphere
     if isinstance(size, SizeGrid) and min(len(size.x), len(size.y)) >= 2:
         step = 0.25 * min(np.min(np.diff(size.x)), np.min(np.diff(size.y)))
     elif isinstance(size, SphereSizeGrid):

@@ -40,12 +40,14 @@ class FinerCoastWarning(CoastmeshWarning):
     """The coast was resampled finer than the size where it crossed itself."""
 
 
-def boundary_crossings(rings: Sequence[Sequence[Sequence[ArrayLike]]]) -> NDArray:
+def boundary_crossings(
+    rings: Sequence[Sequence[Sequence[NDArray[np.float64]]]],
+) -> NDArray:
     """Return where the rings' edges cross or touch, other than at their joints.
 
     Parameters
     ----------
-    rings : sequence of sequence of sequence of array_like of shape (m, 2)
+    rings : sequence of sequence of sequence of ndarray of shape (m, 2)
         As :func:`~coastmesh.meshing.gmsh.resample.resample_rings` returns
         them: for each ring, for each segment, its pieces.
 

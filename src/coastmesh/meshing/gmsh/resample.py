@@ -184,14 +184,14 @@ def resample_rings(
 
 
 def check_boundary(
-    rings: Sequence[Sequence[Sequence[ArrayLike]]],
+    rings: Sequence[Sequence[Sequence[NDArray[np.float64]]]],
     where: Callable[[float, float], str] | None = None,
 ) -> None:
     """Check that resampled rings still bound a valid polygon.
 
     Parameters
     ----------
-    rings : sequence of sequence of sequence of array_like of shape (m, 2)
+    rings : sequence of sequence of sequence of ndarray of shape (m, 2)
         As :func:`resample_rings` returns them: for each ring, for each segment,
         its pieces; the exterior first.
     where : callable, optional

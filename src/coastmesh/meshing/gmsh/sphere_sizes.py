@@ -249,11 +249,11 @@ class SphereSizeGrid:
         As (lon, lat, column i, row j): the cell's west and south nodes.
         """
         x, y = self.grid.x, self.grid.y
-        lon = (np.asarray(lon, dtype=np.float64) - x[0]) % 360.0 + x[0]
-        lat = np.clip(np.asarray(lat, dtype=np.float64), y[0], y[-1])
-        i = np.clip(np.searchsorted(x, lon, side="right") - 1, 0, x.size - 2)
-        j = np.clip(np.searchsorted(y, lat, side="right") - 1, 0, y.size - 2)
-        return lon, lat, i, j
+        lons = (np.asarray(lon, dtype=np.float64) - x[0]) % 360.0 + x[0]
+        lats = np.clip(np.asarray(lat, dtype=np.float64), y[0], y[-1])
+        i = np.clip(np.searchsorted(x, lons, side="right") - 1, 0, x.size - 2)
+        j = np.clip(np.searchsorted(y, lats, side="right") - 1, 0, y.size - 2)
+        return lons, lats, i, j
 
     def _cells_near(self, xy: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Return which grid cells (rows, columns) hold a point or are next to one."""
@@ -283,7 +283,7 @@ class SphereSizeGrid:
         a cell's nearest point to the centre is at least its nearest corner's
         distance less its longest side.
         """
-        ok = np.isfinite(cells).all(axis=1)
+        ok = np.all(np.isfinite(cells), axis=1)
         if math.isinf(self.reach):
             return ok
         x, y = cells[:, :corners], cells[:, corners : 2 * corners]

@@ -12,6 +12,7 @@ shoreline edges meeting sharply are a fjord head or a spit the coast forces.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TypedDict
 
 import numpy as np
 from numpy.typing import NDArray
@@ -24,6 +25,7 @@ from coastmesh.types.topology import unique_edges
 __all__ = [
     "MAX_LISTED_CORNERS",
     "SHARP_ANGLE",
+    "BoundaryAngles",
     "CornerStats",
     "SharpCorner",
     "boundary_angles",
@@ -128,7 +130,14 @@ class CornerStats(Report):
         )
 
 
-def boundary_angles(mesh: Mesh) -> dict[str, NDArray[np.float64]]:
+class BoundaryAngles(TypedDict):
+    """What :func:`boundary_angles` returns."""
+
+    nodes: NDArray[np.int64]
+    angle: NDArray[np.float64]
+
+
+def boundary_angles(mesh: Mesh) -> BoundaryAngles:
     """Return the domain's interior angle at each boundary node, on the Earth.
 
     Parameters
@@ -187,8 +196,8 @@ def interior_angles(
     touching = triangles[on_boundary[triangles].any(axis=1)]
     angles = triangle_measures(xyz, touching, planar, ("angles",))["angles"]
     total = np.bincount(touching.ravel(), weights=angles.ravel(), minlength=n)
-    nodes = np.flatnonzero(on_boundary)
-    return nodes, total[nodes]
+    nodes = np.flatnonzero(on_boundary).astype(np.int64, copy=False)
+    return nodes, total[nodes].astype(np.float64, copy=False)
 
 
 def corner_stats(
@@ -218,7 +227,7 @@ def corner_stats(
     sharp = sharp[np.argsort(angle[sharp], kind="stable")]
     is_sharp = np.zeros(len(mesh.points), dtype=bool)
     is_sharp[nodes[sharp]] = True
-    touching = is_sharp[mesh.triangles].any(axis=1)
+    touching = np.any(is_sharp[mesh.triangles], axis=1)
     ids = _edge_ids(mesh, boundary)
     is_open = np.isin(ids, [i for i, k in mesh.boundary_kinds.items() if k == "open"])
     open_at = np.zeros(len(mesh.points), dtype=bool)
