@@ -104,7 +104,7 @@ def check_bbox(bbox: Sequence[float]) -> tuple[float, float, float, float]:
             f"bbox = {values}: need minx < maxx and miny < maxy "
             "(order minx, miny, maxx, maxy)"
         )
-    return minx, miny, maxx, maxy  # type: ignore[return-value]
+    return minx, miny, maxx, maxy
 
 
 def resolve_crs(

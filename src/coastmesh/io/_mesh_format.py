@@ -95,7 +95,7 @@ class MeshFormat:
 
     name: str
     extensions: tuple[str, ...]
-    write: Callable[..., None] | None
+    write: Callable[..., object] | None  # what it returns is not used
     description: str
     read: Callable[..., Mesh] | None = None
     model: str = ""

@@ -110,12 +110,12 @@ def _column(
     values = values.astype(np.float64)
     if not np.isfinite(values).all():
         raise ValueError("a column has non-finite values")
-    top = float(np.abs(values).max(initial=0.0))
-    if top >= 1e18:
-        raise ValueError(f"a column has |values| up to {top:g}; expected < 1e18")
-    decimals = max(0, digits - _ndigits(int(top)))
+    largest = float(np.abs(values).max(initial=0.0))
+    if largest >= 1e18:
+        raise ValueError(f"a column has |values| up to {largest:g}; expected < 1e18")
+    decimals = max(0, digits - _ndigits(int(largest)))
     unit = 10.0**-decimals
-    widest = int(np.rint(top / unit)) // 10**decimals
+    widest = int(np.rint(largest / unit)) // 10**decimals
     negative = bool((values <= -0.5 * unit).any())
     return values, decimals, _ndigits(widest) + int(negative)
 

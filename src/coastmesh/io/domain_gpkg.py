@@ -94,10 +94,10 @@ def write_domain(
     count = len(segments)
     layers = {
         "domain": Features(
-            geometry=[domain.polygon],
+            geometry=np.array([domain.polygon], dtype=object),
             crs=domain.crs,
             fields={"surface_id": np.array([domain.surface_id], dtype=np.int64)},
-            fids=[0],
+            fids=np.array([0], dtype=np.int64),
             path="<memory>",
             layer="domain",
         ),

@@ -188,10 +188,11 @@ def read_mesh_gpkg(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
         labels = fields.get("region_name", np.full(len(regions), None, dtype=object))
         labels = _by_id(np.asarray(labels, dtype=object), fields, name)
         named = {int(i): str(v) for i, v in zip(regions, labels, strict=True) if v}
-        surface = next((i for i, v in named.items() if v == "domain"), None)
-        if surface is None:
+        domain = next((i for i, v in named.items() if v == "domain"), None)
+        if domain is None:
             ids, counts = np.unique(regions, return_counts=True)
-            surface = int(ids[np.argmax(counts)])
+            domain = int(ids[np.argmax(counts)])
+        surface = domain
         region_names = {i: v for i, v in named.items() if i != surface}
     _, lines, fields = _read_layer(name, "boundaries")
     if _plain(lines, shapely.LineString):
@@ -202,10 +203,10 @@ def read_mesh_gpkg(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
     if "physical_id" not in fields:
         raise InputDataError("no field 'physical_id'", path=name, layer="boundaries")
     ids = fields["physical_id"].astype(np.int64)
-    labels = {}
+    named_ids: dict[str, dict[int, str]] = {}
     for key in ("name", "kind"):
         found = fields.get(key, np.full(len(ids), None, dtype=object))
-        labels[key] = {int(i): str(v) for i, v in zip(ids, found, strict=True) if v}
+        named_ids[key] = {int(i): str(v) for i, v in zip(ids, found, strict=True) if v}
     return mesh_from_file(
         name,
         nodes,
@@ -215,8 +216,8 @@ def read_mesh_gpkg(path: str | os.PathLike[str], *, crs: Any = None) -> Mesh:
         surface,
         resolve_crs(stored, crs, name),
         point_data,
-        labels["name"],
-        labels["kind"],
+        named_ids["name"],
+        named_ids["kind"],
         regions,
         region_names,
     )

@@ -574,9 +574,9 @@ def _physical_names(mesh: Mesh) -> dict[str, Any]:
     if names or len(mesh.region_ids) > 1:
         names["domain"] = np.array([mesh.surface_id, 2])
     for pid in mesh.region_ids:
-        label = mesh.region_names.get(pid)
-        if pid != mesh.surface_id and label is not None and label != "domain":
-            names[label if label not in names else f"{label}#{pid}"] = np.array(
+        region = mesh.region_names.get(pid)
+        if pid != mesh.surface_id and region is not None and region != "domain":
+            names[region if region not in names else f"{region}#{pid}"] = np.array(
                 [pid, 2]
             )
     return names

@@ -435,7 +435,7 @@ def _write_netcdf(path: Path, grid: _Grid) -> None:
     global_attrs = {"Conventions": "CF-1.8"}
     global_attrs.update({k: v for k, v in notes.items() if k != "units"})
     dataset = xr.Dataset(data_vars, coords=coords, attrs=global_attrs)
-    encoding = {
+    encoding: dict[str, dict[str, Any]] = {
         variable: {
             "dtype": values.dtype,
             "_FillValue": nodata,

@@ -441,7 +441,9 @@ def _read(
 
 
 def _describe(
-    dataset: rasterio.io.DatasetReader, given: str, box: tuple[float, ...] | None
+    dataset: rasterio.io.DatasetReader,
+    given: str,
+    box: tuple[float, float, float, float] | None,
 ) -> RasterSource:
     """Describe band 1 of ``dataset`` and the window ``box`` cuts (as ``_read``)."""
     t = dataset.transform

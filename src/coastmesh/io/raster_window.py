@@ -42,8 +42,12 @@ def raster_extent(
             crs = None if dataset.crs is None else dataset.crs.to_wkt()
             b = dataset.bounds
             res = (abs(dataset.transform.a), abs(dataset.transform.e))
-    bounds = (min(b.left, b.right), min(b.bottom, b.top))
-    bounds += (max(b.left, b.right), max(b.bottom, b.top))
+    bounds = (
+        min(b.left, b.right),
+        min(b.bottom, b.top),
+        max(b.left, b.right),
+        max(b.bottom, b.top),
+    )
     return bounds, crs, res
 
 

@@ -380,5 +380,6 @@ def _areas_on_the_right(
     fan = np.column_stack(
         [first, flat[start[ring] + step], flat[start[ring] + step + 1]]
     )
-    left = np.bincount(ring, solid_angles(xyz, fan), minlength=len(rings)) % _FULL
+    solid = np.bincount(ring, solid_angles(xyz, fan), minlength=len(rings))
+    left = solid.astype(np.float64, copy=False) % _FULL
     return _FULL - left

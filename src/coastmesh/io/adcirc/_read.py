@@ -445,7 +445,8 @@ def _boundary(
             path=name,
         )
     missing = boundary[~np.isin(boundary_keys, keys)]
-    ends = {}  # a segment's last node back to its first: the edge that closes it
+    # a segment's last node back to its first: the edge that closes it
+    ends: dict[int, tuple[int, int, int]] = {}
     for (nodes, *_), segment_runs in zip(segments, runs, strict=True):
         if len(nodes) > 2 and nodes[0] != nodes[-1]:
             a, b = int(nodes[0]), int(nodes[-1])

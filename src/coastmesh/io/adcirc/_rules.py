@@ -110,7 +110,8 @@ def rule_breaks(grid: dict[str, Any], mesh: Mesh, model: str) -> list[RuleBreak]
 
 def _adcirc_open(opened: list[tuple[np.ndarray, str]]) -> list[RuleBreak]:
     """A5: no node twice among the open segments."""
-    out, seen = [], {}
+    out: list[RuleBreak] = []
+    seen: dict[int, str] = {}
     for nodes, name in opened:
         for n in nodes.tolist():
             if n in seen:
@@ -187,7 +188,8 @@ def _adcirc_land(land, opened, ring_of, rings, outside, open_rings) -> list[Rule
 
 def _schism_open(opened: list[tuple[np.ndarray, str]]) -> list[RuleBreak]:
     """S1 and S2 on the open segments."""
-    out, count = [], {}
+    out: list[RuleBreak] = []
+    count: dict[int, int] = {}
     for nodes, name in opened:
         if len(nodes) > 1 and nodes[0] == nodes[-1]:
             out.append(

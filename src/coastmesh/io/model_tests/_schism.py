@@ -46,6 +46,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+from pyproj import CRS
 
 from coastmesh.io._model import require_kinds
 from coastmesh.io._table import put_lines, write_table
@@ -110,7 +111,7 @@ def _in_lonlat(mesh: Mesh, where: Place) -> Mesh:
         mesh.boundary_edges,
         mesh.boundary_ids,
         mesh.surface_id,
-        "EPSG:4326",
+        CRS.from_epsg(4326),
         {"depth": mesh.point_data["depth"]},
         mesh.boundary_names,
         mesh.boundary_kinds,
