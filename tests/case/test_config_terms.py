@@ -256,3 +256,39 @@ def test_keep_and_min_depth_together_are_refused():
         parsed(
             '[bathymetry]\npath = "/data/depth.tif"\nland = "keep"\nmin_depth = "5 m"\n'
         )
+
+
+def test_size_config_as_type_checkers_see_it_has_the_fields_it_is_made_with():
+    """sizes.py declares SizeConfig for type checkers; it is made from TERMS."""
+    import ast
+    import inspect
+
+    from coastmesh.case.config import sizes
+
+    tree = ast.parse(inspect.getsource(sizes))
+    declared = next(
+        node
+        for node in ast.walk(tree)
+        if isinstance(node, ast.ClassDef) and node.name == "SizeConfig"
+    )
+    names = [
+        s.target.id
+        for s in declared.body
+        if isinstance(s, ast.AnnAssign) and isinstance(s.target, ast.Name)
+    ]
+    made = dataclasses.fields(sizes.SizeConfig)
+    assert names == [f.name for f in made]
+    defaults = {f.name: f.default for f in made if f.default is not dataclasses.MISSING}
+    assert defaults == {
+        "h_min": None,
+        "cell": None,
+        "rate": DEFAULT_RATE,
+        "gradations": (),
+        "bathymetry": None,
+    }
+    made_anew = {
+        f.name: f.default_factory()
+        for f in made
+        if f.default_factory is not dataclasses.MISSING
+    }
+    assert made_anew == {"channels": ChannelConfig(), "courant": CourantConfig()}

@@ -167,6 +167,16 @@ def test_site_features_read_the_farm_and_turbines():
     assert site.smallest() == pytest.approx(4.5)  # the nodes: D/4 by default
 
 
+def test_site_sizes_without_a_gradation_limit_are_refused():
+    from coastmesh.case.pipeline.farms import with_site_sizes
+    from coastmesh.types import SizeGrid
+
+    site = site_features(_case(), _state(None))
+    size = SizeGrid([0.0, 1.0], [0.0, 1.0], [[1.0, 1.0], [1.0, 1.0]])
+    with pytest.raises(ConfigError, match=r"case.toml: mesh_size.rate = false: "):
+        with_site_sizes(size, site, None, "case.toml")
+
+
 def test_a_farm_on_land_is_refused():
     case = _case()
     state = _state(case)

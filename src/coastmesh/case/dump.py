@@ -55,6 +55,7 @@ def dump_case(case: CaseConfig) -> str:
 
     if not isinstance(case, CaseConfig):
         raise TypeError(f"case is a {type(case).__name__}, expected a CaseConfig")
+    assert case.output is not None  # __post_init__ sets it (out/NAME by default)
     head = {"name": case.name, "output": os.path.abspath(case.output), "crs": case.crs}
     tables = dump_keys(case)
     if "open_boundaries" in tables:

@@ -218,7 +218,7 @@ class CaseResult:
         """
         result = self
         if formats is not None:  # checked as the case's [output] formats
-            outputs = dataclasses.replace(self.config.outputs, formats=formats)
+            outputs = dataclasses.replace(self.config.outputs, formats=tuple(formats))
             config = dataclasses.replace(self.config, outputs=outputs)
             result = dataclasses.replace(self, config=config)
         files = _write_case(
@@ -341,7 +341,7 @@ def _write_models(result: CaseResult, folder: Path, outputs: OutputConfig) -> li
         if filename in taken:
             filename = f"{name}-{fmt_name}{suffix}"
         taken.add(filename)
-        options: dict[str, object] = {}
+        options: dict[str, Any] = {}  # the format's own keyword options
         if outputs.positive and fmt_name in outputs.positive:
             options["positive"] = outputs.positive[fmt_name]
         if outputs.sphere_xyz and "sphere_xyz" in fmt.holds:

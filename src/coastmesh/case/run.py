@@ -80,6 +80,7 @@ def run_case(
     """
     config = as_case(case)
     target = Path(output) if output is not None else config.output
+    assert target is not None  # CaseConfig.__post_init__ sets output (out/NAME)
     check_directory(target, overwrite=overwrite)  # fail before the work
     if isinstance(config, StudyCase):
         return _run_study(config, target, overwrite, stage)

@@ -124,10 +124,11 @@ def _turbines(group: TurbinesConfig) -> list[str]:
             else "D from the file"
         )
         return [f"{head}; from {group.path}{layer} ({crs}), {size}"]
-    ids = _footprint_ids(group) if group.footprint != "node" else None
+    assert d is not None  # _validate: inline positions give the diameter
+    regions = _footprint_ids(group) if group.footprint != "node" else None
     lines = [head]
     for n, (lon, lat) in enumerate(group.positions):
-        region = "" if ids is None else f", region {ids[n]}"
+        region = "" if regions is None else f", region {regions[n]}"
         name = f"{group.name}_{n + 1}"
         lines.append(f"  turbine {name!r} at {lon!r}, {lat!r}, D {_metres(d)}{region}")
     return lines
@@ -147,7 +148,11 @@ def _wake(config: CaseConfig, wake) -> str:
     else:
         groups = [t for t in config.turbines if t.name == wake.of]
         what = "turbines"
-    sizes = [t.diameter for t in groups if t.positions is not None]
+    sizes = [
+        t.diameter
+        for t in groups
+        if t.positions is not None and t.diameter is not None  # inline: given
+    ]
     d = max(sizes) if sizes and len(sizes) == len(groups) else None
     if wake.h is not None:
         h = _rotor(wake.h, d)

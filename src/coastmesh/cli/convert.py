@@ -3,11 +3,15 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
 from coastmesh.cli._common import translate_errors
 from coastmesh.cli.options import crs_option, overwrite_option
+
+if TYPE_CHECKING:
+    from pyproj import CRS
 
 __all__ = ["convert"]
 
@@ -163,7 +167,7 @@ def convert(
     positive: str | None,
     open_ids: list[int] | None,
     write_options: dict[str, object],
-    crs: object,
+    crs: CRS | None,
     overwrite: bool,
 ) -> None:
     """Read the mesh MESH and write it in the format of OUT's extension.

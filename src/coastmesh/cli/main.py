@@ -78,7 +78,7 @@ def configure_logging(verbosity: int) -> Callable[[], None]:
     return restore
 
 
-def _log_warning(message: Warning | str, *_: object) -> None:
+def _log_warning(message: Warning | str, *_: object, **__: object) -> None:
     """Show a Python warning as one log line (``warnings.showwarning``)."""
     logger.warning("%s", message)
 

@@ -81,11 +81,13 @@ def run(
     config = read_case(case)
     quiet = ctx.find_root().obj.get("quiet", False)
     if check:
-        if not quiet and isinstance(config, StudyCase):
+        if quiet:
+            return
+        if isinstance(config, StudyCase):
             click.echo(
                 f"{case}: OK: a {config.kind} study; output {output or config.output}"
             )
-        elif not quiet:
+        else:
             from coastmesh.case.site_check import site_counts, site_lines
 
             site = "".join(f", {count}" for count in site_counts(config))
@@ -116,12 +118,14 @@ def run(
         click.echo(f"Look at {folder / 'figures'}/ and {folder / 'table.md'}")
         return
     if not quiet:
+        written = result.output
+        assert written is not None  # run_case wrote the case there
         click.echo(result.summary())
         click.echo(
-            f"Look at {result.output / 'summary.txt'} and the figures in "
-            f"{result.output / 'figures'}/"
-            if (result.output / "figures").is_dir()
-            else f"Look at {result.output / 'summary.txt'}"
+            f"Look at {written / 'summary.txt'} and the figures in "
+            f"{written / 'figures'}/"
+            if (written / "figures").is_dir()
+            else f"Look at {written / 'summary.txt'}"
         )
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -15,6 +16,9 @@ from coastmesh.cli.options import (
     overwrite_option,
     plot_option,
 )
+
+if TYPE_CHECKING:
+    from pyproj import CRS
 
 __all__ = ["simplify_raster"]
 
@@ -79,7 +83,7 @@ def simplify_raster(
     window: int | tuple[int, int],
     modes: int,
     bbox: tuple[float, float, float, float] | None,
-    crs: object,
+    crs: CRS | None,
     plot: Path | None,
     workers: int | None,
     scheduler: str | None,

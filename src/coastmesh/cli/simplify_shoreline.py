@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -15,6 +16,9 @@ from coastmesh.cli.options import (
     overwrite_option,
     plot_option,
 )
+
+if TYPE_CHECKING:
+    from pyproj import CRS
 
 __all__ = ["simplify_shoreline"]
 
@@ -54,7 +58,7 @@ def simplify_shoreline(
     modes: int,
     layer: str | None,
     bbox: tuple[float, float, float, float] | None,
-    crs: object,
+    crs: CRS | None,
     plot: Path | None,
     overwrite: bool,
 ) -> None:

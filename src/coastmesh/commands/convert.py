@@ -264,6 +264,7 @@ def _stack(paths: Any, positive: Any, blend: Any, mesh: Mesh) -> Any:
         DepthSourceConfig(os.fspath(p), s, blend=float(b))
         for p, s, b in zip(paths, signs, blends, strict=True)
     ]
+    assert mesh.crs is not None  # convert_mesh gives the mesh one (DEFAULT_CRS)
     return read_sources(configs, mesh.points, mesh.crs)
 
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -81,7 +82,7 @@ def run_demo(
     OutputExistsError
         If ``outdir`` exists, is not empty, and ``overwrite`` is false.
     """
-    jobs = [
+    jobs: list[tuple[Callable[..., Report], str, str, int, int]] = [
         (simplify_shoreline_file, "norway_west_gshhg_f.geojson", ".gpkg", w, m)
         for w, m in _DEMO_SHORELINES
     ]

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Generator, Iterator, Sequence
 from contextlib import closing, contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -320,7 +320,7 @@ def _result(future: Any) -> Any:
 
 def _computed(
     client: Any, items: Sequence[list[Any]], limit: int
-) -> Iterator[tuple[int, list[Any]]]:
+) -> Generator[tuple[int, list[Any]], None, None]:
     """Yield ``(index, results)`` for each list of collections as it is computed.
 
     At most ``limit`` items are under way. A task's error is raised here, and

@@ -274,7 +274,10 @@ def _raster_crs(declared: str | None, crs: CRS | None, src: PathLike) -> str:
     check_crs(
         None if declared is None else CRS.from_user_input(declared), crs, "raster", src
     )
-    return declared if declared is not None else crs.to_wkt()
+    if declared is not None:
+        return declared
+    assert crs is not None  # check_crs raised without either
+    return crs.to_wkt()
 
 
 @dataclass(frozen=True, slots=True)

@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 import os
 import sys
+from collections.abc import Collection
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -133,12 +134,12 @@ def relief_style(cmap: str | None, low: float, high: float) -> tuple[Any, Any]:
     return colours, TwoSlopeNorm(vmin=low, vcenter=0.0, vmax=high)
 
 
-def geometry_array(value: Features | ArrayLike) -> NDArray[np.object_]:
+def geometry_array(value: Features | Collection[Any]) -> NDArray[np.object_]:
     """Return the geometries of Features, or a sequence of them, as an object array."""
     if isinstance(value, Features):
         return value.geometry
-    geometry = np.empty(len(value), dtype=object)  # type: ignore[arg-type]
-    geometry[:] = list(value)  # type: ignore[call-overload]
+    geometry = np.empty(len(value), dtype=object)
+    geometry[:] = list(value)
     return geometry
 
 
@@ -238,7 +239,7 @@ def flat_mesh(
     ax: Axes,
     points: NDArray[np.float64],
     triangles: NDArray[np.int64],
-    values: NDArray[np.float64],
+    values: ArrayLike,
     *,
     chunk: int | None = None,
     **kwargs: Any,

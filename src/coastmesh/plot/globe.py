@@ -56,7 +56,7 @@ def globe_figure(
     lonlat = reproject_points(mesh.points, mesh.crs, "EPSG:4326")
     x, y = transformer("EPSG:4326", view).transform(lonlat[:, 0], lonlat[:, 1])
     xy = np.column_stack([x, y]) / 1e3
-    seen = np.isfinite(xy).all(axis=1)
+    seen = np.all(np.isfinite(xy), axis=1)
     figure = Figure(figsize=(8, 8.4), layout="constrained")
     ax = figure.add_subplot()
     radius = EARTH_RADIUS / 1e3
@@ -66,12 +66,14 @@ def globe_figure(
     _fill(ax, xy, visible, radius)
     if 0 < len(visible) <= MAX_VISIBLE_TRIANGLES:
         pairs, _ = unique_edges(visible, len(xy))
-        ax.add_collection(LineCollection(xy[pairs], colors="0.45", linewidths=0.08))
+        ax.add_collection(
+            LineCollection(list(xy[pairs]), colors="0.45", linewidths=0.08)
+        )
     keep = seen[mesh.boundary_edges].all(axis=1)
     colours = _palette(np.unique(mesh.boundary_ids))
     ax.add_collection(
         LineCollection(
-            xy[mesh.boundary_edges[keep]],
+            list(xy[mesh.boundary_edges[keep]]),
             colors=[colours[int(i)] for i in mesh.boundary_ids[keep]],
             linewidths=0.7,
         )
@@ -110,7 +112,7 @@ def _fill(ax: Any, xy: np.ndarray, triangles: np.ndarray, radius: float) -> None
     local[used] = np.arange(len(used))
     shaded_mesh(
         ax,
-        Triangulation(*xy[used].T, local[triangles]),
+        Triangulation(xy[used, 0], xy[used, 1], local[triangles]),
         np.zeros(len(used)),
         cmap=ListedColormap([sea]),
         vmin=0.0,

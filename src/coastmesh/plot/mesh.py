@@ -20,6 +20,7 @@ if TYPE_CHECKING:
     import xarray as xr
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
+    from matplotlib.typing import LegendLocType
 
     from coastmesh.types import Domain, Mesh
 
@@ -44,7 +45,10 @@ def _palette(ids: Any) -> dict[int, Any]:
 
 
 def _legend(
-    ax: Axes, labels: dict[int, str], colours: dict[int, Any], loc: str = "best"
+    ax: Axes,
+    labels: dict[int, str],
+    colours: dict[int, Any],
+    loc: LegendLocType = "best",
 ) -> None:
     """Draw the boundary ids' legend at ``loc`` (as matplotlib's).
 
@@ -299,7 +303,7 @@ def _draw_mesh(
     keep = ~across_dateline(mesh.points, mesh.boundary_edges, mesh.crs)
     ax.add_collection(
         LineCollection(
-            xy[mesh.boundary_edges[keep]],
+            list(xy[mesh.boundary_edges[keep]]),
             colors=[colours[int(i)] for i in mesh.boundary_ids[keep]],
             linewidths=linewidth,
         )

@@ -8,7 +8,8 @@ display) and return it; the ``*_figure`` functions build a whole
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Collection
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -42,8 +43,8 @@ __all__ = [
 
 
 def plot_shoreline_overlay(
-    original: Features | ArrayLike,
-    simplified: Features | ArrayLike,
+    original: Features | Collection[Any],
+    simplified: Features | Collection[Any],
     ax: Axes | None = None,
     *,
     crs: CRS | str | None = None,
@@ -179,8 +180,8 @@ def plot_raster_comparison(
 
 
 def shoreline_figure(
-    original: Features | ArrayLike,
-    simplified: Features | ArrayLike,
+    original: Features | Collection[Any],
+    simplified: Features | Collection[Any],
     *,
     crs: CRS | str | None = None,
     title: str | None = None,

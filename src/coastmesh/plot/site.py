@@ -103,7 +103,7 @@ def _draw(ax: Axes, mesh: Mesh, turbines, window: tuple[float, ...]) -> None:
         PolyCollection(p[inside], facecolors=faces, edgecolors="0.35", linewidths=0.2)
     )
     outlines = mesh.points[region_interfaces(mesh)]
-    ax.add_collection(LineCollection(outlines, colors="k", linewidths=1.0))
+    ax.add_collection(LineCollection(list(outlines), colors="k", linewidths=1.0))
     for line in mesh.lines:
         ax.plot(*line.xy.T, "-", color="tab:blue", lw=1.6)
         ax.annotate(line.name, line.xy[len(line.xy) // 2], color="tab:blue", fontsize=8)

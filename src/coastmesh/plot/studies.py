@@ -75,9 +75,10 @@ def overlay_figure(
     from matplotlib.figure import Figure
     from matplotlib.patches import Rectangle
 
-    crs = as_crs(crs)
+    pyproj_crs = as_crs(crs)
     box, width = (total_bounds(original), 0.5) if view == "whole" else (detail, 1.2)
-    ratio = (box[2] - box[0]) / x_stretch(crs, box) / (box[3] - box[1])
+    assert box is not None  # the study's shorelines hold land polygons
+    ratio = (box[2] - box[0]) / x_stretch(pyproj_crs, box) / (box[3] - box[1])
     figure = Figure(figsize=(min(max(9 * ratio, 5), 16) + 2, 9), layout="constrained")
     ax = figure.add_subplot()
     ax.add_collection(
@@ -96,7 +97,7 @@ def overlay_figure(
         )
     ax.set_xlim(box[0], box[2])
     ax.set_ylim(box[1], box[3])
-    geographic_axes(ax, crs, box)
+    geographic_axes(ax, pyproj_crs, box)
     if view == "whole":
         ax.add_patch(
             Rectangle(

@@ -109,7 +109,7 @@ class LoxodromeConfig:
     ) -> LoxodromeConfig:
         """Return the loxodrome from ``start`` to ``end`` (lon, lat degrees)."""
         line = Loxodrome.between(start, end)
-        return cls(tuple(start), line.azimuth, line.end_lat, line.end_lon)
+        return cls((start[0], start[1]), line.azimuth, line.end_lat, line.end_lon)
 
     @classmethod
     def _read(cls, t: Table, reading: schema.Reading, **given: Any) -> LoxodromeConfig:

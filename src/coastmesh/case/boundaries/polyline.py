@@ -66,6 +66,7 @@ class PolylineBoundary(BoundaryConfig):
         """
         if self.points is not None:
             return np.array(self.points, dtype=float)
+        assert self.path is not None  # _validate: exactly one of points and path
         features = read_features(self.path, layer=self.layer)
         lines = features.geometry[shapely.get_dimensions(features.geometry) == 1]
         parts = shapely.get_parts(lines)

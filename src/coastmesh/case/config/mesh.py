@@ -96,7 +96,11 @@ class NodeDepthConfig(RasterConfig):
             raise c.error(
                 "window", "give window and modes together (PCA of the raster)"
             )
-        if self.window is not None and self.modes > self.window**2:
+        if (
+            self.modes is not None
+            and self.window is not None
+            and self.modes > self.window**2
+        ):
             raise c.error("modes", f"= {self.modes} is more than window**2")
         if self.land == "keep" and self.min_depth is not None:
             raise c.error(

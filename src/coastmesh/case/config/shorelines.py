@@ -173,7 +173,11 @@ class ShorelineSetConfig:
     def _validate(self, c: Check) -> ShorelineSetConfig:
         if (self.window is None) != (self.modes is None):
             raise c.error("window", "give window and modes together (or neither)")
-        if self.window is not None and self.modes > self.window:
+        if (
+            self.modes is not None
+            and self.window is not None
+            and self.modes > self.window
+        ):
             raise c.error(
                 "modes", f"= {self.modes} is more than window = {self.window}"
             )

@@ -10,13 +10,21 @@ here.
 from __future__ import annotations
 
 import dataclasses
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from coastmesh.case import schema
 from coastmesh.case.schema import Check, key
 from coastmesh.case.terms import TERMS, SizeTerm
 from coastmesh.errors import ConfigError
 from coastmesh.sizing.gradation import DEFAULT_RATE
+
+if TYPE_CHECKING:
+    from coastmesh.case.terms import (
+        BathymetryConfig,
+        ChannelConfig,
+        CourantConfig,
+        GradationConfig,
+    )
 
 __all__ = ["SizeConfig", "floor"]
 
@@ -95,13 +103,35 @@ def _validate(self: Any, c: Check) -> Any:
     return self
 
 
-SizeConfig = dataclasses.make_dataclass(
-    "SizeConfig",
-    _FIELD_KEYS + [_term_key(term) for term in TERMS],
-    frozen=True,
-    namespace={"_validate": _validate},
-)
-SizeConfig.__module__ = __name__
+if TYPE_CHECKING:
+
+    @dataclasses.dataclass(frozen=True)
+    class SizeConfig:
+        """What type checkers see of the class made below, from :data:`TERMS`.
+
+        One field per key of ``_FIELD_KEYS`` and per term, in order
+        (``tests/case/test_config_terms.py`` checks the two agree).
+        """
+
+        h_max: float
+        h_min: float | None = None
+        cell: float | None = None
+        rate: float | None = DEFAULT_RATE
+        gradations: tuple[GradationConfig, ...] = ()
+        bathymetry: BathymetryConfig | None = None
+        channels: ChannelConfig | None = dataclasses.field(
+            default_factory=ChannelConfig
+        )
+        courant: CourantConfig | None = dataclasses.field(default_factory=CourantConfig)
+
+else:
+    SizeConfig = dataclasses.make_dataclass(
+        "SizeConfig",
+        _FIELD_KEYS + [_term_key(term) for term in TERMS],
+        frozen=True,
+        namespace={"_validate": _validate},
+    )
+    SizeConfig.__module__ = __name__
 SizeConfig.__doc__ = """``[mesh_size]``: the element size field.
 
 Attributes

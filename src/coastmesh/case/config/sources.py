@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Self
 
 from coastmesh.case import schema
 from coastmesh.case.schema import Check, key
@@ -94,9 +95,10 @@ class RasterConfig:
         """The sources in priority order: ``path`` makes one."""
         if self.sources:
             return self.sources
+        assert self.path is not None  # _validate: exactly one of path and sources
         return (DepthSourceConfig(self.path, self.positive),)
 
-    def _validate(self, c: Check) -> RasterConfig:
+    def _validate(self, c: Check) -> Self:
         """Exactly one of ``path`` and ``sources``; the sources by priority."""
         if self.path is not None and self.sources:
             raise c.error("sources", "give path (one raster) or sources, not both")
@@ -111,7 +113,8 @@ class RasterConfig:
             )
         ordered = self.sources
         if ordered and all(given):
-            ordered = tuple(sorted(ordered, key=lambda s: -s.priority))
+            # every source has a priority here (all(given))
+            ordered = tuple(sorted(ordered, key=lambda s: -(s.priority or 0)))
         paths = [s.path for s in ordered]
         for k, p in enumerate(paths):
             if p in paths[:k]:

@@ -34,7 +34,7 @@ from coastmesh.case.pipeline.depth import depth_stage, time_step_stage
 from coastmesh.case.pipeline.farms import site_features
 from coastmesh.case.pipeline.mesh import channel_stage, mesh_stage
 from coastmesh.case.pipeline.size import size_stage
-from coastmesh.case.pipeline.state import CaseRun, RunContext, Stage
+from coastmesh.case.pipeline.state import CaseRun, RunContext, Stage, missing
 from coastmesh.case.pipeline.strategy import Regional, Strategy
 from coastmesh.case.pipeline.structures import with_structures
 from coastmesh.case.pipeline.world import Global
@@ -77,7 +77,8 @@ def site_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     if not (run.config.farms or run.config.turbines or run.config.lines):
         return run
     with ctx.timed("farms, turbines and lines"):
-        return replace(run, site=site_features(run.config, run.domain))
+        domain = run.domain or missing("domain")
+        return replace(run, site=site_features(run.config, domain))
 
 
 #: What building a case does, in order.

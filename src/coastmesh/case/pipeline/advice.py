@@ -53,12 +53,13 @@ def quality_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
             quality = replace(quality, sphere=sphere.result())
     warn_avoidable_corners(quality, state.mesh)
     size = run.size or missing("size field")
+    channels = config.size.channels
     warn_spanning(
         quality,
         state.mesh,
         cell=size.grid.cell_m,
         h_min=size.report.h_min_m,
-        narrow=config.size.channels.narrow,
+        narrow=None if channels is None else channels.narrow,
     )
     return replace(run, quality=quality)
 
@@ -92,7 +93,8 @@ def warn_avoidable_corners(quality: QualityReport, mesh: Mesh) -> None:
         return
     names = dict(mesh.boundary_names)
     where = "; ".join(
-        f"{'/'.join(str(names.get(i, i)) for i in c.boundary_ids)} at "
+        f"{'/'.join(str(i if i is None else names.get(i, i)) for i in c.boundary_ids)}"
+        " at "
         f"{c.angle:.1f} deg ({c.node.lon:.4f}, {c.node.lat:.4f})"
         for c in avoidable[:_SHOWN]
         if c.node.lon is not None
@@ -113,7 +115,7 @@ def warn_spanning(
     *,
     cell: float,
     h_min: float | None,
-    narrow: str,
+    narrow: str | None,
 ) -> None:
     """Warn of triangles one element across a channel, with what to change.
 

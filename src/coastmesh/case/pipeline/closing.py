@@ -57,7 +57,7 @@ def close_water(run: CaseRun, ctx: RunContext) -> DomainState:
     """Close what the channel term asks: narrow channels and slots, or slots."""
     config, state = run.config, run.domain or missing("domain")
     channels = config.size.channels
-    if not channels.enabled:
+    if channels is None or not channels.enabled:
         return state
     if channels.narrow == "close":
         with ctx.timed("closing narrow channels"):
@@ -176,6 +176,7 @@ def _narrow_water(
     are left to the slivers' pass: a cut changes the width of nothing further.
     """
     domain, channels, h_min = state.domain, config.size.channels, floor(config.size)
+    assert channels is not None  # close_water closes channels only with the term on
     grid = size_grid(state, config)
     sites = site_area(config, state.mesh_crs)
     if near is not None:
@@ -208,8 +209,8 @@ def _narrow_water(
         if near is None
         else np.empty(0, dtype=object)
     )
-    opened = [shapely.LineString(s.coords) for s in domain.segments if s.kind == "open"]
-    opened = densified(domain, opened, state.mesh_crs) if opened else None
+    lines = [shapely.LineString(s.coords) for s in domain.segments if s.kind == "open"]
+    opened = densified(domain, lines, state.mesh_crs) if lines else None
     for g, lab, fs in pieces:
         if not fs:
             continue
@@ -277,7 +278,7 @@ def _confirmed(grid: PlaneGrid, boxes, domain, h_min: float, sites):
     margin = max_width + h_min
     merged = shapely.get_parts(shapely.union_all(shapely.buffer(boxes, margin)))
     water = densified(domain, [domain.polygon], grid.crs)[0]
-    lines = {"shoreline": [], "open": []}
+    lines: dict[str, list[shapely.Geometry]] = {"shoreline": [], "open": []}
     for s in domain.segments:
         lines[s.kind].append(shapely.LineString(s.coords))
     shore = densified(domain, lines["shoreline"], grid.crs)

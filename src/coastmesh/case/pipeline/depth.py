@@ -61,9 +61,11 @@ def depth_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     if b is None:
         return run
     with ctx.timed("depth at the nodes") as progress:
-        rasters = read_sources(b.stack, state.mesh.points, state.mesh.crs, progress)
-        if b.window is not None:
-            rasters = _simplified(rasters, b)
+        crs = state.mesh.crs
+        assert crs is not None  # the case's meshes carry their CRS
+        rasters = read_sources(b.stack, state.mesh.points, crs, progress)
+        if b.window is not None and b.modes is not None:  # given together
+            rasters = _simplified(rasters, b.window, b.modes)
         # the depth's warnings wait for the relief: they are about the final mesh
         with warnings.catch_warnings(record=relief_due(run.config)) as caught:
             if caught is not None:
@@ -84,6 +86,7 @@ def time_step_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     if state is None or depth is None or not relief_due(config):
         return run
     cleanup = state.parts.cleanup
+    assert cleanup is not None  # relief_due: the parts were cleaned
     courant = run.time_step
     with ctx.timed("time step") as progress:
         held = None
@@ -156,14 +159,14 @@ def node_depths(
     return mesh.with_point_data(depth=depth), report
 
 
-def _simplified(rasters: DepthSources, b: NodeDepthConfig) -> DepthSources:
+def _simplified(rasters: DepthSources, window: int, modes: int) -> DepthSources:
     """Each raster of the window read, approximated by PCA (the paper's section II)."""
     from coastmesh.pca import simplify_raster
 
     return DepthSources(
         [
             DepthSource(
-                s.raster.copy(data=simplify_raster(s.raster.values, b.window, b.modes)),
+                s.raster.copy(data=simplify_raster(s.raster.values, window, modes)),
                 s.positive,
                 s.blend,
                 s.name,

@@ -241,6 +241,7 @@ def site_area(config: CaseConfig, crs: CRS) -> shapely.Geometry | None:
             parts.append(reproject(shapely.Polygon(farm.polygon), lonlat, crs))
         else:
             where = f"{config.label}: farms[{k}] ({farm.name!r})"
+            assert farm.path is not None  # _validate: a polygon or a path
             parts.append(
                 file_place(farm.path, farm.layer, crs, where, dimension=2, what="farm")
             )
@@ -268,6 +269,7 @@ def region_geometry(
                 f"({shapely.is_valid_reason(polygon)})"
             )
         return polygon
+    assert r.path is not None  # _validate: one of box, polygon and path
     features = read_features(r.path, layer=r.layer)
     geometry = features.geometry[~shapely.is_missing(features.geometry)]
     polygonal = shapely.get_dimensions(geometry) == 2

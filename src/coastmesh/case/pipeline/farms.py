@@ -23,6 +23,7 @@ import csv
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TypedDict
 
 import numpy as np
 import shapely
@@ -194,6 +195,7 @@ def _wakes(config: CaseConfig, farms, turbines):
             elif farm is not None:  # a farm's wake: the farm's size
                 h = farm[3]
             else:  # a group's wake: half a rotor
+                assert diameter is not None  # a turbine group has a turbine
                 h = diameter / 2
         except ValueError as exc:
             raise ConfigError(f"{where}: {exc}") from None
@@ -235,11 +237,21 @@ def _check_footprint_ids(config: CaseConfig, footprints) -> None:
         taken[pid] = f"the footprint of turbine {name!r}"
 
 
-def with_site_sizes(size: SizeGrid, site: SiteFeatures, rate: float) -> SizeGrid:
-    """Return the size grid with a patch at the site's sizes; as it is without."""
+def with_site_sizes(
+    size: SizeGrid, site: SiteFeatures, rate: float | None, label: str
+) -> SizeGrid:
+    """Return the size grid with a patch at the site's sizes; as it is without.
+
+    The sizes grow at ``rate`` away from the site: raise without one.
+    """
     smallest = site.smallest()
     if not site or not math.isfinite(smallest):
         return size
+    if rate is None:
+        raise ConfigError(
+            f"{label}: mesh_size.rate = false: the sizes of the farms, turbines "
+            "and lines grow at the rate away from them; give a rate"
+        )
     levels = site_patch(
         size,
         site.box(),
@@ -258,6 +270,7 @@ def _farms(config: CaseConfig, crs: CRS, sea: shapely.Geometry):
         if f.polygon is not None:
             polygon = reproject(shapely.Polygon(f.polygon), _LONLAT, crs)
         else:
+            assert f.path is not None  # _validate: a polygon or a path
             polygon = file_place(f.path, f.layer, crs, where, dimension=2, what="farm")
         if not polygon.is_valid or polygon.area <= 0:
             reason = shapely.is_valid_reason(polygon)
@@ -499,6 +512,25 @@ def check_clearance(site: SiteFeatures, mesh) -> None:
             )
 
 
+class TurbineRow(TypedDict):
+    """A row of ``turbines.csv`` (:func:`turbine_rows`), as it is written."""
+
+    name: str
+    group: str
+    lon: str
+    lat: str
+    x: str
+    y: str
+    node: int
+    node_x: str
+    node_y: str
+    region: int
+    diameter_m: str
+    size_m: str
+    element_size_m: str
+    depth_m: str
+
+
 #: The columns of ``turbines.csv``.
 TURBINE_COLUMNS = (
     "name",
@@ -518,7 +550,7 @@ TURBINE_COLUMNS = (
 )
 
 
-def turbine_rows(site: SiteFeatures, mesh) -> list[dict[str, object]]:
+def turbine_rows(site: SiteFeatures, mesh) -> list[TurbineRow]:
     """Return a row per turbine: where it is and what the mesh has there.
 
     ``lon``, ``lat`` are the turbine's place (as the case gives it, if in
@@ -542,7 +574,7 @@ def turbine_rows(site: SiteFeatures, mesh) -> list[dict[str, object]]:
         reproject_points(mesh.points, mesh.crs, site.crs) if mesh.crs else mesh.points
     )
     depth = mesh.point_data.get("depth")
-    rows = []
+    rows: list[TurbineRow] = []
     for t, node, (lon, lat), (x, y) in zip(
         site.turbines, nodes, lonlat, placed, strict=True
     ):

@@ -53,6 +53,7 @@ def read_lines(
         if ln.points is not None:
             line = reproject(shapely.LineString(ln.points), _LONLAT, crs)
         else:
+            assert ln.path is not None  # _validate: points or a path
             line = file_place(
                 ln.path, ln.layer, crs, where, dimension=1, what="[[lines]] entry"
             )

@@ -14,6 +14,7 @@ A global case builds its sets in the stereographic plane
 from __future__ import annotations
 
 import logging
+from typing import TypedDict
 
 import numpy as np
 import shapely
@@ -51,6 +52,14 @@ __all__ = [
 logger = logging.getLogger(__name__)
 
 
+class _PcaCounts(TypedDict, total=False):
+    """What a PCA reconstruction adds to :class:`ShorelineSetReport`."""
+
+    contours_in: int
+    contours_dropped: int
+    features_repaired: int
+
+
 def read_shorelines(config: CaseConfig) -> tuple[Features, CRS]:
     """Read the land polygons of ``[shorelines]``, in the case CRS.
 
@@ -67,20 +76,24 @@ def read_shorelines(config: CaseConfig) -> tuple[Features, CRS]:
     s = config.shorelines
     if s.raster is not None:
         features = read_raster_land(config)
+        assert features.crs is not None  # read_raster_land raises without one
         crs = CRS.from_user_input(config.crs) if config.crs else features.crs
         geometry = reproject(features.geometry, features.crs, crs)
         return Features(geometry, crs, {}, features.fids, features.path), crs
+    assert s.path is not None  # _validate: a path or a raster
     features = read_features(s.path, layer=s.layer, bbox=s.bbox)
-    if features.crs is None:
+    file_crs = features.crs
+    if file_crs is None:
         if s.crs is None:
             raise InputDataError(
                 f"{s.path}: the file declares no CRS; set shorelines.crs in "
                 f"{config.label}",
                 path=str(s.path),
             )
+        file_crs = CRS.from_user_input(s.crs)
         features = Features(
             features.geometry,
-            CRS.from_user_input(s.crs),
+            file_crs,
             features.fields,
             features.fids,
             features.path,
@@ -92,7 +105,7 @@ def read_shorelines(config: CaseConfig) -> tuple[Features, CRS]:
         fid = features.fids[exc.feature] if exc.feature is not None else None
         raise InputDataError(exc.message, path=str(s.path), feature=fid) from None
     features = land_polygons(features, purpose="the shoreline file")
-    crs = CRS.from_user_input(config.crs) if config.crs else features.crs
+    crs = CRS.from_user_input(config.crs) if config.crs else file_crs
     features = features.with_geometry(reproject(features.geometry, features.crs, crs))
     logger.info("shorelines: %d land polygons from %s", len(features), s.path)
     return features, crs
@@ -120,8 +133,8 @@ def build_shoreline_set(
     report : ShorelineSetReport
     """
     points_in = int(shapely.get_num_coordinates(features.geometry).sum())
-    pca: dict[str, int] = {}
-    if not s.pca:
+    pca: _PcaCounts = {}
+    if s.window is None or s.modes is None:  # not s.pca
         land = features.geometry
     else:
         if densified is None:

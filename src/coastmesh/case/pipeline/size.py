@@ -21,7 +21,13 @@ import numpy as np
 import shapely
 from pyproj import CRS
 
-from coastmesh.case.config import PYTHON_SOURCE, NodeDepthConfig, SizeConfig, floor
+from coastmesh.case.config import (
+    PYTHON_SOURCE,
+    NodeDepthConfig,
+    RasterConfig,
+    SizeConfig,
+    floor,
+)
 from coastmesh.case.pipeline.closing import smallest_size
 from coastmesh.case.pipeline.depth import read_sources
 from coastmesh.case.pipeline.domain import site_area
@@ -207,7 +213,7 @@ def domain_size_field(
         domain, crs, spacing=size.cell, smallest=smallest_size(size)
     )
 
-    def read(part: object) -> xr.DataArray | DepthSources:
+    def read(part: RasterConfig) -> xr.DataArray | DepthSources:
         if depth is not None:
             return depth
         ring = shapely.segmentize(domain.polygon.exterior, domain.polygon.length / 400)

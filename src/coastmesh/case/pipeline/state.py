@@ -13,6 +13,7 @@ not state.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import logging
 import time
 import warnings
@@ -256,7 +257,8 @@ class SizeState:
     grid: Grid
     field: xr.DataArray
     report: SizeFieldReport
-    layers: Mapping[str, xr.DataArray] = field(default_factory=dict)
+    # dataclasses.field: the name field is this class's size field
+    layers: Mapping[str, xr.DataArray] = dataclasses.field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -312,7 +314,8 @@ class CaseRun:
         """
         if self.size is None:
             return None
-        return self.size.report.terms.get("courant")
+        report = self.size.report.terms.get("courant")
+        return report if isinstance(report, CourantReport) else None
 
     def built(self) -> Built:
         """Return the parts every built case has; raise if a stage has not run."""

@@ -13,6 +13,7 @@ and no closing drops them for their size.
 from __future__ import annotations
 
 from dataclasses import replace
+from typing import TYPE_CHECKING
 
 import shapely
 from pyproj import CRS
@@ -25,6 +26,9 @@ from coastmesh.errors import ConfigError
 from coastmesh.geometry import domain_with_structures, reproject
 from coastmesh.geometry.projection import sample_size
 from coastmesh.types import SizeGrid
+
+if TYPE_CHECKING:
+    from coastmesh.meshing.gmsh import SphereSizeGrid
 
 __all__ = ["check_structure_sizes", "read_structures", "with_structures"]
 
@@ -69,6 +73,7 @@ def read_structures(
         if s.polygon is not None:
             polygon = reproject(shapely.Polygon(s.polygon), _LONLAT, crs)
         else:
+            assert s.path is not None  # _validate: a polygon or a path
             polygon = file_place(
                 s.path, s.layer, crs, where, dimension=2, what="structure"
             )
@@ -76,7 +81,9 @@ def read_structures(
     return out
 
 
-def check_structure_sizes(state: DomainState, size: SizeGrid, label: str) -> None:
+def check_structure_sizes(
+    state: DomainState, size: SizeGrid | SphereSizeGrid, label: str
+) -> None:
     """Raise unless every structure's outline gets ``MIN_EDGES`` edges or more.
 
     The boundary is resampled at the size field: an outline shorter than

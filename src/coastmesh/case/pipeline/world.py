@@ -160,6 +160,7 @@ class Global(Strategy):
                 "mesh_size.bathymetry.sources: a global case takes one raster for "
                 "its size terms; give path"
             )
+        assert part.path is not None  # _validate: path or sources
         return read_raster(part.path)
 
     def size_grid(self, run: CaseRun) -> SphereSizeGrid:
@@ -391,7 +392,7 @@ def _shell(
     shell: shapely.Polygon, s: ShorelineSetConfig, threads: int = 1
 ) -> shapely.Polygon:
     """Return the polar coast, with the set's PCA when it has one."""
-    if not s.pca:
+    if s.window is None or s.modes is None:  # not s.pca
         return shell
     out, _ = simplify_shorelines([shell], s.window, s.modes, workers=threads)
     parts = shapely.get_parts(out[0]) if out[0] is not None else []

@@ -136,7 +136,8 @@ def _default(f: dataclasses.Field[Any], meta: Key) -> str:  # noqa: PLR0911
         return meta.default_doc
     if is_required(f):
         return "required"
-    value = f.default_factory() if f.default is dataclasses.MISSING else f.default
+    factory = f.default_factory  # a field has a default or a factory, not both
+    value = f.default if factory is dataclasses.MISSING else factory()
     if value is None or value == ():
         return "none"
     if meta.part is not None:

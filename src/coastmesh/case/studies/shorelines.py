@@ -177,7 +177,7 @@ def parse_study(
     detail = table.get("detail", schema.box, None)
     densify = table.get("densify_long_edges", schema.boolean, True)
     spacing = table.get("hausdorff_spacing", _positive_length, 25.0)
-    reconstructions = []
+    reconstructions: list[ReconstructionConfig] = []
     for r in table.tables("reconstructions"):
         window = r.get("window", schema.integer(2))
         modes = r.get("modes", schema.integer(1))
@@ -235,6 +235,7 @@ def run_study(
     crs = features.crs
     bounds = tuple(float(v) for v in shapely.total_bounds(features.geometry))
     detail = config.detail or detail_bounds(features.geometry, crs)
+    assert detail is not None  # _read keeps land polygons only, and some
     if not shapely.intersects(shapely.box(*detail), features.geometry).any():
         raise ConfigError(
             f"study.detail = {list(detail)}: the box holds no shoreline of "

@@ -97,7 +97,7 @@ class Channels(SizeTerm):
         (:func:`~coastmesh.case.terms.base.switched_on`).
         """
         ch = case.config.size.channels
-        if not switched_on(ch.enabled):
+        if ch is None or not switched_on(ch.enabled):
             return None
         width = grid.widths(
             case.domain, max_width=ch.elements_across * case.config.size.h_max

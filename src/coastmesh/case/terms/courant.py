@@ -233,10 +233,12 @@ class Courant(SizeTerm):
             return floor, cap
 
         if co.dt is None:
+            courant_max = co.courant_max
+            assert courant_max is not None  # _validate: dt = "auto" needs it
 
             def time_step(floored: NDArray[np.float64]) -> float:
                 return auto_time_step(
-                    floored, speed, grid.sea, co.courant_max, areas=grid.areas
+                    floored, speed, grid.sea, courant_max, areas=grid.areas
                 )
 
             def lower(floored: NDArray[np.float64]) -> NDArray[np.float64]:
