@@ -370,7 +370,8 @@ def _check_nodes(water: shapely.Polygon, mesh_crs: CRS) -> None:
     if len(crossing):
         raise MeshingError(
             f"the boundary's mesh nodes cross at {len(crossing)} places, the "
-            f"first at {_lonlat(*crossing[0, :2], mesh_crs)}: two coasts there "
+            f"first at {_lonlat(crossing[0, 0], crossing[0, 1], mesh_crs)}: two "
+            "coasts there "
             "are closer than the size resolves; close the water there ([domain] "
             "close at least the size), or make the size there smaller"
         )
@@ -378,7 +379,8 @@ def _check_nodes(water: shapely.Polygon, mesh_crs: CRS) -> None:
 
 def _lonlat(x: float, y: float, crs: CRS) -> str:
     """Return a point of ``crs`` as ``"(lon, lat)"`` for a message."""
-    lon, lat = project_points(np.array([[x, y]]), crs, "EPSG:4326", what="a point")[0]
+    lonlat = CRS.from_epsg(4326)
+    lon, lat = project_points(np.array([[x, y]]), crs, lonlat, what="a point")[0]
     return f"({lon:.4f}, {lat:.4f}) (lon, lat)"
 
 
@@ -420,7 +422,7 @@ def _mesh(
             )
         )
         edges, edge_ids = _check_edges(triangles, edges, edge_ids)
-        cleaned, target = cleaned.result(), target.result()
+        report, sizes = cleaned.result(), target.result()
     mesh = Mesh(
         points,
         triangles,
@@ -428,14 +430,14 @@ def _mesh(
         edge_ids,
         domain.surface_id,
         output_crs,
-        {"size": target},
+        {"size": sizes},
         {s.physical_id: s.name for s in domain.segments},
         {s.physical_id: s.kind for s in domain.segments},
         regions,
         dict(zip(plane.ids, plane.names, strict=True)),
         lines,
     )
-    return mesh, cleaned
+    return mesh, report
 
 
 def _line_nodes(points: NDArray[np.float64], plane: InnerPlane) -> list[NDArray]:
@@ -450,10 +452,10 @@ def _line_nodes(points: NDArray[np.float64], plane: InnerPlane) -> list[NDArray]
         points,
         np.empty((0, 3), np.int64),
         np.empty((0, 2), np.int64),
-        [],
+        np.empty(0, np.int64),
         1,
         None,
-        lines=[MeshLine(1, "line", xy) for xy in plane.lines],
+        lines=tuple(MeshLine(1, "line", xy) for xy in plane.lines),
     )
     try:
         edges = probe.line_edges()[0]

@@ -97,7 +97,8 @@ def mesh_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     with ctx.timed("meshing") as progress:
         mesh, parts = mesh_in_parts(
             state.domain,
-            # it takes a SphereSizeGrid too (engine.py, being edited, says SizeGrid)
+            # a SphereSizeGrid too: the meshing layer types the size field as
+            # a SizeGrid (issue 49: one protocol for both is still to come)
             size,  # type: ignore[arg-type]
             mesh_crs=state.mesh_crs,
             output_crs=state.output_crs,
