@@ -227,17 +227,23 @@ def test_a_part_cut_again_for_its_size_does_not_hide_a_cut_not_made():
         np.arange(0.0, 12001, 50), np.arange(0.0, 8001, 50), np.full((161, 241), 10.0)
     )
     total = expected_triangles(water, grid)
-    best = parts_module._best_cut
+    best, partial = parts_module._best_cut, parts_module._partial_cut
 
     def refuse_small(polygon, grid, coast, region, x, y, w, *rest):
         if w.sum() < 0.3 * total:  # no clean cut in a region under 30 %
             return (np.inf, shapely.LineString(), [], 0.0)
         return best(polygon, grid, coast, region, x, y, w, *rest)
 
+    def refuse_small_partial(face, grid, coast, cells, *rest):
+        if cells[2].sum() < 0.3 * total:  # nor one clean in part
+            return []
+        return partial(face, grid, coast, cells, *rest)
+
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(parts_module, "_CANDIDATES", 1)  # only share - _SPREAD
         patch.setattr(parts_module, "_SPREAD", 0.3)
         patch.setattr(parts_module, "_best_cut", refuse_small)
+        patch.setattr(parts_module, "_partial_cut", refuse_small_partial)
         plan = plan_cuts(water, grid, 4)
         assert cut_lines(water, grid, 4) == plan.cuts
     assert len(plan.cuts) > 3 and plan.missed == 1

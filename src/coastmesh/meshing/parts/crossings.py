@@ -23,6 +23,7 @@ __all__ = [
     "MIN_CROSSING",
     "PENALTY",
     "Turned",
+    "chord_edges",
     "coast_tree",
     "edges_across",
     "near_ends",
@@ -56,6 +57,7 @@ class Turned:
 
     def __init__(self, polygon: Any, direction: tuple[float, float]) -> None:
         c, s = direction
+        self.direction = direction
         self.axis = s == 0.0 or c == 0.0
         self.polygon = polygon
         if not self.axis:
@@ -101,36 +103,47 @@ def edges_across(
 ) -> tuple[float, list[shapely.LineString]]:
     """Return the target edges along a cut's crossings (``chords``), plus penalties.
 
-    Each crossing shorter than two target edges, ending within half a
-    target edge of one of ``coast[1]``'s points or within one of an earlier
-    cut's end (``coast[2]``), or coming nearer the coast or an earlier cut
-    (``coast[0]``, ``coast[3]``) than ``sin(35 deg) min(s, 2 h)`` at a distance
-    ``s >= 2 h`` from its nearer end (it meets the coast at under 35 degrees, or runs
-    along it), adds :data:`PENALTY`: it would make thin triangles. The
-    crossings are returned too.
+    Each crossing that is not clean (:func:`chord_edges`) adds
+    :data:`PENALTY`: it would make thin triangles. The crossings are
+    returned too.
     """
     if not chords:
         return np.inf, []  # cuts nothing: never the best
     score = 0.0
     for chord in chords:
-        a, b = np.asarray(chord.coords)[[0, -1]]
-        length = float(np.hypot(*(b - a)))
-        h_ends = sample_size(grid, np.stack([a, b]))
-        n = int(np.clip(2.0 * length / h_ends.min(), 16, 512))
-        t = np.linspace(0.0, 1.0, n + 1)
-        xy = a + t[:, None] * (b - a)
-        h = sample_size(grid, xy)
-        edges = float(length * np.mean(1.0 / h))
+        edges, clean = chord_edges(grid, coast, chord)
         score += edges
-        if (
-            edges < 2.0
-            or near_ends(coast, a, b, h_ends)
-            or tight(coast, xy, h, t, length)
-        ):
+        if not clean:
             # a penalised line is never cut along (any clean one beats it, and
             # with none the region is not cut): its other chords do not matter
             return score + PENALTY, chords
     return score, chords
+
+
+def chord_edges(
+    grid: SizeGrid, coast: tuple, chord: shapely.LineString
+) -> tuple[float, bool]:
+    """Return the target edges along one crossing, and whether it is clean.
+
+    A crossing is not clean (it would make thin triangles) if it is shorter
+    than two target edges, ends within half a target edge of one of
+    ``coast[1]``'s points or within one of an earlier cut's end (``coast[2]``),
+    or comes nearer the coast or an earlier cut (``coast[0]``, ``coast[3]``)
+    than ``sin(35 deg) min(s, 2 h)`` at a distance ``s >= 2 h`` from its
+    nearer end (it meets the coast at under 35 degrees, or runs along it).
+    """
+    a, b = np.asarray(chord.coords)[[0, -1]]
+    length = float(np.hypot(*(b - a)))
+    h_ends = sample_size(grid, np.stack([a, b]))
+    n = int(np.clip(2.0 * length / h_ends.min(), 16, 512))
+    t = np.linspace(0.0, 1.0, n + 1)
+    xy = a + t[:, None] * (b - a)
+    h = sample_size(grid, xy)
+    edges = float(length * np.mean(1.0 / h))
+    clean = not (
+        edges < 2.0 or near_ends(coast, a, b, h_ends) or tight(coast, xy, h, t, length)
+    )
+    return edges, clean
 
 
 def near_ends(coast: tuple, a: NDArray, b: NDArray, h_ends: NDArray) -> bool:

@@ -17,8 +17,7 @@ it) wins: cuts go where the size is coarse and the water narrow, and keep off
 the fine coast. A cut must be clean where it crosses the water, every time
 it does: if none of the 9 is, 41 positions within 15 % are tried, then the
 same across the shorter side, then the same at the oblique angles of
-:data:`_OBLIQUE` (the diagonals first); a region with no clean cut is not cut
-(fewer parts, never thin triangles). The first direction with a clean cut
+:data:`_OBLIQUE` (the diagonals first). The first direction with a clean cut
 wins, so a region cut across x or y is cut as before oblique cuts were
 tried. A region is convex: a box, or a box cut by oblique cuts, and its
 halves are its parts on either side of the cut. A crossing makes thin
@@ -32,6 +31,25 @@ not cut. A part left holding over :data:`OVERSIZE` times its share (the
 water's cost over ``K``), where only a cut off balance was clean, is cut in
 two as a region would be, until it is not. Nothing is random: the same
 water, grid and ``K`` give the same cuts.
+
+**Where no line across a region is clean**, its faces of water are cut one
+by one (:func:`_cut_face`), each by a line that need be clean only where it
+crosses that face (its crossings of other faces are not cut), tried as
+above; and where no line is clean even there, along the first line that
+splits the face at its clean crossings only, leaving the water joined at the
+others (:mod:`~coastmesh.meshing.parts.partial`): its largest face may hold
+at most :data:`_WIDER` more than the larger side of a balanced cut. The
+faces a cut makes share the face's parts by their expected triangles
+(largest remainders), and are cut alone in turn, down to :data:`OVERSIZE`.
+In a face, a crossing that would cut off a piece of under
+:data:`MIN_PART_TRIANGLES` is not cut, so it makes no face of a few
+triangles. (``world_fine.toml``, 32 parts wanted: a line across the world
+ocean crosses it 10 to 60 times, and none of the 400 tried is clean at every
+one, so the world was one part; now 46, the largest 1.32 shares, planned in
+about 25 s.) A region is cut by lines spanning it as before wherever one is
+clean, so such cases cut as before (``world.toml``, the NW-shelf fine case).
+A part left over :data:`OVERSIZE` shares all the same is named, with why,
+in the parts report (:func:`~coastmesh.meshing.parts.report.oversize_parts`).
 """
 
 from __future__ import annotations
@@ -43,7 +61,14 @@ import shapely
 from numpy.typing import NDArray
 
 from coastmesh.geometry.cells import points_inside
-from coastmesh.meshing.parts.crossings import PENALTY, Turned, coast_tree, edges_across
+from coastmesh.meshing.parts.crossings import (
+    PENALTY,
+    Turned,
+    chord_edges,
+    coast_tree,
+    edges_across,
+)
+from coastmesh.meshing.parts.partial import cells_of, faces_of, split_costs
 from coastmesh.types import SizeGrid
 
 __all__ = [
@@ -246,10 +271,11 @@ def plan_cuts(
     -------
     CutPlan
         ``cuts``: ``parts - 1`` segments (fewer where a region holds under twice
-        :data:`MIN_PART_TRIANGLES` expected triangles or has no clean cut;
+        :data:`MIN_PART_TRIANGLES` expected triangles or has no cut;
         more where a part would hold over :data:`OVERSIZE` shares),
         each spanning the region it cuts (a convex region of the recursive
-        bisection);
+        bisection), or, where a face of water is cut alone, one of its
+        crossings of that face;
         later cuts end on earlier ones. A cut may cross the water several
         times: each crossing is a shared curve. ``missed``: how many of the
         ``parts - 1`` cuts asked for were not made (a cut made again to split
@@ -323,16 +349,16 @@ def _bisect(
     ``cells`` are the grid nodes in its water and their expected triangles;
     ``aim`` the parts wanted of it and the :data:`OVERSIZE` limit of a part.
     The cuts are appended to ``cuts``; the number of the region's wanted
-    cuts not made, if it is not cut, to ``missed``.
+    cuts not made, if it is not cut, to ``missed``. A region with no clean
+    cut has its faces cut one by one (:func:`_cut_face`).
     """
     x, y, w = cells
     parts, limit = aim
     asked = max(parts - 1, 0)  # cuts wanted here; not the one more for OVERSIZE
-    if parts < 2 and w.sum() > limit:
-        parts = 2  # too large a part: cut once more
-    if parts < 2 or len(w) < 2 or w.sum() < 2 * MIN_PART_TRIANGLES:
+    if not _worth_cutting(parts, w, limit):
         missed.append(asked)  # a part must be many elements across, or its
         return  # cuts make slivers
+    parts = max(parts, 2)  # one part, too large: cut once more
     x0, y0, x1, y1 = region.bounds
     # the water in the region only: each level works on less geometry
     clipped = shapely.clip_by_rect(polygon, x0, y0, x1, y1)
@@ -351,9 +377,9 @@ def _bisect(
         )
         if score < PENALTY:
             break
-    else:
-        missed.append(asked)
-        return  # no clean cut: fewer parts beat thin triangles
+    else:  # no clean cut across the region: its faces one by one
+        _cut_faces(pieces, grid, coast, cells, aim, cuts, missed, tried=True)
+        return
     cuts.append(line)
     coast[2].extend(c for g in chosen for c in np.asarray(g.coords)[[0, -1]])
     coast[3].extend(chosen)
@@ -362,6 +388,165 @@ def _bisect(
         half = _half(region, direction, at, below=below)
         cells = (x[side], y[side], w[side])
         _bisect(polygon, grid, coast, half, cells, (n, limit), cuts, missed)
+
+
+def _worth_cutting(parts: int, w: NDArray, limit: float) -> bool:
+    """Whether water of these expected triangles is cut (in two, if one part)."""
+    if parts < 2 and w.sum() <= limit:
+        return False  # one part, not too large
+    return len(w) >= 2 and w.sum() >= 2 * MIN_PART_TRIANGLES
+
+
+def _cut_faces(
+    faces: list[shapely.Polygon],
+    grid: SizeGrid,
+    coast: tuple,
+    cells: tuple[NDArray, NDArray, NDArray],
+    aim: tuple[int, float],
+    cuts: list[shapely.LineString],
+    missed: list[int],
+    *,
+    tried: bool = False,
+    labels: NDArray[np.int64] | None = None,
+) -> None:
+    """Cut each face alone (:func:`_cut_face`), the parts wanted shared by cost.
+
+    ``tried``: the faces are a region's water that no line across the
+    region cuts cleanly, so one face alone has no clean cut either.
+    ``labels``: each cell's face, if found already.
+    """
+    parts, limit = aim
+    x, y, w = cells
+    if labels is None:
+        labels = cells_of(faces, x, y)
+    costs = np.bincount(labels, w, minlength=len(faces))
+    shares = _allocate(parts, costs)
+    for k, face in enumerate(faces):
+        side = labels == k
+        _cut_face(
+            face,
+            grid,
+            coast,
+            (x[side], y[side], w[side]),
+            (shares[k], limit),
+            cuts,
+            missed,
+            tried=tried and len(faces) == 1,
+        )
+
+
+def _cut_face(
+    face: shapely.Polygon,
+    grid: SizeGrid,
+    coast: tuple,
+    cells: tuple[NDArray, NDArray, NDArray],
+    aim: tuple[int, float],
+    cuts: list[shapely.LineString],
+    missed: list[int],
+    tried: bool = False,
+) -> None:
+    """Cut one face of water by a line, where it crosses that face only; recurse.
+
+    The line is the first clean cut :func:`_best_cut` finds across the face
+    (in :func:`_directions`' order), else the first that splits it at its
+    clean crossings only (:func:`_partial_cut`). A crossing that cuts off a
+    piece of under :data:`MIN_PART_TRIANGLES` is not cut
+    (:func:`~coastmesh.meshing.parts.partial.split_costs`). The faces it
+    makes share the parts wanted by their expected triangles, and are cut
+    alone in turn. ``tried``: no clean cut across it exists.
+    """
+    x, y, w = cells
+    parts, limit = aim
+    asked = max(parts - 1, 0)
+    if not _worth_cutting(parts, w, limit):
+        missed.append(asked)
+        return
+    split = max(parts, 2)
+    share = (split // 2) / split
+    most = (1.0 - share + _WIDER) * float(w.sum())
+    region = shapely.box(*face.bounds)
+    x0, y0, x1, y1 = face.bounds
+    kept: list[shapely.LineString] = []
+    for direction in [] if tried else _directions((x1 - x0) >= (y1 - y0)):
+        score, _, chosen, at = _best_cut(
+            face, grid, coast, region, x, y, w, share, direction
+        )
+        if score < PENALTY:
+            costs = split_costs(
+                face,
+                Turned(face, direction),
+                at,
+                cells,
+                chosen,
+                [True] * len(chosen),
+                MIN_PART_TRIANGLES,
+            )
+            if costs.kept and len(costs.costs) > 1 and costs.costs[0] <= most:
+                kept = [chosen[k] for k in costs.kept]
+                break
+    if not kept:
+        kept = _partial_cut(face, grid, coast, cells, share, most)
+    faces = faces_of(face, kept) if kept else []
+    labels = cells_of(faces, x, y)
+    if len(faces) < 2 or np.bincount(labels, w).max() >= w.sum():
+        missed.append(asked)  # no cut, or none that splits it
+        return
+    cuts.extend(kept)
+    coast[2].extend(c for g in kept for c in np.asarray(g.coords)[[0, -1]])
+    coast[3].extend(kept)
+    _cut_faces(faces, grid, coast, cells, aim, cuts, missed, labels=labels)
+
+
+def _allocate(parts: int, costs: NDArray) -> list[int]:
+    """Share ``parts`` among faces by their ``costs``: largest remainders.
+
+    Examples
+    --------
+    >>> _allocate(32, np.array([49.8, 45.0, 5.2]))
+    [16, 14, 2]
+    """
+    exact = parts * costs / max(float(costs.sum()), 1e-300)
+    whole = np.floor(exact).astype(int)
+    rest = parts - int(whole.sum())
+    order = np.argsort(-(exact - whole), kind="stable")
+    whole[order[:rest]] += 1
+    return [int(n) for n in whole]
+
+
+def _partial_cut(
+    face: shapely.Polygon,
+    grid: SizeGrid,
+    coast: tuple,
+    cells: tuple[NDArray, NDArray, NDArray],
+    share: float,
+    most: float,
+) -> list[shapely.LineString]:
+    """Return the clean crossings of the first line that splits ``face`` well.
+
+    The lines are those :func:`_best_cut` tries, in its order; each is cut
+    where it crosses the face cleanly and left uncut elsewhere
+    (:func:`~coastmesh.meshing.parts.partial.split_costs`). The first whose
+    largest face holds at most ``most`` expected triangles wins. None
+    splits it: an empty list.
+    """
+    x, y, w = cells
+    region = shapely.box(*face.bounds)
+    x0, y0, x1, y1 = face.bounds
+    for direction in _directions((x1 - x0) >= (y1 - y0)):
+        turned = Turned(face, direction)
+        places = _places(grid, x, y, w, share, direction)
+        for at in places(_SPREAD, _CANDIDATES) + places(_WIDER, _WIDER_CANDIDATES):
+            line = _line(region, direction, at)
+            if line.is_empty:
+                continue
+            chords = turned.chords(line)
+            clean = [chord_edges(grid, coast, c)[1] for c in chords]
+            split = split_costs(
+                face, turned, at, cells, chords, clean, MIN_PART_TRIANGLES
+            )
+            if split.kept and len(split.costs) > 1 and split.costs[0] <= most:
+                return [chords[k] for k in split.kept]
+    return []
 
 
 def _directions(longer_x: bool) -> list[tuple[float, float]]:
@@ -480,6 +665,34 @@ def _past_node(
     return place
 
 
+def _places(
+    grid: SizeGrid,
+    x: NDArray,
+    y: NDArray,
+    w: NDArray,
+    share: float,
+    direction: tuple[float, float],
+) -> Any:
+    """Return ``(spread, count) -> places``: cuts normal to ``direction``.
+
+    ``count`` places at the cost quantiles within ``spread`` of ``share``,
+    the most balanced first; no grid node lies on one.
+    """
+    along = _along(x, y, direction)
+    order = np.argsort(along, kind="stable")
+    past = _past_node(grid, direction, along[order])
+    cum = np.cumsum(w[order]) / w.sum()
+
+    def places(spread: float, count: int) -> list[float]:
+        tried = np.linspace(share - spread, share + spread, count)
+        return [
+            past(min(int(np.searchsorted(cum, q)), len(order) - 1))
+            for q in sorted(tried, key=lambda q: abs(q - share))  # ties: balanced
+        ]
+
+    return places
+
+
 def _best_cut(
     polygon: shapely.Polygon | shapely.MultiPolygon,
     grid: SizeGrid,
@@ -492,19 +705,13 @@ def _best_cut(
     direction: tuple[float, float],
 ) -> tuple[float, shapely.LineString, list[shapely.LineString], float]:
     """Return the best cut normal to ``direction``: score, line, crossings, place."""
-    along = _along(x, y, direction)
-    order = np.argsort(along, kind="stable")
-    past = _past_node(grid, direction, along[order])
-    cum = np.cumsum(w[order]) / w.sum()
+    places = _places(grid, x, y, w, share, direction)
     turned = Turned(polygon, direction)
     best: tuple = (np.inf, shapely.LineString(), [], 0.0)
     for spread, count in ((_SPREAD, _CANDIDATES), (_WIDER, _WIDER_CANDIDATES)):
         if best[0] < PENALTY:
             break  # a clean cut within the first spread: no need to look wider
-        tried = np.linspace(share - spread, share + spread, count)
-        for q in sorted(tried, key=lambda q: abs(q - share)):  # ties: balanced
-            k = min(int(np.searchsorted(cum, q)), len(order) - 1)
-            at = past(k)  # no grid node lies on the cut
+        for at in places(spread, count):
             line = _line(region, direction, at)
             if line.is_empty:
                 continue

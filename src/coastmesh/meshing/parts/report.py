@@ -10,10 +10,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from coastmesh.meshing.cleanup.report import CleanupReport
+from coastmesh.meshing.parts.cuts import MIN_PART_TRIANGLES, OVERSIZE
 from coastmesh.meshing.parts.tasks import PartMesh, PartTask
 from coastmesh.types import Report
 
-__all__ = ["PartsReport"]
+__all__ = ["PartsReport", "oversize_parts"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -41,6 +42,10 @@ class PartsReport(Report):
         The cleanup of the whole mesh, the parts' combined
         (:func:`~coastmesh.meshing.cleanup.report.combine`); None if the parts
         were not cleaned. It is there for one part too.
+    oversize : tuple of str
+        Each part left holding over :data:`~coastmesh.meshing.parts.cuts.OVERSIZE`
+        shares of the expected triangles, where it is and why it was not cut
+        (:func:`oversize_parts`).
     """
 
     requested: int | str
@@ -53,6 +58,7 @@ class PartsReport(Report):
     centres: tuple[tuple[float, float], ...] = ()
     cleanup_seconds: tuple[float, ...] = ()
     cleanup: CleanupReport | None = None
+    oversize: tuple[str, ...] = ()
 
     @classmethod
     def of(
@@ -68,17 +74,19 @@ class PartsReport(Report):
         """Collect the report of a run (no tasks: one part)."""
         results = sorted(results, key=lambda p: p.index)
         cleaned = [p.cleanup for p in results if p.cleanup is not None]
+        expected = tuple(round(t.expected, 1) for t in tasks)
         return cls(
             requested,
             wanted,
             cuts,
-            tuple(round(t.expected, 1) for t in tasks),
+            expected,
             tuple(len(p.triangles) for p in results),
             tuple(p.seconds for p in results),
             tuple(p.worker for p in results),
             centres,
             tuple(c.seconds for c in cleaned),
             cleanup,
+            oversize_parts(expected, wanted, centres),
         )
 
     @property
@@ -124,6 +132,7 @@ class PartsReport(Report):
             "projected_speedup": {
                 str(n): round(self.projected_speedup(n), 2) for n in (2, 8, 32)
             },
+            "oversize": list(self.oversize),
         }
 
     def summary(self) -> str:
@@ -131,7 +140,9 @@ class PartsReport(Report):
 
         The balance is the largest part over its share: all the triangles
         over the parts wanted (a cut crossing the water more than once makes
-        more parts, some of them slivers, which a mean would count).
+        more parts, some of them slivers, which a mean would count). Parts
+        left over :data:`~coastmesh.meshing.parts.cuts.OVERSIZE` shares follow,
+        with why (:attr:`oversize`).
 
         Examples
         --------
@@ -155,7 +166,65 @@ class PartsReport(Report):
             f"{_count(len(set(self.workers)), 'worker')}; projected speed-up on "
             "8 / 32 cores "
             f"{self.projected_speedup(8):.1f} / {self.projected_speedup(32):.1f}"
+            + "".join(f"; {why}" for why in self.oversize)
         )
+
+
+def oversize_parts(
+    expected: Sequence[float],
+    wanted: int,
+    centres: Sequence[tuple[float, float]] = (),
+) -> tuple[str, ...]:
+    """Say which parts hold over ``OVERSIZE`` shares of the expected triangles, and why.
+
+    A share is the expected triangles over the parts ``wanted``, as the cuts
+    measure it. The cuts try to cut every such part
+    (:mod:`~coastmesh.meshing.parts.cuts`), so one is left so only if it
+    holds under twice ``MIN_PART_TRIANGLES`` (too few to make two parts of)
+    or no straight cut splits it: every line tried would make thin triangles
+    where it crosses the part, and cut only where it crosses cleanly it
+    leaves the part whole or nearly.
+
+    Parameters
+    ----------
+    expected : sequence of float
+        Each part's expected triangles.
+    wanted : int
+        The number of parts aimed at.
+    centres : sequence of (float, float), optional
+        A point inside each part (in the output CRS), named in the text.
+
+    Examples
+    --------
+    >>> why = oversize_parts((30_000.0, 5_000.0, 5_000.0), 4, ((1.5, 2.0),) * 3)
+    >>> why[0].split(": ")[0]
+    'part 1 holds 3.00 shares (30,000 expected triangles; at 1.5, 2)'
+    >>> oversize_parts((18_000.0, 2_000.0), 8)[0].split(": ")[1]
+    'too few expected triangles to cut in two (under 2 x 10,000)'
+    """
+    if not expected:
+        return ()
+    share = float(sum(expected)) / max(int(wanted), 1)
+    out = []
+    for k, e in enumerate(expected):
+        if e <= OVERSIZE * share:
+            continue
+        if e < 2 * MIN_PART_TRIANGLES:
+            why = (
+                "too few expected triangles to cut in two "
+                f"(under 2 x {MIN_PART_TRIANGLES:,})"
+            )
+        else:
+            why = (
+                "no straight cut splits it without thin triangles, even where it "
+                "crosses cleanly only"
+            )
+        at = f"; at {centres[k][0]:.6g}, {centres[k][1]:.6g}" if centres else ""
+        out.append(
+            f"part {k + 1} holds {e / share:.2f} shares ({e:,.0f} expected "
+            f"triangles{at}): {why}"
+        )
+    return tuple(out)
 
 
 def _count(n: int, noun: str) -> str:
