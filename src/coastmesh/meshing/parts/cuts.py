@@ -296,7 +296,7 @@ def plan_cuts(
         raise ValueError(f"parts is {parts!r}; expected an integer >= 1")
     x, y, w = water_cells(polygon, grid, threads) if cells is None else cells
     cuts: list[shapely.LineString] = []
-    coast = (
+    coast: tuple[Any, shapely.STRtree | None, list[Any], list[Any]] = (
         coast_tree(polygon),
         (
             None

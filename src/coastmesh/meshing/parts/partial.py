@@ -103,7 +103,7 @@ def split_costs(
         )
     # each crossing's piece on either side: the nearest to its middle
     near = [shapely.STRtree(side) if side else None for side in sides]
-    ends = []
+    ends: list[tuple[int, int] | None] = []
     for chord in chords:
         xy = shapely.get_coordinates(chord)
         if not turned.axis:
