@@ -101,13 +101,6 @@ def test_modules_are_small():
 
 FUNCTION_LINES = 80
 
-# Functions over FUNCTION_LINES that are still to be split, each with its file
-# and name. Temporary: issue 49 (the counter subtracted docstring blank lines
-# it never counted). Empty this once they are split; do not add to it.
-TOO_LONG_FOR_NOW = {
-    ("meshing/engine.py", "mesh_in_parts"),  # issue 49: being edited elsewhere
-}
-
 
 def _code_lines(node: ast.FunctionDef | ast.AsyncFunctionDef, lines: list[str]) -> int:
     """Lines of ``node`` that are neither blank, a comment nor its docstring."""
@@ -156,35 +149,13 @@ def test_functions_are_short(path):
     """
     text = path.read_text(encoding="utf-8")
     lines = text.splitlines()
-    name = path.relative_to(PACKAGE).as_posix()
     for node in ast.walk(ast.parse(text)):
         if not isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
-            continue
-        if (name, node.name) in TOO_LONG_FOR_NOW:
             continue
         code = _code_lines(node, lines)
         assert code <= FUNCTION_LINES, (
             f"{path.relative_to(ROOT)}:{node.lineno} {node.name} has "
             f"{code} lines of code (at most {FUNCTION_LINES})"
-        )
-
-
-def test_the_allowlist_of_long_functions_is_still_needed():
-    """Each function allowed over the limit still exists and is still too long."""
-    for name, function in TOO_LONG_FOR_NOW:
-        path = PACKAGE / name
-        text = path.read_text(encoding="utf-8")
-        lines = text.splitlines()
-        found = [
-            _code_lines(node, lines)
-            for node in ast.walk(ast.parse(text))
-            if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)
-            and node.name == function
-        ]
-        assert found, f"{name} has no function {function}: drop it from the list"
-        assert max(found) > FUNCTION_LINES, (
-            f"{name} {function} has {max(found)} lines of code now: "
-            "drop it from TOO_LONG_FOR_NOW"
         )
 
 

@@ -264,12 +264,7 @@ def mesh_in_parts(
         (``parts.cleanup``).
     """
     _check_args(domain, size, algorithm, seed, parts)
-    mesh_crs = default_mesh_crs(domain) if mesh_crs is None else CRS(mesh_crs)
-    if not mesh_crs.is_projected:
-        raise ValueError(
-            f"mesh_crs {mesh_crs.name!r} is not projected; give a conformal "
-            "projection in metres (default: the UTM zone of the domain)"
-        )
+    mesh_crs = _projected(domain, mesh_crs)
     output_crs = domain.crs if output_crs is None else CRS(output_crs)
     total = 4
 
@@ -281,14 +276,7 @@ def mesh_in_parts(
     map_size = to_map_units(size, mesh_crs, threads=threads)
     rings, resampled, ids = _boundary(domain, mesh_crs, map_size)
     step(1)
-    with ThreadPoolExecutor(1) as side:  # while Gmsh makes the boundary nodes
-        warming = side.submit(start_workers, runner, parts, rings, map_size)
-        pieces, water = boundary_nodes(
-            resampled, ids, map_size, runner or serial_runner
-        )
-        if (error := warming.exception()) is not None:  # a head start only
-            logger.warning("workers not started ahead: %s", error)
-    _check_nodes(water, mesh_crs)
+    pieces, water = _nodes((rings, resampled, ids), map_size, mesh_crs, runner, parts)
     plane = _inner_plane(inner, domain.crs, mesh_crs, map_size)
     pieces, chords, wanted = _cut(pieces, water, map_size, parts, plane, threads)
     faces = split_faces(
@@ -332,6 +320,40 @@ def mesh_in_parts(
         parts, wanted, tasks, results, faces, cleaned, (mesh_crs, output_crs)
     )
     return mesh, report
+
+
+def _projected(domain: Domain, mesh_crs: Any) -> CRS:
+    """Return the meshing CRS: the one given, or the domain's UTM zone."""
+    crs = default_mesh_crs(domain) if mesh_crs is None else CRS(mesh_crs)
+    if not crs.is_projected:
+        raise ValueError(
+            f"mesh_crs {crs.name!r} is not projected; give a conformal "
+            "projection in metres (default: the UTM zone of the domain)"
+        )
+    return crs
+
+
+def _nodes(
+    boundary: tuple[list, list, list],
+    map_size: Any,
+    mesh_crs: CRS,
+    runner: Runner | None,
+    parts: int | str,
+) -> tuple[list, shapely.Polygon]:
+    """Return the boundary's mesh nodes and the water they bound, checked.
+
+    The workers start meanwhile, on a thread (a head start only).
+    """
+    rings, resampled, ids = boundary
+    with ThreadPoolExecutor(1) as side:  # while Gmsh makes the boundary nodes
+        warming = side.submit(start_workers, runner, parts, rings, map_size)
+        pieces, water = boundary_nodes(
+            resampled, ids, map_size, runner or serial_runner
+        )
+        if (error := warming.exception()) is not None:
+            logger.warning("workers not started ahead: %s", error)
+    _check_nodes(water, mesh_crs)
+    return pieces, water
 
 
 def _boundary(domain: Domain, mesh_crs: CRS, map_size: Any) -> tuple[list, list, list]:
