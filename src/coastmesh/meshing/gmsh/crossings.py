@@ -6,9 +6,12 @@ coasts come closer than that (a strait the closing left, within its 20 %, or
 the skerries of a full-resolution world layer), the chords of one can cross the
 other, and Gmsh cannot mesh the polygon. :func:`resample_valid` finds every
 place where the resampled rings cross or touch, halves the size the coast is
-resampled at within two sizes of each, and resamples those rings again, up to
-:data:`TRIES` times (a 256th of the size): the mesh is finer there, as it
-must be to hold both coasts, and the rest of the boundary is as it was.
+resampled at within two sizes of each, and resamples the rings again, up to
+:data:`TRIES` times (a 256th of the size); the rest of the boundary is as it
+was. The curves through those points then follow both coasts there. Gmsh
+still places the boundary's nodes along them at the size field's size, so
+nodes that cross after all are an error named in lon/lat
+(``coastmesh.meshing.engine``), before the parts' overlays would fail on them.
 """
 
 from __future__ import annotations
