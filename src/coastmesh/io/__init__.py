@@ -1,24 +1,28 @@
 """Readers and writers: file names in, coastmesh types out, and back.
 
-=======================  ========================================================
-:func:`read_features`    vector layer -> :class:`~coastmesh.types.Features`
-:func:`write_features`   :class:`~coastmesh.types.Features` -> vector file
-:func:`read_raster`      raster band -> :class:`xarray.DataArray` (``y``, ``x``)
-:func:`write_raster`     :class:`xarray.DataArray` -> GeoTIFF or NetCDF
-:func:`read_cells`       a window of a raster that :func:`open_raster_source`
-                         described (:mod:`coastmesh.io.raster_stream`)
-:class:`RasterWriter`    a GeoTIFF written a window at a time
-:func:`read_mesh`        msh, fort.14, gr3, UGRID, ... -> :class:`~coastmesh.types.Mesh`
-:func:`write_mesh`       :class:`~coastmesh.types.Mesh` -> msh, fort.14, UGRID, ...
-:func:`mesh_formats`     the mesh formats, by name, with their readers and writers
-:func:`formats_table`    the formats as a Markdown table: what each holds
-:func:`write_domain`     :class:`~coastmesh.types.Domain` -> GeoPackage
-:func:`write_model_test` a smoke-test run folder for ADCIRC or SCHISM
-                         (:mod:`coastmesh.io.model_tests`)
-:func:`write_report`     a report -> JSON (``to_dict()``) and text (``summary()``)
-:func:`check_on_sphere`  a lon/lat mesh's triangles rebuilt and measured on the
-                         sphere (:mod:`coastmesh.io.sphere`, global meshes)
-=======================  ========================================================
+=========================  ========================================================
+:func:`read_features`      vector layer -> :class:`~coastmesh.types.Features`
+:func:`write_features`     :class:`~coastmesh.types.Features` -> vector file
+:func:`read_raster`        raster band -> :class:`xarray.DataArray` (``y``, ``x``)
+:func:`write_raster`       :class:`xarray.DataArray` -> GeoTIFF or NetCDF
+:func:`read_cells`         a window of a raster that :func:`open_raster_source`
+                           described (:mod:`coastmesh.io.raster_stream`)
+:class:`RasterWriter`      a GeoTIFF written a window at a time
+:func:`read_mesh`          msh, fort.14, gr3, UGRID, ... ->
+                           :class:`~coastmesh.types.Mesh`
+:func:`write_mesh`         :class:`~coastmesh.types.Mesh` -> msh, fort.14, UGRID, ...
+:func:`mesh_formats`       the mesh formats, by name, with their readers and writers
+:func:`formats_table`      the formats as a Markdown table: what each holds
+:func:`write_domain`       :class:`~coastmesh.types.Domain` -> GeoPackage
+:func:`write_model_test`   a smoke-test run folder for ADCIRC or SCHISM
+                           (:mod:`coastmesh.io.model_tests`)
+:func:`write_report`       a report -> JSON (``to_dict()``) and text (``summary()``)
+:func:`read_field_source`  a model's results (ANUGA, SCHISM, ADCIRC, UGRID, VTU)
+                           -> :class:`FieldSource`, a mesh with values on it
+                           (:mod:`coastmesh.io.field_sources`)
+:func:`check_on_sphere`    a lon/lat mesh's triangles rebuilt and measured on the
+                           sphere (:mod:`coastmesh.io.sphere`, global meshes)
+=========================  ========================================================
 
 The submodules are imported on first use, so reading vectors does not import
 rasterio and reading rasters does not import pyogrio. Code outside this package
@@ -51,6 +55,7 @@ if TYPE_CHECKING:
         write_mesh,
     )
     from coastmesh.io.domain_gpkg import write_domain
+    from coastmesh.io.field_sources import FieldSource, read_field_source
     from coastmesh.io.model_tests import write_model_test
     from coastmesh.io.msh import read_msh, write_msh
     from coastmesh.io.raster import raster_transform, read_raster, write_raster
@@ -68,6 +73,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "AtomicOutputs",
+    "FieldSource",
     "MeshFormat",
     "RasterSource",
     "RasterWriter",
@@ -91,6 +97,7 @@ __all__ = [
     "read_cells",
     "read_decimated",
     "read_features",
+    "read_field_source",
     "read_mesh",
     "read_msh",
     "read_raster",
@@ -138,6 +145,8 @@ _HOME = {
     "register_mesh_format": "coastmesh.io._registry",
     "write_mesh": "coastmesh.io._registry",
     "write_domain": "coastmesh.io.domain_gpkg",
+    "FieldSource": "coastmesh.io.field_sources",
+    "read_field_source": "coastmesh.io.field_sources",
     "write_model_test": "coastmesh.io.model_tests",
     "write_report": "coastmesh.io.report",
     "SphereCheck": "coastmesh.io.sphere",
