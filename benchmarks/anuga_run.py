@@ -27,7 +27,12 @@ MESH is any mesh coastmesh reads with depth (fort.14, gr3, UGRID .nc, mesh
 .gpkg, ...; a .msh has no depth). Lon/lat nodes are projected to the UTM zone
 of the mesh centre; a projected mesh is used as it is. ANUGA runs in a
 temporary folder (its .sww output and logs are deleted; ``--sww`` keeps the
-.sww). Prints a one-line summary; ``--json`` also writes the numbers. The dt
+.sww). ``--phase-lag DEG`` delays the tide from west to east: the open boundary
+edges are cut into ``--phase-bins`` bins by x, each forced with the phase of
+its bin's middle, from 0 at the westmost open edge to DEG at the eastmost (an
+idealised tide travelling east, as the M2 Kelvin wave does along the north
+of Scotland; not a calibrated forcing). Prints a one-line summary;
+``--json`` also writes the numbers. The dt
 statistics are ANUGA's CFL-limited steps (as in its timestepping statistics),
 before the last step of each yield interval is shortened to land on it.
 """
@@ -95,6 +100,26 @@ def boundary_tags(triangles, mesh):
     return boundary, missing, len(kind) - (len(boundary) - missing)
 
 
+def phase_bins(boundary, triangles, xy, lag, bins):
+    """Tag the open edges by bins of x; return the tags and each bin's phase (deg)."""
+    open_edges = [k for k, tag in boundary.items() if tag == "open"]
+    if not open_edges:
+        return boundary, {}
+    if not lag:
+        return boundary, {"open": 0.0}
+    mid = np.array(
+        [xy[triangles[t, [(e + 1) % 3, (e + 2) % 3]], 0].mean() for t, e in open_edges]
+    )
+    lo, hi = mid.min(), mid.max()
+    k = np.minimum(((mid - lo) / max(hi - lo, 1e-9) * bins).astype(int), bins - 1)
+    tagged, phases = dict(boundary), {}
+    for edge, b in zip(open_edges, k, strict=True):
+        tag = f"open{b}"
+        tagged[edge] = tag
+        phases[tag] = lag * (b + 0.5) / bins
+    return tagged, phases
+
+
 class Monitor(anuga.Operator):
     """A fractional step that records dt and checks the water every step."""
 
@@ -138,6 +163,10 @@ def main(argv=None):
     p.add_argument("--crs", help="CRS of a mesh file that stores none")
     p.add_argument("--json", type=Path, help="write the results here")
     p.add_argument("--sww", type=Path, help="keep ANUGA's .sww output here")
+    p.add_argument(
+        "--phase-lag", type=float, default=0.0, help="deg, west to east (default 0)"
+    )
+    p.add_argument("--phase-bins", type=int, default=12, help="bins of the lag")
     args = p.parse_args(argv)
 
     mesh = coastmesh.read_mesh(args.mesh)
@@ -171,10 +200,14 @@ def main(argv=None):
         )
 
     amp, period, ramp = args.amplitude, args.period, 3600.0
+    boundary, phases = phase_bins(boundary, tris, xy, args.phase_lag, args.phase_bins)
 
-    def tide(t):
-        r = 0.5 * (1 - math.cos(math.pi * t / ramp)) if t < ramp else 1.0
-        return amp * r * math.sin(2 * math.pi * t / period)
+    def tide_at(phase):
+        def tide(t):
+            r = 0.5 * (1 - math.cos(math.pi * t / ramp)) if t < ramp else 1.0
+            return amp * r * math.sin(2 * math.pi * t / period - math.radians(phase))
+
+        return tide
 
     utm = (metric.utm_zone or "") if metric else ""
     t_wall = time.perf_counter()
@@ -196,12 +229,11 @@ def main(argv=None):
         domain.set_quantity("elevation", -depth, location="unique vertices")
         domain.set_quantity("stage", 0.0)
         domain.set_quantity("friction", args.manning)
-        bcs = {
-            "land": anuga.Reflective_boundary(domain),
-            "open": anuga.Transmissive_n_momentum_zero_t_momentum_set_stage_boundary(
-                domain, function=tide
-            ),
-        }
+        bcs = {"land": anuga.Reflective_boundary(domain)}
+        for tag, phase in phases.items():
+            bcs[tag] = anuga.Transmissive_n_momentum_zero_t_momentum_set_stage_boundary(
+                domain, function=tide_at(phase)
+            )
         domain.set_boundary({tag: bcs[tag] for tag in set(boundary.values())})
         monitor = Monitor(domain, amp, args.max_speed)
         setup = time.perf_counter() - t_wall
@@ -248,7 +280,8 @@ def main(argv=None):
         "nodes": len(mesh.points),
         "triangles": len(mesh.triangles),
         "boundary_edges": len(boundary),
-        "open_edges": sum(v == "open" for v in boundary.values()),
+        "open_edges": sum(v != "land" for v in boundary.values()),
+        "phase_lag": args.phase_lag,
         "crs": crs.to_string() if crs else None,
         "metric_crs": metric.to_string() if metric else None,
         "depth_range": [float(depth.min()), float(depth.max())],

@@ -226,3 +226,84 @@ def bilinear_wet_loop(rx, ry, depth, px, py):
         total = sum(w for w, _ in wet)
         out[k] = sum(w * v for w, v in wet) / total if wet else 0.0
     return out
+
+
+def triangles_on_grid_loop(points, triangles, x, y, values, per="node"):
+    """Each grid node, each triangle: is the node inside (by the signs of the
+    three edge cross products)? Then the linear interpolant through the
+    triangle's corners (solved as a 3 x 3 system), or the triangle's value."""
+    points = np.asarray(points, dtype=np.float64)
+    out = np.full((len(y), len(x)), np.nan)
+    inside = np.zeros((len(y), len(x)), dtype=bool)
+    for j, py in enumerate(y):
+        for i, px in enumerate(x):
+            for t, tri in enumerate(triangles):
+                a, b, c = points[tri[0]], points[tri[1]], points[tri[2]]
+                area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+                if area == 0:
+                    continue
+                s = []
+                for p, q in ((a, b), (b, c), (c, a)):
+                    cross = (q[0] - p[0]) * (py - p[1]) - (q[1] - p[1]) * (px - p[0])
+                    s.append(cross * np.sign(area))
+                if min(s) < -1e-9 * abs(area):
+                    continue
+                if per == "node":
+                    m = np.array(
+                        [[a[0], a[1], 1.0], [b[0], b[1], 1.0], [c[0], c[1], 1.0]]
+                    )
+                    coef = np.linalg.solve(m, np.asarray(values)[list(tri)])
+                    out[j, i] = coef[0] * px + coef[1] * py + coef[2]
+                else:
+                    out[j, i] = values[t]
+                inside[j, i] = True
+                break
+    return out, inside
+
+
+def node_gradients_loop(points, triangles, values):
+    """Each triangle: the plane through its corners' values (a 3 x 3 solve);
+    each node: the area-weighted mean of its triangles' slopes."""
+    n = len(points)
+    sx, sy, total = np.zeros(n), np.zeros(n), np.zeros(n)
+    for tri in triangles:
+        p = np.asarray(points, dtype=np.float64)[list(tri)]
+        v = np.asarray(values, dtype=np.float64)[list(tri)]
+        d1, d2 = p[1] - p[0], p[2] - p[0]
+        area = abs(d1[0] * d2[1] - d1[1] * d2[0]) / 2
+        if area == 0 or not np.isfinite(v).all():
+            continue
+        coef = np.linalg.solve(np.column_stack([p, np.ones(3)]), v)
+        for node in tri:
+            sx[node] += coef[0] * area
+            sy[node] += coef[1] * area
+            total[node] += area
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return sx / total, sy / total
+
+
+def size_mapping_loop(kind, values, sizes, exponent, v):
+    """The mapping of one value, by the words of its docs."""
+    if not np.isfinite(v):
+        return np.inf
+    if kind == "thresholds":
+        size = np.inf
+        for threshold, h in zip(values, sizes, strict=False):
+            if v >= threshold:
+                size = h
+        return size
+    if kind == "ramp":
+        (v0, v1), (h0, h1) = values, sizes
+        if h0 >= h1 and h0 != h1 and v < v0:
+            return np.inf
+        if h0 < h1 and v > v1:
+            return np.inf
+        if v <= v0:
+            return h0
+        if v >= v1:
+            return h1
+        return h0 + (v - v0) / (v1 - v0) * (h1 - h0)
+    if v <= 0:
+        return np.inf
+    with np.errstate(over="ignore"):
+        return np.float64(sizes[0]) * (np.float64(v) / values[0]) ** exponent

@@ -6,6 +6,7 @@ import contextlib
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -50,6 +51,17 @@ __all__ = ["run"]
     "default: [run] scheduler, else this machine). Start one with `dask "
     "scheduler` and `dask worker ADDRESS --nthreads 1`.",
 )
+@click.option(
+    "--refine-from",
+    "refine_from",
+    metavar="RESULT",
+    type=click.Path(dir_okay=False, path_type=Path),
+    default=None,
+    help="A first run's results (ANUGA .sww, SCHISM out2d_*.nc, ADCIRC fort.63/"
+    "fort.64/maxvel.63, UGRID .nc, .vtu): the source of every [[mesh_size.fields]] "
+    "entry that gives none, to mesh again finer where that run asks. Give -o too, "
+    "so the first mesh is kept.",
+)
 @overwrite_option
 @click.pass_context
 @translate_errors
@@ -62,6 +74,7 @@ def run(
     overwrite: bool,
     workers: int | None,
     scheduler: str | None,
+    refine_from: Path | None,
 ) -> None:
     """Build a mesh from a case file: shorelines, open boundaries, sizes, Gmsh.
 
@@ -79,6 +92,8 @@ def run(
     from coastmesh.case import StudyCase, read_case
 
     config = read_case(case)
+    if refine_from is not None:
+        config = _refined(config, refine_from, case)
     quiet = ctx.find_root().obj.get("quiet", False)
     if check:
         if quiet:
@@ -94,7 +109,8 @@ def run(
             click.echo(
                 f"{case}: OK: {len(config.sets)} shoreline sets, "
                 f"{len(config.regions)} regions, {len(config.boundaries)} open "
-                f"boundaries, {len(config.size.gradations)} gradations{site}; "
+                f"boundaries, {len(config.size.gradations)} gradations"
+                f"{_fields(config)}{site}; "
                 f"output {output or config.output}"
             )
             for line in site_lines(config):
@@ -127,6 +143,33 @@ def run(
             if (written / "figures").is_dir()
             else f"Look at {written / 'summary.txt'}"
         )
+
+
+def _fields(config: Any) -> str:
+    """``, N fields`` (and how many wait for ``--refine-from``), or nothing."""
+    fields = config.size.fields
+    waiting = sum(f.source is None for f in fields)
+    if not fields:
+        return ""
+    return f", {len(fields)} fields" + (
+        f" ({waiting} without a source: off until --refine-from)" if waiting else ""
+    )
+
+
+def _refined(config: Any, result: Path, case: Path) -> Any:
+    """Give ``result`` to the case's ``[[mesh_size.fields]]`` without a source."""
+    from dataclasses import replace
+
+    from coastmesh.case import StudyCase
+    from coastmesh.case.terms.fields import with_result
+    from coastmesh.errors import ConfigError
+
+    if isinstance(config, StudyCase):
+        raise ConfigError(f"{case}: --refine-from: a {config.kind} study has no sizes")
+    if not result.is_file():
+        raise ConfigError(f"--refine-from {result}: no such file")
+    fields = with_result(config.size.fields, result.resolve())
+    return replace(config, size=replace(config.size, fields=fields))
 
 
 def _stages(quiet: bool) -> Callable[[str], contextlib.AbstractContextManager]:

@@ -46,7 +46,7 @@ from coastmesh.case.config.shorelines import (
     ShorelineSetConfig,
     SiteConfig,
 )
-from coastmesh.case.config.sizes import SizeConfig, floor
+from coastmesh.case.config.sizes import SizeConfig, floor, terms_smallest
 from coastmesh.case.config.sources import DepthSourceConfig, RasterConfig
 
 __all__ = [
@@ -77,6 +77,7 @@ __all__ = [
     "WakeConfig",
     "floor",
     "reference_blocks",
+    "terms_smallest",
 ]
 
 

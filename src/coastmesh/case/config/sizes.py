@@ -26,7 +26,7 @@ if TYPE_CHECKING:
         GradationConfig,
     )
 
-__all__ = ["SizeConfig", "floor"]
+__all__ = ["SizeConfig", "floor", "terms_smallest"]
 
 
 def _rate(value: Any, key: str) -> float | None:
@@ -124,6 +124,9 @@ if TYPE_CHECKING:
         )
         courant: CourantConfig | None = dataclasses.field(default_factory=CourantConfig)
 
+        def __getattr__(self, name: str) -> Any:
+            """Any other term's config: a new term needs no line here."""
+
 else:
     SizeConfig = dataclasses.make_dataclass(
         "SizeConfig",
@@ -151,10 +154,27 @@ gradations, bathymetry, channels, courant, ...
 """
 
 
+def terms_smallest(size: Any, *, floors: bool = False) -> float | None:
+    """Return the smallest size the terms ask for (:meth:`SizeTerm.smallest`).
+
+    The gradations' smallest ``h_min`` and the fields' smallest size; with
+    ``floors``, only the terms whose smallest size is a default floor (the
+    gradations'). None if no term asks for a size of its own.
+    """
+    given = [
+        term.smallest(getattr(size, term.key))
+        for term in TERMS
+        if term.floors or not floors
+    ]
+    return min((g for g in given if g is not None), default=None)
+
+
 def floor(size: Any) -> float:
     """Return the size field's floor: ``h_min``, else the smallest gradation's.
 
-    Without either, ``h_max``: nothing is finer than the field's ceiling.
+    The smallest size of the terms that set the default floor (the
+    gradations', :func:`terms_smallest` with ``floors``). Without any,
+    ``h_max``: nothing is finer than the field's ceiling.
 
     Examples
     --------
@@ -165,4 +185,7 @@ def floor(size: Any) -> float:
     ...     SizeConfig(h_max=5000.0))
     (200.0, 100.0, 5000.0)
     """
-    return size.h_min or min([g.h_min for g in size.gradations] or [size.h_max])
+    if size.h_min:
+        return float(size.h_min)
+    smallest = terms_smallest(size, floors=True)
+    return float(size.h_max) if smallest is None else smallest

@@ -27,7 +27,7 @@ import shapely
 from numpy.typing import NDArray
 from scipy import ndimage
 
-from coastmesh.case.config import CaseConfig, SizeConfig, floor
+from coastmesh.case.config import CaseConfig, SizeConfig, floor, terms_smallest
 from coastmesh.case.pipeline.domain import site_area, with_land
 from coastmesh.case.pipeline.state import CaseRun, DomainState, RunContext, missing
 from coastmesh.case.terms.base import Closing
@@ -72,24 +72,31 @@ def close_water(run: CaseRun, ctx: RunContext) -> DomainState:
     return replace(state, closing=Closing(slots=len(thin)))
 
 
-def size_grid(state: DomainState, config: CaseConfig, threads: int = 1) -> PlaneGrid:
+def size_grid(
+    state: DomainState, config: CaseConfig, threads: int = 1, *, floors: bool = False
+) -> PlaneGrid:
     """Return the size field's grid for a regional domain (the closing's too).
 
     Its spacing is ``[mesh_size] cell``, else the extent over 1000 but not
-    below the smallest size asked for.
+    below the smallest size asked for (with ``floors``, by the terms that set
+    the floor alone: the closing's grid does not change with the sizes of
+    ``[[mesh_size.fields]]``, nor then does the domain).
     """
     return PlaneGrid.around(
         state.domain,
         state.mesh_crs,
         spacing=config.size.cell,
-        smallest=smallest_size(config.size),
+        smallest=smallest_size(config.size, floors=floors),
         threads=threads,
     )
 
 
-def smallest_size(size: SizeConfig) -> float:
-    """Return the smallest size ``[mesh_size]`` asks for: the grid is no finer."""
-    given = [g.h_min for g in size.gradations] + ([size.h_min] if size.h_min else [])
+def smallest_size(size: SizeConfig, *, floors: bool = False) -> float:
+    """Return the smallest size ``[mesh_size]`` asks for: the grid is no finer.
+
+    ``floors``: of the terms that set the floor alone (:func:`terms_smallest`).
+    """
+    given = [v for v in (terms_smallest(size, floors=floors), size.h_min) if v]
     return min(given or [size.h_max])
 
 
@@ -177,7 +184,7 @@ def _narrow_water(
     """
     domain, channels, h_min = state.domain, config.size.channels, floor(config.size)
     assert channels is not None  # close_water closes channels only with the term on
-    grid = size_grid(state, config)
+    grid = size_grid(state, config, floors=True)
     sites = site_area(config, state.mesh_crs)
     if near is not None:
         # water farther than the widest disk measured from a cut keeps its width

@@ -27,6 +27,7 @@ from coastmesh.case.config import (
     RasterConfig,
     SizeConfig,
     floor,
+    terms_smallest,
 )
 from coastmesh.case.pipeline.closing import smallest_size
 from coastmesh.case.pipeline.depth import read_sources
@@ -131,20 +132,21 @@ def _warn_if_floored_away(
     size: SizeConfig, done: list[tuple[str, TermSizes | None]]
 ) -> None:
     """Warn when the default floor, ``h_max``, takes away a term's refinement."""
-    if size.h_min is not None or size.gradations:
+    if size.h_min is not None or terms_smallest(size, floors=True) is not None:
         return
     finer = [
         key
         for key, sizes in done
         if sizes is not None
         and sizes.upper is not None
+        and sizes.floor is None  # a term with a floor of its own is not floored
         and float(np.nanmin(sizes.upper)) < size.h_max
     ]
     if finer:
         warnings.warn(
-            f"mesh_size: no h_min and no gradations, so the floor is h_max = "
-            f"{size.h_max:g} m and the {', '.join(finer)} term(s) cannot make the "
-            "mesh finer anywhere; give mesh_size.h_min",
+            "mesh_size: no h_min and no gradations, so the floor is "
+            f"h_max = {size.h_max:g} m and the {', '.join(finer)} term(s) cannot "
+            "make the mesh finer anywhere; give mesh_size.h_min",
             CoastmeshWarning,
             stacklevel=3,
         )

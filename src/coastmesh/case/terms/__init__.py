@@ -5,6 +5,7 @@
 :class:`Bathymetry`  ``[mesh_size.bathymetry]``: tidal wavelength and slope
 :class:`Channels`    ``[mesh_size.channels]``: elements across every channel
 :class:`Courant`     ``[mesh_size.courant]``: sizes a model runs at its step
+:class:`Fields`      ``[[mesh_size.fields]]``: sizes from a raster or results
 ===================  =======================================================
 
 A term is a :class:`SizeTerm` with its config class. ``[mesh_size]`` has a key
@@ -18,6 +19,7 @@ from coastmesh.case.terms.base import SizeTerm
 from coastmesh.case.terms.bathymetry import Bathymetry, BathymetryConfig
 from coastmesh.case.terms.channels import ChannelConfig, Channels
 from coastmesh.case.terms.courant import Courant, CourantConfig
+from coastmesh.case.terms.fields import FieldConfig, Fields
 from coastmesh.case.terms.gradations import GradationConfig, Gradations
 
 __all__ = [
@@ -28,6 +30,8 @@ __all__ = [
     "Channels",
     "Courant",
     "CourantConfig",
+    "FieldConfig",
+    "Fields",
     "GradationConfig",
     "Gradations",
     "SizeTerm",
@@ -39,4 +43,5 @@ TERMS: tuple[SizeTerm, ...] = (
     Bathymetry(),
     Channels(),
     Courant(),
+    Fields(),
 )

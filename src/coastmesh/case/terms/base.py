@@ -161,6 +161,10 @@ class SizeTerm:
         null when the term is off).
     doc : str
         One line for the key reference.
+    floors : bool
+        Whether the term's :meth:`smallest` size is also the field's default
+        floor (the gradations' ``h_min``); a term that is not may lower the
+        floor where it applies (:attr:`TermSizes.floor`).
     """
 
     key: ClassVar[str]
@@ -169,7 +173,23 @@ class SizeTerm:
     default: ClassVar[Any] = None
     reports: ClassVar[bool] = False
     doc: ClassVar[str] = ""
+    floors: ClassVar[bool] = False
 
     def sizes(self, grid: Grid, case: SizeCase) -> TermSizes | None:
         """Return the term's sizes on ``grid``; None when it is off."""
         raise NotImplementedError(f"{type(self).__name__} has no sizes()")
+
+    def settings(self, case: SizeCase) -> Any:
+        """Return the term's config in ``case``: its table (or tables), or None."""
+        return getattr(case.config.size, self.key)
+
+    def smallest(self, settings: Any) -> float | None:
+        """Return the smallest size the term asks for, given its config.
+
+        The size grid is no coarser than the smallest of the terms'
+        (:func:`~coastmesh.case.config.terms_smallest`); with :attr:`floors`,
+        the field's default floor (``h_min`` unset) is too
+        (:func:`~coastmesh.case.config.floor`). None: the term asks for no
+        size of its own (its sizes follow the field's floor).
+        """
+        return None

@@ -60,6 +60,11 @@ class Gradations(SizeTerm):
     many = True
     default = ()
     doc = "the paper's gradations from named lines (below)"
+    floors = True
+
+    def smallest(self, settings: tuple[GradationConfig, ...]) -> float | None:
+        """Return the smallest gradation's ``h_min``."""
+        return min((g.h_min for g in settings), default=None)
 
     def sizes(self, grid: Grid, case: SizeCase) -> TermSizes:
         """Grade the size from each gradation's lines (domain segments by name).
