@@ -19,13 +19,20 @@ record on the source mesh. ``reduce`` takes the records' ``max``, ``min``,
 record ``at`` a ``time``; ``gradient = true`` then takes the magnitude of the
 reduced field's gradient on the source mesh (per metre).
 
-The value maps to a size by ``mapping`` (:class:`~coastmesh.sizing.fields.
-SizeMapping`: ``"thresholds"``, ``"ramp"`` or ``"power"``). Where the mapping
-asks for nothing, and outside the source's cover, the term does not apply
-(a warning gives the share of the domain the source does not cover). The
-sizes are clamped to ``[h_min, h_max]`` and graded at ``rate`` as every
-term's; an entry asking for less than the field's floor lowers the default
-floor to its smallest size.
+The value maps to a size by ``mapping`` (``"thresholds"``, ``"ramp"`` or
+``"power"``; :class:`coastmesh.sizing.fields.SizeMapping`). Where the mapping
+asks for nothing, and outside the source's cover, the term does not apply; a
+warning gives the share of the domain's sea the source does not cover (the
+size grid's nodes within two cells of its cover take its nearest value: a
+first run's coast cuts corners). The sizes are capped at ``h_max`` and graded
+at ``rate`` as every term's. Without ``h_min`` they stand below the field's
+default floor (the smallest gradation ``h_min``) where the entry applies, and
+nowhere else: the mesh elsewhere is the mesh without the term. A given
+``h_min`` clamps them, with a warning. Several entries combine by their
+minimum; the report (``size_field.fields`` of ``report.json``) gives, for each,
+the area where it set the size, the median size there without and with it,
+and the elements that takes (the area over that of an equilateral triangle of
+the size).
 
 An entry without ``source`` takes the result of a first run given by
 ``coastmesh run CASE --refine-from RESULT``; without it the entry is off (the
