@@ -10,7 +10,9 @@ name         extensions                read  what a read gives back
                                              ids from the ``.13`` beside it
 ``gr3``      ``.gr3``, ``.ll``         yes   as ``fort14``; region ids, exact,
                                              from the ``.regions.prop`` beside it
-``selafin``  ``.slf``, ``.selafin``    no    (write only)
+``selafin``  ``.slf``, ``.selafin``    yes   depth, CRS (the title); kinds and
+                                             ids from the ``.cli`` beside it: land
+                                             1, liquid boundary k of Telemac k + 1
 ``mike``     ``.mesh``                 yes   kinds, open ids (codes), depth, CRS
 ``ugrid``    ``.nc``                   yes   ids, names, kinds, depth, CRS
 ``vtu``      ``.vtu``                  yes   ids, depth
@@ -38,6 +40,7 @@ from coastmesh.io.mesh_gpkg import read_mesh_gpkg, write_mesh_gpkg
 from coastmesh.io.mike import read_mike_mesh, write_mike_mesh
 from coastmesh.io.msh import read_msh, write_msh
 from coastmesh.io.telemac import write_selafin
+from coastmesh.io.telemac_read import read_selafin_mesh
 from coastmesh.io.ugrid import read_ugrid, write_ugrid
 from coastmesh.io.vtu import read_vtu, write_vtu
 from coastmesh.types import Mesh
@@ -145,8 +148,9 @@ BUILT_IN = (
         "Telemac SELAFIN geometry with `BOTTOM` (bed elevation) and `IPOBO`, and "
         "the `.cli` boundary file in boundary order: land `2 2 2`, open `5 4 4` "
         "(prescribed elevation)",
+        read=read_selafin_mesh,
         model="Telemac-2D",
-        holds=frozenset({"ids", "depth"}),
+        holds=frozenset({"ids", "kinds", "depth", "crs"}),
         companions=(".cli",),
         positive="up",
     ),
