@@ -93,6 +93,7 @@ def generate_mesh(
     cleanup: CleanupOptions | None = None,
     progress: Progress | None = None,
     inner: Inner | None = None,
+    fixed_boundary: bool = False,
 ) -> Mesh:
     """Mesh a domain with triangles whose edge lengths follow a size grid.
 
@@ -150,6 +151,12 @@ def generate_mesh(
         ``domain.crs`` (:mod:`~coastmesh.meshing.parts.inner`). No cut of the
         water crosses a region: where one would, the water is meshed in one
         part (a warning says so).
+    fixed_boundary : bool, default False
+        The points of the domain's segments are its boundary nodes, as they
+        are: no resampling, no node added or moved on the boundary (a hole
+        cut in an existing mesh, whose edges the new mesh must share). The
+        domain must then be in ``mesh_crs``, so the nodes keep their bits;
+        the cleanup holds them.
 
     Returns
     -------
@@ -232,6 +239,7 @@ def generate_mesh(
         cleanup=cleanup,
         progress=progress,
         inner=inner,
+        fixed_boundary=fixed_boundary,
     )[0]
 
 
@@ -250,6 +258,7 @@ def mesh_in_parts(
     cleanup: CleanupOptions | None = None,
     progress: Progress | None = None,
     inner: Inner | None = None,
+    fixed_boundary: bool = False,
 ) -> tuple[Mesh, PartsReport]:
     """:func:`generate_mesh`, also returning how the water was cut into parts.
 
@@ -274,9 +283,15 @@ def mesh_in_parts(
 
     started = time.perf_counter()
     map_size = to_map_units(size, mesh_crs, threads=threads)
-    rings, resampled, ids = _boundary(domain, mesh_crs, map_size)
-    step(1)
-    pieces, water = _nodes((rings, resampled, ids), map_size, mesh_crs, runner, parts)
+    if fixed_boundary:
+        pieces, water = _fixed_nodes(domain, mesh_crs)
+        step(1)
+    else:
+        rings, resampled, ids = _boundary(domain, mesh_crs, map_size)
+        step(1)
+        pieces, water = _nodes(
+            (rings, resampled, ids), map_size, mesh_crs, runner, parts
+        )
     plane = _inner_plane(inner, domain.crs, mesh_crs, map_size)
     pieces, chords, wanted = _cut(pieces, water, map_size, parts, plane, threads)
     faces = split_faces(
@@ -352,6 +367,26 @@ def _nodes(
         )
         if (error := warming.exception()) is not None:
             logger.warning("workers not started ahead: %s", error)
+    _check_nodes(water, mesh_crs)
+    return pieces, water
+
+
+def _fixed_nodes(
+    domain: Domain, mesh_crs: CRS
+) -> tuple[list[tuple[NDArray[np.float64], int]], shapely.Polygon]:
+    """Return the domain's segments as they are, as the boundary's node chains."""
+    if domain.crs != mesh_crs:
+        raise ValueError(
+            "fixed_boundary: the domain must be in mesh_crs, so that its points "
+            f"are the nodes bit for bit (it is in {domain.crs.name!r})"
+        )
+    rings, ids = project_rings(domain, mesh_crs)
+    pieces = [
+        (np.asarray(xy, dtype=np.float64), pid)
+        for ring, ring_ids in zip(rings, ids, strict=True)
+        for xy, pid in zip(ring, ring_ids, strict=True)
+    ]
+    water = domain.polygon
     _check_nodes(water, mesh_crs)
     return pieces, water
 

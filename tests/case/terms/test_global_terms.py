@@ -300,3 +300,72 @@ def test_a_land_node_takes_its_nearest_sea_node_s_wavelength_size():
     assert not sea[j, i] and upper[j, i] == deep
     j, i = _node(grid, 169.0, 0.0)  # its middle
     assert not sea[j, i] and np.isinf(upper[j, i])
+
+
+def test_a_field_on_the_world_grid_across_the_antimeridian(tmp_path):
+    """A lon/lat mesh source across 180: sizes where it is fast, on the sphere."""
+    import xarray as xr
+
+    from coastmesh.case.terms import FieldConfig, Fields
+
+    domain = _world(islands=())
+    # a UGRID source of lon/lat nodes every 2 degrees from 170 E to 170 W, over
+    # the antimeridian (longitudes -180..180: its triangles there are split by
+    # the grid's seam), with a peak speed of 3 m/s north of the equator
+    lon = np.concatenate([np.arange(170.0, 180.1, 2.0), np.arange(-178.0, -169.9, 2.0)])
+    lat = np.arange(-20.0, 20.1, 2.0)
+    glon, glat = np.meshgrid(lon, lat)
+    nx = len(lon)
+    rows = [
+        [j * nx + i, j * nx + i + 1, (j + 1) * nx + i + 1]
+        for j in range(len(lat) - 1)
+        for i in range(nx - 1)
+    ] + [
+        [j * nx + i, (j + 1) * nx + i + 1, (j + 1) * nx + i]
+        for j in range(len(lat) - 1)
+        for i in range(nx - 1)
+    ]
+    speed = np.where(glat.ravel() > 0, 3.0, 1.0)
+    xr.Dataset(
+        {
+            "mesh2d": (
+                (),
+                0,
+                {
+                    "cf_role": "mesh_topology",
+                    "topology_dimension": 2,
+                    "node_coordinates": "lon lat",
+                    "face_node_connectivity": "faces",
+                },
+            ),
+            "wgs84": ((), 0, {"epsg": 4326}),
+            "lon": ("node", glon.ravel(), {"standard_name": "longitude"}),
+            "lat": ("node", glat.ravel(), {"standard_name": "latitude"}),
+            "faces": (("face", "three"), np.array(rows), {"start_index": 0}),
+            "vel_peak": ("node", speed, {"mesh": "mesh2d", "location": "node"}),
+        }
+    ).to_netcdf(tmp_path / "pacific.nc")
+    field = FieldConfig(
+        source=tmp_path / "pacific.nc", variable="vel_peak", values=(2.0,), sizes=(5e3,)
+    )
+    case = _case(domain, _raster(), h_min=50e3, fields=(field,))
+    grid = _grid(domain)
+    with pytest.warns(CoastmeshWarning, match="does not cover"):
+        sizes = Fields().sizes(grid, case)
+    fast = sizes.upper < np.inf
+    assert np.isfinite(sizes.upper[_node(grid, 175.0, 10.0)])
+    assert np.isfinite(sizes.upper[_node(grid, -175.0, 10.0)])
+    assert sizes.upper[_node(grid, 180.0, 10.0)] == 5e3  # across the seam
+    assert np.isinf(sizes.upper[_node(grid, 175.0, -10.0)])  # slow: no bound
+    assert np.isinf(sizes.upper[_node(grid, 0.0, 10.0)])  # off the source
+    # the floor is lowered there alone (h_min given: clamped, with a warning)
+    assert sizes.floor is None
+    report = sizes.report(
+        Applied(np.full(grid.shape, 1000e3), np.where(fast, 5e3, 50e3))
+    )
+    (entry,) = report.entries
+    # the fast band, 0 to 20 N by 20 degrees of longitude (about 24 deg with
+    # the two cells the term reaches past its cover), on the sphere
+    band = (EARTH_RADIUS**2) * math.radians(24.0) * math.sin(math.radians(20.0)) / 1e6
+    assert entry.km2 == pytest.approx(band, rel=0.2)
+    assert entry.elements_after > entry.elements_before

@@ -41,7 +41,7 @@ from coastmesh.geometry.earth import reproject_points
 from coastmesh.io.vector import read_features
 from coastmesh.meshing.parts.inner import Inner
 from coastmesh.sizing.patches import site_patch, with_patches
-from coastmesh.types import SizeGrid
+from coastmesh.types import Domain, SizeGrid
 
 __all__ = [
     "SiteFeatures",
@@ -156,8 +156,15 @@ class SiteFeatures:
 
 def site_features(config: CaseConfig, state: DomainState) -> SiteFeatures:
     """Read and check the case's farms, turbines and lines, in the meshing CRS."""
-    crs = state.mesh_crs
-    sea = reproject(state.domain.polygon, state.domain.crs, crs)
+    return site_features_in(config, state.domain, state.mesh_crs)
+
+
+def site_features_in(config: CaseConfig, domain: Domain, crs: CRS) -> SiteFeatures:
+    """Read and check the case's farms, turbines and lines in ``domain``, in ``crs``.
+
+    Each must lie in the domain's water (a patch's hole, for ``coastmesh patch``).
+    """
+    sea = reproject(domain.polygon, domain.crs, crs)
     shapely.prepare(sea)
     farms = tuple(_farms(config, crs, sea))
     turbines, footprints = _turbines(config, crs, sea, farms)

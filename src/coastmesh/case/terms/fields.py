@@ -352,7 +352,8 @@ def _report(
 ) -> FieldsReport:
     """Measure what each entry did, where it set the size."""
     sea = grid.sea
-    cell_km2 = grid.km2(np.ones((1, 1), dtype=bool))
+    areas = grid.areas  # m2 per node; None: a cell each
+    node_m2 = np.full(grid.shape, grid.cell**2) if areas is None else areas
     entries = []
     for entry, field, size in sampled:
         covered = field.inside & sea
@@ -368,18 +369,18 @@ def _report(
                 value_min=float(value.min()) if value.size else None,
                 value_max=float(value.max()) if value.size else None,
                 uncovered=1.0 - float(covered.sum()) / max(int(sea.sum()), 1),
-                km2=float(bound.sum()) * cell_km2,
+                km2=grid.km2(bound),
                 size_before_m=float(np.median(before)) if before.size else None,
                 size_after_m=float(np.median(after)) if after.size else None,
-                elements_before=_triangles(before, cell_km2),
-                elements_after=_triangles(after, cell_km2),
+                elements_before=_triangles(before, node_m2[bound]),
+                elements_after=_triangles(after, node_m2[bound]),
             )
         )
     return FieldsReport(tuple(entries))
 
 
-def _triangles(size: NDArray[np.float64], cell_km2: float) -> int:
-    """Equilateral triangles of ``size`` that fill ``cell_km2`` at each node."""
+def _triangles(size: NDArray[np.float64], area_m2: NDArray[np.float64]) -> int:
+    """Equilateral triangles of ``size`` that fill each node's area (m2)."""
     if not size.size:
         return 0
-    return round(float(np.sum(cell_km2 * 1e6 / (math.sqrt(3) / 4 * size**2))))
+    return round(float(np.sum(area_m2 / (math.sqrt(3) / 4 * size**2))))
