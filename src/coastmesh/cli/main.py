@@ -21,6 +21,7 @@ from coastmesh import __version__
 from coastmesh.cli.convert import convert
 from coastmesh.cli.demo import demo
 from coastmesh.cli.formats import formats
+from coastmesh.cli.patch import patch
 from coastmesh.cli.run import run
 from coastmesh.cli.simplify_raster import simplify_raster
 from coastmesh.cli.simplify_shoreline import simplify_shoreline
@@ -159,6 +160,7 @@ cli.add_command(simplify_raster)
 cli.add_command(demo)
 cli.add_command(run)
 cli.add_command(convert)
+cli.add_command(patch)
 cli.add_command(formats)
 
 

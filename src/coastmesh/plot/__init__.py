@@ -16,6 +16,7 @@
 :func:`depth_source_figure`        which bathymetry source each node took
 :func:`depth_rule_figure`          what each node's depth is (raster, wet, nearest)
 :func:`time_step_figure`           stable time step and Courant number per element
+:func:`patch_figure`               a mesh before and after a patch
 :func:`save_figure`                save a figure atomically
 =================================  ============================================
 
@@ -38,6 +39,7 @@ from coastmesh.plot.mesh import (
     size_figure,
 )
 from coastmesh.plot.parts import parts_figure
+from coastmesh.plot.patch import patch_figure
 from coastmesh.plot.pca import (
     plot_raster_comparison,
     plot_shoreline_overlay,
@@ -63,6 +65,7 @@ __all__ = [
     "mercator_figure",
     "mesh_figure",
     "parts_figure",
+    "patch_figure",
     "plot_raster_comparison",
     "plot_shoreline_overlay",
     "quality_figure",
