@@ -93,7 +93,7 @@ def mesh_formats() -> dict[str, MeshFormat]:
     >>> {name: fmt.mode for name, fmt in mesh_formats().items()}
     ... # doctest: +NORMALIZE_WHITESPACE
     {'msh2': 'read and write', 'msh4': 'read and write', 'gpkg': 'read and write',
-     'fort14': 'read and write', 'gr3': 'read and write', 'selafin': 'write only',
+     'fort14': 'read and write', 'gr3': 'read and write', 'selafin': 'read and write',
      'mike': 'read and write', 'ugrid': 'read and write', 'vtu': 'read and write'}
     """
     return dict(_registry())
