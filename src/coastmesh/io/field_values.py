@@ -217,16 +217,20 @@ def _raster_field(
     if variable is not None:
         _check_raster_variable(source, variable, where)
         path = f'NETCDF:"{os.fspath(source)}":{variable}'
+    from coastmesh.io.raster_window import raster_extent
+
     xx, yy = np.meshgrid(grid.x, grid.y)
     nodes = np.column_stack([xx.ravel(), yy.ravel()])
-    raster = read_raster_around(path, nodes, grid.crs, name=f"{where}: {source}")
-    if crs is not None:
-        raster.attrs["crs"] = CRS.from_user_input(crs).to_wkt()
-    if not raster.attrs.get("crs"):
+    _, wkt, _ = raster_extent(path)
+    given = CRS.from_user_input(crs) if crs is not None else None
+    raster_crs = given or (CRS.from_wkt(wkt) if wkt else None)
+    if raster_crs is None:
         raise InputDataError(f"{where}: {source} has no CRS; give the entry's crs")
-    rx, ry, values, raster_crs = raster_grid(raster)
-    px, py = reproject_points(nodes, grid.crs, raster_crs).T
-    z = interpolate_bilinear(rx, ry, values, px, py).reshape(grid.shape)
+    # the nodes moved once, into the raster's CRS: the window is found there
+    moved = reproject_points(nodes, grid.crs, raster_crs)
+    raster = read_raster_around(path, moved, raster_crs, name=f"{where}: {source}")
+    rx, ry, values, _ = raster_grid(raster.assign_attrs(crs=raster_crs.to_wkt()))
+    z = interpolate_bilinear(rx, ry, values, *moved.T).reshape(grid.shape)
     return Sampled(z, np.isfinite(z), variable or "band 1")
 
 
