@@ -94,6 +94,12 @@ def compare_selafin(before: Path, after: Path) -> dict:
     }
 
 
+def _bottom(dataset) -> np.ndarray:
+    """The bed variable (``B``, else the first), its first record, flat."""
+    name = "B" if "B" in dataset else next(iter(dataset.data_vars))
+    return np.asarray(dataset[name]).ravel()
+
+
 def run(command: list[str]) -> float:
     start = time.perf_counter()
     subprocess.run(command, check=True, capture_output=True)
