@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import click
 
 from coastmesh.cli._common import translate_errors
-from coastmesh.cli.options import crs_option, overwrite_option
+from coastmesh.cli.options import CRS_OPTION_TYPE, overwrite_option
 
 if TYPE_CHECKING:
     from pyproj import CRS
@@ -72,7 +72,13 @@ def _number_or_text(value: str) -> float | str:
     help="Also write the patched mesh in this format ('coastmesh formats' lists "
     "them). Repeat for several.",
 )
-@crs_option
+@click.option(
+    "--crs",
+    type=CRS_OPTION_TYPE,
+    metavar="CRS",
+    help="CRS of MESH when the file stores none (msh, VTU, a fort.14 from "
+    "another tool), e.g. EPSG:4326.",
+)
 @click.option(
     "-w",
     "--workers",
