@@ -307,3 +307,125 @@ def size_mapping_loop(kind, values, sizes, exponent, v):
         return np.inf
     with np.errstate(over="ignore"):
         return np.float64(sizes[0]) * (np.float64(v) / values[0]) ** exponent
+
+
+def cut_hole_reference(points, triangles, polygon):
+    """The hole a patch cuts, by the words of ``coastmesh.case.patch.cut``.
+
+    Each triangle that meets ``polygon`` goes (one shapely test per triangle).
+    Then, again and again until nothing changes, every triangle goes that has a
+    node where the hole touches itself (more than two of the hole's boundary
+    edges there), or a node on the hole's boundary that kept triangles still
+    use and where the removed triangles' angles add up to less than 45
+    degrees (a sharp corner of the hole). Returns a dict:
+
+    - ``error``: None, or why the hole is refused: ``"no element"`` meets the
+      polygon, ``"in two"`` (the kept triangles are more pieces than the mesh
+      was), ``"holes"`` (the removed ones are more than one piece),
+      ``"touches itself"`` (a node is still on more than two of the hole's
+      boundary edges);
+    - ``removed``: bool per triangle;
+    - ``edges``: the hole's boundary edges ``(a, b)``, the hole on their left,
+      each mapped to True for a seam (a kept triangle has it too);
+    - ``inner``: the sorted nodes only removed triangles use, off the hole's
+      boundary;
+    - ``widened``: how many went though they do not meet the polygon.
+    """
+    import math
+
+    import shapely
+
+    points = [tuple(map(float, p)) for p in np.asarray(points)]
+    triangles = [tuple(int(v) for v in t) for t in np.asarray(triangles)]
+    removed = [
+        shapely.Polygon([points[v] for v in t]).intersects(polygon) for t in triangles
+    ]
+    if not any(removed):
+        return {"error": "no element"}
+    hit = sum(removed)
+
+    def angle(t, corner):
+        a, b, c = (points[t[(corner + k) % 3]] for k in range(3))
+        u = (b[0] - a[0], b[1] - a[1])
+        v = (c[0] - a[0], c[1] - a[1])
+        cos = (u[0] * v[0] + u[1] * v[1]) / (math.hypot(*u) * math.hypot(*v))
+        return math.degrees(math.acos(max(-1.0, min(1.0, cos))))
+
+    owners = {}  # each edge: the triangles that have it
+    for i, t in enumerate(triangles):
+        for a, b in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+            owners.setdefault(frozenset((a, b)), []).append(i)
+
+    def hole_edges():
+        """The removed triangles' edges no other removed triangle has."""
+        out = {}
+        for i, t in enumerate(triangles):
+            if not removed[i]:
+                continue
+            for a, b in ((t[0], t[1]), (t[1], t[2]), (t[2], t[0])):
+                others = [j for j in owners[frozenset((a, b))] if j != i]
+                if not any(removed[j] for j in others):
+                    out[(a, b)] = len(others) == 1
+        return out
+
+    while True:
+        edges = hole_edges()
+        opened = set()
+        for node in {v for edge in edges for v in edge}:
+            if sum(node in edge for edge in edges) > 2:
+                opened.add(node)  # the hole touches itself here
+            inside = sum(
+                angle(t, t.index(node))
+                for i, t in enumerate(triangles)
+                if removed[i] and node in t
+            )
+            kept = any(node in t for i, t in enumerate(triangles) if not removed[i])
+            if kept and inside < 45.0:
+                opened.add(node)  # a sharp corner
+        more = [
+            i
+            for i, t in enumerate(triangles)
+            if not removed[i] and any(v in opened for v in t)
+        ]
+        if not more:
+            break
+        for i in more:
+            removed[i] = True
+
+    def pieces(chosen):
+        """Groups of the chosen triangles joined through shared edges."""
+        left, count = set(chosen), 0
+        while left:
+            count += 1
+            todo = [left.pop()]
+            while todo:
+                i = todo.pop()
+                for j in list(left):
+                    if len(set(triangles[i]) & set(triangles[j])) == 2:
+                        left.remove(j)
+                        todo.append(j)
+        return count
+
+    everything = range(len(triangles))
+    if pieces([i for i in everything if not removed[i]]) > pieces(everything):
+        return {"error": "in two"}
+    if pieces([i for i in everything if removed[i]]) > 1:
+        return {"error": "holes"}
+    edges = hole_edges()
+    if any(sum(v in edge for edge in edges) > 2 for v in range(len(points))):
+        return {"error": "touches itself"}
+    on_ring = {v for edge in edges for v in edge}
+    inner = sorted(
+        v
+        for v in range(len(points))
+        if v not in on_ring
+        and any(v in t for i, t in enumerate(triangles) if removed[i])
+        and not any(v in t for i, t in enumerate(triangles) if not removed[i])
+    )
+    return {
+        "error": None,
+        "removed": np.array(removed),
+        "edges": edges,
+        "inner": np.array(inner, dtype=np.int64),
+        "widened": sum(removed) - hit,
+    }

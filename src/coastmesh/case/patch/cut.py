@@ -6,6 +6,8 @@ those a valid hole needs besides: round a node where the hole would touch
 itself), checks that what is kept is still one piece, and returns the hole's
 boundary as rings of the existing mesh's nodes, each edge a seam (shared with
 a kept element) or a piece of the mesh's own boundary (coast, open boundary).
+It refuses a hole in several pieces, and one that still touches itself at a
+node once widened (where the mesh's own boundary meets itself).
 """
 
 from __future__ import annotations
@@ -110,8 +112,10 @@ def cut_hole(
     Raises
     ------
     InputDataError
-        If no element meets the polygon, or the elements kept are not one piece
-        (the polygon would cut the mesh in two).
+        If no element meets the polygon, the elements kept are not one piece
+        (the polygon would cut the mesh in two), those cut out are not (the
+        hole would be several), or the hole touches itself at a node where the
+        mesh's own boundary does (no widening can open it).
     """
     cells = shapely.polygons(points[triangles])
     tree = shapely.STRtree(cells)
@@ -130,10 +134,25 @@ def cut_hole(
             _pinched_nodes(triangles, removed, len(points)),
             _sharp_nodes(triangles, removed, angles, len(points)),
         )
-        if not opened.size:
-            break
-        removed |= np.isin(triangles, opened).any(axis=1)
+        wider = removed | np.isin(triangles, opened).any(axis=1)
+        if (wider == removed).all():
+            break  # nothing left to open (a pinch of the mesh's own boundary)
+        removed = wider
     _check_one_piece(triangles, removed, len(points), name)
+    holes = _pieces(triangles[removed], len(points))
+    if holes > 1:
+        raise InputDataError(
+            f"{name}: the patch polygon cuts {holes} separate holes in the mesh "
+            "(parts of it, or an island or land between them): patch one site at "
+            "a time, or give one polygon that joins them"
+        )
+    pinched = _pinched_nodes(triangles, removed, len(points))
+    if pinched.size:
+        raise InputDataError(
+            f"{name}: the hole would touch itself at node {pinched[0] + 1}, where "
+            f"the mesh's own boundary meets itself ({pinched.size} such nodes): "
+            "refused; make the polygon keep clear of it"
+        )
     rings, seam = _rings(points, triangles, removed)
     used_kept = np.zeros(len(points), dtype=bool)
     used_kept[triangles[~removed].ravel()] = True

@@ -33,8 +33,14 @@ def merge(
     crs: CRS,
     config: CaseConfig,
     name: str,
-) -> tuple[Mesh, NDArray[np.int64]]:
-    """Return the patched mesh and the numbers of the patch's elements in it."""
+) -> tuple[Mesh, NDArray[np.int64], NDArray[np.int64]]:
+    """Return the patched mesh, its patch's element numbers, the nodes' new numbers.
+
+    The third array gives each input node's number in the patched mesh (for a
+    node cut out, the number its slot ends up with). The kept nodes keep their
+    numbers unless the patch has fewer nodes than it cut out: then the gaps
+    are closed, and the nodes after them move down.
+    """
     number, fresh = _node_numbers(points, hole, new, name)
     n_old = len(mesh.points)
     slots = hole.inner_nodes
@@ -72,7 +78,7 @@ def merge(
         region_names={**mesh.region_names, **new.region_names},
         lines=(*mesh.lines, *_lines(new, crs, mesh.crs)),
     )
-    return merged, new_elements
+    return merged, new_elements, renumber(np.arange(n_old))
 
 
 def _node_numbers(

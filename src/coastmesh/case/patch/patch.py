@@ -134,8 +134,10 @@ def patch_mesh(
     new = _mesh_hole(config, domain, size, site, crs, threads)
     from coastmesh.case.patch.merge import merge
 
-    merged, new_elements = merge(mesh, points, hole, new, crs, config, name)
-    report = patch_report(mesh, merged, hole, new_elements, crs, seam_edges(hole))
+    merged, new_elements, numbers = merge(mesh, points, hole, new, crs, config, name)
+    # the seam in the output's numbers: a coarser patch closes the gaps it leaves
+    seam = numbers[seam_edges(hole)]
+    report = patch_report(mesh, merged, hole, new_elements, crs, seam)
     _warn_if_coarser(report, name)
     return Patched(merged, report, polygon, hole, crs, new_elements)
 
