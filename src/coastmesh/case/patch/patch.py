@@ -32,7 +32,7 @@ from coastmesh.case.config import CaseConfig, floor
 from coastmesh.case.patch.cut import Hole, check_elements, cut_hole
 from coastmesh.case.patch.hole import hole_domain, seam_edges, seam_sizes
 from coastmesh.case.patch.report import PatchReport, patch_report
-from coastmesh.errors import CoastmeshWarning, InputDataError
+from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry.earth import reproject_points
 from coastmesh.geometry.projection import default_mesh_crs
 from coastmesh.types import Domain, Mesh, SizeGrid
@@ -128,6 +128,10 @@ def patch_mesh(
         polygon = site_polygon(config, mesh, points, crs, distance, name)
     else:
         polygon = shapely.make_valid(_reproject(polygon, polygon_crs, crs))
+    at_site = _site_crs(mesh, config, polygon, crs)
+    if at_site != crs:  # a geographic mesh: UTM at the site, not the mesh's middle
+        polygon = _reproject(polygon, crs, at_site)
+        crs, points = at_site, reproject_points(mesh.points, mesh.crs, at_site)
     hole = cut_hole(points, triangles, polygon, name)
     domain, _ = hole_domain(hole, points, mesh, crs, _boundary_ids(mesh))
     size, site = _sizes(config, domain, hole, points, crs, threads)
@@ -152,6 +156,17 @@ def _meshing_crs(mesh: Mesh, config: CaseConfig) -> CRS:
     hull = shapely.convex_hull(shapely.multipoints(mesh.points))
     lonlat = reproject_points(np.asarray(hull.centroid.coords), mesh.crs, "EPSG:4326")
     box = shapely.box(*(lonlat[0] - 0.01), *(lonlat[0] + 0.01))
+    return default_mesh_crs(Domain(box, _box_segments(box), CRS.from_epsg(4326)))
+
+
+def _site_crs(mesh: Mesh, config: CaseConfig, polygon: Any, crs: CRS) -> CRS:
+    """Return the meshing CRS at the site: UTM at the polygon, for a lon/lat mesh."""
+    assert mesh.crs is not None
+    if mesh.crs.is_projected or config.mesh.crs is not None:
+        return crs
+    centre = np.asarray(shapely.centroid(polygon).coords)
+    lon, lat = reproject_points(centre, crs, "EPSG:4326")[0]
+    box = shapely.box(lon - 0.01, lat - 0.01, lon + 0.01, lat + 0.01)
     return default_mesh_crs(Domain(box, _box_segments(box), CRS.from_epsg(4326)))
 
 
@@ -264,7 +279,14 @@ def _sizes(
     from coastmesh.case.terms.base import SizeCase
     from coastmesh.sizing.grid import PlaneGrid
 
-    site = site_features_in(config, domain, crs)
+    try:
+        site = site_features_in(config, domain, crs)
+    except ConfigError as exc:
+        raise ConfigError(
+            f"{exc} (in a patch the domain is the hole cut out: every farm, "
+            "turbine and line must lie inside the polygon remeshed; grow "
+            "--distance or the --polygon)"
+        ) from None
     grid = PlaneGrid.around(
         domain,
         crs,

@@ -32,6 +32,9 @@ class PatchReport(Report):
         Of the input, kept as they were.
     removed_nodes, removed_elements : int
         Cut out (nodes: those only the elements cut out used).
+    widened_elements : int
+        Of those, the elements that do not meet the polygon, cut out where
+        the hole would touch itself or make a corner sharper than 45 degrees.
     added_nodes, added_elements : int
         The patch's.
     seam_edges : int
@@ -54,6 +57,7 @@ class PatchReport(Report):
     kept_elements: int
     removed_nodes: int
     removed_elements: int
+    widened_elements: int
     added_nodes: int
     added_elements: int
     seam_edges: int
@@ -114,6 +118,7 @@ def patch_report(
         kept_elements=int((~hole.removed).sum()),
         removed_nodes=len(hole.inner_nodes),
         removed_elements=int(hole.removed.sum()),
+        widened_elements=hole.widened,
         added_nodes=len(after.points) - len(before.points) + len(hole.inner_nodes),
         added_elements=len(new_elements),
         seam_edges=len(seam),
