@@ -5,8 +5,9 @@
 the existing mesh's nodes: the seam (``"seam"``, open, so the channel term
 does not take it for a wall) and the pieces of the mesh's own boundary, with
 their ids. :func:`seam_sizes` is the size the seam asks for: the length of
-its nearest edge, growing at ``rate`` away from it, so the new elements beside
-the seam are no larger than the kept ones across it.
+its nearest edge, growing at ``rate`` away from it (and, at least, a little
+less than it, shrinking at ``rate``), so the new elements beside the seam are
+about the size of the kept ones across it.
 """
 
 from __future__ import annotations
@@ -20,10 +21,12 @@ from scipy.spatial import cKDTree
 from coastmesh.case.patch.cut import Hole
 from coastmesh.types import BoundarySegment, Domain, Mesh
 
-__all__ = ["SEAM", "hole_domain", "seam_edges", "seam_sizes"]
+__all__ = ["SEAM", "SEAM_SLACK", "hole_domain", "seam_edges", "seam_sizes"]
 
 #: The name of the seam's segments in the hole's domain.
 SEAM = "seam"
+#: The size beside the seam is at least its edges' length over this.
+SEAM_SLACK = 1.25
 
 
 def hole_domain(
@@ -98,15 +101,16 @@ def seam_sizes(
     points: NDArray[np.float64],
     edges: NDArray[np.int64],
     rate: float,
-) -> NDArray[np.float64]:
-    """Return the seam's size bound on the grid ``x``, ``y``: at most ``L + rate d``.
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Return the seam's upper and lower size bounds on the grid ``x``, ``y``.
 
     ``L`` is the length of the seam's edge whose midpoint is nearest, ``d``
-    the distance to it: at the seam the size is at most its edges' own, so
-    the new elements there are no larger than the kept ones across it. There
-    is no lower bound: one (``L - rate d``) kept large elements round a
-    reflex corner of the seam between long edges, and their angles fell to
-    27 degrees on the NW-shelf mesh (32 without it).
+    the distance to it: the size is at most ``L + rate d`` and at least
+    ``L / SEAM_SLACK - rate d``. So beside the seam the new elements are no
+    larger than the kept ones across it, nor much smaller. The lower bound is
+    slack: at ``L`` itself it kept large elements round a reflex corner of the
+    seam between long edges (angles of 27 degrees on the NW-shelf mesh, 32
+    with the slack).
     """
     a, b = points[edges[:, 0]], points[edges[:, 1]]
     length = np.hypot(*(b - a).T)
@@ -114,4 +118,4 @@ def seam_sizes(
     xx, yy = np.meshgrid(x, y)
     d, k = cKDTree(mid).query(np.column_stack([xx.ravel(), yy.ravel()]))
     d, h = d.reshape(xx.shape), length[k].reshape(xx.shape)
-    return h + rate * d
+    return h + rate * d, h / SEAM_SLACK - rate * d

@@ -312,8 +312,8 @@ def _sizes(
         state = size_field(grid, case, threads=threads)
     _pass_on(caught)
     rate = config.size.rate or 0.25
-    upper = seam_sizes(grid.x, grid.y, points, seam_edges(hole), rate)
-    values = np.minimum(state.field.values, upper)
+    upper, lower = seam_sizes(grid.x, grid.y, points, seam_edges(hole), rate)
+    values = np.maximum(np.minimum(state.field.values, upper), lower)
     values = grid.limit(np.minimum(values, config.size.h_max), rate)
     size = SizeGrid(grid.x, grid.y, values, scale=grid.scale)
     return with_site_sizes(size, site, config.size.rate, config.label), site
