@@ -154,9 +154,7 @@ def _meshing_crs(mesh: Mesh, config: CaseConfig) -> CRS:
     if config.mesh.crs is not None:
         return CRS.from_user_input(config.mesh.crs)
     hull = shapely.convex_hull(shapely.multipoints(mesh.points))
-    lonlat = reproject_points(np.asarray(hull.centroid.coords), mesh.crs, "EPSG:4326")
-    box = shapely.box(*(lonlat[0] - 0.01), *(lonlat[0] + 0.01))
-    return default_mesh_crs(Domain(box, _box_segments(box), CRS.from_epsg(4326)))
+    return _utm_at(np.asarray(hull.centroid.coords), mesh.crs)
 
 
 def _site_crs(mesh: Mesh, config: CaseConfig, polygon: Any, crs: CRS) -> CRS:
@@ -164,8 +162,12 @@ def _site_crs(mesh: Mesh, config: CaseConfig, polygon: Any, crs: CRS) -> CRS:
     assert mesh.crs is not None
     if mesh.crs.is_projected or config.mesh.crs is not None:
         return crs
-    centre = np.asarray(shapely.centroid(polygon).coords)
-    lon, lat = reproject_points(centre, crs, "EPSG:4326")[0]
+    return _utm_at(np.asarray(shapely.centroid(polygon).coords), crs)
+
+
+def _utm_at(point: NDArray[np.float64], crs: Any) -> CRS:
+    """Return the CRS a small domain at ``point`` (in ``crs``) is meshed in: its UTM."""
+    lon, lat = reproject_points(point, crs, "EPSG:4326")[0]
     box = shapely.box(lon - 0.01, lat - 0.01, lon + 0.01, lat + 0.01)
     return default_mesh_crs(Domain(box, _box_segments(box), CRS.from_epsg(4326)))
 
@@ -179,12 +181,9 @@ def _box_segments(box: shapely.Polygon) -> tuple[Any, ...]:
 def _reproject(geometry: shapely.Geometry, src: Any, dst: CRS) -> shapely.Geometry:
     from coastmesh.geometry import reproject
 
-    return reproject(shapely.segmentize(geometry, _step(geometry, src)), src, dst)
-
-
-def _step(geometry: shapely.Geometry, crs: Any) -> float:
     minx, miny, maxx, maxy = geometry.bounds
-    return max(maxx - minx, maxy - miny) / 200 or 1.0
+    step = max(maxx - minx, maxy - miny) / 200 or 1.0  # straight in src stays so
+    return reproject(shapely.segmentize(geometry, step), src, dst)
 
 
 def _counter_clockwise(
