@@ -405,7 +405,11 @@ def _reduced(
 def _streamed(
     record: Record, arrays: list[xr.DataArray], reduce: str
 ) -> NDArray[np.float64]:
-    """Max, min, mean or range over the records, read in blocks."""
+    """Max, min, mean or range over the records, read in blocks.
+
+    Only what ``reduce`` needs is kept: the highs (max, range), the lows (min,
+    range), or the sums and counts of the defined values (mean).
+    """
     count = arrays[0].sizes["time"]
     size = max(1, arrays[0].size // count)
     step = max(1, _VALUES_AT_ONCE // (size * len(arrays)))
@@ -418,19 +422,26 @@ def _streamed(
         values = record(block)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN nodes
-            bmax, bmin = np.nanmax(values, axis=0), np.nanmin(values, axis=0)
-        high = bmax if high is None else np.fmax(high, bmax)
-        low = bmin if low is None else np.fmin(low, bmin)
-        finite = np.isfinite(values)
-        part = np.where(finite, values, 0.0).sum(axis=0)
-        total = part if total is None else total + part
-        seen = finite.sum(axis=0) if seen is None else seen + finite.sum(axis=0)
-    assert high is not None and low is not None and total is not None
+            if reduce in ("max", "range"):
+                bmax = np.nanmax(values, axis=0)
+                high = bmax if high is None else np.fmax(high, bmax)
+            if reduce in ("min", "range"):
+                bmin = np.nanmin(values, axis=0)
+                low = bmin if low is None else np.fmin(low, bmin)
+        if reduce == "mean":
+            finite = np.isfinite(values)
+            part = np.where(finite, values, 0.0).sum(axis=0)
+            total = part if total is None else total + part
+            seen = finite.sum(axis=0) if seen is None else seen + finite.sum(axis=0)
     if reduce == "max":
+        assert high is not None
         return high
     if reduce == "min":
+        assert low is not None
         return low
     if reduce == "range":
+        assert high is not None and low is not None
         return high - low
+    assert total is not None and seen is not None
     with np.errstate(invalid="ignore", divide="ignore"):
         return total / seen

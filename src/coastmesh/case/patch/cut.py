@@ -21,6 +21,7 @@ from scipy import sparse
 from scipy.sparse.csgraph import connected_components
 
 from coastmesh.errors import InputDataError
+from coastmesh.meshing.cleanup.planar import signed_areas
 
 __all__ = ["Hole", "check_elements", "cut_hole"]
 
@@ -63,16 +64,14 @@ class Hole:
 
 def check_elements(
     points: NDArray[np.float64], triangles: NDArray[np.int64], name: str
-) -> None:
+) -> bool:
     """Refuse inverted, degenerate or duplicate elements, naming the first.
 
     Inverted: clockwise where the others are counter-clockwise (or the other
     way); the numbers in the message are 1-based, as the formats write them.
+    Returns whether the elements turn clockwise (all of them, then).
     """
-    p = points[triangles]
-    area = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (
-        p[:, 1, 1] - p[:, 0, 1]
-    ) * (p[:, 2, 0] - p[:, 0, 0])
+    area = signed_areas(points[triangles])
     flat = np.flatnonzero(area == 0)
     if flat.size:
         raise InputDataError(
@@ -97,6 +96,7 @@ def check_elements(
             f"{name}: elements {k + 1} and {twin + 1} have the same nodes "
             f"{(triangles[k] + 1).tolist()}: duplicate elements are refused"
         )
+    return majority < 0
 
 
 def cut_hole(

@@ -33,6 +33,8 @@ def merge(
     crs: CRS,
     config: CaseConfig,
     name: str,
+    *,
+    clockwise: bool = False,
 ) -> tuple[Mesh, NDArray[np.int64], NDArray[np.int64]]:
     """Return the patched mesh, its patch's element numbers, the nodes' new numbers.
 
@@ -59,7 +61,7 @@ def merge(
     xy[given] = reproject_points(new.points[fresh], crs, mesh.crs)
     depth = _depths(mesh, points, hole, new, fresh, crs, config)
     point_data = _point_data(mesh, new, fresh, given, len(keep), depth)
-    triangles, regions, new_elements = _elements(mesh, hole, new, number, points)
+    triangles, regions, new_elements = _elements(mesh, hole, new, number, clockwise)
 
     def renumber(a: NDArray[np.int64]) -> NDArray[np.int64]:
         return a if shift is None else a - shift[a]
@@ -106,11 +108,14 @@ def _elements(
     hole: Hole,
     new: Mesh,
     number: NDArray[np.int64],
-    points: NDArray[np.float64],
+    clockwise: bool,
 ) -> tuple[NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]]:
-    """Return the elements: the kept ones where they were, the patch's in the gaps."""
+    """Return the elements: the kept ones where they were, the patch's in the gaps.
+
+    ``clockwise``: the input's elements turn clockwise; the patch's then do too.
+    """
     tris = number[new.triangles]
-    if _clockwise(mesh, points):  # the patch's turn the input's way
+    if clockwise:
         tris = tris[:, [0, 2, 1]]
     slots = np.flatnonzero(hole.removed)
     m_old = len(mesh.triangles)
@@ -127,15 +132,6 @@ def _elements(
     keep[slots[count:]] = False  # fewer new elements than cut out: close the gaps
     final = np.cumsum(keep) - 1
     return triangles[keep], regions[keep], np.sort(final[at])
-
-
-def _clockwise(mesh: Mesh, points: NDArray[np.float64]) -> bool:
-    """Whether the input's elements turn clockwise in the meshing CRS."""
-    p = points[mesh.triangles[:1000]]
-    area = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (
-        p[:, 1, 1] - p[:, 0, 1]
-    ) * (p[:, 2, 0] - p[:, 0, 0])
-    return bool((area < 0).sum() > (area > 0).sum())
 
 
 def _depths(

@@ -123,7 +123,8 @@ def patch_mesh(
         raise InputDataError(f"{name}: the mesh stores no CRS; give its CRS (--crs)")
     crs = _meshing_crs(mesh, config)
     points = reproject_points(mesh.points, mesh.crs, crs)
-    triangles = _counter_clockwise(points, mesh.triangles, name)
+    clockwise = check_elements(points, mesh.triangles, name)
+    triangles = mesh.triangles[:, [0, 2, 1]] if clockwise else mesh.triangles
     if polygon is None:
         polygon = site_polygon(config, mesh, points, crs, distance, name)
     else:
@@ -138,7 +139,9 @@ def patch_mesh(
     new = _mesh_hole(config, domain, size, site, crs, threads)
     from coastmesh.case.patch.merge import merge
 
-    merged, new_elements, numbers = merge(mesh, points, hole, new, crs, config, name)
+    merged, new_elements, numbers = merge(
+        mesh, points, hole, new, crs, config, name, clockwise=clockwise
+    )
     # the seam in the output's numbers: a coarser patch closes the gaps it leaves
     seam = numbers[seam_edges(hole)]
     report = patch_report(mesh, merged, hole, new_elements, crs, seam)
@@ -184,18 +187,6 @@ def _reproject(geometry: shapely.Geometry, src: Any, dst: CRS) -> shapely.Geomet
     minx, miny, maxx, maxy = geometry.bounds
     step = max(maxx - minx, maxy - miny) / 200 or 1.0  # straight in src stays so
     return reproject(shapely.segmentize(geometry, step), src, dst)
-
-
-def _counter_clockwise(
-    points: NDArray[np.float64], triangles: NDArray[np.int64], name: str
-) -> NDArray[np.int64]:
-    """Check the elements; return them counter-clockwise in the meshing CRS."""
-    check_elements(points, triangles, name)
-    p = points[triangles]
-    area = (p[:, 1, 0] - p[:, 0, 0]) * (p[:, 2, 1] - p[:, 0, 1]) - (
-        p[:, 1, 1] - p[:, 0, 1]
-    ) * (p[:, 2, 0] - p[:, 0, 0])
-    return triangles if (area > 0).all() else triangles[:, [0, 2, 1]]
 
 
 def _boundary_ids(mesh: Mesh) -> dict[tuple[int, int], int]:

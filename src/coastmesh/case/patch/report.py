@@ -17,6 +17,7 @@ from pyproj import CRS
 
 from coastmesh.case.patch.cut import Hole
 from coastmesh.geometry.earth import reproject_points
+from coastmesh.meshing.cleanup.smoothing import min_angles
 from coastmesh.types import Mesh, Report
 
 __all__ = ["PatchReport", "patch_report"]
@@ -99,7 +100,8 @@ def patch_report(
     """Measure a patch: ``before`` and ``after`` in their CRS, measured in ``crs``."""
     assert after.crs is not None and before.crs is not None
     xy = reproject_points(after.points, after.crs, crs)
-    angles = _min_angles(xy, after.triangles)
+    # either way round, as the input turns: the angles' size
+    angles = np.abs(min_angles(xy, after.triangles))
     sizes = _sizes(xy, after.triangles)
     old_xy = reproject_points(before.points, before.crs, crs)
     removed_size = _sizes(old_xy, before.triangles[hole.removed])
@@ -134,19 +136,6 @@ def patch_report(
         dt_patch_s=dt_patch,
         dt_output_s=None if dts[1] is None else float(np.nanmin(dts[1])),
     )
-
-
-def _min_angles(
-    xy: NDArray[np.float64], tris: NDArray[np.int64]
-) -> NDArray[np.float64]:
-    p = xy[tris]
-    edges = [np.hypot(*(p[:, (i + 1) % 3] - p[:, i]).T) for i in range(3)]
-    a, b, c = edges  # a opposite vertex 2, b opposite 0, c opposite 1
-    out = []
-    for opp, s1, s2 in ((a, b, c), (b, c, a), (c, a, b)):
-        cos = np.clip((s1**2 + s2**2 - opp**2) / (2 * s1 * s2), -1.0, 1.0)
-        out.append(np.degrees(np.arccos(cos)))
-    return np.min(out, axis=0)
 
 
 def _sizes(xy: NDArray[np.float64], tris: NDArray[np.int64]) -> NDArray[np.float64]:
