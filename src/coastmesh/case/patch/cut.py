@@ -284,11 +284,6 @@ def _rings(
                 break
         rings.append(np.array(nodes, dtype=np.int64))
         seams.append(np.array(flags, dtype=bool))
-    areas = [_signed_area(points[r]) for r in rings]
-    order = np.argsort([-abs(a) for a in areas])
+    areas = [shapely.Polygon(points[r]).area for r in rings]
+    order = np.argsort([-a for a in areas])
     return [rings[k] for k in order], [seams[k] for k in order]
-
-
-def _signed_area(xy: NDArray[np.float64]) -> float:
-    x, y = xy[:, 0], xy[:, 1]
-    return 0.5 * float(np.dot(x[:-1], y[1:]) - np.dot(x[1:], y[:-1]))
