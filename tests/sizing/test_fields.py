@@ -160,3 +160,50 @@ def test_bad_mappings_are_named(kind, values, sizes, message):
     with pytest.raises(ConfigError, match=message) as err:
         SizeMapping(kind, values, sizes, where="mesh_size.fields[2]")
     assert "mesh_size.fields[2]" in str(err.value)
+
+
+def _neighbour_min_loop(values, wrap_x=False):
+    """Literal: each node's smallest value over itself and its 8 neighbours."""
+    ny, nx = values.shape
+    out = np.empty_like(values)
+    for j in range(ny):
+        for i in range(nx):
+            best = np.inf
+            for dj in (-1, 0, 1):
+                for di in (-1, 0, 1):
+                    jj, ii = j + dj, i + di
+                    if not 0 <= jj < ny:
+                        continue
+                    if wrap_x:  # columns 0 and nx - 1 are one meridian
+                        ii %= nx - 1
+                    elif not 0 <= ii < nx:
+                        continue
+                    best = min(best, values[jj, ii])
+            out[j, i] = best
+    if wrap_x:
+        out[:, -1] = out[:, 0]
+    return out
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    st.integers(2, 7),
+    st.integers(3, 8),
+    st.integers(0, 2**31 - 1),
+)
+def test_neighbour_min_matches_a_loop_on_both_grids(ny, nx, seed):
+    from coastmesh.sizing.grid import PlaneGrid, SphereGrid
+
+    rng = np.random.default_rng(seed)
+    values = np.where(rng.random((ny, nx)) < 0.3, np.inf, rng.uniform(1, 9, (ny, nx)))
+    plane = PlaneGrid(np.arange(nx) * 10.0, np.arange(ny) * 10.0, "EPSG:32630", 10.0)
+    np.testing.assert_array_equal(
+        plane.neighbour_min(values), _neighbour_min_loop(values)
+    )
+    # a world grid's last column is its first one's meridian: spread across it
+    sphere = SphereGrid(360.0 / (nx - 1))
+    world = values.copy()
+    world[:, -1] = world[:, 0]
+    np.testing.assert_array_equal(
+        sphere.neighbour_min(world), _neighbour_min_loop(world, wrap_x=True)
+    )

@@ -214,6 +214,19 @@ class Grid:
         """Return ``values`` with no step growing faster than ``rate`` m per m."""
         raise NotImplementedError
 
+    def neighbour_min(self, values: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Return each node's smallest value over itself and its 8 neighbours.
+
+        Gmsh reads the size grid bilinearly in each cell, so a size set at some
+        nodes holds everywhere in a cell only once all four of its corners have
+        it: a size term spread this way holds in every cell its field reaches.
+        """
+        from scipy import ndimage
+
+        return np.asarray(
+            ndimage.minimum_filter(values, size=3, mode="nearest"), dtype=np.float64
+        )
+
     def field(self, values: NDArray[np.float64], history: str) -> xr.DataArray:
         """Return sizes on the grid as a DataArray (dims ``("y", "x")``, metres)."""
         import xarray as xr
@@ -521,6 +534,18 @@ class SphereGrid(Grid):
     def limit(self, values: NDArray[np.float64], rate: float) -> NDArray[np.float64]:
         """Limit the gradation with each step's true length on the sphere."""
         return limit_gradation_sphere(values, self.y, rate)
+
+    def neighbour_min(self, values: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Return each node's smallest value over itself and its 8 neighbours.
+
+        Across the antimeridian too: the last column is the first one's meridian.
+        """
+        from scipy import ndimage
+
+        spread = ndimage.minimum_filter(
+            values[:, :-1], size=3, mode=("nearest", "wrap")
+        )
+        return np.hstack([spread, spread[:, :1]]).astype(np.float64)
 
     @property
     def areas(self) -> NDArray[np.float64]:

@@ -164,8 +164,10 @@ def test_sizes_follow_a_raster_in_another_crs_and_leave_the_rest(tmp_path):
     lon, _ = reproject_points(
         np.column_stack([xx.ravel(), yy.ravel()]), UTM, "EPSG:4326"
     ).T
+    # a cell is 250 m, 0.0043 degrees of longitude here: the term's zone is
+    # one cell wider than the value's contour (neighbour_min)
     east = (lon.reshape(xx.shape) > mid + 0.002) & grid.sea
-    west = (lon.reshape(xx.shape) < mid - 0.002) & grid.sea
+    west = (lon.reshape(xx.shape) < mid - 0.01) & grid.sea
     # east of the line: the mapping's 100 m, below the gradations' floor of 400 m
     np.testing.assert_array_equal(with_term.field.values[east], 100.0)
     # west of it: the field without the term, exactly (rate = false: no grading)
@@ -176,6 +178,44 @@ def test_sizes_follow_a_raster_in_another_crs_and_leave_the_rest(tmp_path):
     assert report.uncovered == 0.0
     assert report.size_after_m == 100.0
     assert report.elements_after > report.elements_before > 0
+
+
+def test_the_size_holds_wherever_the_value_is_reached(tmp_path):
+    """Read as Gmsh reads it (bilinear in each cell), not only at the nodes."""
+    from scipy.interpolate import RegularGridInterpolator
+
+    domain = _domain()
+    box = _lonlat_box(domain)
+    mid_lon, mid_lat = (box[0] + box[2]) / 2, (box[1] + box[3]) / 2
+    # a disc of high values, its edge crossing cells at every angle
+    tif = _raster(
+        tmp_path / "f.tif",
+        box,
+        lambda lon, lat: 0.02 - np.hypot((lon - mid_lon) * 0.5, lat - mid_lat),
+        cells=400,
+    )
+    out = _size(domain, source=tif, values=(0.0,), sizes=(100.0,))
+    grid = out.grid
+    rng = np.random.default_rng(3)
+    pts = np.column_stack(
+        [
+            rng.uniform(grid.x[0], grid.x[-1], 20_000),
+            rng.uniform(grid.y[0], grid.y[-1], 20_000),
+        ]
+    )
+    lon, lat = reproject_points(pts, UTM, "EPSG:4326").T
+    inside = 0.02 - np.hypot((lon - mid_lon) * 0.5, lat - mid_lat) >= 0
+    ok = np.array([domain.polygon.contains(shapely.Point(p)) for p in pts])
+    reached = inside & ok
+    assert reached.sum() > 500
+    gmsh_reads = RegularGridInterpolator((grid.y, grid.x), out.field.values)
+    np.testing.assert_allclose(gmsh_reads(pts[reached][:, ::-1]), 100.0)
+    # and the zone is no more than a cell (and the raster's own cell) wider
+    beyond = ~inside & ok
+    fine = gmsh_reads(pts[beyond][:, ::-1]) <= 100.0
+    gap = np.hypot((lon[beyond] - mid_lon) * 0.5, lat[beyond] - mid_lat) - 0.02
+    assert fine.any()
+    assert gap[fine].max() < 2 * 250.0 / 111e3
 
 
 def test_h_min_given_clamps_the_field_with_a_warning(tmp_path):

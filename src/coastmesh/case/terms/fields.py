@@ -301,7 +301,9 @@ class Fields(SizeTerm):
                 crs=entry.crs,
                 where=where,
             )
-            size = entry.size_mapping(where).sizes_of(field.values)
+            # spread a cell: Gmsh's bilinear reading of the grid then gives the
+            # mapping's size everywhere the value is reached, not only at nodes
+            size = grid.neighbour_min(entry.size_mapping(where).sizes_of(field.values))
             if grid.domain is not None and grid.sea.any():
                 size = grid.over_land(size, grid.sea)
             sampled.append((entry, field, size))
