@@ -309,10 +309,13 @@ def size_mapping_loop(kind, values, sizes, exponent, v):
         return np.float64(sizes[0]) * (np.float64(v) / values[0]) ** exponent
 
 
-def cut_hole_reference(points, triangles, polygon):
+def cut_hole_reference(points, triangles, polygon, grow=None):
     """The hole a patch cuts, by the words of ``coastmesh.case.patch.cut``.
 
-    Each triangle that meets ``polygon`` goes (one shapely test per triangle).
+    Each triangle that meets ``polygon`` goes (one shapely test per triangle);
+    or, with ``grow = (removed, hit, nodes)`` (a hole's triangles, how many of
+    them met its polygon, and nodes: ``grow_hole``), the hole's triangles and
+    every triangle with one of the nodes go.
     Then, again and again until nothing changes, every triangle goes that has a
     node where the hole touches itself (more than two of the hole's boundary
     edges there), or a node on the hole's boundary that kept triangles still
@@ -337,12 +340,21 @@ def cut_hole_reference(points, triangles, polygon):
 
     points = [tuple(map(float, p)) for p in np.asarray(points)]
     triangles = [tuple(int(v) for v in t) for t in np.asarray(triangles)]
-    removed = [
-        shapely.Polygon([points[v] for v in t]).intersects(polygon) for t in triangles
-    ]
-    if not any(removed):
-        return {"error": "no element"}
-    hit = sum(removed)
+    if grow is None:
+        removed = [
+            shapely.Polygon([points[v] for v in t]).intersects(polygon)
+            for t in triangles
+        ]
+        if not any(removed):
+            return {"error": "no element"}
+        hit = sum(removed)
+    else:
+        before, hit, nodes = grow
+        nodes = {int(v) for v in nodes}
+        removed = [
+            bool(before[i]) or any(v in nodes for v in t)
+            for i, t in enumerate(triangles)
+        ]
 
     def angle(t, corner):
         a, b, c = (points[t[(corner + k) % 3]] for k in range(3))

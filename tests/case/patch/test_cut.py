@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 from reference import cut_hole_reference
 from scipy.spatial import Delaunay
 
-from coastmesh.case.patch.cut import MIN_CORNER, check_elements, cut_hole
+from coastmesh.case.patch.cut import MIN_CORNER, check_elements, cut_hole, grow_hole
 from coastmesh.errors import InputDataError
 
 #: what the fast code says for each of the reference's refusals
@@ -86,17 +86,32 @@ def _signed_area(xy: np.ndarray) -> float:
     return 0.5 * float(np.dot(x[:-1], y[1:]) - np.dot(x[1:], y[:-1]))
 
 
-def _compare(points, triangles, polygon) -> list[str]:
-    """cut_hole and the reference agree: the same hole, or the same refusal.
+def _compare(points, triangles, polygon, grow=None) -> list[str]:
+    """cut_hole (or grow_hole) and the reference agree: the same hole, or the
+    same refusal. ``grow``: (a hole, nodes) to grow it at.
 
     Returns what kind of case it was, for hypothesis' statistics.
     """
-    want = cut_hole_reference(points, triangles, polygon)
+    if grow is None:
+        want = cut_hole_reference(points, triangles, polygon)
+
+        def fast():
+            return cut_hole(points, triangles, polygon, "drawn")
+    else:
+        start, nodes = grow
+        hit = int(start.removed.sum()) - start.widened
+        want = cut_hole_reference(
+            points, triangles, None, grow=(start.removed, hit, nodes)
+        )
+
+        def fast():
+            return grow_hole(points, triangles, start, nodes, "drawn")
+
     if want["error"] is not None:
         with pytest.raises(InputDataError, match=REFUSALS[want["error"]]):
-            cut_hole(points, triangles, polygon, "drawn")
+            fast()
         return [f"refused: {want['error']}"]
-    hole = cut_hole(points, triangles, polygon, "drawn")
+    hole = fast()
     np.testing.assert_array_equal(hole.removed, want["removed"])
     np.testing.assert_array_equal(np.sort(hole.inner_nodes), want["inner"])
     assert hole.widened == want["widened"]
@@ -161,6 +176,43 @@ def test_cut_hole_is_the_reference(
         polygon = shapely.union(polygon, _star(*shifted, radii[::-1], -turn))
     for kind in _compare(points, triangles, polygon):
         event(kind)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    seed=st.integers(0, 2**16),
+    n=st.integers(8, 120),
+    island=st.tuples(
+        st.floats(300, 700), st.floats(300, 700), st.sampled_from([0.0, 100.0])
+    ),
+    centre=st.tuples(st.floats(150, 850), st.floats(150, 850)),
+    radii=st.lists(st.floats(10, 150), min_size=3, max_size=8),
+    pick=st.lists(st.integers(0, 10**6), min_size=1, max_size=4),
+)
+def test_grow_hole_is_the_reference(seed, n, island, centre, radii, pick):
+    """A hole grown at some of its ring's nodes (where a patch met its seam
+    badly): the hole and the kept triangles at those nodes, widened again."""
+    points, triangles = _mesh(seed, n, 1, island)
+    try:
+        hole = cut_hole(points, triangles, _star(*centre, radii, 0.3), "drawn")
+    except InputDataError:
+        return event("the first hole refused")
+    ring = np.unique(np.concatenate(hole.rings))
+    nodes = np.unique(ring[np.array(pick) % len(ring)])
+    for kind in _compare(points, triangles, None, grow=(hole, nodes)):
+        event(kind)
+
+
+def test_a_grown_hole_takes_the_kept_triangles_at_the_nodes():
+    points, triangles = _rectangle()
+    hole = cut_hole(points, triangles, shapely.box(700, 300, 1100, 650), "grid")
+    node = int(hole.rings[0][0])
+    grown = grow_hole(points, triangles, hole, np.array([node]), "grid")
+    at_node = (triangles == node).any(axis=1)
+    assert at_node[~hole.removed].any()
+    assert grown.removed[at_node].all() and grown.removed[hole.removed].all()
+    assert node in grown.inner_nodes  # the seam moved out past it
+    assert grown.widened == hole.widened + int((grown.removed & ~hole.removed).sum())
 
 
 def _rectangle(nx: int = 21, ny: int = 11, seed: int = 0):

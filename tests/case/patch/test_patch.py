@@ -322,6 +322,34 @@ def test_turbines_are_nodes_and_the_farm_has_its_id(existing, patched):
     assert np.median(sizes[~new]) > 250.0
 
 
+def test_the_seam_is_within_its_bounds_and_moved_out_where_it_is_not(
+    existing, case_file, patched, monkeypatch
+):
+    import coastmesh.case.patch.patch as patch_module
+
+    # as it is: every element at the seam over 30 degrees, ratios under 1.5
+    assert patched.report.seam_moves == 0
+    assert patched.report.angle_min_seam >= patch_module.SEAM_MIN_ANGLE
+    assert patched.report.size_ratio_seam_max <= patch_module.SEAM_MAX_RATIO
+    # bounds this patch breaks (43 degrees) move the seam out, once per try
+    monkeypatch.setattr(patch_module, "SEAM_MIN_ANGLE", 43.0)
+    monkeypatch.setattr(patch_module, "SEAM_MOVES", 0)
+    first = _patch(existing, case_file)
+    monkeypatch.setattr(patch_module, "SEAM_MOVES", 2)
+    moved = _patch(existing, case_file)
+    assert moved.report.seam_moves >= 1
+    grown = moved.hole.removed & ~first.hole.removed
+    assert grown.any() and (first.hole.removed <= moved.hole.removed).all()
+    assert moved.report.widened_elements == first.report.widened_elements + int(
+        grown.sum()
+    )
+    assert_outside_kept(existing, moved.mesh, moved.hole.removed)
+    assert_conforming(existing, moved.mesh)
+    # the best try is kept: no worse at the seam than the first
+    assert moved.report.angle_p01_seam >= first.report.angle_p01_seam
+    assert f"moved out {moved.report.seam_moves} time" in moved.report.summary()
+
+
 def test_the_report_counts_what_changed(existing, patched):
     before, after, report = existing, patched.mesh, patched.report
     elements, nodes = _kept(before, after)

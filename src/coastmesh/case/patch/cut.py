@@ -23,7 +23,7 @@ from scipy.sparse.csgraph import connected_components
 from coastmesh.errors import InputDataError
 from coastmesh.meshing.cleanup.planar import signed_areas
 
-__all__ = ["Hole", "check_elements", "cut_hole"]
+__all__ = ["Hole", "check_elements", "cut_hole", "grow_hole"]
 
 #: How many rounds of widening (pinches, sharp corners) the hole gets at most.
 _ROUNDS = 20
@@ -128,6 +128,47 @@ def cut_hole(
         )
     removed = np.zeros(len(triangles), dtype=bool)
     removed[hit] = True
+    return _hole(points, triangles, removed, len(hit), name)
+
+
+def grow_hole(
+    points: NDArray[np.float64],
+    triangles: NDArray[np.int64],
+    hole: Hole,
+    nodes: NDArray[np.int64],
+    name: str,
+) -> Hole:
+    """Return ``hole`` with every kept element at ``nodes`` cut out too.
+
+    The seam moves out past those nodes (where the patch met it badly); the
+    hole is widened and checked again as :func:`cut_hole` does.
+
+    Raises
+    ------
+    InputDataError
+        As :func:`cut_hole`: the grown hole would cut the mesh in two, be
+        several, or touch itself where the mesh's own boundary does.
+    """
+    at = np.zeros(len(points), dtype=bool)
+    at[nodes] = True
+    removed = hole.removed | at[triangles].any(axis=1)
+    # the elements that met the polygon are as many as before; the rest widen
+    return _hole(
+        points, triangles, removed, int(hole.removed.sum()) - hole.widened, name
+    )
+
+
+def _hole(
+    points: NDArray[np.float64],
+    triangles: NDArray[np.int64],
+    removed: NDArray[np.bool_],
+    hit: int,
+    name: str,
+) -> Hole:
+    """Widen the elements ``removed`` into a valid hole, check it, find its rings.
+
+    ``hit``: how many of them met the polygon (the rest count as widened).
+    """
     angles = _corner_angles(points, triangles)
     for _ in range(_ROUNDS):
         opened = np.union1d(
@@ -161,7 +202,7 @@ def cut_hole(
     on_ring = np.zeros(len(points), dtype=bool)
     on_ring[np.concatenate(rings)] = True  # the mesh's own boundary in the hole
     inner = np.flatnonzero(used_removed & ~used_kept & ~on_ring)
-    return Hole(removed, rings, seam, inner, int(removed.sum()) - len(hit))
+    return Hole(removed, rings, seam, inner, int(removed.sum()) - hit)
 
 
 def _corner_angles(

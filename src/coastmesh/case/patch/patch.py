@@ -29,9 +29,9 @@ from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig, floor
-from coastmesh.case.patch.cut import Hole, check_elements, cut_hole
+from coastmesh.case.patch.cut import Hole, check_elements, cut_hole, grow_hole
 from coastmesh.case.patch.hole import hole_domain, seam_edges, seam_sizes
-from coastmesh.case.patch.report import PatchReport, patch_report
+from coastmesh.case.patch.report import PatchReport, patch_report, seam_faults
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry.earth import reproject_points
 from coastmesh.geometry.projection import default_mesh_crs
@@ -45,6 +45,14 @@ logger = logging.getLogger(__name__)
 #: site's smallest size grows to the mesh's there, at the case's rate, plus
 #: this many of the mesh's elements there.
 MARGIN_ELEMENTS = 2.0
+#: The seam's bounds: an element with a node on it has no angle under
+#: SEAM_MIN_ANGLE degrees, and the size ratio across it is at most
+#: SEAM_MAX_RATIO. Where the patch breaks them, the seam is moved out past
+#: those nodes (the kept elements at them are cut out too) and the hole meshed
+#: again, at most SEAM_MOVES times; the best of the tries is kept.
+SEAM_MIN_ANGLE = 30.0
+SEAM_MAX_RATIO = 1.5
+SEAM_MOVES = 3
 
 
 @dataclass(frozen=True, eq=False)
@@ -134,19 +142,72 @@ def patch_mesh(
         polygon = _reproject(polygon, crs, at_site)
         crs, points = at_site, reproject_points(mesh.points, mesh.crs, at_site)
     hole = cut_hole(points, triangles, polygon, name)
+    best: Patched | None = None
+    for moves in range(SEAM_MOVES + 1):
+        patched, faults = _fill(
+            mesh, config, points, hole, polygon, crs, threads, name, clockwise, moves
+        )
+        if best is None or _score(patched.report) > _score(best.report):
+            best = patched
+        if not faults.size or moves == SEAM_MOVES:
+            break
+        try:  # move the seam out past the nodes where the patch met it badly
+            hole = grow_hole(points, triangles, hole, faults, name)
+        except InputDataError as exc:
+            logger.info("the seam stays: %s", exc)
+            break
+    assert best is not None
+    _warn_if_coarser(best.report, name)
+    return best
+
+
+def _fill(
+    mesh: Mesh,
+    config: CaseConfig,
+    points: NDArray[np.float64],
+    hole: Hole,
+    polygon: shapely.Geometry,
+    crs: CRS,
+    threads: int,
+    name: str,
+    clockwise: bool,
+    moves: int,
+) -> tuple[Patched, NDArray[np.int64]]:
+    """Mesh the hole and merge it; return the result and the seam's faults.
+
+    The faults are the seam's nodes (the input's numbers) where an element
+    with a node on the seam has an angle under :data:`SEAM_MIN_ANGLE`, or the
+    size ratio across a seam edge is over :data:`SEAM_MAX_RATIO`.
+    """
+    from coastmesh.case.patch.merge import merge
+
     domain, _ = hole_domain(hole, points, mesh, crs, _boundary_ids(mesh))
     size, site = _sizes(config, domain, hole, points, crs, threads)
     new = _mesh_hole(config, domain, size, site, crs, threads)
-    from coastmesh.case.patch.merge import merge
-
     merged, new_elements, numbers = merge(
         mesh, points, hole, new, crs, config, name, clockwise=clockwise
     )
     # the seam in the output's numbers: a coarser patch closes the gaps it leaves
     seam = numbers[seam_edges(hole)]
-    report = patch_report(mesh, merged, hole, new_elements, crs, seam)
-    _warn_if_coarser(report, name)
-    return Patched(merged, report, polygon, hole, crs, new_elements)
+    report = patch_report(mesh, merged, hole, new_elements, crs, seam, moves)
+    faults = seam_faults(
+        merged, crs, seam, min_angle=SEAM_MIN_ANGLE, max_ratio=SEAM_MAX_RATIO
+    )
+    ring = np.unique(np.concatenate(hole.rings))
+    patched = Patched(merged, report, polygon, hole, crs, new_elements)
+    return patched, ring[np.isin(numbers[ring], faults)]
+
+
+def _score(report: PatchReport) -> tuple[float, float]:
+    """How near the seam is to its bounds (1 and 1: within them); larger is better."""
+    return (
+        min(
+            report.angle_p01_seam / SEAM_MIN_ANGLE,
+            SEAM_MAX_RATIO / report.size_ratio_seam_max,
+            1.0,
+        ),
+        min(report.angle_min_seam / SEAM_MIN_ANGLE, 1.0),
+    )
 
 
 def _meshing_crs(mesh: Mesh, config: CaseConfig) -> CRS:

@@ -20,7 +20,7 @@ from coastmesh.geometry.earth import reproject_points
 from coastmesh.meshing.cleanup.smoothing import min_angles
 from coastmesh.types import Mesh, Report
 
-__all__ = ["PatchReport", "patch_report"]
+__all__ = ["PatchReport", "patch_report", "seam_faults"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -35,7 +35,8 @@ class PatchReport(Report):
         Cut out (nodes: those only the elements cut out used).
     widened_elements : int
         Of those, the elements that do not meet the polygon, cut out where
-        the hole would touch itself or make a corner sharper than 45 degrees.
+        the hole would touch itself or make a corner sharper than 45 degrees,
+        or where the seam was moved out (``seam_moves``).
     added_nodes, added_elements : int
         The patch's.
     seam_edges : int
@@ -52,6 +53,10 @@ class PatchReport(Report):
     dt_input_s, dt_patch_s, dt_output_s : float or None
         The smallest stable step of the input, of the patch, and of the
         output (None without depths).
+    seam_moves : int
+        How many times the seam was moved out, past the nodes where the patch
+        met it with an angle under 30 degrees or a size ratio over 1.5 (the
+        kept elements there are cut out too, and counted as widened).
     """
 
     kept_nodes: int
@@ -73,17 +78,21 @@ class PatchReport(Report):
     dt_input_s: float | None
     dt_patch_s: float | None
     dt_output_s: float | None
+    seam_moves: int = 0
 
     def summary(self) -> str:
         """Return one line."""
         dt = ""
         if self.dt_input_s is not None and self.dt_output_s is not None:
             dt = f"; slowest step {self.dt_input_s:.2f} -> {self.dt_output_s:.2f} s"
+        moved = ""
+        if self.seam_moves:
+            moved = f" (moved out {self.seam_moves} time{'s' * (self.seam_moves > 1)})"
         return (
             f"patch: -{self.removed_elements:,} +{self.added_elements:,} elements "
             f"(-{self.removed_nodes:,} +{self.added_nodes:,} nodes), "
             f"{self.kept_elements:,} kept as they were; seam of {self.seam_edges} "
-            f"edges, size ratio across it <= {self.size_ratio_seam_max:.2f}; "
+            f"edges{moved}, size ratio across it <= {self.size_ratio_seam_max:.2f}; "
             f"min angle p01 {self.angle_p01_patch:.1f} deg in the patch, "
             f"{self.angle_p01_seam:.1f} at the seam{dt}"
         )
@@ -96,6 +105,7 @@ def patch_report(
     new_elements: NDArray[np.int64],
     crs: CRS,
     seam: NDArray[np.int64],
+    seam_moves: int = 0,
 ) -> PatchReport:
     """Measure a patch: ``before`` and ``after`` in their CRS, measured in ``crs``."""
     assert after.crs is not None and before.crs is not None
@@ -108,7 +118,8 @@ def patch_report(
     seam_nodes = np.zeros(len(after.points), dtype=bool)
     seam_nodes[np.unique(seam)] = True  # the seam's nodes keep their numbers
     at_seam = seam_nodes[after.triangles].any(axis=1)
-    ratio = _seam_ratios(after.triangles, sizes, seam, new_elements)
+    ratio = _seam_ratios(after.triangles, sizes, seam)
+    ratio = ratio[np.isfinite(ratio)]
     dts = [_dt(m) for m in (before, after)]
     is_new = np.zeros(len(after.triangles), dtype=bool)
     is_new[new_elements] = True
@@ -135,7 +146,33 @@ def patch_report(
         dt_input_s=None if dts[0] is None else float(np.nanmin(dts[0])),
         dt_patch_s=dt_patch,
         dt_output_s=None if dts[1] is None else float(np.nanmin(dts[1])),
+        seam_moves=seam_moves,
     )
+
+
+def seam_faults(
+    after: Mesh,
+    crs: CRS,
+    seam: NDArray[np.int64],
+    *,
+    min_angle: float,
+    max_ratio: float,
+) -> NDArray[np.int64]:
+    """Return the seam's nodes (numbers in ``after``) where the patch meets it badly.
+
+    Those of each element with a node on the seam and a smallest angle under
+    ``min_angle`` (degrees, in ``crs``), and both ends of each seam edge across
+    which the size ratio is over ``max_ratio``.
+    """
+    assert after.crs is not None
+    xy = reproject_points(after.points, after.crs, crs)
+    on_seam = np.zeros(len(after.points), dtype=bool)
+    on_seam[seam.ravel()] = True
+    tris = after.triangles
+    sharp = on_seam[tris].any(axis=1) & (np.abs(min_angles(xy, tris)) < min_angle)
+    at_sharp = tris[sharp][on_seam[tris[sharp]]]
+    ratio = _seam_ratios(tris, _sizes(xy, tris), seam)
+    return np.union1d(at_sharp, seam[ratio > max_ratio].ravel())
 
 
 def _sizes(xy: NDArray[np.float64], tris: NDArray[np.int64]) -> NDArray[np.float64]:
@@ -149,9 +186,8 @@ def _seam_ratios(
     tris: NDArray[np.int64],
     sizes: NDArray[np.float64],
     seam: NDArray[np.int64],
-    new_elements: NDArray[np.int64],
 ) -> NDArray[np.float64]:
-    """Return the size ratio across each seam edge (larger over smaller)."""
+    """Return the size ratio across each seam edge (larger over smaller; NaN: none)."""
     edges = np.sort(tris[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
     owner = np.repeat(np.arange(len(tris)), 3)
     key = edges[:, 0] * (int(edges.max()) + 1) + edges[:, 1]
@@ -160,13 +196,13 @@ def _seam_ratios(
     order = np.argsort(key, kind="stable")
     lo = np.searchsorted(key[order], wanted, side="left")
     hi = np.searchsorted(key[order], wanted, side="right")
-    ratios = []
-    for a, b in zip(lo, hi, strict=True):
+    ratios = np.full(len(seam), np.nan)
+    for k, (a, b) in enumerate(zip(lo, hi, strict=True)):
         pair = owner[order[a:b]]
         if len(pair) == 2:
             h = sizes[pair]
-            ratios.append(h.max() / h.min())
-    return np.array(ratios)
+            ratios[k] = h.max() / h.min()
+    return ratios
 
 
 def _dt(mesh: Mesh) -> NDArray[np.float64] | None:
