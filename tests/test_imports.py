@@ -93,3 +93,17 @@ def test_entry_point_main(capsys):
     assert "GDAL" in shown and "shapely" in shown and "GEOS" in shown
     assert main(["simplify-shoreline"]) == 2
     assert "Missing argument 'IN'" in capsys.readouterr().err
+
+
+def test_the_version_is_the_one_pyproject_gives():
+    """One source: the installed metadata, from pyproject.toml."""
+    import tomllib
+    from pathlib import Path
+
+    import coastmesh
+    from coastmesh.version import __version__
+
+    project = tomllib.loads(
+        (Path(__file__).parents[1] / "pyproject.toml").read_text(encoding="utf-8")
+    )["project"]
+    assert __version__ == coastmesh.__version__ == project["version"]

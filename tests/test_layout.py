@@ -159,11 +159,29 @@ def test_functions_are_short(path):
         )
 
 
+@pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_nothing_imports_upward_from_the_package_root(path):
+    """The root ``coastmesh/__init__.py`` is the API over every layer: a module
+    in a layer that takes a name from it imports upward. Subpackages by name
+    (``from coastmesh import plot``) are imports of those."""
+    if path == PACKAGE / "__init__.py":
+        return
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom) and node.module == "coastmesh":
+            for alias in node.names:
+                assert (PACKAGE / alias.name).is_dir() or (
+                    PACKAGE / f"{alias.name}.py"
+                ).is_file(), (
+                    f"{path.relative_to(ROOT)}:{node.lineno} imports {alias.name} "
+                    "from the package root"
+                )
+
+
 def test_no_loose_modules_beside_the_stage_packages():
     loose = sorted(
         p.name
         for p in PACKAGE.glob("*.py")
-        if p.name not in {"__init__.py", "__main__.py", "errors.py"}
+        if p.name not in {"__init__.py", "__main__.py", "errors.py", "version.py"}
     )
     assert loose == [], loose
 

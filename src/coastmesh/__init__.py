@@ -62,7 +62,7 @@ if TYPE_CHECKING:
     from coastmesh.pca import simplify_contour, simplify_raster
     from coastmesh.types import BoundarySegment, Domain, Features, Mesh, SizeGrid
 
-__version__ = "0.1.0"
+from coastmesh.version import __version__
 
 _LAZY = {
     "CaseConfig": "coastmesh.case",

@@ -138,7 +138,7 @@ class CaseReport(Report):
         files: tuple[str, ...] = (),
     ) -> CaseReport:
         """Read the report of a finished run: every stage's part, as it left it."""
-        from coastmesh import __version__
+        from coastmesh.version import __version__
 
         config = run.config
         shorelines, domain, size, mesh = run.built()

@@ -18,7 +18,7 @@ import numpy as np
 import shapely
 from pyproj import CRS
 
-from coastmesh import __version__
+from coastmesh.version import __version__
 from coastmesh.case.config import CaseConfig, OutputConfig
 from coastmesh.case.dump import dump_case
 from coastmesh.case.figures import FigureJobs, figure_jobs

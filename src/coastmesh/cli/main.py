@@ -17,7 +17,7 @@ from typing import Any
 
 import click
 
-from coastmesh import __version__
+from coastmesh.version import __version__
 from coastmesh.cli.convert import convert
 from coastmesh.cli.demo import demo
 from coastmesh.cli.formats import formats

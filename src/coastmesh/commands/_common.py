@@ -102,7 +102,7 @@ def locate(exc: InputDataError, features: Features) -> InputDataError:
 
 
 def provenance(command: str, src: PathLike, **parameters: object) -> dict[str, str]:
-    from coastmesh import __version__
+    from coastmesh.version import __version__
 
     settings = " ".join(f"--{k} {v}" for k, v in parameters.items())
     stamp = datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ")

@@ -152,7 +152,7 @@ _DEMO_RASTERS = ((8, 1), (8, 16), (8, 48))
 
 
 def _demo_readme(steps: list[DemoStep]) -> str:
-    from coastmesh import __version__
+    from coastmesh.version import __version__
 
     lines = [
         f"coastmesh {__version__} demo: PCA approximation of shorelines and "

@@ -319,7 +319,7 @@ def _ugrid_dataset(mesh: Mesh, name: str) -> Any:
     """Build the UGRID xarray Dataset of a mesh."""
     import xarray as xr
 
-    from coastmesh import __version__
+    from coastmesh.version import __version__
 
     grid_mapping = {} if mesh.crs is None else {"grid_mapping": _CRS}
     coords = {

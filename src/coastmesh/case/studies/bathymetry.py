@@ -309,7 +309,7 @@ def _approximation(
 
 
 def _write_tables(folder, config, raster, rows, curve, spectrum) -> list[str]:
-    from coastmesh import __version__
+    from coastmesh.version import __version__
 
     size = config.window**2
     lines = [

@@ -43,7 +43,7 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS
 
-from coastmesh import __version__
+from coastmesh.version import __version__
 from coastmesh.case import schema
 from coastmesh.case.schema import Table
 from coastmesh.errors import ConfigError, InputDataError

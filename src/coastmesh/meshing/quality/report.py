@@ -379,7 +379,7 @@ class QualityReport(Report):
             JSON needs; ``all_boundary_triangles`` and
             ``channel_spanning_triangles`` are their numbers.
         """
-        from coastmesh import __version__
+        from coastmesh.version import __version__
 
         boundary = {
             str(pid): {
