@@ -42,6 +42,7 @@ from coastmesh.errors import (
     MeshingError,
     OutputExistsError,
 )
+from coastmesh.version import __version__
 
 # typing.TYPE_CHECKING without importing typing (8 ms): `import coastmesh` stays
 # quick for the command line
@@ -62,7 +63,6 @@ if TYPE_CHECKING:
     from coastmesh.pca import simplify_contour, simplify_raster
     from coastmesh.types import BoundarySegment, Domain, Features, Mesh, SizeGrid
 
-from coastmesh.version import __version__
 
 _LAZY = {
     "CaseConfig": "coastmesh.case",

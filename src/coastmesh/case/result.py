@@ -18,7 +18,6 @@ import numpy as np
 import shapely
 from pyproj import CRS
 
-from coastmesh.version import __version__
 from coastmesh.case.config import CaseConfig, OutputConfig
 from coastmesh.case.dump import dump_case
 from coastmesh.case.figures import FigureJobs, figure_jobs
@@ -37,6 +36,7 @@ from coastmesh.io import (
     write_report,
 )
 from coastmesh.types import Domain, Features, Mesh, SizeGrid, StageFactory, quiet_stage
+from coastmesh.version import __version__
 
 if TYPE_CHECKING:
     import xarray as xr

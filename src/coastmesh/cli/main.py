@@ -17,7 +17,6 @@ from typing import Any
 
 import click
 
-from coastmesh.version import __version__
 from coastmesh.cli.convert import convert
 from coastmesh.cli.demo import demo
 from coastmesh.cli.formats import formats
@@ -25,6 +24,7 @@ from coastmesh.cli.patch import patch
 from coastmesh.cli.run import run
 from coastmesh.cli.simplify_raster import simplify_raster
 from coastmesh.cli.simplify_shoreline import simplify_shoreline
+from coastmesh.version import __version__
 
 __all__ = ["cli", "main"]
 

@@ -43,7 +43,6 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS
 
-from coastmesh.version import __version__
 from coastmesh.case import schema
 from coastmesh.case.schema import Table
 from coastmesh.errors import ConfigError, InputDataError
@@ -53,6 +52,7 @@ from coastmesh.io import read_features, write_features
 from coastmesh.plot.base import detail_bounds, save_figure
 from coastmesh.plot.studies import overlay_figure
 from coastmesh.types import Report, StageFactory
+from coastmesh.version import __version__
 
 __all__ = [
     "ReconstructionConfig",
