@@ -96,7 +96,7 @@ def test_entry_point_main(capsys):
 
 
 def test_the_version_is_the_one_pyproject_gives():
-    """One source: the installed metadata, from pyproject.toml."""
+    """coastmesh.version, the one place in the package, is pyproject.toml's."""
     import tomllib
     from pathlib import Path
 
