@@ -153,26 +153,41 @@ def distance_to_points_geodesic(lon, lat, line_lon, line_lat):
     return out
 
 
-def bilinear_loop(rx, ry, values, px, py):
-    """Bilinear interpolation one point at a time (NaN outside or at nodata).
+def bilinear_loop(rx, ry, values, px, py, *, clamp=False):
+    """Bilinear interpolation one point at a time.
 
-    The literal reference of ``coastmesh.depth.raster.interpolate_bilinear``
-    (ascending ``rx``, ``ry``), which node depths and size grids use.
+    The literal reference of ``coastmesh.geometry.grids.interpolate_bilinear``
+    (ascending ``rx``, ``ry``), which depth rasters, size grids and the
+    sphere's size grid use: with ``clamp`` a point outside the nodes is first
+    moved onto the grid's nearest edge, without it it is NaN; the cell is the
+    last whose low corner is at or below the point (the last cell for a point
+    on the last column or row); only the corners with a weight count, and the
+    value is NaN if one of those is missing.
     """
     out = np.full(len(px), np.nan)
-    for k, (x, y) in enumerate(zip(px, py, strict=True)):
+    if len(rx) < 2 or len(ry) < 2:
+        return out
+    for k, (given_x, given_y) in enumerate(zip(px, py, strict=True)):
+        x, y = given_x, given_y
+        if clamp:
+            x = min(max(x, rx[0]), rx[-1])
+            y = min(max(y, ry[0]), ry[-1])
         if not (rx[0] <= x <= rx[-1] and ry[0] <= y <= ry[-1]):
             continue
-        i = min(int(np.searchsorted(rx, x, side="right")) - 1, len(rx) - 2)
-        j = min(int(np.searchsorted(ry, y, side="right")) - 1, len(ry) - 2)
+        i = max(m for m in range(len(rx) - 1) if rx[m] <= x)
+        j = max(m for m in range(len(ry) - 1) if ry[m] <= y)
         tx = (x - rx[i]) / (rx[i + 1] - rx[i])
         ty = (y - ry[j]) / (ry[j + 1] - ry[j])
-        out[k] = (
-            (1 - tx) * (1 - ty) * values[j, i]
-            + tx * (1 - ty) * values[j, i + 1]
-            + (1 - tx) * ty * values[j + 1, i]
-            + tx * ty * values[j + 1, i + 1]
-        )
+        corners = [
+            ((1 - tx) * (1 - ty), values[j, i]),
+            (tx * (1 - ty), values[j, i + 1]),
+            ((1 - tx) * ty, values[j + 1, i]),
+            (tx * ty, values[j + 1, i + 1]),
+        ]
+        weighted = [(w, v) for w, v in corners if w > 0]
+        if any(np.isnan(v) for _, v in weighted):
+            continue
+        out[k] = sum(w * v for w, v in weighted)
     return out
 
 

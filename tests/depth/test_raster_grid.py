@@ -1,4 +1,4 @@
-"""Rasters as arrays: axes, flips and errors, and bilinear sampling against a loop."""
+"""Rasters as arrays: axes, flips and errors, and wet sampling against a loop."""
 
 from __future__ import annotations
 
@@ -7,9 +7,9 @@ import pytest
 import xarray as xr
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from reference import bilinear_loop, bilinear_wet_loop
+from reference import bilinear_wet_loop
 
-from coastmesh.depth.raster import interpolate_bilinear, interpolate_wet, raster_grid
+from coastmesh.depth.raster import interpolate_wet, raster_grid
 from coastmesh.errors import ConfigError
 
 
@@ -48,32 +48,6 @@ def test_raster_grid_errors_name_the_problem():
         raster_grid(raster(values, [0.0, 1.0], [0.0, 2.0, 1.0]))
     with pytest.raises(ConfigError, match="raster y coordinates are not strictly"):
         raster_grid(raster(values, [1.0, 1.0], [0.0, 1.0, 2.0]))
-
-
-def test_bilinear_matches_the_loop_with_nodata_and_outside_points():
-    rng = np.random.default_rng(4)
-    x = np.cumsum(rng.uniform(0.5, 1.5, 15))
-    y = np.cumsum(rng.uniform(0.5, 1.5, 11))
-    values = rng.normal(0, 10, (11, 15))
-    values[rng.random(values.shape) < 0.05] = np.nan
-    px = rng.uniform(x[0] - 2, x[-1] + 2, 2000)
-    py = rng.uniform(y[0] - 2, y[-1] + 2, 2000)
-    got = interpolate_bilinear(x, y, values, px, py)
-    expected = bilinear_loop(x, y, values, px, py)
-    np.testing.assert_array_equal(np.isnan(got), np.isnan(expected))
-    assert np.isnan(got).sum() > 100 and (~np.isnan(got)).sum() > 1000
-    np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12)
-    # cell centres give the cells (without nodata); the shape of the points is kept
-    gx, gy = np.meshgrid(x, y)
-    full = np.nan_to_num(values)
-    np.testing.assert_allclose(interpolate_bilinear(x, y, full, gx, gy), full)
-
-
-def test_bilinear_on_a_grid_one_cell_wide_is_nan():
-    out = interpolate_bilinear(
-        np.array([0.0]), np.array([0.0, 1.0]), np.ones((2, 1)), [0.0], [0.5]
-    )
-    assert np.isnan(out).all() and out.shape == (1,)
 
 
 @settings(max_examples=60, deadline=None)

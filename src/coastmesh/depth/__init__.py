@@ -10,7 +10,6 @@
 :func:`depth_at_nodes`             depth on the nodes of a mesh: coverage,
                                    land, the depth floor, the slope limit
 :func:`raster_grid`                a raster's axes (ascending) and values
-:func:`interpolate_bilinear`       bilinear sampling of a regular grid
 =================================  ===========================================
 
 Every depth here is in metres, positive down; each raster says its own sign
@@ -32,7 +31,7 @@ from coastmesh.depth.nodes import (
     depth_at_nodes,
     node_sources,
 )
-from coastmesh.depth.raster import interpolate_bilinear, raster_grid
+from coastmesh.depth.raster import raster_grid
 from coastmesh.depth.sources import DepthSource, DepthSources, SourceSample
 
 __all__ = [
@@ -45,7 +44,6 @@ __all__ = [
     "SourceSample",
     "depth_at_nodes",
     "depth_on_grid",
-    "interpolate_bilinear",
     "node_sources",
     "raster_grid",
 ]

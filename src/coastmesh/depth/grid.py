@@ -8,10 +8,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS
 
-from coastmesh.depth.raster import interpolate_bilinear, raster_grid
+from coastmesh.depth.raster import raster_grid
 from coastmesh.depth.sources import DepthSource, DepthSources
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import reproject_points
+from coastmesh.geometry.grids import interpolate_bilinear
 
 if TYPE_CHECKING:
     import xarray as xr

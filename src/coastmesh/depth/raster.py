@@ -1,11 +1,11 @@
-"""Rasters as plain arrays: checked axes, values and CRS, and bilinear sampling.
+"""Rasters as plain arrays: checked axes, values and CRS, and depths at a coast.
 
 A raster here is an :class:`xarray.DataArray` with dims ``("y", "x")``, 1-D
 cell-centre coordinates and a ``crs`` attribute (WKT), as
 :func:`coastmesh.io.read_raster` returns it; NaN marks missing cells. The sizing
 and node-depth steps unpack it once with :func:`raster_grid` and sample it with
-:func:`interpolate_bilinear` (or, for depths at a coast,
-:func:`interpolate_wet`, which never mixes a land cell into the sea).
+:func:`~coastmesh.geometry.grids.interpolate_bilinear` (or, for depths at a
+coast, :func:`interpolate_wet`, which never mixes a land cell into the sea).
 """
 
 from __future__ import annotations
@@ -17,10 +17,13 @@ from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS
 
 from coastmesh.errors import ConfigError
+from coastmesh.geometry.grids import bilinear_corners, interpolate_bilinear
 
 if TYPE_CHECKING:
     import xarray as xr
 
+# interpolate_bilinear lives in coastmesh.geometry.grids; it is named here too
+# only because coastmesh.io.field_values imports it from this module
 __all__ = ["interpolate_bilinear", "interpolate_wet", "raster_grid"]
 
 
@@ -87,62 +90,6 @@ def raster_grid(
     return x, y, values, CRS.from_user_input(raster.attrs["crs"])
 
 
-def interpolate_bilinear(
-    x: NDArray[np.float64],
-    y: NDArray[np.float64],
-    values: NDArray[np.float64],
-    px: ArrayLike,
-    py: ArrayLike,
-) -> NDArray[np.float64]:
-    """Interpolate a grid bilinearly between its cell centres.
-
-    Parameters
-    ----------
-    x, y : ndarray of shape (nx,), (ny,)
-        Cell-centre coordinates, increasing (as :func:`raster_grid` returns them).
-    values : ndarray of shape (ny, nx)
-        The cells; NaN where missing.
-    px, py : array_like of the same shape
-        Where to interpolate, in the grid's CRS.
-
-    Returns
-    -------
-    ndarray of the shape of ``px``
-        NaN outside the cell centres, where a corner with a weight is missing,
-        and everywhere when the grid has fewer than two cells along an axis.
-        A point on the line between two valid cells has their value even when
-        the cells beyond the line are missing.
-
-    Examples
-    --------
-    >>> grid = np.array([[0.0, 10.0], [20.0, 30.0]])
-    >>> interpolate_bilinear(np.array([0.0, 1.0]), np.array([0.0, 1.0]), grid,
-    ...                      [0.5, 2.0], [0.5, 0.5]).tolist()
-    [15.0, nan]
-    >>> holed = np.array([[0.0, 10.0], [20.0, np.nan]])
-    >>> interpolate_bilinear(np.array([0.0, 1.0]), np.array([0.0, 1.0]), holed,
-    ...                      [0.5, 0.5], [0.0, 0.5]).tolist()
-    [5.0, nan]
-    """
-    # By hand, not scipy's RegularGridInterpolator: that returns NaN at a point
-    # on a cell-centre line next to a missing cell (NaN times a zero weight),
-    # where the value is defined; here only corners with a weight count.
-    px, py = np.broadcast_arrays(
-        np.asarray(px, dtype=np.float64), np.asarray(py, dtype=np.float64)
-    )
-    if len(x) < 2 or len(y) < 2:
-        return np.full(px.shape, np.nan)
-    bad, corners = _corners(x, y, px.ravel(), py.ravel())
-    out = np.zeros(px.size)
-    for (j, i), weight in corners:
-        corner = values[j, i]
-        used = weight > 0
-        bad |= used & np.isnan(corner)
-        out += np.where(used, corner * weight, 0.0)
-    out[bad] = np.nan
-    return out.reshape(px.shape)
-
-
 def interpolate_wet(
     x: NDArray[np.float64],
     y: NDArray[np.float64],
@@ -172,8 +119,8 @@ def interpolate_wet(
     ndarray of the shape of ``px``
         The wet-weighted depth; ``0.0`` where every cell with a weight is dry
         (the point is on land in the raster); NaN where
-        :func:`interpolate_bilinear` gives NaN (outside, or a missing cell
-        with a weight).
+        :func:`~coastmesh.geometry.grids.interpolate_bilinear` gives NaN
+        (outside, or a missing cell with a weight).
 
     Examples
     --------
@@ -187,7 +134,7 @@ def interpolate_wet(
     )
     if len(x) < 2 or len(y) < 2:
         return np.full(px.shape, np.nan)
-    bad, corners = _corners(x, y, px.ravel(), py.ravel())
+    bad, corners = bilinear_corners(x, y, px.ravel(), py.ravel())
     total = np.zeros(px.size)
     weights = np.zeros(px.size)
     for (j, i), weight in corners:
@@ -202,23 +149,3 @@ def interpolate_wet(
         out = np.where(weights > 0, total / weights, 0.0)
     out[bad] = np.nan
     return out.reshape(px.shape)
-
-
-def _corners(x, y, qx, qy):
-    """Return the points outside the cell centres, and each corner's cells and weight.
-
-    ``((rows, cols), weight)`` for the four corners of the cell around each
-    point, as bilinear interpolation weighs them.
-    """
-    with np.errstate(invalid="ignore"):
-        bad = ~((qx >= x[0]) & (qx <= x[-1]) & (qy >= y[0]) & (qy <= y[-1]))
-    i = np.clip(np.searchsorted(x, qx, side="right") - 1, 0, len(x) - 2)
-    j = np.clip(np.searchsorted(y, qy, side="right") - 1, 0, len(y) - 2)
-    tx = (qx - x[i]) / (x[i + 1] - x[i])
-    ty = (qy - y[j]) / (y[j + 1] - y[j])
-    return bad, (
-        ((j, i), (1.0 - tx) * (1.0 - ty)),
-        ((j, i + 1), tx * (1.0 - ty)),
-        ((j + 1, i), (1.0 - tx) * ty),
-        ((j + 1, i + 1), tx * ty),
-    )

@@ -36,7 +36,7 @@ from pyproj import CRS
 from scipy.ndimage import binary_erosion
 from scipy.spatial import cKDTree
 
-from coastmesh.depth.raster import interpolate_bilinear, interpolate_wet, raster_grid
+from coastmesh.depth.raster import interpolate_wet, raster_grid
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry.earth import (
     METRES_PER_DEGREE,
@@ -44,6 +44,7 @@ from coastmesh.geometry.earth import (
     metres_per_unit,
     reproject_points,
 )
+from coastmesh.geometry.grids import interpolate_bilinear
 
 if TYPE_CHECKING:
     import xarray as xr

@@ -14,6 +14,7 @@
 :mod:`.world`             the world ocean in a stereographic plane
 :mod:`.closing`           narrow water closed, on rasters of that plane
 :mod:`.cells`             land on cells: winding numbers, morphology, tracing
+:mod:`.grids`             regular grids: the cell of a point, bilinear values
 :mod:`.inlets`            narrow inlets found along a coast, cut off
 :mod:`.unions`            unions of many polygons that overlay only what meets
 ========================  =====================================================
@@ -42,6 +43,7 @@ from coastmesh.geometry.earth import (
     reproject_points,
     transformer,
 )
+from coastmesh.geometry.grids import interpolate_bilinear
 from coastmesh.geometry.layers import (
     check_coordinates,
     densify_long_edges,
@@ -87,6 +89,7 @@ __all__ = [
     "domain_with_structures",
     "earth_centred",
     "great_circle",
+    "interpolate_bilinear",
     "join_dateline",
     "land_from_grid",
     "land_polygons",

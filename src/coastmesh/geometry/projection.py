@@ -21,6 +21,7 @@ from pyproj.crs import ProjectedCRS
 
 from coastmesh.errors import MeshingError
 from coastmesh.geometry.earth import reproject_points, transformer
+from coastmesh.geometry.grids import interpolate_bilinear
 from coastmesh.types import Domain, SizeGrid
 
 __all__ = [
@@ -197,18 +198,8 @@ def sample_size(
 
 def _bilinear(grid: SizeGrid, xy: NDArray[np.float64]) -> NDArray[np.float64]:
     """Bilinear interpolation of one grid, clamped to its edges."""
-    x = np.clip(xy[:, 0], grid.x[0], grid.x[-1])
-    y = np.clip(xy[:, 1], grid.y[0], grid.y[-1])
-    i = np.clip(np.searchsorted(grid.x, x, side="right") - 1, 0, grid.x.size - 2)
-    j = np.clip(np.searchsorted(grid.y, y, side="right") - 1, 0, grid.y.size - 2)
-    tx = (x - grid.x[i]) / (grid.x[i + 1] - grid.x[i])
-    ty = (y - grid.y[j]) / (grid.y[j + 1] - grid.y[j])
-    v = grid.values
-    return (
-        (1 - tx) * (1 - ty) * v[j, i]
-        + tx * (1 - ty) * v[j, i + 1]
-        + (1 - tx) * ty * v[j + 1, i]
-        + tx * ty * v[j + 1, i + 1]
+    return interpolate_bilinear(
+        grid.x, grid.y, grid.values, xy[:, 0], xy[:, 1], clamp=True
     )
 
 

@@ -76,6 +76,20 @@ def test_sampling_matches_the_literal_reference(points, seed, map_units):
     np.testing.assert_allclose(size.sample(xy), _reference_sample(size, xy), rtol=1e-9)
 
 
+def test_a_longitude_just_past_the_last_column_takes_its_values():
+    # a grid may go round to within 1e-9 degrees: a longitude that wraps into
+    # the gap before the first column again takes the last (the first) column's
+    # values, as the grid's edge, not a linear extrapolation of the last cell
+    g = _grid()
+    x = g.x.copy()
+    x[-1] -= 5e-10
+    size = SphereSizeGrid(SizeGrid(x, g.y, g.values))
+    lat = np.array([-75.0, 0.0, 42.0, 89.0])
+    past = size.at_lonlat(np.full(4, 180.0 - 1e-10), lat)
+    np.testing.assert_array_equal(past, size.at_lonlat(np.full(4, x[-1]), lat))
+    np.testing.assert_allclose(past, size.at_lonlat(np.full(4, -180.0), lat), rtol=1e-9)
+
+
 def test_a_grid_must_go_once_round():
     g = _grid()
     with pytest.raises(ValueError, match="spans exactly 360 degrees"):

@@ -33,6 +33,7 @@ from pyproj import CRS
 
 from coastmesh.geometry.cells import points_inside
 from coastmesh.geometry.earth import EARTH_RADIUS, transformer
+from coastmesh.geometry.grids import cell_of, interpolate_bilinear
 from coastmesh.geometry.sphere import plane_crs, stereographic_scale
 from coastmesh.types import SizeGrid
 
@@ -124,16 +125,14 @@ class SphereSizeGrid:
     def at_lonlat(
         self, lon: NDArray[np.float64], lat: NDArray[np.float64]
     ) -> NDArray[np.float64]:
-        """Interpolate the field (metres on the sphere) at lon/lat points."""
-        x, y, v = self.grid.x, self.grid.y, self.grid.values
-        lon, lat, i, j = self._cells(lon, lat)
-        tx = (lon - x[i]) / (x[i + 1] - x[i])
-        ty = (lat - y[j]) / (y[j + 1] - y[j])
-        return (
-            (1 - tx) * (1 - ty) * v[j, i]
-            + tx * (1 - ty) * v[j, i + 1]
-            + (1 - tx) * ty * v[j + 1, i]
-            + tx * ty * v[j + 1, i + 1]
+        """Interpolate the field (metres on the sphere) at lon/lat points.
+
+        Longitudes wrap round; latitudes past the grid's first or last row take
+        that row's values.
+        """
+        g = self.grid
+        return interpolate_bilinear(
+            g.x, g.y, g.values, self._wrap(lon), lat, clamp=True
         )
 
     def view_data(
@@ -243,23 +242,16 @@ class SphereSizeGrid:
             v = v * stereographic_scale(x[i], y[j], self.pole)
         return v
 
-    def _cells(self, lon: ArrayLike, lat: ArrayLike) -> tuple[NDArray, ...]:
-        """Return lon wrapped onto the grid, lat clipped to it, and their cells.
-
-        As (lon, lat, column i, row j): the cell's west and south nodes.
-        """
-        x, y = self.grid.x, self.grid.y
-        lons = (np.asarray(lon, dtype=np.float64) - x[0]) % 360.0 + x[0]
-        lats = np.clip(np.asarray(lat, dtype=np.float64), y[0], y[-1])
-        i = np.clip(np.searchsorted(x, lons, side="right") - 1, 0, x.size - 2)
-        j = np.clip(np.searchsorted(y, lats, side="right") - 1, 0, y.size - 2)
-        return lons, lats, i, j
+    def _wrap(self, lon: ArrayLike) -> NDArray[np.float64]:
+        """Return longitudes moved by whole turns into the grid's first turn."""
+        x0 = self.grid.x[0]
+        return (np.asarray(lon, dtype=np.float64) - x0) % 360.0 + x0
 
     def _cells_near(self, xy: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Return which grid cells (rows, columns) hold a point or are next to one."""
         x, y = self.grid.x, self.grid.y
         ll = self.lonlat(xy)
-        _, _, i, j = self._cells(ll[:, 0], ll[:, 1])
+        i, j = cell_of(x, y, self._wrap(ll[:, 0]), ll[:, 1])
         held = np.zeros((y.size - 1, x.size - 1), dtype=bool)
         held[j, i] = True
         # the 3 x 3 around each: columns wrap round, rows stop at the poles
