@@ -191,6 +191,39 @@ def bilinear_loop(rx, ry, values, px, py, *, clamp=False):
     return out
 
 
+def rank_channels_loop(labels, width, area, kept):
+    """Kept labels, largest area first, numbered 1, 2, ...; each one's widest nodes.
+
+    The literal reference of ``coastmesh.sizing.narrow.rank_channels``: the
+    labels ``1 .. len(kept) - 1`` with ``kept`` set, sorted by area, largest
+    first (Python's sort is stable: equal areas keep the order of their
+    labels); every node of each relabelled; its widest node the first met in
+    row-major order, and all its widest nodes (scipy's ``maximum_position``,
+    which the fast code uses, may pick any of them).
+    """
+    chosen = [old for old in range(1, len(kept)) if kept[old]]
+    chosen.sort(key=lambda old: -area[old])
+    ny, nx = labels.shape
+    out = np.zeros((ny, nx), dtype=np.int32)
+    found = []
+    for new, old in enumerate(chosen, start=1):
+        best = None
+        for r in range(ny):
+            for c in range(nx):
+                if labels[r, c] == old:
+                    out[r, c] = new
+                    if best is None or width[r, c] > width[best]:
+                        best = (r, c)
+        widest = {
+            (r, c)
+            for r in range(ny)
+            for c in range(nx)
+            if labels[r, c] == old and width[r, c] == width[best]
+        }
+        found.append((best[0], best[1], float(area[old]), float(width[best]), widest))
+    return out, found
+
+
 def write_fort14_loop(path, mesh, depth, open_strings, land_strings):
     """fort.14 written one line at a time: the literal reference for timing."""
     with open(path, "w") as f:

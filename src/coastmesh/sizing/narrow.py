@@ -31,6 +31,7 @@ __all__ = [
     "channel_polygons",
     "narrow_channels",
     "narrow_places",
+    "rank_channels",
     "warn_narrow",
 ]
 
@@ -177,32 +178,71 @@ def narrow_channels(
         return labels.astype(np.int32), []
     if min_length is None:
         min_length = NARROW_ELEMENTS * h_min
-    sizes = np.bincount(labels.ravel(), minlength=count + 1)
-    sizes[0] = 0
+    area = np.bincount(labels.ravel(), minlength=count + 1) * cell * cell
     boxes = ndimage.find_objects(labels)
     length = np.zeros(count + 1)
     length[1:] = [
         cell * math.hypot(b[0].stop - b[0].start, b[1].stop - b[1].start) for b in boxes
     ]
-    keep = np.flatnonzero(length >= min_length)
-    keep = keep[np.argsort(-sizes[keep], kind="stable")]
-    renumber = np.zeros(count + 1, dtype=np.int32)
+    return rank_channels(labels, width, area, length >= min_length)
+
+
+def rank_channels(
+    labels: NDArray[np.integer],
+    width: NDArray[np.float64],
+    area: NDArray[np.number],
+    kept: NDArray[np.bool_],
+) -> tuple[NDArray[np.int32], list[tuple[int, int, float, float]]]:
+    """Keep some labelled stretches, number them largest first, find their widest.
+
+    The step :func:`narrow_channels` and
+    :func:`~coastmesh.sizing.sphere_channel.sphere_narrow_channels` share; each
+    measures its stretches' areas and lengths its own way.
+
+    Parameters
+    ----------
+    labels : ndarray of int, shape (ny, nx)
+        0 outside any stretch, else its label, ``1 .. count``.
+    width : ndarray, shape (ny, nx)
+        The width of the water at each node, metres.
+    area : ndarray, shape (count + 1,)
+        Each label's area, m^2 (entry 0, the background, is not read).
+    kept : ndarray of bool, shape (count + 1,)
+        Which labels to keep (entry 0 is never kept): those long enough.
+
+    Returns
+    -------
+    labels : ndarray of int32, shape (ny, nx)
+        0 outside the kept stretches, else ``1 .. k`` by area, largest first
+        (equal areas in the order of their old labels).
+    channels : list of (row, col, area_m2, width_m)
+        For each, in that order: its widest node (one of them, when several
+        are as wide), its area and its width there.
+
+    Examples
+    --------
+    >>> labels = np.array([[1, 0, 2, 2], [1, 0, 2, 3]])
+    >>> width = np.array([[5.0, 0.0, 7.0, 9.0], [6.0, 0.0, 8.0, 4.0]])
+    >>> new, found = rank_channels(labels, width, np.array([0.0, 2.0, 3.0, 1.0]),
+    ...                            np.array([False, True, True, False]))
+    >>> new.tolist(), found
+    ([[2, 0, 1, 1], [2, 0, 1, 0]], [(0, 3, 3.0, 9.0), (1, 0, 2.0, 6.0)])
+    """
+    keep = np.flatnonzero(kept)
+    keep = keep[keep > 0]
+    keep = keep[np.argsort(-area[keep], kind="stable")]
+    renumber = np.zeros(len(kept), dtype=np.int32)
     renumber[keep] = np.arange(1, len(keep) + 1, dtype=np.int32)
-    labels = renumber[labels]
+    ranked = renumber[labels]
     found = []
     if len(keep):
         index = np.arange(1, len(keep) + 1)
-        lows = ndimage.maximum_position(width, labels, index=index)
+        lows = ndimage.maximum_position(width, ranked, index=index)
         for k, (row, col) in enumerate(lows):
             found.append(
-                (
-                    int(row),
-                    int(col),
-                    float(sizes[keep[k]] * cell * cell),
-                    float(width[row, col]),
-                )
+                (int(row), int(col), float(area[keep[k]]), float(width[row, col]))
             )
-    return labels, found
+    return ranked, found
 
 
 def channel_polygons(

@@ -40,7 +40,7 @@ from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import EARTH_RADIUS
 from coastmesh.geometry.sphere import lonlat_to_xyz
 from coastmesh.sizing.channel import RADIUS_STEP
-from coastmesh.sizing.narrow import NARROW_ELEMENTS
+from coastmesh.sizing.narrow import NARROW_ELEMENTS, rank_channels
 
 __all__ = [
     "sphere_narrow_channels",
@@ -262,21 +262,7 @@ def sphere_narrow_channels(
         wide = math.cos(math.radians(float(np.min(np.abs(lat[r])))))
         span = _circular_span(np.unique(c), nx) * 2 * math.pi / nx * wide
         length[k + 1] = EARTH_RADIUS * math.hypot((r.max() - r.min() + 1) * dlat, span)
-    keep = np.flatnonzero(length >= min_length)
-    keep = keep[keep > 0]
-    keep = keep[np.argsort(-area[keep], kind="stable")]
-    renumber = np.zeros(count + 1, dtype=np.int32)
-    renumber[keep] = np.arange(1, len(keep) + 1, dtype=np.int32)
-    labels = renumber[labels]
-    found = []
-    if len(keep):
-        index = np.arange(1, len(keep) + 1)
-        for k, (row, col) in enumerate(
-            ndimage.maximum_position(width, labels, index=index)
-        ):
-            found.append(
-                (int(row), int(col), float(area[keep[k]]), float(width[row, col]))
-            )
+    labels, found = rank_channels(labels, width, area, length >= min_length)
     return np.hstack([labels, labels[:, :1]]), found
 
 
