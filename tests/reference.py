@@ -7,6 +7,8 @@ against something obviously right. Never import them from the package.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 
@@ -222,6 +224,14 @@ def rank_channels_loop(labels, width, area, kept):
         }
         found.append((best[0], best[1], float(area[old]), float(width[best]), widest))
     return out, found
+
+
+def plane_scale_from_angle(r, radius):
+    """The stereographic scale ``2 / (1 + cos c)`` at the angle ``c`` from the
+    plane's centre of a point ``r`` from it in the plane (``r = 2 R tan(c /
+    2)``): the literal reference of ``coastmesh.geometry.sphere.plane_scale``."""
+    c = 2.0 * math.atan(r / (2.0 * radius))
+    return 2.0 / (1.0 + math.cos(c))
 
 
 def write_fort14_loop(path, mesh, depth, open_strings, land_strings):

@@ -66,11 +66,12 @@ from coastmesh.geometry.earth import (
     reproject_points,
 )
 from coastmesh.geometry.inlets import inlet_patches
+from coastmesh.geometry.sphere import plane_scale
 from coastmesh.geometry.unions import group_labels, groups_of, meeting_pairs
 
 __all__ = ["IslandChange", "close_narrow_water", "earth_areas", "island_changes"]
 
-_R2 = 2.0 * EARTH_RADIUS  #: k = 1 + (r / _R2)^2 in every stereographic plane
+_R2 = 2.0 * EARTH_RADIUS  #: r = _R2 sqrt(k - 1) inverts plane_scale (any pole)
 _DISK = 4  #: the closing's disk radius, in cells: a cell is width / 8
 _CLOSE = _DISK - 0.5  #: the disk of the closing of the cells land touches
 _TILE = 256  #: a tile's core, cells a side
@@ -222,7 +223,7 @@ def _rings(outer: float) -> list[tuple[float, float]]:
     edges = [0.0]
     while edges[-1] < outer:  # k(r1) / k(r0) <= 1.2
         r0 = edges[-1]
-        k0 = 1.0 + (r0 / _R2) ** 2
+        k0 = plane_scale(r0)
         edges.append(max(_R2 * math.sqrt(max(1.2 * k0 - 1.0, 0.0)), r0 + 1.0))
     return list(itertools.pairwise(edges))
 
@@ -277,7 +278,7 @@ def _cell(width: float, r1: float) -> float:
     The closing's disk, of diameter ``width`` on the Earth, is 4 cells across
     there, and fewer further in (down to 20 % fewer at the ring's inner edge).
     """
-    return 0.5 * width * (1.0 + (r1 / _R2) ** 2) / _DISK
+    return 0.5 * width * plane_scale(r1) / _DISK
 
 
 @dataclass(frozen=True, slots=True)
@@ -406,7 +407,7 @@ def earth_areas(
     xy, ring = shapely.get_coordinates(rings, return_index=True)
     a, b = xy[:-1], xy[1:]  # and, between rings, pairs weighed by 0 below
     mid = 0.5 * (a + b)
-    half_over_k = 0.5 / (1.0 + (mid[:, 0] ** 2 + mid[:, 1] ** 2) / _R2**2)
+    half_over_k = 0.5 / plane_scale(np.hypot(mid[:, 0], mid[:, 1]))
     term = (a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]) * half_over_k
     term[ring[1:] != ring[:-1]] = 0.0
     per_ring = np.abs(np.bincount(ring[:-1], term, len(rings)))
@@ -762,7 +763,7 @@ def _disk_area(geoms: NDArray[np.object_], width: float) -> NDArray[np.float64]:
     r = np.hypot(point[:, 0], point[:, 1])
     edges = np.array([r1 for _, r1 in _rings(float(r.max(initial=0.0)))] or [0.0])
     r1 = edges[np.minimum(np.searchsorted(edges, r), len(edges) - 1)]
-    k = 1.0 + (r1 / _R2) ** 2
+    k = plane_scale(r1)
     return math.pi * (0.5 * width * k) ** 2
 
 

@@ -24,11 +24,10 @@ import numpy as np
 import shapely
 from numpy.typing import NDArray
 
-from coastmesh.geometry.earth import EARTH_RADIUS
+from coastmesh.geometry.sphere import plane_scale
 
 __all__ = ["inlet_patches"]
 
-_R2 = 2.0 * EARTH_RADIUS  #: k = 1 + (r / _R2)^2 in a stereographic plane
 _STEPS = 2  #: steps to a gap
 _DEEP = 4  #: gaps round a piece at least (so it is about 1.5 gaps deep)
 
@@ -71,7 +70,7 @@ def inlet_patches(
     start, count = np.unique(ring, return_index=True, return_counts=True)[1:]
     pos = np.arange(len(xy)) - np.repeat(start, count)
     n = np.repeat(count, count)
-    k = 1.0 + (xy[:, 0] ** 2 + xy[:, 1] ** 2) / _R2**2
+    k = plane_scale(np.hypot(xy[:, 0], xy[:, 1]))
     near = (gap * k) ** 2  # the gap in the plane, squared, at each step
     found = []
     for lag in range(_DEEP * _STEPS, math.ceil(reach / gap * _STEPS) + 1):
@@ -105,7 +104,7 @@ def _steps(
     a, b = xy[:-1], xy[1:]
     same = ring[1:] == ring[:-1]
     mid = 0.5 * (a + b)
-    k = 1.0 + (mid[:, 0] ** 2 + mid[:, 1] ** 2) / _R2**2
+    k = plane_scale(np.hypot(mid[:, 0], mid[:, 1]))
     length = np.where(same, np.hypot(*(b - a).T) / k, 0.0)  # on the Earth
     pieces = np.where(same, np.maximum(np.ceil(length / step), 1), 0).astype(np.int64)
     e = np.repeat(np.arange(len(a)), pieces)

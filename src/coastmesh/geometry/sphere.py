@@ -7,7 +7,8 @@ as spherical coordinates (global tidal models run on the sphere):
 * :func:`lonlat_to_xyz`, :func:`xyz_to_lonlat` and :func:`wrap_longitude` turn
   longitude and latitude into points of the sphere and back;
 * :func:`plane_crs` is the stereographic plane a world is meshed in, whose
-  singular point lies on land, and :func:`stereographic_scale` its scale factor;
+  singular point lies on land, and :func:`stereographic_scale` its scale factor
+  (:func:`plane_scale` the same from a point's distance from the centre);
 * :func:`empty_pole` finds a point far from every node of a mesh, and
   :func:`local_plane` a conformal plane for a mesh (round the world: the
   stereographic plane of that point).
@@ -20,6 +21,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from typing import overload
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -36,6 +38,7 @@ __all__ = [
     "local_plane",
     "lonlat_to_xyz",
     "plane_crs",
+    "plane_scale",
     "stereographic_scale",
     "wrap_longitude",
     "xyz_to_lonlat",
@@ -180,6 +183,45 @@ def stereographic_scale(
     )
     with np.errstate(divide="ignore"):
         return 4.0 / chord2
+
+
+@overload
+def plane_scale(r: float, *, radius: float = ...) -> float: ...
+@overload
+def plane_scale(
+    r: NDArray[np.float64], *, radius: float = ...
+) -> NDArray[np.float64]: ...
+def plane_scale(
+    r: float | NDArray[np.float64], *, radius: float = EARTH_RADIUS
+) -> float | NDArray[np.float64]:
+    """Scale of a stereographic plane at a distance ``r`` from its centre.
+
+    The :func:`stereographic_scale` ``k`` of a point given in the plane rather
+    than by its longitude and latitude: a point at the angle ``c`` from the
+    centre lies ``r = 2 R tan(c / 2)`` from it, so ``k = 2 / (1 + cos c) =
+    1 + tan^2(c / 2) = 1 + (r / 2R)^2``. It holds in the plane of
+    :func:`plane_crs` for every pole, and in any stereographic plane of a
+    sphere of radius ``R`` with scale 1 at its centre.
+
+    Parameters
+    ----------
+    r : float or ndarray
+        Distances from the plane's centre, metres in the plane.
+    radius : float, default EARTH_RADIUS
+        The sphere's radius ``R``, metres.
+
+    Returns
+    -------
+    float or ndarray
+        ``k``, plane metres per metre on the sphere: a float for a float, an
+        array of the shape of ``r`` for an array.
+
+    Examples
+    --------
+    >>> plane_scale(0.0), plane_scale(2 * EARTH_RADIUS)
+    (1.0, 2.0)
+    """
+    return 1.0 + (r / (2.0 * radius)) ** 2
 
 
 def local_plane(mesh: Mesh) -> Transformer | None:

@@ -52,7 +52,7 @@ from scipy import sparse
 
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import EARTH_RADIUS
-from coastmesh.geometry.sphere import is_world_plane
+from coastmesh.geometry.sphere import is_world_plane, plane_scale
 from coastmesh.meshing.cleanup import smoothing
 from coastmesh.meshing.cleanup.aside import done_now
 from coastmesh.meshing.cleanup.planar import signed_areas, triangle_angles
@@ -384,14 +384,17 @@ def _plane_time_steps(
     ``r_in / (sqrt(g max(d, 0)) + u)``, ``d`` the deepest of ``corner_depth``.
     With ``radius``, the plane is a stereographic one of a sphere of that
     radius, scale 1 at its origin: ``r_in`` is divided by the scale at the
-    triangle's centroid, ``1 + r^2 / 4 R^2``, to be a length on the sphere
-    (a global mesh's plane stretches lengths up to some 90 times).
+    triangle's centroid, ``1 + r^2 / 4 R^2``
+    (:func:`~coastmesh.geometry.sphere.plane_scale`), to be a length on the
+    sphere (a global mesh's plane stretches lengths up to some 90 times).
     """
     sides = np.linalg.norm(pts - np.roll(pts, -1, axis=1), axis=2).sum(axis=1)
     r_in = 2 * signed_areas(pts) / np.maximum(sides, 1e-300)
     if radius is not None:
         centre = pts.mean(axis=1)
-        r_in = r_in / (1.0 + (centre**2).sum(axis=-1) / (4.0 * radius**2))
+        r_in = r_in / plane_scale(
+            np.hypot(centre[..., 0], centre[..., 1]), radius=radius
+        )
     deepest = np.fmax.reduce(corner_depth, axis=1)  # NaN only if all three are
     speed = wave_speed(deepest, velocity)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
