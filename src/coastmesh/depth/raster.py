@@ -17,14 +17,12 @@ from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS
 
 from coastmesh.errors import ConfigError
-from coastmesh.geometry.grids import bilinear_corners, interpolate_bilinear
+from coastmesh.geometry.grids import bilinear_corners
 
 if TYPE_CHECKING:
     import xarray as xr
 
-# interpolate_bilinear lives in coastmesh.geometry.grids; it is named here too
-# only because coastmesh.io.field_values imports it from this module
-__all__ = ["interpolate_bilinear", "interpolate_wet", "raster_grid"]
+__all__ = ["interpolate_wet", "raster_grid"]
 
 
 def raster_grid(

@@ -210,7 +210,8 @@ def _raster_field(
     grid: Grid, source: Any, variable: str | None, crs: Any, where: str
 ) -> Sampled:
     """Sample a raster bilinearly at the grid's nodes, in the raster's CRS."""
-    from coastmesh.depth.raster import interpolate_bilinear, raster_grid
+    from coastmesh.depth.raster import raster_grid
+    from coastmesh.geometry.grids import interpolate_bilinear
     from coastmesh.io.raster_window import read_raster_around
 
     path = source
