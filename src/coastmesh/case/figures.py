@@ -33,6 +33,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from coastmesh.case.config import CaseConfig
+from coastmesh.case.pipeline import strategy_of
 from coastmesh.case.pipeline.depth import relief_due
 from coastmesh.case.pipeline.farms import turbine_rows
 from coastmesh.case.processes import GUARD, process_context
@@ -184,7 +185,7 @@ def mesh_jobs(
             )
         )
     box = config.outputs.detail
-    if config.domain.kind == "global":
+    if strategy_of(config).on_sphere:
         # the detail box (a region of interest) low in the view, else the Atlantic
         centre = (
             (0.0, 30.0)

@@ -20,6 +20,7 @@ import tomllib
 from pathlib import Path
 
 from coastmesh.case.config import CaseConfig, CaseKeys, StudyCase
+from coastmesh.case.config.kinds import DOMAIN_KINDS, domain_kind
 from coastmesh.case.schema import Check, Reading, Table, checked, read_keys
 from coastmesh.errors import ConfigError
 
@@ -120,22 +121,16 @@ def parse_case(text: str, source: str | os.PathLike[str]) -> CaseConfig | StudyC
 
 
 def _boundary_table(root: Table, label: str) -> dict[str, str]:
-    """``[[open_boundaries]]``, or in a global case ``[[cuts]]`` (the same keys)."""
+    """``[[open_boundaries]]``, or in a global case ``[[cuts]]`` (the same keys).
+
+    Each kind of case has its table
+    (:attr:`~coastmesh.case.config.kinds.DomainKind.boundaries`); another
+    kind's is an error.
+    """
     domain = root.data.get("domain", {})
-    is_global = isinstance(domain, dict) and domain.get("kind") == "global"
-    walls, cuts = root.data.get("open_boundaries"), root.data.get("cuts")
-    if is_global and walls:
-        names = [t.get("name") if isinstance(t, dict) else t for t in walls]
-        raise ConfigError(
-            f"{label}: [[open_boundaries]] {names}: a global case meshes the whole "
-            "ocean, which has no open boundary. To cut a sea off the ocean with an "
-            "open boundary (the Mediterranean at Gibraltar, say), give the line as "
-            "[[cuts]], with the keys of [[open_boundaries]], and put [domain] seed "
-            "in the ocean you keep"
-        )
-    if cuts and not is_global:
-        raise ConfigError(
-            f'{label}: [[cuts]] are for global cases ([domain] kind = "global"); '
-            "a regional case gives its open boundaries as [[open_boundaries]]"
-        )
-    return {"boundaries": "cuts"} if is_global else {}
+    kind = domain_kind(domain.get("kind") if isinstance(domain, dict) else None)
+    for table in dict.fromkeys(k.boundaries for k in DOMAIN_KINDS.values()):
+        given = root.data.get(table)
+        if table != kind.boundaries and given:
+            raise ConfigError(f"{label}: {kind.refuse_boundaries(table, given)}")
+    return {"boundaries": kind.boundaries}

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import math
 import threading
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 import shapely
@@ -173,6 +173,19 @@ class Grid:
     @property
     def areas(self) -> NDArray[np.float64] | None:
         """The area each node stands for, m2; None where all stand for one area."""
+        return None
+
+    #: The key of the case that closes water too narrow for this grid before
+    #: the size field (a global case's ``[domain] close``), named in the
+    #: advice on narrow channels left; None: no key does.
+    narrow_closed_by: ClassVar[str | None] = None
+
+    def nodes_in(self, area: shapely.Geometry) -> NDArray[np.bool_] | None:
+        """Return the nodes inside ``area`` (a geometry in :attr:`crs`).
+
+        None where the grid does not place areas (a sphere grid: global cases
+        have no sites yet).
+        """
         return None
 
     def slope_size(
@@ -421,6 +434,12 @@ class PlaneGrid(Grid):
         """Give land nodes the nearest water node's value (:func:`.over_land`)."""
         return over_land(values, water)
 
+    def nodes_in(self, area: shapely.Geometry) -> NDArray[np.bool_]:
+        """Return the nodes inside ``area`` (a geometry in :attr:`crs`)."""
+        shapely.prepare(area)
+        xx, yy = np.meshgrid(self.x, self.y)
+        return shapely.contains_xy(area, xx, yy)
+
     def _sea(self) -> NDArray[np.bool_]:
         if self.domain is None:
             return np.ones(self.shape, dtype=bool)
@@ -449,6 +468,10 @@ class SphereGrid(Grid):
     >>> g.shape, float(g.x[0]), float(g.x[-1]), g.cell_m > 2e5
     ((86, 181), -180.0, 180.0, True)
     """
+
+    #: Water narrower than the grid sees is closed by the case before
+    #: (:meth:`narrow_channels`).
+    narrow_closed_by = "[domain] close"
 
     def __init__(
         self,

@@ -16,6 +16,7 @@ from coastmesh.case.config.farms import (
     TurbinesConfig,
     WakeConfig,
 )
+from coastmesh.case.config.kinds import domain_kind
 from coastmesh.case.config.mesh import (
     CleanupConfig,
     MeshConfig,
@@ -243,7 +244,7 @@ def _text(value: Any, key: str) -> str:
 
 def boundary_key(domain: Any) -> str:
     """Return the table of open boundaries: ``cuts`` in a global case."""
-    return "cuts" if getattr(domain, "kind", None) == "global" else "open_boundaries"
+    return domain_kind(getattr(domain, "kind", None)).boundaries
 
 
 def _term_defaults(case: dict[str, Any]) -> None:
@@ -323,18 +324,18 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
 
 
 def _check_model_tests(case: dict[str, Any], label: str) -> None:
-    """``[output] model_test``: a regional case with depths and open boundaries."""
+    """``[output] model_test``: a case whose kind takes them, depths, open boundaries.
+
+    The kind of case may refuse them
+    (:attr:`~coastmesh.case.config.kinds.DomainKind.refuses_model_tests`).
+    """
     tests = case["outputs"].model_test
     if not tests:
         return
     what = f"{label}: output.model_test = {list(tests)}"
-    if case["domain"].kind == "global":
-        raise ConfigError(
-            f"{what}: a global case cannot be described by these smoke tests, "
-            "which force a regional model through its open boundaries (a global "
-            "ocean needs tidal potential, and ADCIRC a rotation of the poles); "
-            "remove the key, or mesh a regional case"
-        )
+    refused = domain_kind(case["domain"].kind).refuses_model_tests
+    if refused is not None:
+        raise ConfigError(f"{what}: {refused}")
     if case.get("bathymetry") is None:
         raise ConfigError(
             f"{what}: a model needs depths at the nodes; add [bathymetry]"
@@ -353,19 +354,18 @@ def _check_sites(
     Every name is new and every id too (none of a shoreline set, an open
     boundary, the domain's surface or another farm, footprint or structure);
     turbines name a farm that exists. A structure's name joins ``names``: its
-    edges are boundary edges that gradations may name.
+    edges are boundary edges that gradations may name. The kind of case may
+    refuse them all (:attr:`~coastmesh.case.config.kinds.DomainKind.refuses_sites`).
     """
-    if case["domain"].kind == "global" and (
+    refused = domain_kind(case["domain"].kind).refuses_sites
+    if refused is not None and (
         case["farms"]
         or case["turbines"]
         or case["wakes"]
         or case["structures"]
         or case["lines"]
     ):
-        raise ConfigError(
-            f"{label}: farms, turbines, lines and structures are for regional "
-            "cases; a global case has none"
-        )
+        raise ConfigError(f"{label}: {refused}")
     taken = dict(owners)
     surface = case["domain"].surface_id
     taken.setdefault(surface, "the domain's surface (domain.surface_id)")

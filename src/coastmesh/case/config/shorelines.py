@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import Any
 
 from coastmesh.case import schema
+from coastmesh.case.config.kinds import DEFAULT_KIND, DOMAIN_KINDS, domain_kind
 from coastmesh.case.schema import Check, key
 from coastmesh.errors import ConfigError
 
@@ -275,8 +276,8 @@ class DomainConfig:
         1, check=schema.integer(1), doc="the physical id of the triangles"
     )
     kind: str = key(
-        "regional",
-        check=schema.choice(("regional", "global")),
+        DEFAULT_KIND,
+        check=schema.choice(tuple(DOMAIN_KINDS)),
         doc='`"global"`: the whole world ocean, no open boundary ([global.md]'
         "(global.md))",
     )
@@ -296,9 +297,15 @@ class DomainConfig:
     )
 
     def _dump(self) -> dict[str, Any]:
-        """Return the keys; a regional domain's without the global keys."""
+        """Return the keys, less those only another kind of case writes.
+
+        A regional domain's are without ``kind``, ``pole`` and ``close``
+        (:attr:`~coastmesh.case.config.kinds.DomainKind.keys`).
+        """
         out = schema.dump_keys(self)
-        if self.kind != "global":
-            for name in ("kind", "pole", "close"):
-                out.pop(name, None)
+        own = domain_kind(self.kind).keys
+        for kind in DOMAIN_KINDS.values():
+            for name in kind.keys:
+                if name not in own:
+                    out.pop(name, None)
         return out

@@ -41,6 +41,7 @@ from coastmesh.case.pipeline.world import Global
 
 __all__ = [
     "STAGES",
+    "STRATEGIES",
     "CaseRun",
     "RunContext",
     "build_run",
@@ -96,9 +97,14 @@ STAGES: tuple[Stage, ...] = (
 )
 
 
+#: The strategy of each kind of case, by its ``[domain] kind``
+#: (:data:`coastmesh.case.config.kinds.DOMAIN_KINDS` has what its case file allows).
+STRATEGIES: dict[str, type[Strategy]] = {"regional": Regional, "global": Global}
+
+
 def strategy_of(config: CaseConfig) -> Strategy:
     """Return the strategy of a case: global or regional (``[domain] kind``)."""
-    return Global() if config.domain.kind == "global" else Regional()
+    return STRATEGIES[config.domain.kind]()
 
 
 def build_run(config: CaseConfig, ctx: RunContext) -> CaseRun:

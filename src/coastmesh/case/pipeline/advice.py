@@ -40,7 +40,7 @@ def quality_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
         # thread, with 2 or more (numpy lets go of Python's lock)
         aside = side.submit if ctx.threads > 1 else done_now
         sphere = None
-        if config.domain.kind == "global":
+        if run.strategy.on_sphere:
             sphere = aside(sphere_quality, state.mesh)
         quality = mesh_quality(
             state.mesh,

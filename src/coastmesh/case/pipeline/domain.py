@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import logging
 import warnings
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import replace
 
 import numpy as np
@@ -40,10 +40,13 @@ from coastmesh.io import read_features
 from coastmesh.types import Domain
 
 __all__ = [
+    "CheckWalls",
+    "Place",
     "Region",
+    "as_given",
     "build_case_domain",
+    "case_region",
     "region_geometry",
-    "seed_in",
     "with_land",
 ]
 
@@ -51,6 +54,17 @@ logger = logging.getLogger(__name__)
 
 #: Where a shoreline set is used: its name, its id and its region (None: the rest).
 Region = tuple[str, int, shapely.Geometry | None]
+#: Puts a box, polygon or point given in a case file (a region's box or
+#: polygon, the seed) into the CRS the domain is built in.
+Place = Callable[[shapely.Geometry], shapely.Geometry]
+#: Checks the open boundaries as drawn against the stitched land, before the
+#: domain is built; raises :class:`~coastmesh.errors.ConfigError`.
+CheckWalls = Callable[[tuple[OpenBoundary, ...], NDArray[np.object_]], None]
+
+
+def as_given(geometry: shapely.Geometry) -> shapely.Geometry:
+    """Return ``geometry`` as it is: a case's places given in its domain's CRS."""
+    return geometry
 
 
 def build_case_domain(
@@ -60,15 +74,18 @@ def build_case_domain(
     *,
     mesh_crs: CRS,
     output_crs: CRS,
-    lonlat: CRS | None = None,
+    place: Place = as_given,
+    check_walls: CheckWalls | None = None,
 ) -> DomainState:
     """Stitch the sets by region, draw the open boundaries, build the domain.
 
-    ``crs`` is the CRS the sets are in and the domain is built in; ``lonlat``
-    the CRS the case's region boxes, polygons and seed are given in, when it is
-    not ``crs`` (a global case, built in the stereographic plane).
+    ``crs`` is the CRS the sets are in and the domain is built in. The case's
+    strategy says what differs: ``place`` puts the region boxes, polygons and
+    the seed into ``crs`` (a global case gives them in lon/lat and builds in
+    the stereographic plane); ``check_walls`` checks the open boundaries
+    against the land first (a global case's ``[[cuts]]`` run land to land).
     """
-    land, regions, stitch_report = _stitch(config, sets, crs, lonlat)
+    land, regions, stitch_report = _stitch(config, sets, crs, place)
     spacing = min(1000.0, config.size.h_max / 4)  # a quarter of h_max, <= 1 km
     walls = tuple(
         OpenBoundary(
@@ -76,41 +93,22 @@ def build_case_domain(
         )
         for k, b in enumerate(config.boundaries)
     )
-    if lonlat is not None:  # a global case's [[cuts]]
-        _check_cut_ends(config, walls, land, crs, lonlat)
-    domain, report = _domain(config, land, walls, regions, crs, lonlat)
+    if check_walls is not None:
+        check_walls(walls, land)
+    seed = _seed(config, place)
+    domain, report = _domain(config, land, walls, regions, crs, seed)
     logger.info("domain: %s; %s", report.summary(), stitch_report.summary())
     return DomainState(
-        domain, report, stitch_report, tuple(regions), walls, land, mesh_crs, output_crs
+        domain,
+        report,
+        stitch_report,
+        tuple(regions),
+        walls,
+        land,
+        mesh_crs,
+        output_crs,
+        seed=seed,
     )
-
-
-def _check_cut_ends(
-    config: CaseConfig,
-    walls: tuple[OpenBoundary, ...],
-    land: NDArray[np.object_],
-    crs: CRS,
-    lonlat: CRS,
-) -> None:
-    """Raise unless both ends of every ``[[cuts]]`` line lie on land.
-
-    A cut takes a sea off the world ocean only if it runs from land to land;
-    one that ends in the water would close nothing and be left out.
-    """
-    if not walls:
-        return
-    tree = shapely.STRtree(land)
-    for k, wall in enumerate(walls):
-        ends = shapely.points(wall.coords[[0, -1]])
-        for which, end in zip(("start", "end"), ends, strict=True):
-            if len(tree.query(end, "within")):
-                continue
-            lon, lat = reproject(end, crs, lonlat).coords[0]
-            raise ConfigError(
-                f"{config.label}: cuts[{k}] ({wall.name!r}): its {which} "
-                f"({lon:.4f}, {lat:.4f}) is in the water, not on land: a cut must "
-                "run from land to land, across the sea it takes off"
-            )
 
 
 def with_land(
@@ -131,7 +129,7 @@ def with_land(
             closed,
             list(state.open_boundaries),
             state.report,
-            seed=_seed(config, state.domain.crs, None),
+            seed=state.seed,
             min_area=config.shorelines.min_area,
             shorelines=list(state.regions),
             land=state.land,
@@ -148,7 +146,7 @@ def _domain(
     walls: tuple[OpenBoundary, ...],
     regions: list[Region],
     crs: CRS,
-    lonlat: CRS | None,
+    seed: tuple[float, float] | None,
 ) -> tuple[Domain, DomainReport]:
     """Build the domain; warn of open boundaries that do not reach it."""
     try:
@@ -156,7 +154,7 @@ def _domain(
             land,
             list(walls),
             crs=crs,
-            seed=_seed(config, crs, lonlat),
+            seed=seed,
             min_area=config.shorelines.min_area,
             surface_id=config.domain.surface_id,
             shorelines=regions,
@@ -178,15 +176,12 @@ def _stitch(
     config: CaseConfig,
     sets: Mapping[str, NDArray[np.object_]],
     crs: CRS,
-    lonlat: CRS | None,
+    place: Place,
 ) -> tuple[NDArray[np.object_], list[Region], StitchReport]:
     """Stitch the shoreline sets by region: land, regions by set, report."""
     regions: dict[str, list[shapely.Geometry]] = {}
     for k, r in enumerate(config.regions):
-        region = region_geometry(r, k, crs, config)
-        if lonlat is not None and r.path is None:  # a box or polygon in lon/lat
-            region = reproject(shapely.segmentize(region, 0.1), lonlat, crs)
-        regions.setdefault(r.set, []).append(region)
+        regions.setdefault(r.set, []).append(case_region(r, k, crs, config, place))
     ordered = list(dict.fromkeys(r.set for r in config.regions))
     ordered.append(config.background_set.name)
     ids = {s.name: s.physical_id for s in config.sets}
@@ -205,19 +200,13 @@ def _stitch(
     return land, tagged, stitch_report
 
 
-def _seed(
-    config: CaseConfig, crs: CRS, lonlat: CRS | None
-) -> tuple[float, float] | None:
+def _seed(config: CaseConfig, place: Place) -> tuple[float, float] | None:
+    """Return ``[domain] seed`` in the domain's CRS; None without one."""
     seed = config.domain.seed
-    if seed is None or lonlat is None:
-        return seed
-    point = reproject(shapely.Point(seed), lonlat, crs)
+    if seed is None:
+        return None
+    point = place(shapely.Point(seed))
     return (point.x, point.y)
-
-
-def seed_in(config: CaseConfig, crs: CRS) -> tuple[float, float] | None:
-    """Return the case's seed in ``crs``, the CRS of a regional domain."""
-    return _seed(config, crs, None)
 
 
 def site_area(config: CaseConfig, crs: CRS) -> shapely.Geometry | None:
@@ -246,6 +235,18 @@ def site_area(config: CaseConfig, crs: CRS) -> shapely.Geometry | None:
                 file_place(farm.path, farm.layer, crs, where, dimension=2, what="farm")
             )
     return shapely.union_all(parts)
+
+
+def case_region(
+    r: RegionConfig, k: int, crs: CRS, config: CaseConfig, place: Place
+) -> shapely.Geometry:
+    """Return ``[[regions]]`` entry ``k`` in ``crs``: a box or polygon placed.
+
+    A box or polygon is given as ``place`` takes it; a file's polygons are
+    read into ``crs`` (:func:`region_geometry`).
+    """
+    region = region_geometry(r, k, crs, config)
+    return region if r.path is not None else place(region)
 
 
 def region_geometry(

@@ -228,4 +228,4 @@ def regional_sets(run: CaseRun, ctx: RunContext) -> Shorelines:
                 workers=ctx.threads,
             )
         logger.info("%s: %s", set_label(s), reports[s.name].summary())
-    return Shorelines(features, crs, sets, reports, plane=crs)
+    return Shorelines(features, crs, sets, reports)

@@ -195,20 +195,19 @@ class Shorelines:
     crs : pyproj.CRS
         The case CRS: ``[case] crs``, else the shoreline file's.
     sets : mapping of str to ndarray of shapely Polygons
-        Each set's land, by set name, in :attr:`plane` (the case CRS of a
-        regional case; the stereographic plane of a global one).
+        Each set's land, by set name, in the CRS the domain is built in: the
+        case CRS of a regional case; the plane of :attr:`world` in a global one.
     reports : mapping of str to ShorelineSetReport
-    plane : pyproj.CRS
-        The CRS the sets and the domain are built in.
     world : WorldLand or None
-        A global case's world land in the plane.
+        A global case's world land in the stereographic plane (its ``crs``),
+        what :class:`~coastmesh.case.pipeline.world.Global` takes on to the
+        domain and the size grid; None in a regional case.
     """
 
     features: Features
     crs: CRS
     sets: Mapping[str, NDArray[np.object_]] = field(default_factory=dict)
     reports: Mapping[str, ShorelineSetReport] = field(default_factory=dict)
-    plane: CRS | None = None
     world: WorldLand | None = None
 
 
@@ -236,6 +235,8 @@ class DomainState:
     structures : tuple of (name, id, polygon)
         The ``[[structures]]`` cut out of the sea, in the domain's CRS (also
         first in ``regions``, so that their edges keep their id).
+    seed : (float, float) or None
+        ``[domain] seed`` in the domain's CRS; None: the largest sea region.
     """
 
     domain: Domain
@@ -248,6 +249,7 @@ class DomainState:
     output_crs: CRS
     closing: Closing = field(default_factory=Closing)
     structures: tuple[tuple[str, int, shapely.Polygon], ...] = ()
+    seed: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ grid the mesher is handed), a stage asks the run's strategy:
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 import shapely
 import xarray as xr
@@ -41,7 +41,16 @@ __all__ = ["Regional", "Strategy"]
 
 
 class Strategy:
-    """The steps a kind of case does its own way (a base class)."""
+    """The steps a kind of case does its own way (a base class).
+
+    Attributes
+    ----------
+    on_sphere : bool
+        The mesh covers the sphere, in longitude and latitude: its quality is
+        measured on the sphere too, and it is drawn on a globe.
+    """
+
+    on_sphere: ClassVar[bool] = False
 
     def shorelines(self, run: CaseRun, ctx: RunContext) -> Shorelines:
         """Read the shoreline layer and build the shoreline sets."""

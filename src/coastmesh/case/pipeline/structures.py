@@ -19,7 +19,6 @@ import shapely
 from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig
-from coastmesh.case.pipeline.domain import seed_in
 from coastmesh.case.pipeline.places import file_place
 from coastmesh.case.pipeline.state import DomainState
 from coastmesh.errors import ConfigError
@@ -50,7 +49,7 @@ def with_structures(state: DomainState, config: CaseConfig) -> DomainState:
             list(state.open_boundaries),
             state.report,
             shorelines=list(state.regions),
-            seed=seed_in(config, state.domain.crs),
+            seed=state.seed,
         )
     except ConfigError as exc:
         raise ConfigError(f"{config.label}: structures: {exc}") from None

@@ -37,7 +37,7 @@ from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig, RasterConfig, ShorelineSetConfig
-from coastmesh.case.pipeline.domain import build_case_domain, region_geometry
+from coastmesh.case.pipeline.domain import Place, build_case_domain, case_region
 from coastmesh.case.pipeline.shorelines import (
     build_shoreline_set,
     read_shorelines,
@@ -55,7 +55,7 @@ from coastmesh.case.pipeline.state import (
 )
 from coastmesh.case.pipeline.strategy import Strategy
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
-from coastmesh.geometry import simplify_shorelines
+from coastmesh.geometry import OpenBoundary, simplify_shorelines
 from coastmesh.geometry.closing import (
     close_narrow_water,
     earth_areas,
@@ -86,6 +86,8 @@ DEFAULT_CELL_DEG = 0.25
 
 class Global(Strategy):
     """A global case: the world ocean, meshed in a stereographic plane."""
+
+    on_sphere = True
 
     def shorelines(self, run: CaseRun, ctx: RunContext) -> Shorelines:
         """Read the world layer, put it in the plane, build the sets there."""
@@ -119,12 +121,13 @@ class Global(Strategy):
                 sets[s.name], reports[s.name] = _closed(
                     config, s, world, land, reports[s.name], crs, ctx.threads
                 )
-        return Shorelines(features, crs, sets, reports, plane=plane, world=world)
+        return Shorelines(features, crs, sets, reports, world=world)
 
     def domain(self, run: CaseRun, ctx: RunContext) -> DomainState:
         """Build the ocean in the plane; mesh there, write in lon/lat."""
         config, shorelines = run.config, run.shorelines or missing("shorelines")
-        plane = shorelines.plane or missing("the plane")
+        plane = (shorelines.world or missing("the world")).crs
+        lonlat = shorelines.crs
         named = geos_errors_named(str(config.shorelines.path), plane)
         with ctx.timed("building the domain"), named:
             return build_case_domain(
@@ -132,10 +135,11 @@ class Global(Strategy):
                 shorelines.sets,
                 plane,
                 mesh_crs=plane,
-                output_crs=CRS.from_user_input(
-                    config.mesh.output_crs or shorelines.crs
+                output_crs=CRS.from_user_input(config.mesh.output_crs or lonlat),
+                place=_from_lonlat(lonlat, plane),
+                check_walls=lambda walls, land: _check_cut_ends(
+                    config, walls, land, plane, lonlat
                 ),
-                lonlat=shorelines.crs,
             )
 
     def grid(self, run: CaseRun, ctx: RunContext) -> SphereGrid:
@@ -174,6 +178,47 @@ class Global(Strategy):
             world.pole,
             reach=float(np.hypot(xy[:, 0], xy[:, 1]).max()),
         )
+
+
+def _from_lonlat(lonlat: CRS, plane: CRS) -> Place:
+    """Return what puts a box, polygon or point given in lon/lat into the plane.
+
+    Segmentized every 0.1 degrees first, so that its edges bend as the
+    plane bends them.
+    """
+
+    def place(geometry: shapely.Geometry) -> shapely.Geometry:
+        return reproject(shapely.segmentize(geometry, 0.1), lonlat, plane)
+
+    return place
+
+
+def _check_cut_ends(
+    config: CaseConfig,
+    walls: tuple[OpenBoundary, ...],
+    land: NDArray[np.object_],
+    crs: CRS,
+    lonlat: CRS,
+) -> None:
+    """Raise unless both ends of every ``[[cuts]]`` line lie on land.
+
+    A cut takes a sea off the world ocean only if it runs from land to land;
+    one that ends in the water would close nothing and be left out.
+    """
+    if not walls:
+        return
+    tree = shapely.STRtree(land)
+    for k, wall in enumerate(walls):
+        ends = shapely.points(wall.coords[[0, -1]])
+        for which, end in zip(("start", "end"), ends, strict=True):
+            if len(tree.query(end, "within")):
+                continue
+            lon, lat = reproject(end, crs, lonlat).coords[0]
+            raise ConfigError(
+                f"{config.label}: cuts[{k}] ({wall.name!r}): its {which} "
+                f"({lon:.4f}, {lat:.4f}) is in the water, not on land: a cut must "
+                "run from land to land, across the sea it takes off"
+            )
 
 
 def _check_seed(config: CaseConfig, world: WorldLand, lonlat: CRS) -> None:
@@ -346,13 +391,12 @@ def _zone(
     """Return where a set is used (its regions, in the plane); None: everywhere."""
     if s.name == config.background_set.name:
         return None
-    zones = []
-    for k, r in enumerate(config.regions):
-        if r.set == s.name:
-            region = region_geometry(r, k, plane, config)
-            if r.path is None:  # a box or polygon in lon/lat
-                region = reproject(shapely.segmentize(region, 0.1), lonlat, plane)
-            zones.append(region)
+    place = _from_lonlat(lonlat, plane)
+    zones = [
+        case_region(r, k, plane, config, place)
+        for k, r in enumerate(config.regions)
+        if r.set == s.name
+    ]
     return shapely.union_all(zones) if zones else None
 
 

@@ -22,7 +22,7 @@ import shapely
 from numpy.typing import NDArray
 
 from coastmesh.sizing.combine import TermSizes
-from coastmesh.sizing.grid import Grid, PlaneGrid
+from coastmesh.sizing.grid import Grid
 from coastmesh.types import Domain, Runner
 
 if TYPE_CHECKING:
@@ -124,13 +124,13 @@ class SizeCase:
     def sites(self, grid: Grid) -> NDArray[np.bool_] | None:
         """Return the grid's nodes inside a ``[[sites]]`` region; None without sites.
 
-        Only on a plane grid (global cases have no sites yet).
+        None too where the grid places no areas
+        (:meth:`~coastmesh.sizing.grid.Grid.nodes_in`: global cases have no
+        sites yet).
         """
-        if self.site_area is None or not isinstance(grid, PlaneGrid):
+        if self.site_area is None:
             return None
-        shapely.prepare(self.site_area)
-        xx, yy = np.meshgrid(grid.x, grid.y)
-        return shapely.contains_xy(self.site_area, xx, yy)
+        return grid.nodes_in(self.site_area)
 
     def depth(self, part: RasterConfig) -> xr.DataArray | DepthSources:
         """Return a part's rasters, read once however many terms ask."""

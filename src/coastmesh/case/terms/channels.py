@@ -34,7 +34,7 @@ from coastmesh.case.schema import Check, key
 from coastmesh.case.terms.base import SizeCase, SizeTerm, switched_on
 from coastmesh.sizing.channel import channel_size
 from coastmesh.sizing.combine import Applied, TermSizes
-from coastmesh.sizing.grid import Grid, SphereGrid
+from coastmesh.sizing.grid import Grid
 from coastmesh.sizing.narrow import (
     NARROW_CHOICES,
     NARROW_ELEMENTS,
@@ -133,11 +133,10 @@ class Channels(SizeTerm):
             slots=case.closing.slots,
         )
         if found:
-            closed_by = (  # a global case's closing: [domain] close
-                "[domain] close" if isinstance(grid, SphereGrid) else None
-            )
             warn_narrow(
-                found_report, after_closing=case.closing.passes, closed_by=closed_by
+                found_report,
+                after_closing=case.closing.passes,
+                closed_by=grid.narrow_closed_by,
             )
 
         def report(applied: Applied) -> ChannelReport:
