@@ -67,7 +67,7 @@ from coastmesh.geometry.earth import (
     reproject,
     reproject_points,
 )
-from coastmesh.geometry.sphere import plane_crs
+from coastmesh.geometry.sphere import plane_crs, plane_scale
 from coastmesh.geometry.world import WorldLand, geos_errors_named, world_land
 from coastmesh.io import read_raster
 from coastmesh.meshing.gmsh import SphereSizeGrid
@@ -258,7 +258,7 @@ def _warn_near_pole(config: CaseConfig, world: WorldLand, lonlat: CRS) -> None:
     xy = shapely.get_coordinates(world.shell.exterior)
     r = np.hypot(xy[:, 0], xy[:, 1])
     i = int(np.argmax(r))
-    k = 1.0 + (r[i] / (2.0 * EARTH_RADIUS)) ** 2
+    k = plane_scale(float(r[i]))
     if k <= POLE_SCALE:
         return
     away = (math.pi - 2.0 * math.atan(r[i] / (2.0 * EARTH_RADIUS))) * EARTH_RADIUS
@@ -419,7 +419,7 @@ def _close(
     near = None
     if zone is not None:
         far = float(np.hypot(*np.abs(np.reshape(zone.bounds, (2, 2))).max(axis=0)))
-        scale = 1.0 + (far / (2.0 * EARTH_RADIUS)) ** 2  # the plane's k there
+        scale = plane_scale(far)  # the plane's k there
         near = zone.buffer(4.0 * width * scale)
     return close_narrow_water(
         land,
