@@ -24,9 +24,10 @@
    records, written as UGRID netCDF by xugrid, and the same mesh as an ANUGA
    ``.sww`` (netCDF-3, ``stage``, ``xmomentum``, ``ymomentum``, ``elevation``,
    as ``anuga/file/sww.py`` lays it out). Timed on a ``--grid`` x ``--grid``
-   size grid over the square (100 m): :func:`~coastmesh.io.field_values.sample_field`
-   with ``reduce = "max"`` (the UGRID variable; ANUGA's derived ``speed``),
-   split into the read (:func:`~coastmesh.io.field_sources.read_field_source`:
+   size grid over the square (100 m):
+   :func:`~coastmesh.io.fields.field_values.sample_field` with ``reduce = "max"``
+   (the UGRID variable; ANUGA's derived ``speed``), split into the read
+   (:func:`~coastmesh.io.fields.field_sources.read_field_source`:
    the nodes, the faces and the metadata; the time series stay on disk), the
    reduction over the records (which reads them; the module's own private
    ``_recipe`` and ``_reduced``, as ``sample_field`` calls them), and the sampling
@@ -397,8 +398,8 @@ def mesh_runs(
     from coastmesh.case.config import PYTHON_SOURCE
     from coastmesh.case.schema import Check, check_part
     from coastmesh.case.terms import ChannelConfig, CourantConfig, FieldConfig, Fields
-    from coastmesh.io.field_sources import read_field_source
-    from coastmesh.io.field_values import _recipe, _reduced, sample_field
+    from coastmesh.io.fields.field_sources import read_field_source
+    from coastmesh.io.fields.field_values import _recipe, _reduced, sample_field
     from coastmesh.sizing.fields import triangles_on_grid
     from coastmesh.sizing.grid import PlaneGrid, grid_axes
     from coastmesh.types import BoundarySegment, Domain
@@ -444,7 +445,7 @@ def mesh_runs(
         if args.once:
             runs[label] = {"term": term}
             continue
-        # the steps of sample_field (coastmesh.io.field_values), one by one
+        # the steps of sample_field (coastmesh.io.fields.field_values), one by one
         source = read_field_source(path)
         record, arrays, per = _recipe(source, variable, "bench")
         values = _reduced(source, record, arrays, "max", None, "bench", variable)

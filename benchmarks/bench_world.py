@@ -29,7 +29,7 @@ from coastmesh.geometry.domain import smaller_than
 from coastmesh.geometry.earth import EARTH_RADIUS, reproject
 from coastmesh.geometry.world import world_ocean
 from coastmesh.io import read_raster
-from coastmesh.io.vector import read_features
+from coastmesh.io.vectors.vector import read_features
 from coastmesh.meshing import generate_mesh
 from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
 from coastmesh.sizing import SphereGrid, TermSizes, combine, wavelength_size

@@ -20,10 +20,10 @@ STATEMENTS = {
         "coastmesh.geometry, coastmesh.depth, coastmesh.sizing, coastmesh.pca, "
         "coastmesh.meshing"
     ),
-    "msh": "import coastmesh.io.msh",
+    "msh": "import coastmesh.io.meshes.msh",
     "cli": "import coastmesh.cli.main",
-    "vector": "import coastmesh.io.vector",
-    "raster": "import coastmesh.io.raster",
+    "vector": "import coastmesh.io.vectors.vector",
+    "raster": "import coastmesh.io.rasters.raster",
     "plot": "import coastmesh.plot, coastmesh.commands",
 }
 

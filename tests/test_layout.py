@@ -43,7 +43,8 @@ def test_import_contracts_hold():
 
 
 def _package_of(module: str) -> str:
-    """``coastmesh.io.msh`` -> ``io``; top-level modules are their own package."""
+    """``coastmesh.io.meshes.msh`` -> ``io``; top-level modules are their own
+    package."""
     parts = module.split(".")
     return parts[1] if len(parts) > 1 else ""
 

@@ -302,7 +302,7 @@ def main() -> None:
     p.add_argument("--timeout", type=float, default=6 * 3600, help="s per run")
     args = p.parse_args()
     import coastmesh
-    from coastmesh.io.model_tests import ModelTest
+    from coastmesh.io.meshes.model_tests import ModelTest
 
     rows = []
     for case in args.cases:

@@ -33,7 +33,7 @@ from coastmesh.case.pipeline import (
 from coastmesh.data import path as data_path
 from coastmesh.geometry import land_from_grid
 from coastmesh.io import read_raster, write_raster
-from coastmesh.io.msh import read_msh
+from coastmesh.io.meshes.msh import read_msh
 from coastmesh.types import quiet_stage
 
 EXAMPLE = Path(__file__).parents[2] / "examples" / "orkney" / "dem_shoreline.toml"

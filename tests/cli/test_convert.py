@@ -10,7 +10,7 @@ from conftest import assert_clean_failure
 
 from coastmesh.data import path as data_path
 from coastmesh.io import read_mesh, read_msh, write_mesh, write_msh
-from coastmesh.io.adcirc import read_fort14, read_fort14_mesh
+from coastmesh.io.meshes.adcirc import read_fort14, read_fort14_mesh
 
 
 @pytest.fixture

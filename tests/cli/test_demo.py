@@ -6,8 +6,8 @@ import pytest
 from conftest import assert_clean_failure
 
 import coastmesh.commands.demo
-from coastmesh.io.raster import read_raster
-from coastmesh.io.vector import read_features
+from coastmesh.io.rasters.raster import read_raster
+from coastmesh.io.vectors.vector import read_features
 
 FULL_OUTPUTS = sorted(
     [

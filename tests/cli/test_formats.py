@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from coastmesh.io import mesh_format, mesh_formats
-from coastmesh.io._mesh_format import HOLDS, MeshFormat
+from coastmesh.io.meshes._mesh_format import HOLDS, MeshFormat
 
 
 def test_every_format_is_listed_with_what_it_holds(run_cli):

@@ -12,7 +12,7 @@ from affine import Affine
 from conftest import ORKNEY_RASTER_BBOX, assert_clean_failure
 
 from coastmesh import __version__
-from coastmesh.io.raster import read_raster
+from coastmesh.io.rasters.raster import read_raster
 
 BBOX = [str(v) for v in ORKNEY_RASTER_BBOX]
 
@@ -98,7 +98,7 @@ def test_missing_cells_stay_missing(run_cli, orkney_tif, tmp_path):
     holed = source.copy()
     holed.values[10:14, 20:30] = np.nan
     holed.attrs["nodata"] = -9999.0
-    from coastmesh.io.raster import write_raster
+    from coastmesh.io.rasters.raster import write_raster
 
     write_raster(tmp_path / "holed.tif", holed)
     out = tmp_path / "out.tif"
@@ -226,7 +226,7 @@ def test_infinite_cells_are_refused(run_cli, orkney_tif, tmp_path):
     source = read_raster(orkney_tif)
     bad = source.copy()
     bad.values[5, 7] = np.inf
-    from coastmesh.io.raster import write_raster
+    from coastmesh.io.rasters.raster import write_raster
 
     write_raster(tmp_path / "inf.tif", bad)
     result = run_cli("simplify-raster", tmp_path / "inf.tif", tmp_path / "out.tif")

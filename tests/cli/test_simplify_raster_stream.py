@@ -24,8 +24,8 @@ from coastmesh.commands import raster_stream, simplify_raster_file
 from coastmesh.commands.raster_chunks import plan_chunks
 from coastmesh.commands.raster_stream import open_client, stream_raster
 from coastmesh.errors import FormatError
-from coastmesh.io.raster import read_raster
-from coastmesh.io.raster_stream import (
+from coastmesh.io.rasters.raster import read_raster
+from coastmesh.io.rasters.raster_stream import (
     RasterWriter,
     open_raster_source,
     read_cells,
@@ -341,8 +341,8 @@ def test_a_cluster_of_processes_gives_the_local_output(run_cli, synthetic, tmp_p
 def test_the_figure_comes_from_a_decimated_read(
     run_cli, synthetic, tmp_path, monkeypatch
 ):
-    from coastmesh.io import raster as raster_io
-    from coastmesh.io import raster_stream as stream_io
+    from coastmesh.io.rasters import raster as raster_io
+    from coastmesh.io.rasters import raster_stream as stream_io
 
     def whole_grid(*args, **kwargs):
         raise AssertionError("the whole grid was read")

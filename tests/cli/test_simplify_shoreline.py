@@ -12,7 +12,7 @@ from conftest import ORKNEY_BBOX, assert_clean_failure
 
 from coastmesh import __version__
 from coastmesh.errors import InputDataError
-from coastmesh.io.vector import read_features
+from coastmesh.io.vectors.vector import read_features
 
 BBOX = [str(v) for v in ORKNEY_BBOX]
 

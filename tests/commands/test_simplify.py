@@ -15,8 +15,8 @@ from coastmesh.commands import (
     simplify_shoreline_file,
 )
 from coastmesh.errors import ConfigError
-from coastmesh.io.raster import read_raster
-from coastmesh.io.vector import read_features
+from coastmesh.io.rasters.raster import read_raster
+from coastmesh.io.vectors.vector import read_features
 
 
 def test_shoreline_report_matches_the_output(orkney_geojson, tmp_path):
@@ -78,7 +78,7 @@ def test_raster_report(orkney_tif, tmp_path):
 
 
 def test_raster_coverage_with_missing_cells(orkney_tif, tmp_path):
-    from coastmesh.io.raster import write_raster
+    from coastmesh.io.rasters.raster import write_raster
 
     holed = read_raster(orkney_tif, bbox=ORKNEY_RASTER_BBOX)
     holed.values[:, 10] = np.nan  # splits the grid into 10 and 10 columns

@@ -14,7 +14,7 @@ from pyproj import Transformer
 
 from coastmesh.data import path as data_path
 from coastmesh.geometry import Loxodrome, OpenBoundary, build_domain
-from coastmesh.io.msh import read_msh, write_msh
+from coastmesh.io.meshes.msh import read_msh, write_msh
 from coastmesh.meshing import default_mesh_crs, generate_mesh
 from coastmesh.sizing import Gradation, size_field, to_metres
 from coastmesh.types import SizeGrid

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from coastmesh.io.msh import read_msh
+from coastmesh.io.meshes.msh import read_msh
 
 #: a whole case, end to end: run by `pytest -m slow` (and .ci/run)
 pytestmark = pytest.mark.slow
@@ -98,7 +98,7 @@ def test_mike_by_mikeio(reference):
 
 
 def test_fort14_and_gr3_against_the_format_description(reference):
-    from coastmesh.io.adcirc import read_fort14
+    from coastmesh.io.meshes.adcirc import read_fort14
     from coastmesh.types.topology import boundary_strings
 
     result, out, mesh = reference
@@ -143,7 +143,7 @@ def test_gpkg_by_pyogrio(reference):
 def test_same_depth_in_every_format(reference):
     import meshio
 
-    from coastmesh.io.adcirc import read_fort14
+    from coastmesh.io.meshes.adcirc import read_fort14
 
     _, out, _ = reference
     vtu = meshio.read(out / "pentland_firth.vtu")

@@ -13,7 +13,7 @@ from conftest import model_rule_breaks
 
 from coastmesh.case import run_case
 from coastmesh.geometry import densify_long_edges
-from coastmesh.io.msh import read_msh
+from coastmesh.io.meshes.msh import read_msh
 
 #: a whole case, end to end: run by `pytest -m slow` (and .ci/run)
 pytestmark = pytest.mark.slow

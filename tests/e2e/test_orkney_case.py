@@ -19,7 +19,7 @@ from pyproj import Geod
 
 from coastmesh.case import parse_case, read_case, run_case
 from coastmesh.errors import ConfigError, InputDataError, OutputExistsError
-from coastmesh.io.msh import read_msh
+from coastmesh.io.meshes.msh import read_msh
 
 #: a whole case, end to end: run by `pytest -m slow` (and .ci/run)
 pytestmark = pytest.mark.slow

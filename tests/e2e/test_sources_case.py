@@ -132,7 +132,7 @@ def test_stack_gives_each_node_its_source(stacked_run):
 
 
 def test_nodes_deep_inside_the_survey_take_its_own_value(stacked_run, tmp_path):
-    from coastmesh.io.ugrid import read_ugrid
+    from coastmesh.io.meshes.ugrid import read_ugrid
 
     _, out, survey = stacked_run
     mesh = read_ugrid(out / "pentland_firth.nc")

@@ -28,7 +28,7 @@ from coastmesh.geometry.closing import (
 from coastmesh.geometry.earth import EARTH_RADIUS, reproject
 from coastmesh.geometry.inlets import inlet_patches
 from coastmesh.geometry.sphere import plane_crs, stereographic_scale
-from coastmesh.io.vector import read_features
+from coastmesh.io.vectors.vector import read_features
 
 R2 = 2.0 * EARTH_RADIUS
 SPHERE = Geod(a=EARTH_RADIUS, b=EARTH_RADIUS)

@@ -22,7 +22,7 @@ from coastmesh.geometry.world import (
     polar_ring,
     world_ocean,
 )
-from coastmesh.io.vector import read_features
+from coastmesh.io.vectors.vector import read_features
 
 SPHERE = Geod(a=EARTH_RADIUS, b=EARTH_RADIUS)
 SPHERE_AREA = 4.0 * math.pi * EARTH_RADIUS**2

@@ -18,7 +18,7 @@ from coastmesh.errors import (
     InputDataError,
     OutputExistsError,
 )
-from coastmesh.io.adcirc import (
+from coastmesh.io.meshes.adcirc import (
     _write,
     read_fort14,
     read_fort14_mesh,

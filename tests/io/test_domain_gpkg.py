@@ -11,7 +11,7 @@ from pyogrio.errors import DataLayerError
 from pyproj import CRS
 
 from coastmesh.errors import ConfigError, FormatError, OutputExistsError
-from coastmesh.io.domain_gpkg import segment_lengths, write_domain, write_layers
+from coastmesh.io.vectors.domain_gpkg import segment_lengths, write_domain, write_layers
 from coastmesh.types import BoundarySegment, Domain, Features
 
 # Integer corners, axis-aligned sides and one 3-4-5 diagonal: every length is exact.

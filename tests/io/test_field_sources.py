@@ -18,7 +18,7 @@ from io_meshes import strip_mesh
 
 from coastmesh.errors import ConfigError, FormatError, InputDataError
 from coastmesh.io import FieldSource, read_field_source, write_mesh
-from coastmesh.io.field_sources import DRY_HEIGHT, TIME_CHUNK
+from coastmesh.io.fields.field_sources import DRY_HEIGHT, TIME_CHUNK
 
 DATA = Path(__file__).parents[1] / "data" / "fields"
 

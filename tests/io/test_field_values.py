@@ -8,8 +8,8 @@ import xarray as xr
 from scipy.spatial import Delaunay
 
 from coastmesh.errors import ConfigError, InputDataError
-from coastmesh.io import field_values
-from coastmesh.io.field_values import is_mesh_source, sample_field
+from coastmesh.io.fields import field_values
+from coastmesh.io.fields.field_values import is_mesh_source, sample_field
 from coastmesh.sizing.grid import PlaneGrid
 
 UTM = "EPSG:32630"

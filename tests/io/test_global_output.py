@@ -28,8 +28,8 @@ from coastmesh.errors import CoastmeshWarning, ConfigError, FormatError
 from coastmesh.geometry import EARTH_RADIUS, reproject_points
 from coastmesh.geometry.sphere import lonlat_to_xyz, xyz_to_lonlat
 from coastmesh.io import check_on_sphere
-from coastmesh.io.adcirc import read_fort14
-from coastmesh.io.sphere import (
+from coastmesh.io.meshes.adcirc import read_fort14
+from coastmesh.io.meshes.sphere import (
     crossing_triangles,
     on_sphere,
     pole_triangles,
@@ -172,7 +172,7 @@ def rebuilt(world, points, triangles, *, reference=None):
 
 def test_a_planar_reading_is_caught(world):
     """The check fails if crossing triangles are turned counter-clockwise in lon/lat."""
-    from coastmesh.io._inputs import counter_clockwise
+    from coastmesh.io.meshes._reading import counter_clockwise
 
     planar = counter_clockwise(world.points, world.triangles)
     assert check_on_sphere(Mesh(world.points, planar, [], [], 1, None)).clockwise > 20

@@ -13,8 +13,8 @@ from pyproj import CRS
 
 from coastmesh.errors import FormatError, InputDataError
 from coastmesh.io import read_mesh, write_mesh
-from coastmesh.io.domain_gpkg import write_layers
-from coastmesh.io.mesh_gpkg import _mesh_layers, read_mesh_gpkg
+from coastmesh.io.meshes.mesh_gpkg import _mesh_layers, read_mesh_gpkg
+from coastmesh.io.vectors.domain_gpkg import write_layers
 from coastmesh.types import Features, Mesh
 
 square = pytest.fixture(unit_square, name="square")

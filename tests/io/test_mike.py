@@ -12,8 +12,8 @@ from coastmesh.errors import (
     InputDataError,
     OutputExistsError,
 )
-from coastmesh.io import mike
-from coastmesh.io.mike import read_mike_mesh, write_mike_mesh
+from coastmesh.io.meshes import mike
+from coastmesh.io.meshes.mike import read_mike_mesh, write_mike_mesh
 
 N = 4  # cells per side
 

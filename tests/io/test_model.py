@@ -9,10 +9,10 @@ import pytest
 from io_meshes import strip_mesh
 
 from coastmesh.errors import CoastmeshWarning, ConfigError, FormatError
-from coastmesh.io import _model, mike, telemac
-from coastmesh.io.adcirc import _write, write_fort14, write_gr3
-from coastmesh.io.mike import write_mike_mesh
-from coastmesh.io.telemac import write_selafin
+from coastmesh.io.meshes import _model, mike, telemac
+from coastmesh.io.meshes.adcirc import _write, write_fort14, write_gr3
+from coastmesh.io.meshes.mike import write_mike_mesh
+from coastmesh.io.meshes.telemac import write_selafin
 from coastmesh.types import Mesh
 
 # writer, file name, what the format calls the value written at the nodes

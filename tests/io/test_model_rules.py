@@ -233,7 +233,7 @@ def good(tmp_path_factory):
 
 def _package_rules(path: Path, model: str) -> list[tuple[str, str]]:
     """What coastmesh's own audit (``rule_breaks``, used by convert) finds."""
-    from coastmesh.io.adcirc import read_fort14, read_fort14_mesh, rule_breaks
+    from coastmesh.io.meshes.adcirc import read_fort14, read_fort14_mesh, rule_breaks
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CoastmeshWarning)

@@ -1,4 +1,4 @@
-"""Smoke-test run folders for ADCIRC and SCHISM (coastmesh.io.model_tests).
+"""Smoke-test run folders for ADCIRC and SCHISM (coastmesh.io.meshes.model_tests).
 
 The files are parsed here line by line, as each model reads them: fort.15's
 forcing must list one amplitude and phase per open-boundary node of the fort.14
@@ -17,7 +17,7 @@ from model_rules import check_adcirc, check_schism, parse_grid
 
 from coastmesh.errors import ConfigError, OutputExistsError
 from coastmesh.io import write_model_test
-from coastmesh.io.model_tests import M2_PERIOD, ModelTest
+from coastmesh.io.meshes.model_tests import M2_PERIOD, ModelTest
 from coastmesh.types import Mesh
 
 

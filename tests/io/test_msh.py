@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from io_meshes import canonical, same_mesh, same_topology
 
 from coastmesh.errors import FormatError, InputDataError, OutputExistsError
-from coastmesh.io.msh import read_msh, write_msh
+from coastmesh.io.meshes.msh import read_msh, write_msh
 from coastmesh.meshing.engine import generate_mesh
 from coastmesh.meshing.gmsh.model import gmsh_session
 from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
@@ -219,7 +219,7 @@ def test_ascii_22_is_the_bytes_meshio_writes(
     # the block writer against meshio's row-by-row writer: the same file
     import meshio.gmsh
 
-    from coastmesh.io.msh import _to_meshio
+    from coastmesh.io.meshes.msh import _to_meshio
 
     rng = np.random.default_rng(seed)
     points = rng.normal(size=(n, 2)) * scale
@@ -251,7 +251,7 @@ def test_integer_rows_are_what_percent_d_writes(rows, text):
     # the vectorised writer of integer rows against Python's own %d
     import io
 
-    from coastmesh.io.msh import _write_rows
+    from coastmesh.io.meshes.msh import _write_rows
 
     columns = [np.array(c, dtype=np.int64) for c in zip(*rows, strict=True)]
     out = io.BytesIO()

@@ -11,7 +11,7 @@ from conftest import ORKNEY_RASTER_BBOX
 from pyproj import CRS
 
 from coastmesh.errors import ConfigError, FormatError, InputDataError
-from coastmesh.io.raster import raster_transform, read_raster, write_raster
+from coastmesh.io.rasters.raster import raster_transform, read_raster, write_raster
 
 
 def assert_same_raster(a: xr.DataArray, b: xr.DataArray) -> None:

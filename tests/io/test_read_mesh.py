@@ -19,13 +19,13 @@ from scipy.spatial import Delaunay
 from coastmesh.errors import ConfigError, FormatError, InputDataError
 from coastmesh.io import (
     MeshFormat,
-    _registry,
     mesh_format,
     mesh_formats,
     read_mesh,
     register_mesh_format,
     write_mesh,
 )
+from coastmesh.io.meshes import _registry
 from coastmesh.types import Mesh
 from coastmesh.types.topology import boundary_rings
 
@@ -192,8 +192,8 @@ def test_round_trip_of_random_meshes(tmp_path_factory, mesh):
 
 
 def test_write_only_format_is_refused_for_reading(tmp_path, monkeypatch):
-    from coastmesh.io import _registry
-    from coastmesh.io._mesh_format import MeshFormat
+    from coastmesh.io.meshes import _registry
+    from coastmesh.io.meshes._mesh_format import MeshFormat
 
     only = MeshFormat("scratch", (".scratch",), lambda *a, **k: None, "write only")
     monkeypatch.setitem(_registry._registry(), "scratch", only)

@@ -20,7 +20,7 @@ from io_meshes import strip_mesh
 
 from coastmesh.errors import FormatError, InputDataError, OutputExistsError
 from coastmesh.io import formats_table, mesh_format, read_mesh, write_mesh
-from coastmesh.io.adcirc import (
+from coastmesh.io.meshes.adcirc import (
     node_regions,
     read_fort13,
     read_fort14_mesh,
@@ -409,7 +409,7 @@ def test_an_existing_region_file_is_kept_unless_overwrite(tmp_path, name, beside
 
 @pytest.mark.parametrize("name", ["fort.14", "hgrid.gr3"])
 def test_a_failed_write_leaves_neither_file(tmp_path, monkeypatch, name):
-    from coastmesh.io.adcirc import _write
+    from coastmesh.io.meshes.adcirc import _write
 
     def broken(path, mesh, flavour):
         path.write_text("half a fi")

@@ -10,7 +10,6 @@ import coastmesh.io
 from coastmesh.errors import ConfigError, FormatError, OutputExistsError
 from coastmesh.io import (
     MeshFormat,
-    _registry,
     atomic_write,
     format_for_path,
     mesh_format,
@@ -19,6 +18,7 @@ from coastmesh.io import (
     register_mesh_format,
     write_mesh,
 )
+from coastmesh.io.meshes import _registry
 
 square = pytest.fixture(unit_square, name="square")
 jittered = pytest.fixture(jittered_grid, name="jittered")
@@ -247,7 +247,7 @@ def test_writer_with_kwargs_takes_any_option(tmp_path, square, scratch_registry)
 def test_lazy_exports():
     assert coastmesh.io.write_mesh is write_mesh
     assert coastmesh.io.mesh_formats is mesh_formats
-    from coastmesh.io.domain_gpkg import write_domain
+    from coastmesh.io.vectors.domain_gpkg import write_domain
 
     assert coastmesh.io.write_domain is write_domain
     assert {"write_mesh", "mesh_formats", "write_domain"} <= set(coastmesh.io.__all__)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from coastmesh.errors import InputDataError
-from coastmesh.io._table import TextLines, put_lines, write_table
+from coastmesh.io.meshes._table import TextLines, put_lines, write_table
 
 
 def test_write_table_formats_columns():

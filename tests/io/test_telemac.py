@@ -11,8 +11,9 @@ import xarray as xr
 from io_meshes import strip_mesh
 
 from coastmesh.errors import CoastmeshWarning, FormatError, OutputExistsError
-from coastmesh.io import MeshFormat, telemac
-from coastmesh.io.telemac import write_selafin
+from coastmesh.io import MeshFormat
+from coastmesh.io.meshes import telemac
+from coastmesh.io.meshes.telemac import write_selafin
 from coastmesh.types import Mesh
 from coastmesh.types.topology import boundary_rings
 

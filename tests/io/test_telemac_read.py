@@ -18,8 +18,8 @@ from coastmesh.errors import (
     InputDataError,
 )
 from coastmesh.io import mesh_format, read_mesh, write_mesh
-from coastmesh.io.telemac import write_selafin
-from coastmesh.io.telemac_read import read_selafin_mesh
+from coastmesh.io.meshes.telemac import write_selafin
+from coastmesh.io.meshes.telemac_read import read_selafin_mesh
 
 # south edges 0-4, east 5-8, north 9-13, west 14-17 of a 6 x 5 strip_mesh, ccw
 SOUTH, EAST, NORTH, WEST = range(5), range(5, 9), range(9, 14), range(14, 18)

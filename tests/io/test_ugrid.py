@@ -11,7 +11,7 @@ from pyproj import CRS
 
 from coastmesh.errors import FormatError, InputDataError, OutputExistsError
 from coastmesh.io import MeshFormat
-from coastmesh.io.ugrid import read_ugrid, write_ugrid
+from coastmesh.io.meshes.ugrid import read_ugrid, write_ugrid
 
 
 def grid_mesh(nx=5, ny=4, dx=100.0, x0=0.0, y0=0.0, crs="EPSG:32630"):

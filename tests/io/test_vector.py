@@ -11,7 +11,7 @@ from conftest import ORKNEY_BBOX
 from coastmesh.commands import simplify_shoreline_file
 from coastmesh.errors import ConfigError, FormatError, InputDataError
 from coastmesh.geometry import check_coordinates
-from coastmesh.io.vector import read_features, write_features
+from coastmesh.io.vectors.vector import read_features, write_features
 from coastmesh.types import Features
 
 ORKNEY_FIELDS = [

@@ -10,7 +10,7 @@ from io_meshes import same_mesh, strip_mesh
 
 from coastmesh.errors import FormatError, OutputExistsError
 from coastmesh.io import MeshFormat
-from coastmesh.io.vtu import read_vtu, write_vtu
+from coastmesh.io.meshes.vtu import read_vtu, write_vtu
 from coastmesh.types import Mesh
 
 

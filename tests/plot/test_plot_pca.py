@@ -9,8 +9,8 @@ from conftest import ORKNEY_BBOX, ORKNEY_RASTER_BBOX
 from matplotlib.figure import Figure
 
 from coastmesh.errors import FormatError, OutputExistsError
-from coastmesh.io.raster import read_raster
-from coastmesh.io.vector import read_features
+from coastmesh.io.rasters.raster import read_raster
+from coastmesh.io.vectors.vector import read_features
 from coastmesh.plot import (
     plot_raster_comparison,
     plot_shoreline_overlay,

@@ -45,7 +45,7 @@ class ConvertResult(Report):
         The rules of the output's model that the input's boundary lists broke
         (a ``fort.14`` or ``hgrid.gr3`` from another tool written as a
         ``fort.14`` or ``hgrid.gr3``), which the output follows:
-        :func:`~coastmesh.io.adcirc.rule_breaks`, one line each.
+        :func:`~coastmesh.io.meshes.adcirc.rule_breaks`, one line each.
 
     Examples
     --------
@@ -239,7 +239,7 @@ def _repairs(
     each break found in the input is repaired in the output.
     """
     from coastmesh.io import format_for_path
-    from coastmesh.io.adcirc import read_fort14, rule_breaks
+    from coastmesh.io.meshes.adcirc import read_fort14, rule_breaks
 
     model = _RULES.get(out_format)
     try:

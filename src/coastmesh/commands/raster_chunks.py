@@ -7,7 +7,7 @@ the chunks are as large as the budget allows. They depend on the grid, the
 window and the budget, never on the workers.
 :func:`gram_task` and :func:`rebuild_task` are the two passes of the raster PCA
 (:mod:`coastmesh.pca.chunks`) on one chunk, reading its cells from the file:
-a task is given a :class:`~coastmesh.io.raster_stream.RasterSource` and its
+a task is given a :class:`~coastmesh.io.rasters.raster_stream.RasterSource` and its
 rows and columns, never the data. :mod:`coastmesh.commands.raster_stream` runs
 them on Dask.
 """

@@ -15,7 +15,7 @@
 Every depth here is in metres, positive down; each raster says its own sign
 (``"up"`` for elevations such as GEBCO and ETOPO). Files are read in
 :mod:`coastmesh.io` (:func:`coastmesh.io.read_raster`, and only the window a
-mesh needs with :func:`coastmesh.io.raster_window.read_raster_around`); a case
+mesh needs with :func:`coastmesh.io.rasters.raster_window.read_raster_around`); a case
 reads its ``[bathymetry]`` and ``[mesh_size.bathymetry]`` rasters in its depth
 stage.
 """

@@ -1,7 +1,7 @@
 """CF conventions for the netCDF writers: the grid mapping and coordinate attributes.
 
-The raster writer (:mod:`coastmesh.io.raster`) and the UGRID mesh writer
-(:mod:`coastmesh.io.ugrid`) describe their CRS the same way: a CF grid mapping
+The raster writer (:mod:`coastmesh.io.rasters.raster`) and the UGRID mesh writer
+(:mod:`coastmesh.io.meshes.ugrid`) describe their CRS the same way: a CF grid mapping
 variable from :meth:`pyproj.CRS.to_cf`, with the WKT again as ``spatial_ref`` for
 GDAL, and coordinates with CF standard names and units. The UGRID reader turns
 such a grid mapping back into a CRS.

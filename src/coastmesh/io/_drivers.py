@@ -3,7 +3,7 @@
 Readers let GDAL detect the format of an input file; the vector and raster writers
 pick the GDAL driver, and the plots their matplotlib format, from the output
 file's extension through these tables. Mesh formats have a registry of their own,
-for reading and writing (:mod:`coastmesh.io._registry`).
+for reading and writing (:mod:`coastmesh.io.meshes._registry`).
 """
 
 from __future__ import annotations

@@ -35,7 +35,7 @@ from coastmesh.data import path as data_path
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry import land_from_grid
 from coastmesh.io import read_raster, write_raster
-from coastmesh.io.msh import read_msh
+from coastmesh.io.meshes.msh import read_msh
 
 EXAMPLE = Path(__file__).parents[3] / "examples" / "orkney" / "dem_shoreline.toml"
 ETOPO = data_path("etopo1_0.1deg_orkney_wide.tif")

@@ -18,7 +18,7 @@ from reference_quality import (
     triangle_reference,
 )
 
-from coastmesh.io.msh import write_msh
+from coastmesh.io.meshes.msh import write_msh
 from coastmesh.meshing import generate_mesh
 from coastmesh.meshing.quality import measure as measure_module
 from coastmesh.meshing.quality.mesh_quality import (

@@ -23,7 +23,7 @@ from hypothesis import strategies as st
 from scipy.spatial import ConvexHull
 
 from coastmesh.geometry.earth import EARTH_RADIUS
-from coastmesh.io.sphere import check_on_sphere
+from coastmesh.io.meshes.sphere import check_on_sphere
 from coastmesh.meshing.quality import SphereQuality, mesh_quality, sphere_quality
 from coastmesh.meshing.quality.sphere import SAME_NODE, sphere_triangle_measures
 from coastmesh.types import Mesh

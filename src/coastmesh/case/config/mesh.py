@@ -301,7 +301,7 @@ def _formats(value: Any, key: str) -> tuple[str, ...]:
 
 
 def _model_tests(value: Any, key: str) -> tuple[str, ...]:
-    from coastmesh.io.model_tests import MODEL_TESTS
+    from coastmesh.io.meshes.model_tests import MODEL_TESTS
 
     if isinstance(value, list | tuple) and not value:
         return ()

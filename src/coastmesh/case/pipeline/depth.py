@@ -36,7 +36,7 @@ from coastmesh.depth.nodes import MAX_LAND_SHARE, node_sources
 from coastmesh.depth.sources import check_blend, no_crs
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry.earth import METRES_PER_DEGREE, reproject
-from coastmesh.io.raster_window import raster_extent, read_raster_around
+from coastmesh.io.rasters.raster_window import raster_extent, read_raster_around
 from coastmesh.meshing import relieve_time_step
 from coastmesh.types import Mesh, Progress
 

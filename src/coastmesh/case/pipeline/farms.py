@@ -38,7 +38,7 @@ from coastmesh.case.pipeline.state import DomainState
 from coastmesh.errors import ConfigError, InputDataError, MeshingError
 from coastmesh.geometry import reproject
 from coastmesh.geometry.earth import reproject_points
-from coastmesh.io.vector import read_features
+from coastmesh.io.vectors.vector import read_features
 from coastmesh.meshing.parts.inner import Inner
 from coastmesh.sizing.patches import site_patch, with_patches
 from coastmesh.types import Domain, SizeGrid

@@ -16,7 +16,7 @@ from pyproj import CRS
 
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry import reproject
-from coastmesh.io.vector import read_features
+from coastmesh.io.vectors.vector import read_features
 
 __all__ = ["file_place"]
 

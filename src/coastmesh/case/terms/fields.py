@@ -61,7 +61,7 @@ from coastmesh.sizing.grid import Grid
 from coastmesh.types import Report
 
 if TYPE_CHECKING:
-    from coastmesh.io.field_values import Sampled
+    from coastmesh.io.fields.field_values import Sampled
 
 __all__ = ["FieldConfig", "Fields", "FieldsReport", "with_result"]
 
@@ -270,7 +270,7 @@ class Fields(SizeTerm):
 
     def sizes(self, grid: Grid, case: SizeCase) -> TermSizes | None:
         """Return the entries' sizes, combined by minimum; None without entries."""
-        from coastmesh.io.field_values import sample_field
+        from coastmesh.io.fields.field_values import sample_field
 
         entries: tuple[FieldConfig, ...] = self.settings(case)
         for k, entry in enumerate(entries):

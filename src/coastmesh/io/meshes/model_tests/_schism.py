@@ -1,0 +1,224 @@
+"""SCHISM smoke test: the inputs of a 2-D barotropic tidal run.
+
+From SCHISM's own docs and source (``schism-dev/schism``: ``docs/input-output/``
+``hgrid.md``, ``vgrid.md``, ``bctides.md``, ``param.md``;
+``src/Hydro/schism_init.F90``, which reads them):
+
+- ``hgrid.gr3``: the grid (:func:`~coastmesh.io.meshes.adcirc.write_gr3`), in the
+  mesh's CRS; ``ics = 1`` for a projected mesh, ``ics = 2`` for lon/lat (then
+  ``hgrid.gr3`` is in degrees too). ``hgrid.ll``: the same grid in lon/lat, for
+  the Coriolis parameter of each node (``ncor = 1``);
+- ``vgrid.in``: one layer (``ivcor = 2``, ``nvrt = 2``), which makes SCHISM a 2-D
+  depth-averaged model (``vgrid.md``); SCHISM has no compile-time 2-D switch;
+- ``bctides.in``: no tidal potential, one constituent (M2, 1.405189e-4 rad/s,
+  nodal factor 1, argument 0) and, for each open segment of the grid in turn,
+  ``nnodes 3 0 0 0`` (elevation from harmonics; no velocity, temperature or
+  salinity condition) and ``amplitude phase`` for each of its nodes;
+- ``manning.gr3``: Manning's n at each node, read with ``nchi = -1`` and
+  ``hmin_man = 1`` m;
+- ``param.nml``: ``ibc = 1, ibtp = 0`` (barotropic), ``dramp`` the ramp in days
+  (``nramp_elev = 0``); ``indvel = 0, ihorcon = 2, hvis_coef0 = 0.025,
+  ishapiro = 0`` (``param.md``'s starting point for the eddying regime:
+  discontinuous node velocities with bi-harmonic viscosity) and ``thetai = 1``
+  ("maximum stability for strong wet/dry"), chosen on the examples: with
+  ``indvel = 1`` and no viscosity, the NW shelf's coarse mesh blew up off
+  Ireland within 5 h of the ramp (150 m, the speed at SCHISM's cap), also with
+  ``thetai = 1``, at ``dt`` 25 s or in a projected frame, and with the
+  Shapiro filter (11 m), while with these it ran the cycle at 2.1 m and 1.4
+  m/s (ADCIRC: 2.2 m, 1.4 m/s); ``h0 = 0.01`` m (wetting and drying),
+  ``itur = 0``, ``rmaxvel = 10`` m/s (SCHISM's cap on the speed; its default
+  5 would hide a blow-up under the 3 m/s a smoke test looks for);
+  elevation and depth-averaged velocity in ``outputs/out2d_1.nc`` every 10
+  min, and none of the 3-D outputs SCHISM writes by default (each would need
+  a scribe process of its own). ``&CORE`` lists every key, as SCHISM gives
+  it no defaults; ``&OPT`` only those changed;
+- ``outputs/``, which SCHISM needs before it starts.
+
+SCHISM is run under MPI with one scribe (``mpirun -np 2 pschism 1``: the last
+process writes the outputs). It also writes, per process,
+``outputs/maxelev_*`` and ``outputs/maxdahv_*``: the largest elevation and
+depth-averaged speed of each node over the run.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+from pyproj import CRS
+
+from coastmesh.io.meshes._model import require_kinds
+from coastmesh.io.meshes._table import put_lines, write_table
+from coastmesh.io.meshes.adcirc import write_gr3
+from coastmesh.io.meshes.adcirc._segments import grid_segments
+from coastmesh.io.meshes.model_tests import M2_FREQUENCY, ModelTest, Place, readme
+from coastmesh.types import Mesh
+
+_OUTPUT_EVERY = 600.0  # s
+_VGRID_2D = """2 !ivcor: SZ
+2 1 1.e6 !nvrt = 2 (one layer: 2-D), kz = 1, h_s
+Z levels
+1 -1.e6
+S levels
+40. 1. 1.e-4 !h_c theta_b theta_f
+1 -1.
+2 0.
+"""
+
+
+def write(
+    folder: Path, mesh: Mesh, test: ModelTest, where: Place, land: str
+) -> list[str]:
+    """Write the SCHISM run folder; return its files (``land`` is ADCIRC's)."""
+    del land
+    write_gr3(folder / "hgrid.gr3", mesh, regions=False)
+    lonlat = mesh if where.geographic else _in_lonlat(mesh, where)
+    write_gr3(folder / "hgrid.ll", lonlat, regions=False, title="coastmesh hgrid.ll")
+    (folder / "vgrid.in").write_text(_VGRID_2D, encoding="ascii")
+    kinds = require_kinds(mesh, "hgrid.gr3")
+    opened, _ = grid_segments(mesh, "hgrid.gr3", kinds, "gr3")
+    (folder / "bctides.in").write_text(
+        _bctides(test, [len(s.nodes) for s in opened]), encoding="ascii"
+    )
+    _write_node_file(folder / "manning.gr3", mesh, test.node_manning(mesh), "manning")
+    (folder / "param.nml").write_text(_param(test, where), encoding="ascii")
+    (folder / "outputs").mkdir()
+    run = "mpirun -np 2 pschism 1   (one process computes, one writes outputs/)"
+    look = (
+        "- the end of outputs/mirror.out: 'Run completed successfully'; no\n"
+        "  outputs/fatal.error with a message;\n"
+        "- outputs/maxelev_* and outputs/maxdahv_* (node, x, y, largest elevation\n"
+        "  or speed, ...), one file per computing process; outputs/out2d_1.nc.\n"
+    )
+    (folder / "README.txt").write_text(readme("SCHISM", test, run, look))
+    return [
+        "hgrid.gr3",
+        "hgrid.ll",
+        "vgrid.in",
+        "bctides.in",
+        "manning.gr3",
+        "param.nml",
+        "README.txt",
+    ]  # and the empty folder outputs/
+
+
+def _in_lonlat(mesh: Mesh, where: Place) -> Mesh:
+    """Return the mesh with its nodes in lon/lat (for ``hgrid.ll``)."""
+    return Mesh(
+        where.lonlat,
+        mesh.triangles,
+        mesh.boundary_edges,
+        mesh.boundary_ids,
+        mesh.surface_id,
+        CRS.from_epsg(4326),
+        {"depth": mesh.point_data["depth"]},
+        mesh.boundary_names,
+        mesh.boundary_kinds,
+    )
+
+
+def _bctides(test: ModelTest, sizes: list[int]) -> str:
+    """Tidal elevation on every open segment, in the grid's order (``bctides.md``)."""
+    lines = [
+        "coastmesh smoke test: M2 on every open boundary (start time not used)",
+        "0 40. !ntip tip_dp: no tidal potential",
+        "1 !nbfr",
+        "M2",
+        f"{M2_FREQUENCY:.9e} 1.0 0.0 !frequency (rad/s), nodal factor, argument",
+        f"{len(sizes)} !nope",
+    ]
+    for size in sizes:
+        lines += [f"{size} 3 0 0 0 !nodes, elevation from harmonics", "M2"]
+        lines += [f"{test.amplitude:g} 0.0"] * size
+    return "\n".join(lines) + "\n"
+
+
+def _write_node_file(path: Path, mesh: Mesh, values: np.ndarray, title: str) -> None:
+    """Write a node-value ``.gr3`` (as ``manning.gr3``): nodes, elements, no lists."""
+    n, m = len(mesh.points), len(mesh.triangles)
+    with open(path, "wb") as handle:
+        put_lines(handle, title, f"{m} {n}")
+        write_table(
+            handle,
+            [
+                (np.arange(1, n + 1), None),
+                (mesh.points[:, 0], 15),
+                (mesh.points[:, 1], 15),
+                (values, 6),
+            ],
+        )
+        write_table(
+            handle,
+            [(np.arange(1, m + 1), None), (np.full(m, 3), None)]
+            + [(mesh.triangles[:, k] + 1, None) for k in range(3)],
+        )
+
+
+def _param(test: ModelTest, where: Place) -> str:
+    """``param.nml``: ``&CORE`` whole, ``&OPT`` and ``&SCHOUT`` as changed."""
+    dt = test.dt
+    spool = max(1, round(_OUTPUT_EVERY / dt))
+    steps = math.ceil(test.duration / dt)
+    files = max(1, math.ceil(steps / spool))
+    core = {
+        "ipre": 0,
+        "ibc": 1,
+        "ibtp": 0,
+        "rnday": f"{test.duration / 86400.0:.10f}",
+        "dt": f"{dt:g}",
+        "msc2": 24,
+        "mdc2": 30,
+        "ntracer_gen": 2,
+        "ntracer_age": 4,
+        "sed_class": 5,
+        "eco_class": 27,
+        "nbins_veg_vert": 2,
+        "nmarsh_types": 2,
+        "nspool": spool,
+        "ihfskip": spool * files,  # one output file for the whole run
+    }
+    lon, lat = where.centre
+    opt = {
+        "ics": 2 if where.geographic else 1,
+        "ihot": 0,
+        "dramp": f"{test.ramp / 86400.0:.10f}",
+        "nramp_elev": 0,
+        "indvel": 0,
+        "ihorcon": 2,
+        "hvis_coef0": 0.025,
+        "ishapiro": 0,
+        "thetai": 1.0,
+        "slam0": f"{lon:.6f}",
+        "sfea0": f"{lat:.6f}",
+        "nchi": -1,
+        "hmin_man": 1.0,
+        "ncor": 1,
+        "ic_elev": 0,
+        "h0": 0.01,
+        "itur": 0,
+        "dfv0": 0.01,
+        "dfh0": 0.0001,
+        "nws": 0,
+        "ihconsv": 0,
+        "if_source": 0,
+        "rmaxvel": 10.0,
+    }
+    schout = {
+        "nc_out": 1,
+        "iof_ugrid": 0,
+        "nhot": 0,
+        "iout_sta": 0,
+        "iof_hydro(1)": 1,
+        "iof_hydro(16)": 1,
+        # SCHISM turns these 3-D outputs on by default (schism_init.F90), and
+        # each would need a scribe of its own
+        "iof_hydro(25)": 0,
+        "iof_hydro(26)": 0,
+    }
+    parts = []
+    for name, values in (("CORE", core), ("OPT", opt), ("SCHOUT", schout)):
+        parts.append(f"&{name}")
+        parts += [f"  {key} = {value}" for key, value in values.items()]
+        parts.append("/")
+    return "\n".join(parts) + "\n"
