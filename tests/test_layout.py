@@ -160,6 +160,55 @@ def test_functions_are_short(path):
         )
 
 
+TYPED = PACKAGE / "case" / "pipeline"
+
+
+def _unannotated(tree: ast.AST) -> list[str]:
+    """``line name(parameter)`` for each parameter without an annotation, and
+    ``line name -> ?`` for each function without a return annotation.
+
+    ``self`` and ``cls`` need none, nor ``*args`` and ``**kwargs``.
+    """
+    missing: list[tuple[int, str]] = []
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            continue
+        a = node.args
+        for arg in a.posonlyargs + a.args + a.kwonlyargs:
+            if arg.annotation is None and arg.arg not in {"self", "cls"}:
+                missing.append((node.lineno, f"{node.name}({arg.arg})"))
+        if node.returns is None:
+            missing.append((node.lineno, f"{node.name} -> ?"))
+    return [f"{line} {what}" for line, what in sorted(missing, key=lambda m: m[0])]
+
+
+def test_unannotated_finds_a_missing_annotation():
+    source = """class C:
+    def m(self, a: int, b, *args, c=1, **kw) -> None: ...
+def f(x: int):
+    def g(y) -> int: ...
+"""
+    assert _unannotated(ast.parse(source)) == [
+        "2 m(b)",
+        "2 m(c)",
+        "3 f -> ?",
+        "4 g(y)",
+    ]
+
+
+@pytest.mark.parametrize(
+    "path",
+    [p for p in _modules() if TYPED in p.parents],
+    ids=lambda p: str(p.relative_to(PACKAGE)),
+)
+def test_the_pipeline_is_annotated(path):
+    """Every parameter and return of ``case/pipeline`` has a type: mypy checks
+    the bodies of untyped functions, but not what their callers pass them."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    missing = _unannotated(tree)
+    assert not missing, f"{path.relative_to(ROOT)}: no annotation at {missing}"
+
+
 @pytest.mark.parametrize("path", _modules(), ids=lambda p: str(p.relative_to(PACKAGE)))
 def test_nothing_imports_upward_from_the_package_root(path):
     """The root ``coastmesh/__init__.py`` is the API over every layer: a module

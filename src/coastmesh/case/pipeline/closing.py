@@ -20,6 +20,7 @@ again from the same stitched shorelines would give.
 from __future__ import annotations
 
 import logging
+from collections.abc import Sequence
 from dataclasses import replace
 
 import numpy as np
@@ -44,10 +45,17 @@ from coastmesh.sizing.narrow import (
     warn_narrow,
 )
 from coastmesh.sizing.slots import domain_slots, off_open_boundaries, slots_near
+from coastmesh.types import Domain
 
 __all__ = ["CLOSE_PASSES", "close_water", "size_grid", "smallest_size"]
 
 logger = logging.getLogger(__name__)
+
+#: The narrow channels :func:`~coastmesh.sizing.narrow.narrow_channels` finds:
+#: (row, col, area m2, width m) each: its widest node, its area, its width.
+Found = list[tuple[int, int, float, float]]
+#: A grid, the channels labelled on it, and what was found there.
+Piece = tuple[PlaneGrid, NDArray[np.int32], Found]
 
 #: Most times narrow channels are closed and the domain cut by them.
 CLOSE_PASSES = 2
@@ -146,7 +154,9 @@ def _slivers(
     return off_open_boundaries(grown, domain)
 
 
-def _refuse_closing_all(state: DomainState, config: CaseConfig, found) -> None:
+def _refuse_closing_all(
+    state: DomainState, config: CaseConfig, found: ChannelReport
+) -> None:
     """Raise if the narrow channels are (nearly) all of the domain's water."""
     sea_km2 = state.domain.polygon.area
     if state.domain.crs.is_geographic:  # degrees squared: measure on the plane
@@ -236,7 +246,9 @@ def _narrow_water(
     return report, polygons
 
 
-def _channels(grid: PlaneGrid, domain, h_min: float, sites):
+def _channels(
+    grid: PlaneGrid, domain: Domain, h_min: float, sites: shapely.Geometry | None
+) -> tuple[NDArray[np.int32], Found]:
     """Label the water narrower than two elements of ``h_min`` on ``grid``.
 
     Only whether water is narrower than ``NARROW_ELEMENTS h_min`` matters here:
@@ -252,7 +264,7 @@ def _channels(grid: PlaneGrid, domain, h_min: float, sites):
     return narrow_channels(width, sea, h_min=h_min, cell=grid.cell)
 
 
-def _boxes(grid: PlaneGrid, labels) -> list[shapely.Polygon]:
+def _boxes(grid: PlaneGrid, labels: NDArray[np.int32]) -> list[shapely.Polygon]:
     """Return the box of each labelled candidate, a cell wider all round."""
     boxes = []
     for sl in ndimage.find_objects(labels):
@@ -270,7 +282,13 @@ def _boxes(grid: PlaneGrid, labels) -> list[shapely.Polygon]:
     return boxes
 
 
-def _confirmed(grid: PlaneGrid, boxes, domain, h_min: float, sites):
+def _confirmed(
+    grid: PlaneGrid,
+    boxes: Sequence[shapely.Polygon] | NDArray[np.object_],
+    domain: Domain,
+    h_min: float,
+    sites: shapely.Geometry | None,
+) -> list[Piece]:
     """Measure the water in ``boxes`` (candidates) on a grid of ``h_min / 2``.
 
     The boxes, merged where their windows overlap, each on its own fine
@@ -290,7 +308,7 @@ def _confirmed(grid: PlaneGrid, boxes, domain, h_min: float, sites):
         lines[s.kind].append(shapely.LineString(s.coords))
     shore = densified(domain, lines["shoreline"], grid.crs)
     opened = densified(domain, lines["open"], grid.crs)
-    pieces = []
+    pieces: list[Piece] = []
     for window in merged:
         core = shapely.buffer(window, -margin, join_style="mitre")
         fine = PlaneGrid(*grid_axes(window.bounds, h_min / 2), grid.crs, h_min / 2)

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import csv
 import math
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TypedDict
@@ -31,7 +32,7 @@ import shapely.affinity
 from numpy.typing import NDArray
 from pyproj import CRS
 
-from coastmesh.case.config import CaseConfig
+from coastmesh.case.config import CaseConfig, RotorLength, TurbinesConfig
 from coastmesh.case.pipeline.lines import SiteLine, line_coords, read_lines
 from coastmesh.case.pipeline.places import file_place
 from coastmesh.case.pipeline.state import DomainState
@@ -41,7 +42,7 @@ from coastmesh.geometry.earth import reproject_points
 from coastmesh.io.vectors.vector import read_features
 from coastmesh.meshing.parts.inner import Inner
 from coastmesh.sizing.patches import site_patch, with_patches
-from coastmesh.types import Domain, SizeGrid
+from coastmesh.types import Domain, Mesh, SizeGrid
 
 __all__ = [
     "SiteFeatures",
@@ -54,6 +55,15 @@ __all__ = [
 ]
 
 _LONLAT = CRS.from_epsg(4326)
+
+#: A farm of a site: (name, id, polygon in the meshing CRS, h or None).
+SiteFarm = tuple[str, int, shapely.Polygon, float | None]
+#: A turbine's footprint: (the turbine's name, id, polygon in the meshing CRS).
+Footprint = tuple[str, int, shapely.Polygon]
+#: A turbine as read: (name, lon/lat or None, xy, its CRS, diameter or None).
+Position = tuple[
+    str, tuple[float, float] | None, tuple[float, float], CRS, float | None
+]
 
 
 @dataclass(frozen=True)
@@ -81,8 +91,8 @@ class SiteFeatures:
     h); ``lines`` (name, id, line, h or None).
     """
 
-    farms: tuple[tuple[str, int, shapely.Polygon, float | None], ...]
-    footprints: tuple[tuple[str, int, shapely.Polygon], ...]
+    farms: tuple[SiteFarm, ...]
+    footprints: tuple[Footprint, ...]
     turbines: tuple[Turbine, ...]
     crs: CRS
     #: (the source's name, the band, its size): ``[[wakes]]``
@@ -175,7 +185,9 @@ def site_features_in(config: CaseConfig, domain: Domain, crs: CRS) -> SiteFeatur
     return SiteFeatures(farms, tuple(footprints), tuple(turbines), crs, wakes, lines)
 
 
-def _wakes(config: CaseConfig, farms, turbines):
+def _wakes(
+    config: CaseConfig, farms: Sequence[SiteFarm], turbines: Sequence[Turbine]
+) -> Iterator[tuple[str, shapely.Polygon, float]]:
     """Yield (source, band, h) per ``[[wakes]]``, in the meshing CRS.
 
     The band is the source swept ``length`` along the axis (the convex hull of
@@ -195,6 +207,7 @@ def _wakes(config: CaseConfig, farms, turbines):
                 [shapely.Point(t.xy).buffer(t.diameter / 2, 16) for t in group]
             )
         diameter = max((t.diameter for t in group), default=None)
+        h: float | None
         try:
             length = w.length.metres(_needs(diameter, w.length, "length"))
             if w.h is not None:
@@ -215,7 +228,7 @@ def _wakes(config: CaseConfig, farms, turbines):
         yield w.of, shapely.union_all([source, *moved]).convex_hull, float(h)
 
 
-def _needs(diameter: float | None, value, key: str) -> float:
+def _needs(diameter: float | None, value: RotorLength, key: str) -> float:
     """Return the diameter a share of D needs; raise if there is none."""
     if value.per_d and diameter is None:
         raise ValueError(
@@ -225,7 +238,7 @@ def _needs(diameter: float | None, value, key: str) -> float:
     return diameter or 0.0
 
 
-def _check_footprint_ids(config: CaseConfig, footprints) -> None:
+def _check_footprint_ids(config: CaseConfig, footprints: Sequence[Footprint]) -> None:
     """Raise if a footprint's id is another's, a farm's or a boundary's.
 
     The case file's check sees the ids of inline turbines; those of turbines
@@ -269,7 +282,7 @@ def with_site_sizes(
     return with_patches(size, levels)
 
 
-def _farms(config: CaseConfig, crs: CRS, sea: shapely.Geometry):
+def _farms(config: CaseConfig, crs: CRS, sea: shapely.Geometry) -> Iterator[SiteFarm]:
     """Yield (name, id, polygon, h) per farm, in ``crs``; each in the sea."""
     seen: list[tuple[str, shapely.Polygon]] = []
     for k, f in enumerate(config.farms):
@@ -303,11 +316,13 @@ def _farms(config: CaseConfig, crs: CRS, sea: shapely.Geometry):
         yield f.name, f.id, shapely.Polygon(polygon.exterior.coords), f.h
 
 
-def _turbines(config: CaseConfig, crs: CRS, sea, farms):
+def _turbines(
+    config: CaseConfig, crs: CRS, sea: shapely.Geometry, farms: Sequence[SiteFarm]
+) -> tuple[list[Turbine], list[Footprint]]:
     """Return the turbines and their footprints, checked."""
     by_name = {name: polygon for name, _, polygon, _ in farms}
     turbines: list[Turbine] = []
-    footprints = []
+    footprints: list[Footprint] = []
     for k, group in enumerate(config.turbines):
         where = f"{config.label}: turbines[{k}] ({group.name!r})"
         rows = _positions(group, where)
@@ -342,12 +357,13 @@ def _turbines(config: CaseConfig, crs: CRS, sea, farms):
     return turbines, footprints
 
 
-def _positions(group, where: str):
+def _positions(group: TurbinesConfig, where: str) -> Iterator[Position]:
     """Yield (name, lon/lat or None, xy, its CRS, diameter or None) per turbine."""
     if group.positions is not None:
         for n, (lon, lat) in enumerate(group.positions):
             yield f"{group.name}_{n + 1}", (lon, lat), (lon, lat), _LONLAT, None
         return
+    assert group.path is not None  # _validate: positions or a path
     path = Path(group.path)
     if path.suffix.lower() in (".csv", ".txt"):
         yield from _csv_positions(path, group, where)
@@ -366,7 +382,7 @@ def _positions(group, where: str):
         yield name, None, (geom.x, geom.y), src, d
 
 
-def _csv_positions(path: Path, group, where: str):
+def _csv_positions(path: Path, group: TurbinesConfig, where: str) -> Iterator[Position]:
     """Yield the turbines of a CSV of ``name, x, y[, diameter]``."""
     src = CRS.from_user_input(group.crs) if group.crs else _LONLAT
     if not path.exists():
@@ -395,7 +411,9 @@ def _csv_positions(path: Path, group, where: str):
             yield name, lonlat, xy, src, d
 
 
-def _footprint(kind: str, xy, diameter: float, h: float, bearing: float):
+def _footprint(
+    kind: str, xy: tuple[float, float], diameter: float, h: float, bearing: float
+) -> shapely.Polygon:
     """Return a turbine's footprint polygon in the meshing CRS."""
     cx, cy = xy
     if kind == "square":
@@ -420,7 +438,9 @@ def _footprint(kind: str, xy, diameter: float, h: float, bearing: float):
 MIN_SHARE = 1e-6
 
 
-def _check_resolvable(name, where, shape, h: float, sea) -> None:
+def _check_resolvable(
+    name: str, where: str, shape: shapely.Polygon, h: float, sea: shapely.Geometry
+) -> None:
     """Raise if the footprint's sides or ``h`` are under what Gmsh can place."""
     x0, y0, x1, y1 = sea.bounds
     least = MIN_SHARE * max(x1 - x0, y1 - y0)
@@ -435,7 +455,14 @@ def _check_resolvable(name, where, shape, h: float, sea) -> None:
         )
 
 
-def _check_place(name, where, shape, sea, farms, farm):
+def _check_place(
+    name: str,
+    where: str,
+    shape: shapely.Polygon,
+    sea: shapely.Geometry,
+    farms: Mapping[str, shapely.Polygon],
+    farm: str | None,
+) -> None:
     """Raise unless the footprint is in the sea (and in its farm), across no outline."""
     if not sea.contains(shape):
         raise ConfigError(
@@ -455,7 +482,9 @@ def _check_place(name, where, shape, sea, farms, farm):
             )
 
 
-def _check_spacing(turbine: Turbine, others, spacing: float, where: str) -> None:
+def _check_spacing(
+    turbine: Turbine, others: Sequence[Turbine], spacing: float, where: str
+) -> None:
     """Raise if ``turbine`` is closer than ``spacing`` to one of ``others``."""
     for other in others:
         gap = math.hypot(turbine.xy[0] - other.xy[0], turbine.xy[1] - other.xy[1])
@@ -468,7 +497,7 @@ def _check_spacing(turbine: Turbine, others, spacing: float, where: str) -> None
             )
 
 
-def turbine_nodes(site: SiteFeatures, mesh) -> NDArray[np.int64]:
+def turbine_nodes(site: SiteFeatures, mesh: Mesh) -> NDArray[np.int64]:
     """Return the node of each turbine of ``site`` in ``mesh`` (its nearest).
 
     Raises
@@ -500,7 +529,7 @@ def turbine_nodes(site: SiteFeatures, mesh) -> NDArray[np.int64]:
     return np.array(out, dtype=np.int64)
 
 
-def check_clearance(site: SiteFeatures, mesh) -> None:
+def check_clearance(site: SiteFeatures, mesh: Mesh) -> None:
     """Raise if a turbine stands in water shallower than its ``clearance``.
 
     The depth at the turbine's node (the nearest node of a footprint), as the
@@ -557,7 +586,7 @@ TURBINE_COLUMNS = (
 )
 
 
-def turbine_rows(site: SiteFeatures, mesh) -> list[TurbineRow]:
+def turbine_rows(site: SiteFeatures, mesh: Mesh) -> list[TurbineRow]:
     """Return a row per turbine: where it is and what the mesh has there.
 
     ``lon``, ``lat`` are the turbine's place (as the case gives it, if in
@@ -611,7 +640,7 @@ def turbine_rows(site: SiteFeatures, mesh) -> list[TurbineRow]:
     return rows
 
 
-def write_turbines(path: Path, site: SiteFeatures, mesh) -> None:
+def write_turbines(path: Path, site: SiteFeatures, mesh: Mesh) -> None:
     """Write ``turbines.csv``: one row per turbine (:func:`turbine_rows`)."""
     with Path(path).open("w", newline="", encoding="utf-8") as fh:
         writer = csv.DictWriter(fh, fieldnames=TURBINE_COLUMNS)

@@ -62,7 +62,13 @@ def read_lines(
     return tuple(out)
 
 
-def _check(line, where: str, sea, outlines, others: list[SiteLine]) -> None:
+def _check(
+    line: shapely.LineString,
+    where: str,
+    sea: shapely.Geometry,
+    outlines: Sequence[tuple[str, shapely.Polygon]],
+    others: list[SiteLine],
+) -> None:
     if not line.is_simple or line.length <= 0:
         raise ConfigError(f"{where}: the line crosses itself or has no length")
     if not sea.intersects(line):

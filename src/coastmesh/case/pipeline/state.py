@@ -19,7 +19,7 @@ import time
 import warnings
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, NamedTuple, NoReturn
+from typing import TYPE_CHECKING, NamedTuple, NoReturn
 
 import numpy as np
 import shapely
@@ -50,6 +50,7 @@ if TYPE_CHECKING:
     import xarray as xr
 
     from coastmesh.case.figures import FigureJobs
+    from coastmesh.case.pipeline.farms import SiteFeatures  # farms imports this
     from coastmesh.case.pipeline.strategy import Strategy
 
 __all__ = [
@@ -303,9 +304,8 @@ class CaseRun:
     mesh: MeshState | None = None
     depth: DepthState | None = None
     quality: QualityReport | None = None
-    #: the farms and turbines, checked (``pipeline.farms.SiteFeatures``); None
-    #: in a case without them
-    site: Any = None
+    #: the farms and turbines, checked; None in a case without them
+    site: SiteFeatures | None = None
 
     @property
     def time_step(self) -> CourantReport | None:
