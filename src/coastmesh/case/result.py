@@ -41,6 +41,7 @@ from coastmesh.version import __version__
 if TYPE_CHECKING:
     import xarray as xr
 
+    from coastmesh.case.pipeline.farms import SiteFeatures
     from coastmesh.meshing import QualityReport
 
 __all__ = ["CaseResult", "model_dt", "write_case_copy"]
@@ -98,7 +99,7 @@ class CaseResult:
     output: Path | None = None
     files: tuple[str, ...] = ()
     channel_width: xr.DataArray | None = None
-    site: Any = None
+    site: SiteFeatures | None = None
 
     @classmethod
     def of(
