@@ -143,12 +143,8 @@ class FarmConfig:
     polygon: tuple[tuple[float, float], ...] | None = key(
         None, check=schema.points, doc="a list of `[lon, lat]` points"
     )
-    path: Path | None = key(
-        None, check=schema.path, path=True, doc="a vector file of polygons"
-    )
-    layer: str | None = key(
-        None, check=schema.string, default_doc="the only layer", doc="its layer"
-    )
+    path: Path | None = schema.file_key("a vector file of polygons")
+    layer: str | None = schema.layer_key()
     h: float | None = key(
         None,
         check=schema.length(),
@@ -187,15 +183,10 @@ class TurbinesConfig:
     positions: tuple[tuple[float, float], ...] | None = key(
         None, check=schema.points, doc="a list of `[lon, lat]` points"
     )
-    path: Path | None = key(
-        None,
-        check=schema.path,
-        path=True,
-        doc="a CSV (`name, x, y[, diameter]`) or a vector file of points",
+    path: Path | None = schema.file_key(
+        "a CSV (`name, x, y[, diameter]`) or a vector file of points"
     )
-    layer: str | None = key(
-        None, check=schema.string, default_doc="the only layer", doc="its layer"
-    )
+    layer: str | None = schema.layer_key()
     crs: str | None = key(
         None,
         check=schema.crs,
@@ -323,12 +314,8 @@ class StructureConfig:
     polygon: tuple[tuple[float, float], ...] | None = key(
         None, check=schema.points, doc="a list of `[lon, lat]` points"
     )
-    path: Path | None = key(
-        None, check=schema.path, path=True, doc="a vector file of polygons"
-    )
-    layer: str | None = key(
-        None, check=schema.string, default_doc="the only layer", doc="its layer"
-    )
+    path: Path | None = schema.file_key("a vector file of polygons")
+    layer: str | None = schema.layer_key()
 
     def _validate(self, c: Check) -> StructureConfig:
         _one_place(self, c, ("polygon", "path"))
@@ -352,12 +339,8 @@ class LineConfig:
     points: tuple[tuple[float, float], ...] | None = key(
         None, check=schema.points, doc="a list of `[lon, lat]` points"
     )
-    path: Path | None = key(
-        None, check=schema.path, path=True, doc="a vector file of lines"
-    )
-    layer: str | None = key(
-        None, check=schema.string, default_doc="the only layer", doc="its layer"
-    )
+    path: Path | None = schema.file_key("a vector file of lines")
+    layer: str | None = schema.layer_key()
     h: float | None = key(
         None,
         check=schema.length(),

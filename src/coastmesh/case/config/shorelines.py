@@ -210,12 +210,8 @@ class RegionConfig:
     polygon: tuple[tuple[float, float], ...] | None = key(
         None, check=schema.points, doc="a list of `[x, y]` points"
     )
-    path: Path | None = key(
-        None, check=schema.path, path=True, doc="a vector file of polygons"
-    )
-    layer: str | None = key(
-        None, check=schema.string, default_doc="the only layer", doc="its layer"
-    )
+    path: Path | None = schema.file_key("a vector file of polygons")
+    layer: str | None = schema.layer_key()
 
     def _validate(self, c: Check) -> RegionConfig:
         return _one_area(self, c)
@@ -240,12 +236,8 @@ class SiteConfig:
     polygon: tuple[tuple[float, float], ...] | None = key(
         None, check=schema.points, doc="a list of `[lon, lat]` points"
     )
-    path: Path | None = key(
-        None, check=schema.path, path=True, doc="a vector file of polygons"
-    )
-    layer: str | None = key(
-        None, check=schema.string, default_doc="the only layer", doc="its layer"
-    )
+    path: Path | None = schema.file_key("a vector file of polygons")
+    layer: str | None = schema.layer_key()
 
     def _validate(self, c: Check) -> SiteConfig:
         return _one_area(self, c)

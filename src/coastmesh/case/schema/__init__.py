@@ -50,8 +50,10 @@ from coastmesh.case.schema.keys import (
     check_part,
     check_parts,
     checked,
+    file_key,
     key,
     keys_of,
+    layer_key,
     sequence,
 )
 from coastmesh.case.schema.read import Reading, read_keys, read_part
@@ -78,9 +80,11 @@ __all__ = [
     "dump_part",
     "duration",
     "duration_with_unit",
+    "file_key",
     "integer",
     "key",
     "keys_of",
+    "layer_key",
     "length",
     "length_with_unit",
     "located",

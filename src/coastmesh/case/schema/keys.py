@@ -39,7 +39,8 @@ import dataclasses
 from collections.abc import Callable, Mapping
 from typing import Any, TypeVar
 
-from coastmesh.case.schema.convert import Converter
+from coastmesh.case.schema.convert import Converter, string
+from coastmesh.case.schema.convert import path as to_path
 from coastmesh.case.schema.table import located
 from coastmesh.errors import ConfigError
 
@@ -153,6 +154,16 @@ def key(
     if dataclasses.is_dataclass(default) and not isinstance(default, type):
         return dataclasses.field(default_factory=lambda: default, **field_kw)
     return dataclasses.field(default=default, **field_kw)
+
+
+def file_key(doc: str, *, default_doc: str | None = None) -> Any:
+    """Declare ``path``: a file, relative to the case file's folder, default none."""
+    return key(None, check=to_path, path=True, doc=doc, default_doc=default_doc)
+
+
+def layer_key() -> Any:
+    """Declare ``layer``: the layer of ``path``'s vector file, default its only one."""
+    return key(None, check=string, default_doc="the only layer", doc="its layer")
 
 
 def keys_of(part: Any) -> list[tuple[dataclasses.Field[Any], Key]]:
