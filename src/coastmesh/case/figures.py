@@ -36,12 +36,18 @@ from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline import strategy_of
 from coastmesh.case.pipeline.depth import relief_due
 from coastmesh.case.pipeline.farms import turbine_rows
+from coastmesh.case.pipeline.state import (
+    CaseRun,
+    DepthRun,
+    FinishedRun,
+    MeshedRun,
+    SizedRun,
+)
 from coastmesh.case.processes import GUARD, process_context
 from coastmesh.errors import CoastmeshError
 from coastmesh.geometry import reproject_points
 
 if TYPE_CHECKING:
-    from coastmesh.case.pipeline.state import CaseRun
     from coastmesh.case.result import CaseResult
 
 __all__ = [
@@ -356,9 +362,9 @@ class FigureJobs:
         ``[bathymetry]``, once it is made), and again should it change after
         all; the quality figure once it is measured.
         """
-        name, domain = run.config.name, run.domain
-        if domain is None or run.size is None:
+        if not isinstance(run, SizedRun):
             return
+        name, domain = run.config.name, run.domain
         if "setup" not in self.followed:
             self.followed["setup"] = run.size
             field = run.size.field
@@ -373,29 +379,31 @@ class FigureJobs:
                 ),
                 int((4 / np.sqrt(3) * cell**2 / field.values**2).sum()),
             )
-        state = run.mesh
-        if state is None:
+        if not isinstance(run, MeshedRun):
             return
+        state = run.mesh
         triangles = len(state.mesh.triangles)
         if "parts" not in self.followed:
             self.followed["parts"] = state.parts
             jobs = parts_jobs(name, domain.domain, state.parts, state.mesh.crs)
             self.start(jobs, triangles)
-        relieved = run.depth is not None and (
-            run.depth.relief is not None or not relief_due(run.config)
+        depths = run.depth if isinstance(run, DepthRun) else None
+        relieved = depths is not None and (
+            depths.relief is not None or not relief_due(run.config)
         )
         final = run.config.bathymetry is None or relieved
         drawn = self.followed.get("mesh")
         if final and drawn is not state.mesh:
             self.followed["mesh"] = state.mesh
-            depth = None if run.depth is None else run.depth.report
+            depth = None if depths is None else depths.report
             jobs = mesh_jobs(
                 name, state.mesh, domain.domain, run.config, depth, run.time_step
             )
             self.start(jobs, triangles, again=drawn is not None)
-        if run.quality is not None and "quality" not in self.followed:
-            self.followed["quality"] = run.quality
-            self.start(quality_jobs(name, state.mesh, run.quality), triangles)
+        quality = run.quality if isinstance(run, FinishedRun) else None
+        if quality is not None and "quality" not in self.followed:
+            self.followed["quality"] = quality
+            self.start(quality_jobs(name, state.mesh, quality), triangles)
 
     def save(self, jobs: list[Job], folder: Path, triangles: int) -> list[str]:
         """Draw ``jobs`` into ``folder/figures``; return their names, relative."""

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from pyproj import CRS
 
-from coastmesh.case.pipeline.state import CaseRun, ShorelineSetReport
+from coastmesh.case.pipeline.state import FinishedRun, ShorelineSetReport
 from coastmesh.depth import DepthReport
 from coastmesh.geometry import DomainReport, StitchReport
 from coastmesh.meshing import CleanupReport, QualityReport, ThrottleReport
@@ -133,26 +133,25 @@ class CaseReport(Report):
     @classmethod
     def of(
         cls,
-        run: CaseRun,
+        run: FinishedRun,
         seconds: Mapping[str, float],
         files: tuple[str, ...] = (),
     ) -> CaseReport:
         """Read the report of a finished run: every stage's part, as it left it."""
         from coastmesh.version import __version__
 
-        config = run.config
-        shorelines, domain, size, mesh = run.built()
+        config, domain, mesh = run.config, run.domain, run.mesh
         return cls(
             case=config.name,
             source=None if config.source is None else str(config.source),
             coastmesh_version=__version__,
-            crs=shorelines.crs.to_string(),
+            crs=run.shorelines.crs.to_string(),
             mesh_crs=_crs_text(domain.mesh_crs),
             output_crs=domain.output_crs.to_string(),
-            shoreline_sets=dict(shorelines.reports),
+            shoreline_sets=dict(run.shorelines.reports),
             stitch=domain.stitch,
             domain=domain.report,
-            size_field=size.report,
+            size_field=run.size.report,
             mesh=MeshReport.of(mesh.mesh),
             cleanup=mesh.parts.cleanup,
             depth=None if run.depth is None else run.depth.report,

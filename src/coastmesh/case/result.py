@@ -22,7 +22,7 @@ from coastmesh.case.config import CaseConfig, OutputConfig
 from coastmesh.case.dump import dump_case
 from coastmesh.case.figures import FigureJobs, figure_jobs
 from coastmesh.case.pipeline.farms import write_turbines
-from coastmesh.case.pipeline.state import CaseRun
+from coastmesh.case.pipeline.state import FinishedRun
 from coastmesh.case.report import CaseReport
 from coastmesh.errors import ConfigError
 from coastmesh.geometry import OpenBoundary
@@ -103,24 +103,24 @@ class CaseResult:
 
     @classmethod
     def of(
-        cls, run: CaseRun, seconds: Mapping[str, float], elapsed: float
+        cls, run: FinishedRun, seconds: Mapping[str, float], elapsed: float
     ) -> CaseResult:
         """Return what a finished run made, its report read from it.
 
         ``seconds``: the time of each timed step; ``elapsed``: the whole build.
         """
-        shorelines, domain, size, mesh = run.built()
+        domain = run.domain
         return cls(
             config=run.config,
-            mesh=mesh.mesh,
+            mesh=run.mesh.mesh,
             domain=domain.domain,
-            size=size.field,
+            size=run.size.field,
             report=CaseReport.of(run, seconds),
             regions=domain.regions,
             open_boundaries=domain.open_boundaries,
-            crs=shorelines.crs,
+            crs=run.shorelines.crs,
             seconds=elapsed,
-            channel_width=size.layers.get("width"),
+            channel_width=run.size.layers.get("width"),
             site=run.site,
         )
 

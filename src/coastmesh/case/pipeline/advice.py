@@ -13,7 +13,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from coastmesh.case.pipeline.state import CaseRun, RunContext, missing
+from coastmesh.case.pipeline.state import DepthRun, FinishedRun, RunContext
 from coastmesh.errors import CoastmeshWarning
 from coastmesh.meshing import QualityReport, mesh_quality
 from coastmesh.meshing.cleanup.aside import done_now
@@ -29,11 +29,11 @@ __all__ = ["quality_stage", "warn_avoidable_corners", "warn_spanning"]
 _SHOWN = 5
 
 
-def quality_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+def quality_stage(run: DepthRun, ctx: RunContext) -> FinishedRun:
     """Measure the mesh (``[output] quality``); warn of what its author can change."""
-    config, state = run.config, run.mesh or missing("mesh")
+    config, state = run.config, run.mesh
     if not config.outputs.quality:
-        return run
+        return run.with_quality(None)
     courant = run.time_step
     with ctx.timed("mesh quality"), ThreadPoolExecutor(1) as side:
         # a global mesh (lon/lat) is checked on the sphere too: on a side
@@ -52,7 +52,7 @@ def quality_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
         if sphere is not None:
             quality = replace(quality, sphere=sphere.result())
     warn_avoidable_corners(quality, state.mesh)
-    size = run.size or missing("size field")
+    size = run.size
     channels = config.size.channels
     warn_spanning(
         quality,
@@ -61,7 +61,7 @@ def quality_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
         h_min=size.report.h_min_m,
         narrow=None if channels is None else channels.narrow,
     )
-    return replace(run, quality=quality)
+    return run.with_quality(quality)
 
 
 def model_time_step(mesh: Mesh, courant: CourantReport) -> float:

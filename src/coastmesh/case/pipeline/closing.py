@@ -30,7 +30,7 @@ from scipy import ndimage
 
 from coastmesh.case.config import CaseConfig, SizeConfig, floor, terms_smallest
 from coastmesh.case.pipeline.domain import site_area, with_land
-from coastmesh.case.pipeline.state import CaseRun, DomainState, RunContext, missing
+from coastmesh.case.pipeline.state import DomainRun, DomainState, RunContext
 from coastmesh.case.terms.base import Closing
 from coastmesh.errors import ConfigError
 from coastmesh.geometry import reproject
@@ -61,9 +61,9 @@ Piece = tuple[PlaneGrid, NDArray[np.int32], Found]
 CLOSE_PASSES = 2
 
 
-def close_water(run: CaseRun, ctx: RunContext) -> DomainState:
+def close_water(run: DomainRun, ctx: RunContext) -> DomainState:
     """Close what the channel term asks: narrow channels and slots, or slots."""
-    config, state = run.config, run.domain or missing("domain")
+    config, state = run.config, run.domain
     channels = config.size.channels
     if channels is None or not channels.enabled:
         return state

@@ -30,7 +30,7 @@ from pyproj import CRS
 from coastmesh.case.config import CaseConfig, NodeDepthConfig
 from coastmesh.case.config.sources import DepthSourceConfig
 from coastmesh.case.pipeline.farms import check_clearance, turbine_nodes
-from coastmesh.case.pipeline.state import CaseRun, DepthState, RunContext, missing
+from coastmesh.case.pipeline.state import DepthRun, DepthState, MeshedRun, RunContext
 from coastmesh.depth import DepthReport, DepthSource, DepthSources, depth_at_nodes
 from coastmesh.depth.nodes import MAX_LAND_SHARE, node_sources
 from coastmesh.depth.sources import check_blend, no_crs
@@ -55,11 +55,11 @@ __all__ = [
 logger = logging.getLogger(__name__)
 
 
-def depth_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+def depth_stage(run: MeshedRun, ctx: RunContext) -> DepthRun:
     """Put ``[bathymetry]``'s depths on the mesh's nodes (none without it)."""
-    b, state = run.config.bathymetry, run.mesh or missing("mesh")
+    b, state = run.config.bathymetry, run.mesh
     if b is None:
-        return run
+        return run.with_depth(None)
     with ctx.timed("depth at the nodes") as progress:
         crs = state.mesh.crs
         assert crs is not None  # the case's meshes carry their CRS
@@ -74,16 +74,17 @@ def depth_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     if run.site:
         check_clearance(run.site, mesh)
     depth = DepthState(rasters, report, deferred=tuple(caught or ()))
-    return replace(run, mesh=replace(state, mesh=mesh), depth=depth)
+    return replace(run, mesh=replace(state, mesh=mesh)).with_depth(depth)
 
 
-def time_step_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+def time_step_stage(run: DepthRun, ctx: RunContext) -> DepthRun:
     """Relieve the elements that throttle the time step; depth at moved nodes.
 
     The angles may not fall below Gmsh's own mesh's, the cleanup's bar.
     """
     config, state, depth = run.config, run.mesh, run.depth
-    if state is None or depth is None or not relief_due(config):
+    b = config.bathymetry  # not None with depths (and relief_due)
+    if b is None or depth is None or not relief_due(config):
         return run
     cleanup = state.parts.cleanup
     assert cleanup is not None  # relief_due: the parts were cleaned
@@ -106,7 +107,6 @@ def time_step_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
             return replace(run, depth=replace(depth, relief=report, deferred=()))
         # the merged nodes took their pair's mean depth: read the rasters there
         # (its warnings, about this mesh, replace those held back)
-        b = config.bathymetry or missing("[bathymetry]")
         relieved, depth_report = node_depths(
             b, relieved, depth.rasters, progress, ctx.threads
         )

@@ -12,7 +12,7 @@ import shapely
 from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline.domain import site_area
 from coastmesh.case.pipeline.farms import with_site_sizes
-from coastmesh.case.pipeline.state import CaseRun, MeshState, RunContext, missing
+from coastmesh.case.pipeline.state import MeshedRun, MeshState, RunContext, SizedRun
 from coastmesh.case.pipeline.structures import check_structure_sizes
 from coastmesh.errors import ConfigError
 from coastmesh.meshing import CleanupOptions, mesh_in_parts
@@ -38,14 +38,14 @@ MEMORY_PER_TRIANGLE = 1500
 BASE_MEMORY = 500e6
 
 
-def expected_triangles(run: CaseRun) -> float:
+def expected_triangles(run: SizedRun) -> float:
     """Return the triangles the size field asks for over the sea.
 
     ``4 / (sqrt(3) h^2)`` per unit area (an equilateral mesh of size ``h``),
     summed over the size grid's sea nodes, each standing for its cell's area
     on the Earth.
     """
-    size = run.size or missing("size field")
+    size = run.size
     grid, h = size.grid, np.asarray(size.field.values, dtype=np.float64)
     areas = grid.areas
     if areas is None:  # a plane grid: a cell, shrunk by the map's scale
@@ -54,7 +54,7 @@ def expected_triangles(run: CaseRun) -> float:
     return float(4.0 / np.sqrt(3.0) * (areas[sea] / h[sea] ** 2).sum())
 
 
-def check_memory(run: CaseRun) -> None:
+def check_memory(run: SizedRun) -> None:
     """Raise before meshing if the mesh asked for will not fit in this machine.
 
     The need is :data:`BASE_MEMORY` and :data:`MEMORY_PER_TRIANGLE` per
@@ -80,12 +80,12 @@ def check_memory(run: CaseRun) -> None:
         )
 
 
-def mesh_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+def mesh_stage(run: SizedRun, ctx: RunContext) -> MeshedRun:
     """Mesh the domain (``[mesh]``), cleaned part by part (``[cleanup]``).
 
     First checks that the mesh asked for fits in memory (:func:`check_memory`).
     """
-    config, state = run.config, run.domain or missing("domain")
+    config, state = run.config, run.domain
     check_memory(run)
     release_memory()  # what the shoreline sets and slots freed, before the workers
     size, inner = run.strategy.size_grid(run), None
@@ -114,10 +114,10 @@ def mesh_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
         )
     if parts.parts > 1:
         logger.info("parts: %s", parts.summary())
-    return replace(run, mesh=MeshState(mesh, parts))
+    return run.with_mesh(MeshState(mesh, parts))
 
 
-def channel_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+def channel_stage(run: MeshedRun, ctx: RunContext) -> MeshedRun:
     """Close the dead-end channels the mesh left one element wide.
 
     With the channel term on and ``narrow = "close"`` (the default): what the
@@ -128,7 +128,7 @@ def channel_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
     the open boundary (:func:`~coastmesh.meshing.cleanup.peel.open_short_runs`),
     as Telemac would make it.
     """
-    config, state = run.config, run.mesh or missing("mesh")
+    config, state = run.config, run.mesh
     channels = config.size.channels
     if (
         channels is not None

@@ -13,7 +13,6 @@ from __future__ import annotations
 import logging
 import warnings
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import replace
 from functools import partial
 from typing import TYPE_CHECKING
 
@@ -33,7 +32,7 @@ from coastmesh.case.pipeline.closing import smallest_size
 from coastmesh.case.pipeline.depth import read_sources
 from coastmesh.case.pipeline.domain import site_area
 from coastmesh.case.pipeline.farms import SiteFeatures
-from coastmesh.case.pipeline.state import CaseRun, RunContext, SizeState, missing
+from coastmesh.case.pipeline.state import DomainRun, RunContext, SizedRun, SizeState
 from coastmesh.case.schema import Check, check_part
 from coastmesh.case.terms import TERMS
 from coastmesh.case.terms.base import SizeCase, SizeTables
@@ -53,9 +52,9 @@ if TYPE_CHECKING:
 logger = logging.getLogger(__name__)
 
 
-def size_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
+def size_stage(run: DomainRun, ctx: RunContext) -> SizedRun:
     """Make the size field of the domain (``[mesh_size]``)."""
-    config, state = run.config, run.domain or missing("domain")
+    config, state = run.config, run.domain
     with ctx.timed("size field") as progress:
         case = SizeCase(
             config,
@@ -68,7 +67,7 @@ def size_stage(run: CaseRun, ctx: RunContext) -> CaseRun:
             lines=_farm_outlines(run.site, state.domain.crs),
         )
         size = size_field(run.strategy.grid(run, ctx), case, progress, ctx.threads)
-    return replace(run, size=size)
+    return run.with_size(size)
 
 
 def _farm_outlines(site: SiteFeatures | None, crs: CRS) -> dict[str, shapely.Geometry]:

@@ -1,13 +1,40 @@
-"""The run state of a case: :class:`CaseRun`, one typed part per stage.
+"""The run state of a case: one frozen class per point of the build.
 
 A case is built by the stages of :data:`coastmesh.case.pipeline.STAGES`, in
-order. Each stage takes the run as the stages before it left it and returns it
-with its own part filled in (:func:`dataclasses.replace`): the shorelines, the
-domain, the size field, the mesh, the depths and the quality, each with its
-report. The reports of a case (:class:`~coastmesh.case.report.CaseReport`) are
-read from the finished run, never patched. Where and how the run happens (the
-workers, the timer, the figures drawn on the way) is the :class:`RunContext`,
-not state.
+order. The run state grows as it goes, and its class says how far it has got:
+each class is the one before it plus the part its stage makes, that part never
+None, so a stage (or a strategy's step) annotated with the state it reads can
+only read what the stages before it made, and mypy checks it::
+
+    CaseRun(config, strategy)                 nothing made yet
+    ShorelineRun  + shorelines: Shorelines    shoreline_stage
+    DomainRun     + domain: DomainState       domain_stage (closing_stage cuts
+                  + site: SiteFeatures | None   it, site_stage sets the site)
+    SizedRun      + size: SizeState           size_stage
+    MeshedRun     + mesh: MeshState           mesh_stage (channel_stage peels it)
+    DepthRun      + depth: DepthState | None  depth_stage (time_step_stage
+                                                relieves it); None without
+                                                [bathymetry]
+    FinishedRun   + quality: QualityReport | None
+                                              quality_stage; None without
+                                                [output] quality
+
+A stage that makes a part returns the next class, built by the state's own
+``with_...`` method (:meth:`CaseRun.with_shorelines`, ...:
+:func:`dataclasses.replace` cannot change the class); a stage that changes a
+part already made (the closing, the channels, the time-step relief) returns
+the same class with :func:`dataclasses.replace`. What is truly optional stays
+optional: the site (a case without farms, turbines or lines), the depths
+(without ``[bathymetry]``) and the quality (with ``[output] quality = false``).
+
+:data:`~coastmesh.case.pipeline.STAGES` is one list of stages of different
+types, so :func:`~coastmesh.case.pipeline.build_run` checks, before it calls a
+stage, that the run is the state the stage reads (its ``run`` parameter's
+annotation): a stage listed before one that makes what it reads fails before
+it runs, naming it and the parts the run lacks. The reports of a case
+(:class:`~coastmesh.case.report.CaseReport`) are read from the finished run,
+never patched. Where and how the run happens (the workers, the timer, the
+figures drawn on the way) is the :class:`RunContext`, not state.
 """
 
 from __future__ import annotations
@@ -19,7 +46,7 @@ import time
 import warnings
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, NamedTuple, NoReturn
+from typing import TYPE_CHECKING, TypeVar
 
 import numpy as np
 import shapely
@@ -54,18 +81,22 @@ if TYPE_CHECKING:
     from coastmesh.case.pipeline.strategy import Strategy
 
 __all__ = [
-    "Built",
     "CaseRun",
     "ChangedIsland",
     "ClosingReport",
+    "DepthRun",
     "DepthState",
+    "DomainRun",
     "DomainState",
+    "FinishedRun",
     "MeshState",
+    "MeshedRun",
     "RunContext",
+    "ShorelineRun",
     "ShorelineSetReport",
     "Shorelines",
     "SizeState",
-    "missing",
+    "SizedRun",
 ]
 
 logger = logging.getLogger("coastmesh.case.build")
@@ -200,9 +231,9 @@ class Shorelines:
         case CRS of a regional case; the plane of :attr:`world` in a global one.
     reports : mapping of str to ShorelineSetReport
     world : WorldLand or None
-        A global case's world land in the stereographic plane (its ``crs``),
-        what :class:`~coastmesh.case.pipeline.world.Global` takes on to the
-        domain and the size grid; None in a regional case.
+        A global case's world land in the stereographic plane (its ``crs``,
+        whose singular point is ``[domain] pole``), before the sets were made
+        of it; None in a regional case.
     """
 
     features: Features
@@ -291,56 +322,127 @@ class DepthState:
 
 @dataclass(frozen=True)
 class CaseRun:
-    """A case being built: its config, its strategy, and what each stage made.
+    """A case about to be built: its config and its strategy, nothing made yet.
 
-    Each part is None until its stage has run (:data:`STAGES`).
+    The first of the run states (the module's docstring has them all): each
+    stage of :data:`~coastmesh.case.pipeline.STAGES` reads one of them and
+    returns it, or the next, with its part made.
     """
 
     config: CaseConfig
     strategy: Strategy
-    shorelines: Shorelines | None = None
-    domain: DomainState | None = None
-    size: SizeState | None = None
-    mesh: MeshState | None = None
-    depth: DepthState | None = None
-    quality: QualityReport | None = None
+
+    def with_shorelines(self, shorelines: Shorelines) -> ShorelineRun:
+        """Return the run with its shoreline layer and sets made."""
+        return _next(self, ShorelineRun, shorelines=shorelines)
+
+
+@dataclass(frozen=True)
+class ShorelineRun(CaseRun):
+    """A run with its shorelines made (``shoreline_stage``)."""
+
+    shorelines: Shorelines
+
+    def with_domain(self, domain: DomainState) -> DomainRun:
+        """Return the run with its domain made."""
+        return _next(self, DomainRun, domain=domain)
+
+
+@dataclass(frozen=True)
+class DomainRun(ShorelineRun):
+    """A run with its domain made (``domain_stage``).
+
+    The closing stage cuts the domain, and the site stage sets the site (read
+    and checked), each returning a :class:`DomainRun` still.
+    """
+
+    domain: DomainState
     #: the farms and turbines, checked; None in a case without them
-    site: SiteFeatures | None = None
+    site: SiteFeatures | None = field(default=None, kw_only=True)
+
+    def with_size(self, size: SizeState) -> SizedRun:
+        """Return the run with its size field made."""
+        return _next(self, SizedRun, size=size)
+
+
+@dataclass(frozen=True)
+class SizedRun(DomainRun):
+    """A run with its size field made (``size_stage``)."""
+
+    size: SizeState
 
     @property
     def time_step(self) -> CourantReport | None:
-        """The model's time step and Courant window, once the size field has one.
+        """The model's time step and Courant window, if the size field has one.
 
         The Courant term's report (``dt`` as given, or worked out with
-        ``dt = "auto"``); None without the term or before the size stage.
+        ``dt = "auto"``); None without the term.
         """
-        if self.size is None:
-            return None
         report = self.size.report.terms.get("courant")
         return report if isinstance(report, CourantReport) else None
 
-    def built(self) -> Built:
-        """Return the parts every built case has; raise if a stage has not run."""
-        return Built(
-            self.shorelines or missing("shorelines"),
-            self.domain or missing("domain"),
-            self.size or missing("size field"),
-            self.mesh or missing("mesh"),
-        )
+    def with_mesh(self, mesh: MeshState) -> MeshedRun:
+        """Return the run with its mesh made."""
+        return _next(self, MeshedRun, mesh=mesh)
 
 
-class Built(NamedTuple):
-    """The parts of a run that every built case has (:meth:`CaseRun.built`)."""
+@dataclass(frozen=True)
+class MeshedRun(SizedRun):
+    """A run with its mesh made (``mesh_stage``).
 
-    shorelines: Shorelines
-    domain: DomainState
-    size: SizeState
+    The channel stage peels the mesh, returning a :class:`MeshedRun` still.
+    """
+
     mesh: MeshState
 
+    def with_depth(self, depth: DepthState | None) -> DepthRun:
+        """Return the run with its depth stage done (``depth`` None: no depths)."""
+        return _next(self, DepthRun, depth=depth)
 
-def missing(part: str) -> NoReturn:
-    """Raise for a stage run before the stage that makes ``part``."""
-    raise RuntimeError(f"the case has no {part} yet: its stage has not run")
+
+@dataclass(frozen=True)
+class DepthRun(MeshedRun):
+    """A run whose depth stage is done (``depth_stage``).
+
+    ``depth`` is None in a case without ``[bathymetry]``. The time-step stage
+    relieves the mesh and reads the depths again, returning a
+    :class:`DepthRun` still.
+    """
+
+    depth: DepthState | None
+
+    def with_quality(self, quality: QualityReport | None) -> FinishedRun:
+        """Return the run with its quality stage done (``quality`` None: not asked)."""
+        return _next(self, FinishedRun, quality=quality)
+
+
+@dataclass(frozen=True)
+class FinishedRun(DepthRun):
+    """A run every stage has run on: what a case result is read from.
+
+    ``quality`` is None with ``[output] quality = false``.
+    """
+
+    quality: QualityReport | None
+
+
+#: A run state, in :func:`_next`.
+_Run = TypeVar("_Run", bound=CaseRun)
+
+
+def _next(run: CaseRun, to: type[_Run], **part: object) -> _Run:
+    """Return the run as the state ``to``: the parts of ``run`` it has, and ``part``.
+
+    The one place a run changes class (:func:`dataclasses.replace` keeps it);
+    the ``with_...`` methods give it its types. A part of ``run`` that ``to``
+    does not have is left behind (made from what ``part`` replaces).
+    """
+    have = {f.name for f in dataclasses.fields(run)}
+    values = {
+        f.name: getattr(run, f.name) for f in dataclasses.fields(to) if f.name in have
+    }
+    values.update(part)
+    return to(**values)
 
 
 @dataclass(eq=False)
@@ -380,5 +482,8 @@ class RunContext:
         self.seconds[label] = round(time.perf_counter() - t0, 3)
 
 
-#: A stage: the run so far and its context in, the run with the stage's part out.
-Stage = Callable[[CaseRun, RunContext], CaseRun]
+#: A stage: the run state it reads (its ``run`` parameter says which) and the
+#: context in, the run with the stage's part out. The stages read different
+#: states, so their list cannot say which each reads: ``build_run`` checks it
+#: before each call (:func:`~coastmesh.case.pipeline.stage_input`).
+Stage = Callable[..., CaseRun]

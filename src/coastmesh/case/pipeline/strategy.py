@@ -24,10 +24,12 @@ from coastmesh.case.pipeline.domain import build_case_domain
 from coastmesh.case.pipeline.shorelines import regional_sets
 from coastmesh.case.pipeline.state import (
     CaseRun,
+    DomainRun,
     DomainState,
     RunContext,
+    ShorelineRun,
     Shorelines,
-    missing,
+    SizedRun,
 )
 from coastmesh.depth import DepthSources
 from coastmesh.geometry.projection import default_mesh_crs
@@ -56,25 +58,25 @@ class Strategy:
         """Read the shoreline layer and build the shoreline sets."""
         raise NotImplementedError
 
-    def domain(self, run: CaseRun, ctx: RunContext) -> DomainState:
+    def domain(self, run: ShorelineRun, ctx: RunContext) -> DomainState:
         """Build the domain from the sets; choose the CRSs of the mesh."""
         raise NotImplementedError
 
-    def close_water(self, run: CaseRun, ctx: RunContext) -> DomainState:
+    def close_water(self, run: DomainRun, ctx: RunContext) -> DomainState:
         """Close water too narrow to mesh, as land; the domain cut by it."""
-        return run.domain or missing("domain")
+        return run.domain
 
-    def grid(self, run: CaseRun, ctx: RunContext) -> Grid:
+    def grid(self, run: DomainRun, ctx: RunContext) -> Grid:
         """Return the grid of the size field."""
         raise NotImplementedError
 
     def read_depth(
-        self, run: CaseRun, part: RasterConfig
+        self, run: DomainRun, part: RasterConfig
     ) -> xr.DataArray | DepthSources:
         """Read a ``[bathymetry]``-like part's rasters for the size terms."""
         raise NotImplementedError
 
-    def size_grid(self, run: CaseRun) -> SizeGrid | SphereSizeGrid:
+    def size_grid(self, run: SizedRun) -> SizeGrid | SphereSizeGrid:
         """Return the size field as the mesher takes it."""
         raise NotImplementedError
 
@@ -90,9 +92,9 @@ class Regional(Strategy):
         """Read the shorelines; build each set in the case CRS."""
         return regional_sets(run, ctx)
 
-    def domain(self, run: CaseRun, ctx: RunContext) -> DomainState:
+    def domain(self, run: ShorelineRun, ctx: RunContext) -> DomainState:
         """Build the domain in the case CRS; mesh in ``[mesh] crs`` or UTM."""
-        config, shorelines = run.config, run.shorelines or missing("shorelines")
+        config, shorelines = run.config, run.shorelines
         crs = shorelines.crs
         with ctx.timed("building the domain"):
             state = build_case_domain(
@@ -106,24 +108,24 @@ class Regional(Strategy):
             state = _with_mesh_crs(state, default_mesh_crs(state.domain))
         return state
 
-    def close_water(self, run: CaseRun, ctx: RunContext) -> DomainState:
+    def close_water(self, run: DomainRun, ctx: RunContext) -> DomainState:
         """Close slots, and narrow channels with ``narrow = "close"``."""
         return close_water(run, ctx)
 
-    def grid(self, run: CaseRun, ctx: RunContext) -> Grid:
+    def grid(self, run: DomainRun, ctx: RunContext) -> Grid:
         """Return a grid regular in the meshing CRS, two cells beyond the domain."""
-        return size_grid(run.domain or missing("domain"), run.config, ctx.threads)
+        return size_grid(run.domain, run.config, ctx.threads)
 
-    def read_depth(self, run: CaseRun, part: RasterConfig) -> DepthSources:
+    def read_depth(self, run: DomainRun, part: RasterConfig) -> DepthSources:
         """Read the part's rasters over the domain's box only."""
-        domain = (run.domain or missing("domain")).domain
+        domain = run.domain.domain
         polygon = domain.polygon
         ring = shapely.segmentize(polygon.exterior, polygon.length / 400)
         return read_sources(part.stack, shapely.get_coordinates(ring), domain.crs)
 
-    def size_grid(self, run: CaseRun) -> SizeGrid:
+    def size_grid(self, run: SizedRun) -> SizeGrid:
         """Return the size field in metres, with the grid's scale factors."""
-        size = run.size or missing("size field")
+        size = run.size
         return SizeGrid(
             size.grid.x, size.grid.y, size.field.values, scale=size.grid.scale
         )

@@ -47,11 +47,13 @@ from coastmesh.case.pipeline.state import (
     CaseRun,
     ChangedIsland,
     ClosingReport,
+    DomainRun,
     DomainState,
     RunContext,
+    ShorelineRun,
     Shorelines,
     ShorelineSetReport,
-    missing,
+    SizedRun,
 )
 from coastmesh.case.pipeline.strategy import Strategy
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
@@ -123,10 +125,10 @@ class Global(Strategy):
                 )
         return Shorelines(features, crs, sets, reports, world=world)
 
-    def domain(self, run: CaseRun, ctx: RunContext) -> DomainState:
+    def domain(self, run: ShorelineRun, ctx: RunContext) -> DomainState:
         """Build the ocean in the plane; mesh there, write in lon/lat."""
-        config, shorelines = run.config, run.shorelines or missing("shorelines")
-        plane = (shorelines.world or missing("the world")).crs
+        config, shorelines = run.config, run.shorelines
+        plane = plane_crs(config.domain.pole)  # the world land's (world_land)
         lonlat = shorelines.crs
         named = geos_errors_named(str(config.shorelines.path), plane)
         with ctx.timed("building the domain"), named:
@@ -142,22 +144,20 @@ class Global(Strategy):
                 ),
             )
 
-    def grid(self, run: CaseRun, ctx: RunContext) -> SphereGrid:
+    def grid(self, run: DomainRun, ctx: RunContext) -> SphereGrid:
         """Return the world lon/lat grid, from below the ocean's southernmost point."""
-        size, state = run.config.size, run.domain or missing("domain")
-        shorelines = run.shorelines or missing("shorelines")
+        size, state = run.config.size, run.domain
         cell = DEFAULT_CELL_DEG if size.cell is None else size.cell / METRES_PER_DEGREE
         exterior = state.domain.polygon.exterior
-        south = reproject(exterior, state.domain.crs, shorelines.crs).bounds[1]
-        world = shorelines.world or missing("the world")
+        south = reproject(exterior, state.domain.crs, run.shorelines.crs).bounds[1]
         return SphereGrid(
             cell,
             south=max(math.floor(south - 2 * cell), -90.0),
             domain=state.domain,
-            pole=world.pole,
+            pole=_pole(run.config),
         )
 
-    def read_depth(self, run: CaseRun, part: RasterConfig) -> xr.DataArray:
+    def read_depth(self, run: DomainRun, part: RasterConfig) -> xr.DataArray:
         """Read the one raster whole (a world grid)."""
         if part.sources:
             raise ConfigError(
@@ -167,17 +167,26 @@ class Global(Strategy):
         assert part.path is not None  # _validate: path or sources
         return read_raster(part.path)
 
-    def size_grid(self, run: CaseRun) -> SphereSizeGrid:
+    def size_grid(self, run: SizedRun) -> SphereSizeGrid:
         """Return the field on the lon/lat grid, scaled to the plane when sampled."""
-        size = run.size or missing("size field")
-        world = (run.shorelines or missing("shorelines")).world or missing("world")
-        state = run.domain or missing("domain")
-        xy = shapely.get_coordinates(state.domain.polygon.exterior)
+        xy = shapely.get_coordinates(run.domain.domain.polygon.exterior)
         return SphereSizeGrid(
-            SizeGrid.from_dataarray(size.field),
-            world.pole,
+            SizeGrid.from_dataarray(run.size.field),
+            _pole(run.config),
             reach=float(np.hypot(xy[:, 0], xy[:, 1]).max()),
         )
+
+
+def _pole(config: CaseConfig) -> tuple[float, float]:
+    """Return ``[domain] pole`` (lon, lat), as the world land holds it.
+
+    The plane and its singular point are the case's
+    (:func:`~coastmesh.geometry.world_land` makes the plane of this pole), so
+    the domain and the grids take them from the config, not from the
+    shorelines' world land (None in a regional case).
+    """
+    lon, lat = config.domain.pole
+    return float(lon), float(lat)
 
 
 def _from_lonlat(lonlat: CRS, plane: CRS) -> Place:
