@@ -14,13 +14,13 @@ import warnings
 from collections.abc import Callable
 from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-from coastmesh.depth.sources import DepthSource, DepthSources
+from coastmesh.depth.sources import DepthSource, DepthSources, SourceSample
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry.earth import mesh_earth_centred, reproject_points
 from coastmesh.types import Mesh, Report
@@ -29,6 +29,8 @@ from coastmesh.types.topology import unique_edges
 if TYPE_CHECKING:
     import xarray as xr
     from pyproj import CRS
+
+_R = TypeVar("_R")
 
 __all__ = [
     "DEPTH_METHODS",
@@ -383,6 +385,7 @@ def depth_at_nodes(
         rules=rules,
     )
     if report.coarse:
+        assert radius is not None  # measured: coarse nodes are at the coast
         warnings.warn(
             _coarse_message(sources, mesh, source, coarse, radius),
             CoarseRasterWarning,
@@ -440,7 +443,12 @@ def _floor_causes(
     return {cause: int(where.sum()) for cause, where in groups.items()}
 
 
-def _sample(sources: DepthSources, mesh: Mesh, radius, outside: str):
+def _sample(
+    sources: DepthSources,
+    mesh: Mesh,
+    radius: NDArray[np.float64] | None,
+    outside: str,
+) -> tuple[SourceSample, NDArray[np.float64], NDArray[np.int64]]:
     """Sample the stack at the nodes; uncovered nodes by ``outside``.
 
     Returns the sample, the depths (plain bilinear, or cell means) and the
@@ -474,7 +482,15 @@ def _sample(sources: DepthSources, mesh: Mesh, radius, outside: str):
     return sample, plain, source
 
 
-def _treat_land(mesh, sources, depth, dry, land, min_depth, land_distance):
+def _treat_land(
+    mesh: Mesh,
+    sources: DepthSources,
+    depth: NDArray[np.float64],
+    dry: NDArray[np.bool_],
+    land: str,
+    min_depth: float | None,
+    land_distance: float | None,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_]]:
     """Give the ``dry`` nodes their depth by the ``land`` rule.
 
     Returns the depths, the nodes that took the nearest wet cell, and the
@@ -483,7 +499,7 @@ def _treat_land(mesh, sources, depth, dry, land, min_depth, land_distance):
     tapered = np.zeros(len(depth), dtype=bool)
     took_wet = np.zeros(len(depth), dtype=bool)
     if dry.any() and land in ("wet", "nearest_sea", "smooth"):
-        value, _, distance = sources.nearest(mesh.points[dry], mesh.crs, kind="wet")
+        value, _, distance = sources.nearest(mesh.points[dry], _crs(mesh), kind="wet")
         found = np.isfinite(value)
         took_wet[np.flatnonzero(dry)[found]] = True
         if land == "wet" and min_depth is not None:
@@ -492,6 +508,8 @@ def _treat_land(mesh, sources, depth, dry, land, min_depth, land_distance):
         depth = depth.copy()
         depth[dry] = np.where(found, value, depth[dry])
     if land == "smooth":
+        # _check_args refuses "smooth" without both
+        assert min_depth is not None and land_distance is not None
         depth, tapered = _taper(mesh, depth, min_depth, land_distance)
     return depth, took_wet, tapered
 
@@ -520,7 +538,13 @@ def _check_land_share(
     )
 
 
-def _taper_across(mesh: Mesh, dry, value, distance, min_depth: float):
+def _taper_across(
+    mesh: Mesh,
+    dry: NDArray[np.bool_],
+    value: NDArray[np.float64],
+    distance: NDArray[np.float64],
+    min_depth: float,
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Taper the nearest wet depths of the ``dry`` nodes to ``min_depth`` at the coast.
 
     ``min_depth + (value - min_depth) * s / (s + r)``: ``s`` the distance to
@@ -547,17 +571,18 @@ def _coast_nodes(mesh: Mesh) -> NDArray[np.int64]:
     return np.unique(mesh.boundary_edges[on_coast])
 
 
-def _coast_distance(mesh: Mesh, nodes: NDArray[np.int64]):
+def _coast_distance(mesh: Mesh, nodes: NDArray[np.int64]) -> NDArray[np.float64] | None:
     """Return the distances (metres, chords) from ``nodes`` to the coast."""
     coast = _coast_nodes(mesh)
     if coast.size == 0:
         return None
     xyz, _ = mesh_earth_centred(mesh)
+    d: NDArray[np.float64]  # scipy is untyped here (no stubs among the dependencies)
     d, _ = cKDTree(xyz[coast]).query(xyz[nodes])
     return d
 
 
-def _aside(fn: Any, *args: Any) -> Future:
+def _aside(fn: Callable[..., _R], *args: Any) -> Future[_R]:
     """Return the future of ``fn(*args)``, called on a thread of its own."""
     pool = ThreadPoolExecutor(1)
     future = pool.submit(fn, *args)
@@ -566,7 +591,11 @@ def _aside(fn: Any, *args: Any) -> Future:
 
 
 def _coarse_at_coast(
-    sources: DepthSources, mesh: Mesh, source, at_coast, radius=None
+    sources: DepthSources,
+    mesh: Mesh,
+    source: NDArray[np.int64],
+    at_coast: NDArray[np.bool_],
+    radius: NDArray[np.float64] | None = None,
 ) -> tuple[NDArray[np.bool_], NDArray[np.float64] | None]:
     """Return the nodes beside land cells with elements finer than their cells.
 
@@ -580,7 +609,13 @@ def _coarse_at_coast(
     return at_coast & (source >= 0) & (COARSE_RATIO * (2.0 * radius) < cells), radius
 
 
-def _coarse_message(sources: DepthSources, mesh: Mesh, source, coarse, radius) -> str:
+def _coarse_message(
+    sources: DepthSources,
+    mesh: Mesh,
+    source: NDArray[np.int64],
+    coarse: NDArray[np.bool_],
+    radius: NDArray[np.float64],
+) -> str:
     """Name the coarse rasters, the share of nodes, where, and a finer source."""
     n = len(coarse)
     parts = []
@@ -605,7 +640,7 @@ def _coarse_message(sources: DepthSources, mesh: Mesh, source, coarse, radius) -
     )
 
 
-def node_sources(mesh: Mesh, raster: xr.DataArray | DepthSources) -> NDArray:
+def node_sources(mesh: Mesh, raster: xr.DataArray | DepthSources) -> NDArray[np.int64]:
     """Return the index of the source each node's depth came from (-1: none)."""
     sources = _stack(raster, "up")
     crs = _crs(mesh)
@@ -625,7 +660,14 @@ def _stack(raster: xr.DataArray | DepthSources, positive: str) -> DepthSources:
     return DepthSources([DepthSource(raster, positive)])
 
 
-def _check_args(mesh, method, min_depth, outside, land, land_distance) -> None:
+def _check_args(
+    mesh: Mesh,
+    method: str,
+    min_depth: float | None,
+    outside: str,
+    land: str,
+    land_distance: float | None,
+) -> None:
     if method not in DEPTH_METHODS:
         raise ConfigError(f"method = {method!r}: use one of {DEPTH_METHODS}")
     if min_depth is not None and not np.isfinite(min_depth):
@@ -658,7 +700,9 @@ def _crs(mesh: Mesh) -> CRS:
     return mesh.crs
 
 
-def _taper(mesh: Mesh, depth, min_depth: float, width: float):
+def _taper(
+    mesh: Mesh, depth: NDArray[np.float64], min_depth: float, width: float
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Taper depths within ``width`` of the coast to ``min_depth`` at the coast.
 
     ``depth = min_depth + (depth - min_depth) * d / width`` where ``d`` (metres,
@@ -669,6 +713,7 @@ def _taper(mesh: Mesh, depth, min_depth: float, width: float):
     if coast.size == 0:
         return depth, np.zeros(len(depth), dtype=bool)
     xyz, _ = mesh_earth_centred(mesh)
+    d: NDArray[np.float64]  # scipy is untyped here (no stubs among the dependencies)
     d, _ = cKDTree(xyz[coast]).query(xyz, distance_upper_bound=width)
     near = np.isfinite(d) & (depth > min_depth)
     s = d[near] / width
@@ -717,7 +762,8 @@ def limit_slope(
         [max_slope * lengths, max_slope * lengths, depth - base + 1e-300]
     )
     graph = coo_matrix((weights, (rows, cols)), shape=(n + 1, n + 1)).tocsr()
-    limited = dijkstra(graph, directed=True, indices=n)[:n] + base
+    # scipy is untyped here (no stubs among the dependencies)
+    limited: NDArray[np.float64] = dijkstra(graph, directed=True, indices=n)[:n] + base
     return np.minimum(limited, depth)
 
 

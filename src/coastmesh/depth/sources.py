@@ -183,7 +183,7 @@ class _Prepared:
         #: the ramp's width; a blend under half a cell is a step at the half cell
         self.ramp = max(self.blend - self.delta, 1e-6)
         self._trees: dict[str, tuple[cKDTree, NDArray[np.float64]] | None] = {}
-        self._sums: dict[bool, tuple[NDArray, NDArray]] = {}
+        self._sums: dict[bool, tuple[NDArray[np.float64], NDArray[np.float64]]] = {}
         #: the cell size, metres: what the raster can tell apart
         self.cell_m = float(max(dx_m, dy_m))
 
@@ -191,7 +191,7 @@ class _Prepared:
         self,
         points: NDArray[np.float64],
         crs: CRS,
-        radius: NDArray | None,
+        radius: NDArray[np.float64] | None,
         wet: bool = False,
     ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
         """Bilinear values, or cell means where ``radius`` spans several cells.
@@ -208,7 +208,13 @@ class _Prepared:
         used &= np.isfinite(z)
         return np.where(used, means, z), used
 
-    def _box_means(self, px, py, radius, wet=False):
+    def _box_means(
+        self,
+        px: NDArray[np.float64],
+        py: NDArray[np.float64],
+        radius: NDArray[np.float64],
+        wet: bool = False,
+    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
         """Mean of the valid (wet) cells within ``radius`` of each point.
 
         By summed-area tables, one per kind of cell.
@@ -241,8 +247,11 @@ class _Prepared:
         i0, i1 = np.clip(ci - kx, 0, nx), np.clip(ci + kx + 1, 0, nx)
         j0, j1 = np.clip(cj - ky, 0, ny), np.clip(cj + ky + 1, 0, ny)
 
-        def box(table):
-            return table[j1, i1] - table[j0, i1] - table[j1, i0] + table[j0, i0]
+        def box(table: NDArray[np.float64]) -> NDArray[np.float64]:
+            total: NDArray[np.float64] = (
+                table[j1, i1] - table[j0, i1] - table[j1, i0] + table[j0, i0]
+            )
+            return total
 
         n = box(counts)
         with np.errstate(invalid="ignore", divide="ignore"):
@@ -373,7 +382,13 @@ class DepthSources:
         snapped = self._snap(pts, crs, depth, source)
         return SourceSample(depth, source, blended, snapped, averaged, tuple(hits))
 
-    def _snap(self, pts, crs, depth, source) -> NDArray[np.bool_]:
+    def _snap(
+        self,
+        pts: NDArray[np.float64],
+        crs: CRS,
+        depth: NDArray[np.float64],
+        source: NDArray[np.int64],
+    ) -> NDArray[np.bool_]:
         """Give uncovered points within a cell diagonal of a source its cell."""
         snapped = np.zeros(len(pts), dtype=bool)
         for k, prep in enumerate(self._prepared):
@@ -419,7 +434,9 @@ class DepthSources:
             )
         return value, which, best
 
-    def uncovered_message(self, sample: SourceSample, points, crs) -> str:
+    def uncovered_message(
+        self, sample: SourceSample, points: ArrayLike, crs: CRS | str
+    ) -> str:
         """Say which points no source covers, where, and each source's share."""
         pts = np.asarray(points, dtype=np.float64).reshape(-1, 2)
         gap = sample.uncovered
@@ -442,7 +459,9 @@ class DepthSources:
         )
 
 
-def _reproject(points, src: CRS, dst: CRS) -> tuple[NDArray, NDArray]:
+def _reproject(
+    points: ArrayLike, src: CRS, dst: CRS
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Reproject, with points the target cannot hold as NaN (never covered)."""
     with np.errstate(invalid="ignore"):
         xy = reproject_points(points, src, dst)
@@ -453,9 +472,15 @@ def _earth(points: NDArray[np.float64], crs: CRS) -> NDArray[np.float64]:
     return earth_centred(points, crs, name="bathymetry points")
 
 
-def _distance(tree, xyz: NDArray[np.float64], upper: float) -> NDArray[np.float64]:
+def _distance(
+    tree: tuple[cKDTree, NDArray[np.float64]] | None,
+    xyz: NDArray[np.float64],
+    upper: float,
+) -> NDArray[np.float64]:
     """Distances to the nearest edge cell, capped at ``upper`` (inf beyond)."""
     if tree is None:
         return np.full(len(xyz), np.inf)
+    # scipy is untyped here (no stubs among the dependencies)
+    d: NDArray[np.float64]
     d, _ = tree[0].query(xyz, distance_upper_bound=upper)
     return d

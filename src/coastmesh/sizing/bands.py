@@ -36,12 +36,12 @@ from coastmesh.sizing.distance import (
     nearest_arcs,
 )
 from coastmesh.sizing.gradation import gradation_size
-from coastmesh.types import local_cores, runner_workers, serial_runner
+from coastmesh.types import Runner, local_cores, runner_workers, serial_runner
 
 if TYPE_CHECKING:
     from coastmesh.sizing.gradation import Gradation
 
-__all__ = ["BandTask", "band_count", "graded_band", "graded_sizes"]
+__all__ = ["BandRunner", "BandTask", "band_count", "graded_band", "graded_sizes"]
 
 #: Bands per worker: a few, so that one slow band does not hold the rest up.
 BANDS_PER_WORKER = 2
@@ -90,6 +90,10 @@ class BandTask:
         return float(len(self.nodes) + sum(len(v) for v in self.vertices))
 
 
+#: The runner of :func:`graded_sizes`'s bands: :func:`graded_band` on each task.
+BandRunner = Runner[BandTask, NDArray[np.float64]]
+
+
 def graded_band(task: BandTask) -> NDArray[np.float64]:
     """Return the band's size (rows, nx): the minimum over its gradations."""
     size = np.full(len(task.nodes), float(task.h_max))
@@ -121,7 +125,7 @@ def graded_sizes(
     crs: CRS,
     h_max: float,
     resolution: float,
-    runner: Any = None,
+    runner: BandRunner | None = None,
     bands: int | None = None,
 ) -> NDArray[np.float64]:
     """Return the gradations' size (ny, nx) on the grid of nodes ``x``, ``y``.
@@ -195,7 +199,9 @@ def band_count(runner: Any) -> int:
 
 
 def _within_reach(
-    band: NDArray[np.float64], vertices: list[NDArray], bounds: list[float]
+    band: NDArray[np.float64],
+    vertices: list[NDArray[np.float64]],
+    bounds: list[float],
 ) -> list[NDArray[np.float64]]:
     """Per gradation, its vertices in the band's box widened by the search bound."""
     low, high = band.min(axis=0), band.max(axis=0)

@@ -158,7 +158,9 @@ def _opening(depth: NDArray[np.float64], r: float) -> NDArray[np.bool_]:
     centres = depth >= r
     if not centres.any():
         return centres
-    return ndimage.distance_transform_edt(~centres) <= r
+    # scipy is untyped here (no stubs among the dependencies)
+    distance: NDArray[np.float64] = ndimage.distance_transform_edt(~centres)
+    return distance <= r
 
 
 def narrow_width(
@@ -214,7 +216,9 @@ def channel_size(
     return np.maximum(width / elements_across, h_min)
 
 
-def over_land(term: NDArray[np.float64], water: NDArray[np.bool_]) -> NDArray:
+def over_land(
+    term: NDArray[np.float64], water: NDArray[np.bool_]
+) -> NDArray[np.float64]:
     """Return ``term`` with each land node given its nearest water node's value.
 
     The width is 0 on land, which would put ``h_min`` on every land node: Gmsh
@@ -232,10 +236,12 @@ def over_land(term: NDArray[np.float64], water: NDArray[np.bool_]) -> NDArray:
     """
     if water.all() or not water.any():
         return term
-    nearest = ndimage.distance_transform_edt(
+    # scipy is untyped here (no stubs among the dependencies)
+    nearest: NDArray[np.intp] = ndimage.distance_transform_edt(
         ~water, return_distances=False, return_indices=True
     )
-    return term[tuple(nearest)]
+    near: NDArray[np.float64] = term[tuple(nearest)]
+    return near
 
 
 def domain_width(

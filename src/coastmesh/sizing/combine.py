@@ -124,7 +124,7 @@ class SizeFieldReport(Report):
 
     def __getattr__(self, name: str) -> Report | None:
         """Return a term's report by its key: ``report.channels``."""
-        terms = object.__getattribute__(self, "terms")
+        terms: Mapping[str, Report | None] = object.__getattribute__(self, "terms")
         if name in terms:
             return terms[name]
         raise AttributeError(f"{type(self).__name__} has no {name!r}")

@@ -130,4 +130,5 @@ def round_step(seconds: float) -> float:
     if not (math.isfinite(seconds) and seconds > 0):
         return seconds
     digits = 1 - math.floor(math.log10(seconds))
-    return round(math.floor(seconds * 10**digits + 1e-9) / 10**digits, max(digits, 0))
+    scale: float = 10**digits  # an int, or a float for digits < 0
+    return round(math.floor(seconds * scale + 1e-9) / scale, max(digits, 0))

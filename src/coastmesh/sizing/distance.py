@@ -136,7 +136,8 @@ def chord_bound(max_distance: float | None, resolution: float) -> float:
     if max_distance is None:
         return np.inf
     half = min(max_distance / (2 * EARTH_RADIUS), np.pi / 2)
-    return 2 * EARTH_RADIUS * np.sin(half) * (1 + 1e-9) + resolution
+    chord: float = 2 * EARTH_RADIUS * np.sin(half) * (1 + 1e-9) + resolution
+    return chord
 
 
 #: The coarse pass of :func:`nearest_arcs` keeps a vertex per cube of this

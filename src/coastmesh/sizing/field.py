@@ -6,9 +6,9 @@ from typing import TYPE_CHECKING
 
 from pyproj import CRS
 
+from coastmesh.sizing.bands import BandRunner
 from coastmesh.sizing.gradation import Gradation
 from coastmesh.sizing.grid import PlaneGrid
-from coastmesh.types import Runner
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -24,7 +24,7 @@ def size_field(
     h_max: float,
     cell: float,
     rate: float | None = None,
-    runner: Runner | None = None,
+    runner: BandRunner | None = None,
 ) -> xr.DataArray:
     """Target edge length on a regular grid covering ``bounds``.
 

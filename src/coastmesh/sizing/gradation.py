@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -19,6 +20,9 @@ __all__ = ["DEFAULT_RATE", "Gradation", "gradation_size", "limit_gradation"]
 #: 34.1 and 37.5 deg, for 20 % and 18 % more triangles; 0.5 buys 2 deg more for
 #: 40 %. OceanMesh2D's default is 0.2 to 0.35.
 DEFAULT_RATE = 0.7
+
+#: A sweep's direction: along an axis of the grid, or a diagonal.
+_Axis = Literal[0, 1, "diag", "anti"]
 
 
 def gradation_size(
@@ -119,7 +123,12 @@ def limit_gradation(
     # so 1.0824, for square cells).
     theta = max(np.arctan2(dy, dx), np.arctan2(dx, dy))
     r = rate * np.cos(theta / 2)
-    steps = ((dy, 0), (dx, 1), (np.hypot(dx, dy), "diag"), (np.hypot(dx, dy), "anti"))
+    steps: tuple[tuple[float, _Axis], ...] = (
+        (dy, 0),
+        (dx, 1),
+        (np.hypot(dx, dy), "diag"),
+        (np.hypot(dx, dy), "anti"),
+    )
     for _ in range(max_sweeps):
         before = h.copy()
         for length, axis in steps:
@@ -141,10 +150,11 @@ def _cone_1d(
     forward = np.minimum.accumulate(values - ramp, axis=axis) + ramp
     flipped = np.flip(values + ramp, axis=axis)
     backward = np.flip(np.minimum.accumulate(flipped, axis=axis), axis=axis) - ramp
-    return np.minimum(forward, backward)
+    cone: NDArray[np.float64] = np.minimum(forward, backward)  # numpy's stub: Any
+    return cone
 
 
-def _sweep(h: NDArray[np.float64], step: float, axis) -> NDArray[np.float64]:
+def _sweep(h: NDArray[np.float64], step: float, axis: _Axis) -> NDArray[np.float64]:
     if axis in (0, 1):
         return _cone_1d(h, step, axis)
     # diagonals: shear the grid so each diagonal becomes a column, then undo
@@ -156,7 +166,7 @@ def _sweep(h: NDArray[np.float64], step: float, axis) -> NDArray[np.float64]:
     cols = np.arange(nx)[None, :] + (ny - 1 - rows)
     sheared[rows, cols] = grid
     done = _cone_1d(sheared, step, 0)  # inf pads the ends of each diagonal only
-    out = done[rows, cols]
+    out: NDArray[np.float64] = done[rows, cols]
     return out[:, ::-1] if flip else out
 
 

@@ -20,7 +20,8 @@ from __future__ import annotations
 
 import math
 import threading
-from typing import TYPE_CHECKING, Any, ClassVar
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
 import numpy as np
 import shapely
@@ -38,7 +39,7 @@ from coastmesh.geometry.earth import (
 )
 from coastmesh.geometry.projection import scale_factor
 from coastmesh.geometry.sphere import stereographic_scale
-from coastmesh.sizing.bands import graded_sizes
+from coastmesh.sizing.bands import BandRunner, graded_sizes
 from coastmesh.sizing.bathymetry import slope_size, slope_size_sphere
 from coastmesh.sizing.channel import RADIUS_STEP, domain_width, over_land
 from coastmesh.sizing.gradation import Gradation, gradation_size, limit_gradation
@@ -50,7 +51,7 @@ from coastmesh.sizing.sphere_channel import (
     sphere_water_mask,
     sphere_width,
 )
-from coastmesh.types import Domain, Runner
+from coastmesh.types import Domain
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -63,6 +64,7 @@ CELLS_ACROSS = 1000
 #: A plane grid extends this many cells beyond the domain on every side.
 PAD_CELLS = 2
 _LONLAT = CRS.from_epsg(4326)
+_T = TypeVar("_T")
 
 
 def grid_axes(
@@ -143,12 +145,13 @@ class Grid:
         """The map scale factor at the nodes: a length of ``h`` m is ``k h`` there."""
         return self._once("scale", self._scale)
 
-    def _once(self, name: str, measure: Any) -> Any:
+    def _once(self, name: str, measure: Callable[[], _T]) -> _T:
         """Measure a property once, also when several threads ask at once."""
         with self._lock:
             if name not in self.__dict__:
                 self.__dict__[name] = measure()
-            return self.__dict__[name]
+            value: _T = self.__dict__[name]  # what ``measure`` returned
+            return value
 
     def km2(self, nodes: NDArray[np.bool_]) -> float:
         """Return the area the ``nodes`` stand for, km2 (a cell each)."""
@@ -212,7 +215,7 @@ class Grid:
         *,
         lines_crs: CRS,
         h_max: float,
-        runner: Runner | None = None,
+        runner: BandRunner | None = None,
     ) -> NDArray[np.float64]:
         """Return the gradations' sizes, combined by minimum (metres)."""
         raise NotImplementedError
@@ -355,7 +358,7 @@ class PlaneGrid(Grid):
         *,
         lines_crs: CRS,
         h_max: float,
-        runner: Runner | None = None,
+        runner: BandRunner | None = None,
     ) -> NDArray[np.float64]:
         """Return the gradations' sizes: distances in bands of rows on ``runner``.
 
@@ -438,7 +441,9 @@ class PlaneGrid(Grid):
         """Return the nodes inside ``area`` (a geometry in :attr:`crs`)."""
         shapely.prepare(area)
         xx, yy = np.meshgrid(self.x, self.y)
-        return shapely.contains_xy(area, xx, yy)
+        # shapely is untyped here (types-shapely is not among the dependencies)
+        inside: NDArray[np.bool_] = shapely.contains_xy(area, xx, yy)
+        return inside
 
     def _sea(self) -> NDArray[np.bool_]:
         if self.domain is None:
@@ -446,7 +451,9 @@ class PlaneGrid(Grid):
         polygon = densified(self.domain, [self.domain.polygon], self.crs)[0]
         shapely.prepare(polygon)
         xx, yy = np.meshgrid(self.x, self.y)
-        return shapely.contains_xy(polygon, xx, yy)
+        # shapely is untyped here (types-shapely is not among the dependencies)
+        sea: NDArray[np.bool_] = shapely.contains_xy(polygon, xx, yy)
+        return sea
 
     def _scale(self) -> NDArray[np.float64]:
         gx, gy = np.meshgrid(self.x, self.y)
@@ -515,7 +522,7 @@ class SphereGrid(Grid):
         *,
         lines_crs: CRS,
         h_max: float,
-        runner: Runner | None = None,
+        runner: BandRunner | None = None,
     ) -> NDArray[np.float64]:
         """Return the gradations' sizes by great-circle distance from the lines."""
         _check_h_max(gradations, h_max)
@@ -682,7 +689,9 @@ class SphereGrid(Grid):
             px, py = transformer(_LONLAT, self.domain.crs).transform(glon, glat)
         polygon = self.domain.polygon
         shapely.prepare(polygon)
-        return shapely.contains_xy(polygon, px, py)
+        # shapely is untyped here (types-shapely is not among the dependencies)
+        sea: NDArray[np.bool_] = shapely.contains_xy(polygon, px, py)
+        return sea
 
     def _scale(self) -> NDArray[np.float64]:
         glon, glat = np.meshgrid(self.x, self.y)
@@ -699,11 +708,13 @@ def densified(
     """
     b = domain.polygon.bounds
     step = max(b[2] - b[0], b[3] - b[1]) / 4000
-    return reproject(
+    # reproject takes and returns any geometry or array of them
+    out: NDArray[np.object_] = reproject(
         shapely.segmentize(np.array(geometries, dtype=object), step),
         domain.crs,
         crs,
     )
+    return out
 
 
 def _extent(bounds: tuple[float, ...]) -> float:

@@ -27,6 +27,8 @@ __all__ = [
 TILE_VERTICES = 50_000
 #: The opening of :func:`slots` is grown by this fraction of its radius.
 SLIVER = 1e-6
+#: A box: ``(xmin, ymin, xmax, ymax)``.
+_Box = tuple[float, ...]
 
 
 def slots(
@@ -135,7 +137,8 @@ def _long(pieces: NDArray[np.object_], width: float) -> NDArray[np.object_]:
         return pieces
     bounds = shapely.bounds(pieces)
     length = np.hypot(bounds[:, 2] - bounds[:, 0], bounds[:, 3] - bounds[:, 1])
-    return pieces[length >= 2 * width]
+    long: NDArray[np.object_] = pieces[length >= 2 * width]
+    return long
 
 
 def _thin(
@@ -152,8 +155,10 @@ def _thin(
     grow = max(SLIVER * r, 1e-12 * float(np.abs(shapely.bounds(window)).max()))
     opened = shapely.buffer(shapely.buffer(window, -r), r + grow)
     inside = polygon if core is None else shapely.intersection(polygon, core)
-    pieces = shapely.get_parts(shapely.difference(inside, opened))
-    return pieces[shapely.get_type_id(pieces) == 3]
+    # shapely is untyped here (types-shapely is not among the dependencies)
+    pieces: NDArray[np.object_] = shapely.get_parts(shapely.difference(inside, opened))
+    polygons: NDArray[np.object_] = pieces[shapely.get_type_id(pieces) == 3]
+    return polygons
 
 
 def tiles(polygon: shapely.Geometry, most: int) -> NDArray[np.object_]:
@@ -169,8 +174,11 @@ def tiles(polygon: shapely.Geometry, most: int) -> NDArray[np.object_]:
     >>> [b.bounds for b in tiles(square, 12)]
     [(0.0, 0.0, 2.0, 1.0), (2.0, 0.0, 4.0, 1.0)]
     """
-    xy = shapely.get_coordinates(polygon)
-    todo, done = [(tuple(map(float, shapely.bounds(polygon))), xy)], []
+    xy: NDArray[np.float64] = shapely.get_coordinates(polygon)
+    todo: list[tuple[_Box, NDArray[np.float64]]] = [
+        (tuple(map(float, shapely.bounds(polygon))), xy)
+    ]
+    done: list[_Box] = []
     while todo:
         box, inside = todo.pop()
         halves = _halves(box, inside) if len(inside) > most else None
@@ -178,10 +186,14 @@ def tiles(polygon: shapely.Geometry, most: int) -> NDArray[np.object_]:
             done.append(box)
         else:
             todo += halves[::-1]
-    return shapely.box(*np.array(done).T)
+    # shapely is untyped here (types-shapely is not among the dependencies)
+    boxes: NDArray[np.object_] = shapely.box(*np.array(done).T)
+    return boxes
 
 
-def _halves(box: tuple, inside: NDArray[np.float64]) -> list | None:
+def _halves(
+    box: _Box, inside: NDArray[np.float64]
+) -> list[tuple[_Box, NDArray[np.float64]]] | None:
     """Return the box split in two at the median of its vertices, or None.
 
     Across its longer side if it can be, else across the other; None if
@@ -227,4 +239,5 @@ def off_open_boundaries(
     opened = [shapely.LineString(s.coords) for s in domain.segments if s.kind == "open"]
     if not opened or not len(polygons):
         return polygons
-    return polygons[~shapely.intersects(polygons, shapely.union_all(opened))]
+    touch: NDArray[np.bool_] = shapely.intersects(polygons, shapely.union_all(opened))
+    return polygons[~touch]

@@ -179,34 +179,44 @@ def limit_gradation_sphere(
     return h
 
 
-def _arc(lat0: NDArray, lat1: NDArray, dlon: float) -> NDArray[np.float64]:
+def _arc(
+    lat0: NDArray[np.float64], lat1: NDArray[np.float64], dlon: float
+) -> NDArray[np.float64]:
     """Great-circle length (metres) between points ``dlon`` apart in longitude."""
     a = (
         np.sin((lat1 - lat0) / 2) ** 2
         + np.cos(lat0) * np.cos(lat1) * math.sin(dlon / 2) ** 2
     )
-    return 2.0 * EARTH_RADIUS * np.arcsin(np.sqrt(np.clip(a, 0.0, 1.0)))
+    arc: NDArray[np.float64] = (
+        2.0 * EARTH_RADIUS * np.arcsin(np.sqrt(np.clip(a, 0.0, 1.0)))
+    )
+    return arc
 
 
-def _cone(values: NDArray, ramp: NDArray, axis: int) -> NDArray[np.float64]:
+def _cone(
+    values: NDArray[np.float64], ramp: NDArray[np.float64], axis: int
+) -> NDArray[np.float64]:
     """``min_j values[j] + |ramp[i] - ramp[j]|`` along ``axis`` (ramp ascending)."""
     forward = np.minimum.accumulate(values - ramp, axis=axis) + ramp
     flipped = np.flip(values + ramp, axis=axis)
     backward = np.flip(np.minimum.accumulate(flipped, axis=axis), axis=axis) - ramp
-    return np.minimum(forward, backward)
+    cone: NDArray[np.float64] = np.minimum(forward, backward)  # numpy's stub: Any
+    return cone
 
 
-def _rows(h: NDArray, step: NDArray) -> NDArray[np.float64]:
+def _rows(h: NDArray[np.float64], step: NDArray[np.float64]) -> NDArray[np.float64]:
     ramp = step[:, None] * np.arange(h.shape[1])[None, :]
     return _cone(h, ramp, 1)
 
 
-def _columns(h: NDArray, step: NDArray) -> NDArray[np.float64]:
+def _columns(h: NDArray[np.float64], step: NDArray[np.float64]) -> NDArray[np.float64]:
     ramp = np.concatenate([[0.0], np.cumsum(step)])[:, None]
     return _cone(h, ramp, 0)
 
 
-def _diagonals(h: NDArray, step: NDArray, *, flip: bool) -> NDArray[np.float64]:
+def _diagonals(
+    h: NDArray[np.float64], step: NDArray[np.float64], *, flip: bool
+) -> NDArray[np.float64]:
     """Sweep the diagonals: shear each into a column, sweep, shear back."""
     ny, nx = h.shape
     grid = h[:, ::-1] if flip else h
@@ -217,7 +227,7 @@ def _diagonals(h: NDArray, step: NDArray, *, flip: bool) -> NDArray[np.float64]:
     ramp = np.concatenate([[0.0], np.cumsum(step)])[:, None]
     with np.errstate(invalid="ignore"):  # inf - inf where a diagonal is absent
         done = _cone(sheared, ramp, 0)
-    out = done[rows, cols]
+    out: NDArray[np.float64] = done[rows, cols]
     return out[:, ::-1] if flip else out
 
 

@@ -267,7 +267,7 @@ def sphere_narrow_channels(
 
 
 def _grid(
-    values: NDArray, lat: NDArray[np.float64]
+    values: NDArray[np.bool_], lat: NDArray[np.float64]
 ) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
     """Check a world grid's mask and rows; return the mask's own columns."""
     values = np.asarray(values, dtype=bool)
@@ -312,7 +312,8 @@ def _edge_points(
             points.append(lonlat_to_xyz(ring[water[row]]))
     edges = np.concatenate(points)
     norm = np.linalg.norm(edges, axis=1)
-    return edges[norm > 0] / norm[norm > 0, None]
+    unit: NDArray[np.float64] = edges[norm > 0] / norm[norm > 0, None]
+    return unit
 
 
 def _depth(
