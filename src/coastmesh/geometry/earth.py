@@ -26,13 +26,14 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 from pyproj import CRS, Transformer
 
-from coastmesh.types import Mesh
+from coastmesh.types import Domain, Mesh
 
 __all__ = [
     "EARTH_RADIUS",
     "GRAVITY",
     "METRES_PER_DEGREE",
     "arc_lengths",
+    "densified",
     "earth_centred",
     "ellipsoid_area_scale",
     "mesh_earth_centred",
@@ -368,3 +369,22 @@ def mesh_earth_centred(mesh: Mesh) -> tuple[NDArray[np.float64], bool]:
     if mesh.crs is None:
         return np.column_stack([points, np.zeros(len(points))]), True
     return earth_centred(points, mesh.crs, name="mesh.points"), False
+
+
+def densified(
+    domain: Domain, geometries: list[shapely.Geometry], crs: CRS | str
+) -> NDArray[np.object_]:
+    """Return geometries of the domain in ``crs``, densified first.
+
+    Vertices go in every 1/4000 of the domain's extent, so that straight
+    edges in the domain's CRS (a meridian, a loxodrome) keep their shape.
+    """
+    b = domain.polygon.bounds
+    step = max(b[2] - b[0], b[3] - b[1]) / 4000
+    # reproject takes and returns any geometry or array of them
+    out: NDArray[np.object_] = reproject(
+        shapely.segmentize(np.array(geometries, dtype=object), step),
+        domain.crs,
+        crs,
+    )
+    return out

@@ -258,7 +258,7 @@ def domain_width(
     sea goes on past them). 0 on land; ``inf`` where wider than ``max_width``
     (see :func:`local_width`; with ``narrow_only``, :func:`narrow_width`).
     """
-    from coastmesh.sizing.grid import densified
+    from coastmesh.geometry.earth import densified
 
     lines: dict[str, list[shapely.Geometry]] = {"shoreline": [], "open": []}
     for s in domain.segments:

@@ -33,6 +33,7 @@ from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import (
     EARTH_RADIUS,
     METRES_PER_DEGREE,
+    densified,
     reproject,
     reproject_points,
     transformer,
@@ -696,25 +697,6 @@ class SphereGrid(Grid):
     def _scale(self) -> NDArray[np.float64]:
         glon, glat = np.meshgrid(self.x, self.y)
         return stereographic_scale(glon, glat, self.pole)
-
-
-def densified(
-    domain: Domain, geometries: list[shapely.Geometry], crs: CRS | str
-) -> NDArray[np.object_]:
-    """Return geometries of the domain in ``crs``, densified first.
-
-    Vertices go in every 1/4000 of the domain's extent, so that straight
-    edges in the domain's CRS (a meridian, a loxodrome) keep their shape.
-    """
-    b = domain.polygon.bounds
-    step = max(b[2] - b[0], b[3] - b[1]) / 4000
-    # reproject takes and returns any geometry or array of them
-    out: NDArray[np.object_] = reproject(
-        shapely.segmentize(np.array(geometries, dtype=object), step),
-        domain.crs,
-        crs,
-    )
-    return out
 
 
 def _extent(bounds: tuple[float, ...]) -> float:

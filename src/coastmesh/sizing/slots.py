@@ -9,8 +9,7 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS
 
-from coastmesh.geometry.earth import reproject
-from coastmesh.sizing.grid import densified
+from coastmesh.geometry.earth import densified, reproject
 from coastmesh.types import Domain
 
 __all__ = [

@@ -34,8 +34,9 @@ from coastmesh.case.pipeline.state import DomainRun, DomainState, RunContext
 from coastmesh.case.terms.base import Closing
 from coastmesh.errors import ConfigError
 from coastmesh.geometry import reproject
+from coastmesh.geometry.earth import densified
 from coastmesh.sizing.channel import window_width
-from coastmesh.sizing.grid import PlaneGrid, densified, grid_axes
+from coastmesh.sizing.grid import PlaneGrid, grid_axes
 from coastmesh.sizing.narrow import (
     NARROW_ELEMENTS,
     ChannelReport,
