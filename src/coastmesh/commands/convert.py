@@ -254,8 +254,8 @@ def _repairs(
 
 def _stack(paths: Any, positive: Any, blend: Any, mesh: Mesh) -> Any:
     """Read the rasters over the mesh's box as a DepthSources stack."""
-    from coastmesh.case.config.sources import DepthSourceConfig
     from coastmesh.case.pipeline.depth import read_sources
+    from coastmesh.case.sources import DepthSourceConfig
 
     paths = [paths] if isinstance(paths, str | os.PathLike) else list(paths)
     signs = _each(positive, len(paths), "raster_positive")

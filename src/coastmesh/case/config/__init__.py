@@ -47,7 +47,7 @@ from coastmesh.case.config.shorelines import (
     SiteConfig,
 )
 from coastmesh.case.config.sizes import SizeConfig, floor, terms_smallest
-from coastmesh.case.config.sources import DepthSourceConfig, RasterConfig
+from coastmesh.case.sources import DepthSourceConfig, RasterConfig
 
 __all__ = [
     "CASE_KINDS",

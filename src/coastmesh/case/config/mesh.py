@@ -7,8 +7,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from coastmesh.case import schema
-from coastmesh.case.config.sources import UP_DOWN, RasterConfig
 from coastmesh.case.schema import Check, key
+from coastmesh.case.sources import UP_DOWN, RasterConfig
 from coastmesh.depth import DEPTH_METHODS, LAND_TREATMENTS, OUTSIDE_RULES
 from coastmesh.errors import ConfigError
 from coastmesh.meshing.gmsh import ALGORITHMS

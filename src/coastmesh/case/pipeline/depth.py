@@ -28,9 +28,9 @@ from numpy.typing import ArrayLike
 from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig, NodeDepthConfig
-from coastmesh.case.config.sources import DepthSourceConfig
 from coastmesh.case.pipeline.farms import check_clearance, turbine_nodes
 from coastmesh.case.pipeline.state import DepthRun, DepthState, MeshedRun, RunContext
+from coastmesh.case.sources import DepthSourceConfig
 from coastmesh.depth import DepthReport, DepthSource, DepthSources, depth_at_nodes
 from coastmesh.depth.nodes import MAX_LAND_SHARE, node_sources
 from coastmesh.depth.sources import check_blend, no_crs

@@ -19,8 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from coastmesh.case import schema
-from coastmesh.case.config.sources import RasterConfig
 from coastmesh.case.schema import Check, key
+from coastmesh.case.sources import RasterConfig
 from coastmesh.case.terms.base import SizeCase, SizeTerm
 from coastmesh.sizing.bathymetry import M2_PERIOD, wavelength_size
 from coastmesh.sizing.combine import TermSizes

@@ -5,6 +5,10 @@ both take one raster (``path``, ``positive``) or a stack of rasters, highest
 priority first (``[[bathymetry.sources]]``): a node takes the first source with
 a valid value there, blended into the next across ``blend`` inside the edge of
 the source's data (:class:`coastmesh.depth.DepthSources`).
+
+These parts live beside :mod:`coastmesh.case.config` and
+:mod:`coastmesh.case.terms`, not in either: both use them, and neither
+imports the other's way back (the ``acyclic_siblings`` contract).
 """
 
 from __future__ import annotations
