@@ -301,3 +301,25 @@ def test_size_config_as_type_checkers_see_it_has_the_fields_it_is_made_with():
         if f.default_factory is not dataclasses.MISSING
     }
     assert made_anew == {"channels": ChannelConfig(), "courant": CourantConfig()}
+
+
+def test_what_is_on_by_default_and_the_cross_checks_are_the_terms_own(monkeypatch):
+    """The reader asks each term of TERMS: no term named in the case reader."""
+    by_key = {term.key: term for term in TERMS}
+    assert {t.key for t in TERMS if t.on_by_default} == {"channels", "courant"}
+    # a term not on by default keeps enabled unset
+    monkeypatch.setattr(type(by_key["channels"]), "on_by_default", False)
+    assert parsed("").size.channels.enabled is None
+    monkeypatch.undo()
+    # a term's check sees its table, the case's tables and the line names
+    seen = {}
+
+    def check(self, settings, case, *, label, lines):
+        seen.update(settings=settings, bathymetry=case.get("bathymetry"), lines=lines)
+        raise ConfigError(f"{label}: refused by the term")
+
+    monkeypatch.setattr(type(by_key["fields"]), "check", check)
+    with pytest.raises(ConfigError, match=r"t\.toml: refused by the term"):
+        parsed(DEPTH)
+    assert seen["settings"] == () and seen["bathymetry"] is not None
+    assert "full" in seen["lines"]

@@ -34,6 +34,7 @@ from coastmesh.case.config.shorelines import (
 from coastmesh.case.config.sizes import SizeConfig
 from coastmesh.case.schema import Check, key, keys_of
 from coastmesh.case.schema.keys import check_value
+from coastmesh.case.terms import TERMS
 from coastmesh.errors import ConfigError
 
 __all__ = ["CASE_KINDS", "PYTHON_SOURCE", "CaseConfig", "CaseKeys", "StudyCase"]
@@ -248,17 +249,20 @@ def boundary_key(domain: Any) -> str:
 
 
 def _term_defaults(case: dict[str, Any]) -> None:
-    """Switch the channel and Courant terms on, unless the case says otherwise.
+    """Switch the terms on by default on, unless the case says otherwise.
 
-    On by default in regional and global cases alike
-    (:func:`~coastmesh.case.terms.base.switched_on`): a model's mesh needs
-    its time step (Courant) and its narrow water (channels) wherever it is.
+    :attr:`~coastmesh.case.terms.base.SizeTerm.on_by_default` (channels and
+    Courant: a model's mesh needs its time step and its narrow water wherever
+    it is), in regional and global cases alike
+    (:func:`~coastmesh.case.terms.base.switched_on`).
     """
     size = case["size"]
     terms = {
-        name: dataclasses.replace(part, enabled=True)
-        for name in ("channels", "courant")
-        if (part := getattr(size, name)) is not None and part.enabled is None
+        term.key: dataclasses.replace(part, enabled=True)
+        for term in TERMS
+        if term.on_by_default
+        and (part := getattr(size, term.key)) is not None
+        and part.enabled is None
     }
     if terms:
         case["size"] = dataclasses.replace(size, **terms)
@@ -299,28 +303,10 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
                 f"{owners[physical_id]!r}; every boundary needs its own id"
             )
         owners[physical_id] = name
-    courant = case["size"].courant
-    if (
-        courant is not None
-        and courant.enabled is not False
-        and courant.dt is not None
-        and case["size"].bathymetry is None
-        and case.get("bathymetry") is None
-    ):
-        raise ConfigError(
-            f"{label}: mesh_size.courant.dt = {courant.dt:g} s: the Courant term "
-            "needs the depth; add [mesh_size.bathymetry] or [bathymetry]"
-        )
     _check_sites(case, label, names, owners)
     _check_model_tests(case, label)
-    for k, g in enumerate(case["size"].gradations):
-        for n in g.lines:
-            if n not in names:
-                raise ConfigError(
-                    f"{label}: mesh_size.gradations[{k}].lines: {n!r} is not a "
-                    "shoreline set, open boundary, farm or structure; known: "
-                    f"{sorted(names)}"
-                )
+    for term in TERMS:  # each term's own cross-checks (SizeTerm.check)
+        term.check(getattr(case["size"], term.key), case, label=label, lines=names)
 
 
 def _check_model_tests(case: dict[str, Any], label: str) -> None:

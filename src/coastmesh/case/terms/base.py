@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Callable, Mapping
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -165,6 +166,10 @@ class SizeTerm:
         Whether the term's :meth:`smallest` size is also the field's default
         floor (the gradations' ``h_min``); a term that is not may lower the
         floor where it applies (:attr:`TermSizes.floor`).
+    on_by_default : bool
+        Whether its config's ``enabled``, left unset by the case, is read as
+        on (:func:`switched_on`); the case reader sets it so, for every such
+        term, in the case it returns.
     """
 
     key: ClassVar[str]
@@ -174,10 +179,27 @@ class SizeTerm:
     reports: ClassVar[bool] = False
     doc: ClassVar[str] = ""
     floors: ClassVar[bool] = False
+    on_by_default: ClassVar[bool] = False
 
     def sizes(self, grid: Grid, case: SizeCase) -> TermSizes | None:
         """Return the term's sizes on ``grid``; None when it is off."""
         raise NotImplementedError(f"{type(self).__name__} has no sizes()")
+
+    def check(
+        self,
+        settings: Any,
+        case: Mapping[str, Any],
+        *,
+        label: str,
+        lines: AbstractSet[str],
+    ) -> None:
+        """Check the term's config against the rest of the case, once all is read.
+
+        ``case`` has the case's parts by table (``case["bathymetry"]``, ...),
+        ``lines`` the names gradations may grade from (shoreline sets, open
+        boundaries, farms, structures). Raise :class:`ConfigError` naming
+        ``label`` (the case file) and the key; by default nothing is checked.
+        """
 
     def settings(self, case: SizeCase) -> Any:
         """Return the term's config in ``case``: its table (or tables), or None."""

@@ -88,6 +88,7 @@ class Channels(SizeTerm):
     many = False
     default = ChannelConfig()
     doc = "elements across every channel, on by default (below)"
+    on_by_default = True
     reports = True
 
     def sizes(self, grid: Grid, case: SizeCase) -> TermSizes | None:

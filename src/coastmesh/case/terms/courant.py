@@ -33,6 +33,8 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Mapping
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -191,8 +193,29 @@ class Courant(SizeTerm):
     many = False
     default = CourantConfig()
     doc = 'sizes a model runs at its time step, on by default (`dt = "auto"`)'
-
+    on_by_default = True
     reports = True
+
+    def check(
+        self,
+        settings: CourantConfig | None,
+        case: Mapping[str, Any],
+        *,
+        label: str,
+        lines: AbstractSet[str],
+    ) -> None:
+        """Refuse a given ``dt`` without depths: the Courant term needs them."""
+        if (
+            settings is not None
+            and settings.enabled is not False
+            and settings.dt is not None
+            and case["size"].bathymetry is None
+            and case.get("bathymetry") is None
+        ):
+            raise ConfigError(
+                f"{label}: mesh_size.courant.dt = {settings.dt:g} s: the Courant term "
+                "needs the depth; add [mesh_size.bathymetry] or [bathymetry]"
+            )
 
     def sizes(self, grid: Grid, case: SizeCase) -> TermSizes | None:
         """Cap and floor the size so the Courant number stays in its window.

@@ -11,7 +11,10 @@ global case's grid).
 from __future__ import annotations
 
 import warnings
+from collections.abc import Mapping
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import shapely
@@ -19,7 +22,7 @@ import shapely
 from coastmesh.case import schema
 from coastmesh.case.schema import key
 from coastmesh.case.terms.base import SizeCase, SizeTerm
-from coastmesh.errors import CoastmeshWarning
+from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.sizing.combine import TermSizes
 from coastmesh.sizing.gradation import Gradation
 from coastmesh.sizing.grid import Grid
@@ -61,6 +64,24 @@ class Gradations(SizeTerm):
     default = ()
     doc = "the paper's gradations from named lines (below)"
     floors = True
+
+    def check(
+        self,
+        settings: tuple[GradationConfig, ...],
+        case: Mapping[str, Any],
+        *,
+        label: str,
+        lines: AbstractSet[str],
+    ) -> None:
+        """Every name in a gradation's ``lines`` is a line of the case."""
+        for k, g in enumerate(settings):
+            for n in g.lines:
+                if n not in lines:
+                    raise ConfigError(
+                        f"{label}: mesh_size.gradations[{k}].lines: {n!r} is not a "
+                        "shoreline set, open boundary, farm or structure; known: "
+                        f"{sorted(lines)}"
+                    )
 
     def smallest(self, settings: tuple[GradationConfig, ...]) -> float | None:
         """Return the smallest gradation's ``h_min``."""
