@@ -33,7 +33,7 @@ from coastmesh.case.config.shorelines import (
 )
 from coastmesh.case.config.sizes import SizeConfig
 from coastmesh.case.schema import Check, key, keys_of
-from coastmesh.case.schema.keys import check_value
+from coastmesh.case.schema.keys import Key, check_value
 from coastmesh.case.terms import TERMS
 from coastmesh.errors import ConfigError
 
@@ -184,7 +184,7 @@ class CaseConfig:
         source = None if self.source is None else Path(self.source)
         c = Check(PYTHON_SOURCE if source is None else str(source))
         name = c(schema.string, self.name, "case.name")
-        checked = {
+        checked: dict[str, object] = {
             "name": name,
             "source": source,
             "output": Path("out") / name
@@ -218,7 +218,7 @@ class CaseConfig:
         return PYTHON_SOURCE if self.source is None else str(self.source)
 
 
-def _key(case: CaseConfig, name: str) -> tuple[dataclasses.Field[Any], Any]:
+def _key(case: CaseConfig, name: str) -> tuple[dataclasses.Field[object], Key]:
     return next((f, meta) for f, meta in keys_of(case) if f.name == name)
 
 

@@ -18,9 +18,9 @@ from __future__ import annotations
 import math
 import numbers
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any, TypeVar
+from typing import Protocol, TypeGuard, TypeVar, cast
 
 import numpy as np
 
@@ -57,24 +57,24 @@ __all__ = [
 ]
 
 T = TypeVar("T")
-Converter = Callable[[Any, str], T]
+Converter = Callable[[object, str], T]
 
 
-def string(value: Any, key: str) -> str:
+def string(value: object, key: str) -> str:
     """Check for a non-empty string."""
     if not isinstance(value, str) or not value.strip():
         raise ConfigError(f"{key} = {value!r}: expected a non-empty string")
     return value
 
 
-def boolean(value: Any, key: str) -> bool:
+def boolean(value: object, key: str) -> bool:
     """Check for ``true`` or ``false``."""
     if not isinstance(value, bool | np.bool_):
         raise ConfigError(f"{key} = {value!r}: expected true or false")
     return bool(value)
 
 
-def number(value: Any, key: str) -> float:
+def number(value: object, key: str) -> float:
     """Check for a finite number; return it as a float."""
     if (
         isinstance(value, bool | np.bool_)
@@ -85,7 +85,7 @@ def number(value: Any, key: str) -> float:
     return float(value)
 
 
-def positive(value: Any, key: str) -> float:
+def positive(value: object, key: str) -> float:
     """Check for a finite number > 0."""
     result = number(value, key)
     if result <= 0:
@@ -96,7 +96,7 @@ def positive(value: Any, key: str) -> float:
 def integer(minimum: int) -> Converter[int]:
     """Return a converter to integers >= ``minimum``."""
 
-    def convert(value: Any, key: str) -> int:
+    def convert(value: object, key: str) -> int:
         if (
             isinstance(value, bool | np.bool_)
             or not isinstance(value, numbers.Integral)
@@ -108,29 +108,29 @@ def integer(minimum: int) -> Converter[int]:
     return convert
 
 
-def length_with_unit(value: Any, key: str) -> float:
+def length_with_unit(value: object, key: str) -> float:
     """Convert a length with its unit (``"10 km"``) to metres; 0 may be bare."""
     if isinstance(value, numbers.Real) and not isinstance(value, bool) and value == 0:
         return 0.0
-    return to_metres(value, name=key)
+    return to_metres(_unit_text(value), name=key)
 
 
-def area_with_unit(value: Any, key: str) -> float:
+def area_with_unit(value: object, key: str) -> float:
     """Convert an area with its unit (``"0.5 km2"``) to square metres; 0 may be bare."""
-    return to_square_metres(value, name=key)
+    return to_square_metres(_unit_text(value), name=key)
 
 
-def duration_with_unit(value: Any, key: str) -> float:
+def duration_with_unit(value: object, key: str) -> float:
     """Convert a duration with its unit (``"12.42 h"``) to seconds."""
-    return to_seconds(value, name=key)
+    return to_seconds(_unit_text(value), name=key)
 
 
-def speed_with_unit(value: Any, key: str) -> float:
+def speed_with_unit(value: object, key: str) -> float:
     """Convert a speed with its unit (``"1 m/s"``, ``"2 kn"``) to m/s; 0 may be bare."""
-    return to_metres_per_second(value, name=key)
+    return to_metres_per_second(_unit_text(value), name=key)
 
 
-def speed(value: Any, key: str) -> float:
+def speed(value: object, key: str) -> float:
     """Convert a speed >= 0 (m/s, or a string with a unit)."""
     result = speed_with_unit(value, key) if isinstance(value, str) else None
     if result is None:
@@ -146,7 +146,7 @@ def length(*, positive: bool = True, signed: bool = False) -> Converter[float]:
     ``positive``: must be > 0, else >= 0; ``signed``: any finite length.
     """
 
-    def convert(value: Any, key: str) -> float:
+    def convert(value: object, key: str) -> float:
         if isinstance(value, str):
             metres = to_metres(value, name=key)
         else:
@@ -159,7 +159,7 @@ def length(*, positive: bool = True, signed: bool = False) -> Converter[float]:
     return convert
 
 
-def area(value: Any, key: str) -> float:
+def area(value: object, key: str) -> float:
     """Convert an area >= 0 (square metres, or a string with a unit)."""
     if isinstance(value, str):
         result = to_square_metres(value, name=key)
@@ -170,7 +170,7 @@ def area(value: Any, key: str) -> float:
     return result
 
 
-def duration(value: Any, key: str) -> float:
+def duration(value: object, key: str) -> float:
     """Convert a duration > 0 (seconds, or a string with a unit)."""
     seconds = to_seconds(value, name=key) if isinstance(value, str) else None
     if seconds is None:
@@ -181,21 +181,21 @@ def duration(value: Any, key: str) -> float:
     return seconds
 
 
-def point(value: Any, key: str) -> tuple[float, float]:
+def point(value: object, key: str) -> tuple[float, float]:
     """Convert ``[x, y]`` (longitude, latitude) to a tuple of two floats."""
     if isinstance(value, str) or not _sized(value) or len(value) != 2:
         raise ConfigError(f"{key} = {value!r}: expected [x, y] (longitude, latitude)")
     return (number(value[0], f"{key}[0]"), number(value[1], f"{key}[1]"))
 
 
-def points(value: Any, key: str) -> tuple[tuple[float, float], ...]:
+def points(value: object, key: str) -> tuple[tuple[float, float], ...]:
     """Convert a list of at least two ``[x, y]`` points to tuples."""
     if isinstance(value, str) or not _sized(value) or len(value) < 2:
         raise ConfigError(f"{key}: expected a list of at least two [x, y] points")
     return tuple(point(p, f"{key}[{k}]") for k, p in enumerate(value))
 
 
-def box(value: Any, key: str) -> tuple[float, float, float, float]:
+def box(value: object, key: str) -> tuple[float, float, float, float]:
     """Convert ``[minx, miny, maxx, maxy]`` (``minx < maxx``, ``miny < maxy``)."""
     if isinstance(value, str) or not _sized(value) or len(value) != 4:
         raise ConfigError(f"{key} = {value!r}: expected [minx, miny, maxx, maxy]")
@@ -205,7 +205,7 @@ def box(value: Any, key: str) -> tuple[float, float, float, float]:
     return result  # type: ignore[return-value]
 
 
-def names(value: Any, key: str) -> tuple[str, ...]:
+def names(value: object, key: str) -> tuple[str, ...]:
     """Convert a name or a non-empty list of names to a tuple."""
     if isinstance(value, str):
         value = [value]
@@ -217,7 +217,7 @@ def names(value: Any, key: str) -> tuple[str, ...]:
 def choice(options: tuple[str, ...]) -> Converter[str]:
     """Return a converter accepting one of ``options``."""
 
-    def convert(value: Any, key: str) -> str:
+    def convert(value: object, key: str) -> str:
         if not isinstance(value, str) or value not in options:
             raise ConfigError(
                 f"{key} = {value!r}: expected one of {', '.join(map(repr, options))}"
@@ -227,7 +227,7 @@ def choice(options: tuple[str, ...]) -> Converter[str]:
     return convert
 
 
-def crs(value: Any, key: str) -> str:
+def crs(value: object, key: str) -> str:
     """Check a CRS (anything :meth:`pyproj.CRS.from_user_input` takes); keep text."""
     from pyproj import CRS
     from pyproj.exceptions import CRSError
@@ -242,12 +242,25 @@ def crs(value: Any, key: str) -> str:
     return text
 
 
-def path(value: Any, key: str) -> Path:
+def path(value: object, key: str) -> Path:
     """Convert a non-empty string or a path-like object to a Path."""
     if isinstance(value, os.PathLike):
         value = os.fspath(value)
     return Path(string(value, key)).expanduser()
 
 
-def _sized(value: Any) -> bool:
+class _Sized(Protocol):
+    """What :func:`_sized` finds: a list, tuple or array (``len`` and indexing)."""
+
+    def __len__(self) -> int: ...
+    def __getitem__(self, index: int, /) -> object: ...
+    def __iter__(self) -> Iterator[object]: ...  # by index, if not defined
+
+
+def _sized(value: object) -> TypeGuard[_Sized]:
     return hasattr(value, "__len__") and hasattr(value, "__getitem__")
+
+
+def _unit_text(value: object) -> str | float:
+    """``value`` as :mod:`coastmesh.sizing.units` takes it: it checks the type."""
+    return cast("str | float", value)

@@ -36,13 +36,17 @@ coastmesh.errors.ConfigError: case.toml: grid.step = -1 m: must be > 0
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable, Mapping
-from typing import Any, TypeVar
+from collections.abc import Callable, Iterable, Mapping
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Final, TypeGuard, TypeVar
 
 from coastmesh.case.schema.convert import Converter, string
 from coastmesh.case.schema.convert import path as to_path
 from coastmesh.case.schema.table import located
 from coastmesh.errors import ConfigError
+
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
 
 __all__ = [
     "REQUIRED",
@@ -60,8 +64,10 @@ __all__ = [
 ]
 
 P = TypeVar("P")
+#: A config part: a dataclass.
+D = TypeVar("D", bound="DataclassInstance")
 #: The default of :func:`key` for a key that must be given.
-REQUIRED: Any = dataclasses.MISSING
+REQUIRED: Final = dataclasses.MISSING
 #: The units a case file writes with a value, by kind (the first when dumping).
 UNITS = {
     "length": ("m", "km", "deg"),
@@ -107,66 +113,73 @@ class Key:
     """
 
     name: str = ""
-    check: Converter[Any] | None = None
+    check: Converter[object] | None = None
     unit: str | None = None
     path: bool = False
     part: type | None = None
     many: bool = False
     keyed: bool = False
     kinds: Mapping[str, type] | None = None
-    read: Converter[Any] | None = None
-    dump: Callable[[Any], Any] | None = None
+    read: Converter[object] | None = None
+    # Any: each key's dump takes that key's values (RotorLength, a tuple, ...)
+    dump: Callable[[Any], object] | None = None
     doc: str = ""
     default_doc: str | None = None
 
 
 def key(
-    default: Any = REQUIRED,
+    default: object = REQUIRED,
     *,
     doc: str,
     name: str = "",
-    check: Converter[Any] | None = None,
+    check: Converter[object] | None = None,
     unit: str | None = None,
     path: bool = False,
     part: type | None = None,
     many: bool = False,
     keyed: bool = False,
     kinds: Mapping[str, type] | None = None,
-    read: Converter[Any] | None = None,
-    dump: Callable[[Any], Any] | None = None,
+    read: Converter[object] | None = None,
+    dump: Callable[[Any], object] | None = None,
     default_doc: str | None = None,
-    kw_only: bool | Any = dataclasses.MISSING,
-) -> Any:
+    kw_only: bool | None = None,
+) -> Any:  # as dataclasses.field: the field's type, whatever it is
     """Declare a config field and its case-file key (see :class:`Key`).
 
     ``default`` is the field's default (:data:`REQUIRED`: the key must be
     given); a part's default config is made anew for each instance. Returns a
-    :func:`dataclasses.field`.
+    :func:`dataclasses.field`; ``kw_only``: as its ``kw_only``, None for its
+    default.
     """
     if unit is not None and unit not in UNITS:
         raise ValueError(f"unit {unit!r}: expected one of {sorted(UNITS)}")
     meta = Key(
         name, check, unit, path, part, many, keyed, kinds, read, dump, doc, default_doc
     )
-    field_kw: dict[str, Any] = {"metadata": {"key": meta}, "kw_only": kw_only}
+    metadata = {"key": meta}
+    only = dataclasses.MISSING if kw_only is None else kw_only
     if default is REQUIRED:
-        return dataclasses.field(**field_kw)
+        return dataclasses.field(metadata=metadata, kw_only=only)
     if dataclasses.is_dataclass(default) and not isinstance(default, type):
-        return dataclasses.field(default_factory=lambda: default, **field_kw)
-    return dataclasses.field(default=default, **field_kw)
+        return dataclasses.field(
+            default_factory=lambda: default, metadata=metadata, kw_only=only
+        )
+    return dataclasses.field(default=default, metadata=metadata, kw_only=only)
 
 
-def file_key(doc: str, *, default_doc: str | None = None) -> Any:
+def file_key(doc: str, *, default_doc: str | None = None) -> Path | None:
     """Declare ``path``: a file, relative to the case file's folder, default none."""
     return key(None, check=to_path, path=True, doc=doc, default_doc=default_doc)
 
 
-def layer_key() -> Any:
+def layer_key() -> str | None:
     """Declare ``layer``: the layer of ``path``'s vector file, default its only one."""
     return key(None, check=string, default_doc="the only layer", doc="its layer")
 
 
-def keys_of(part: Any) -> list[tuple[dataclasses.Field[Any], Key]]:
+def keys_of(
+    part: DataclassInstance | type[DataclassInstance],
+) -> list[tuple[dataclasses.Field[object], Key]]:
     """Return the fields of a config class (or part) that are keys, with their keys.
 
     Each key's ``name`` is its field's name unless it gives another.
@@ -180,7 +193,7 @@ def keys_of(part: Any) -> list[tuple[dataclasses.Field[Any], Key]]:
     return found
 
 
-def is_required(f: dataclasses.Field[Any]) -> bool:
+def is_required(f: dataclasses.Field[object]) -> bool:
     """Whether a field has no default: its key must be given."""
     return f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
 
@@ -200,11 +213,11 @@ class Check:
         """Return the full key path of ``name``."""
         return f"{self.where}.{name}" if self.where else name
 
-    def __call__(self, convert: Converter[P], value: Any, name: str) -> P:
+    def __call__(self, convert: Converter[P], value: object, name: str) -> P:
         """Convert ``value`` of key ``name``; errors name the file and the key."""
         return located(convert, value, self.key(name), self.source)
 
-    def optional(self, convert: Converter[P], value: Any, name: str) -> P | None:
+    def optional(self, convert: Converter[P], value: object, name: str) -> P | None:
         """As calling it, but None stays None."""
         return None if value is None else self(convert, value, name)
 
@@ -218,7 +231,7 @@ class Check:
         return Check(self.source, self.key(where))
 
 
-def checked(part: P, c: Check) -> P:
+def checked(part: D, c: Check) -> D:
     """Check and convert every key of a config part; then its ``_validate``.
 
     Returns a new part of the same class with the converted values.
@@ -228,7 +241,7 @@ def checked(part: P, c: Check) -> P:
         values[f.name] = check_value(getattr(part, f.name), f, meta, c)
     plain = {
         f.name: getattr(part, f.name)
-        for f in dataclasses.fields(part)  # type: ignore[arg-type]
+        for f in dataclasses.fields(part)
         if "key" not in f.metadata and f.init
     }
     result = type(part)(**values, **plain)
@@ -236,7 +249,9 @@ def checked(part: P, c: Check) -> P:
     return validate(c) if validate is not None else result
 
 
-def check_value(value: Any, f: dataclasses.Field[Any], meta: Key, c: Check) -> Any:
+def check_value(
+    value: object, f: dataclasses.Field[object], meta: Key, c: Check
+) -> object:
     """Check one field's value by its key (a part's fields are checked too)."""
     if meta.part is not None and meta.many:
         return check_parts(
@@ -251,7 +266,7 @@ def check_value(value: Any, f: dataclasses.Field[Any], meta: Key, c: Check) -> A
     return c(meta.check, value, meta.name)
 
 
-def check_part(value: Any, kind: type, c: Check, where: str) -> Any:
+def check_part(value: object, kind: type[D], c: Check, where: str) -> D:
     """Check one part (a config dataclass) at key path ``where``."""
     if not isinstance(value, kind):
         shown = repr(value) if len(repr(value)) < 60 else type(value).__name__
@@ -260,14 +275,14 @@ def check_part(value: Any, kind: type, c: Check, where: str) -> Any:
 
 
 def check_parts(
-    values: Any,
-    kind: type,
+    values: object,
+    kind: type[D],
     c: Check,
     where: str,
     *,
     required: bool = False,
     keyed: bool = False,
-) -> tuple[Any, ...]:
+) -> tuple[D, ...]:
     """Check a list of parts; ``keyed``: name each by its ``name`` in the path."""
     items = sequence(values, c, where)
     if required and not items:
@@ -280,8 +295,12 @@ def check_parts(
     return tuple(check_part(v, kind, c, f"{where}[{k}]") for k, v in enumerate(items))
 
 
-def sequence(values: Any, c: Check, where: str) -> tuple[Any, ...]:
+def sequence(values: object, c: Check, where: str) -> tuple[object, ...]:
     """Return a list-like value as a tuple; a string or mapping is an error."""
-    if isinstance(values, str | bytes | Mapping) or not hasattr(values, "__iter__"):
+    if isinstance(values, str | bytes | Mapping) or not _iterable(values):
         raise c.error(where, f"= {values!r}: expected a list")
     return tuple(values)
+
+
+def _iterable(value: object) -> TypeGuard[Iterable[object]]:
+    return hasattr(value, "__iter__")

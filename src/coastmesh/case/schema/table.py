@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any, TypeVar
+from typing import Final, TypeVar, overload
 
 from coastmesh.case.schema.convert import Converter
 from coastmesh.errors import ConfigError
@@ -11,8 +11,9 @@ from coastmesh.errors import ConfigError
 __all__ = ["MISSING", "Table", "located"]
 
 T = TypeVar("T")
+D = TypeVar("D")
 #: The default of :meth:`Table.get` that makes a key required.
-MISSING: Any = object()
+MISSING: Final = object()
 
 
 class Table:
@@ -54,7 +55,7 @@ class Table:
                 f"{source}: {where or 'the file'} must be a table, got "
                 f"{type(data).__name__} {data!r}"
             )
-        self.data = dict(data)
+        self.data: dict[str, object] = dict(data)
         self.where = where
         self.source = source
         self.taken: set[str] = set()
@@ -72,7 +73,14 @@ class Table:
         """Whether the table has key ``name``."""
         return name in self.data
 
-    def get(self, name: str, convert: Converter[T], default: Any = MISSING) -> T:
+    @overload
+    def get(self, name: str, convert: Converter[T]) -> T: ...
+    @overload
+    def get(self, name: str, convert: Converter[T], default: D) -> T | D: ...
+
+    def get(
+        self, name: str, convert: Converter[T], default: object = MISSING
+    ) -> object:
         """Take key ``name`` and convert it; ``default`` if absent (else an error)."""
         self.taken.add(name)
         if name not in self.data:
@@ -81,7 +89,7 @@ class Table:
             return default
         return located(convert, self.data[name], self.key(name), self.source)
 
-    def pick(self, *names: str) -> dict[str, Any]:
+    def pick(self, *names: str) -> dict[str, object]:
         """Take the keys that are present, as they are: ``{key: value}``."""
         self.taken.update(names)
         return {name: self.data[name] for name in names if name in self.data}
@@ -117,7 +125,7 @@ class Table:
             )
 
 
-def located(convert: Converter[T], value: Any, key: str, source: str) -> T:
+def located(convert: Converter[T], value: object, key: str, source: str) -> T:
     """Run a converter; put ``source`` at the start of its error message."""
     try:
         return convert(value, key)
