@@ -9,7 +9,7 @@ its two ends (``start`` and ``end``).
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Any, ClassVar
+from typing import Any, ClassVar, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,7 +32,7 @@ _BEARING_DOC = (
 )
 
 
-def _read_loxodrome(t: Table) -> dict[str, Any]:
+def _read_loxodrome(t: Table) -> dict[str, Any]:  # not yet checked (_validate)
     """Read the loxodrome keys of a table: a bearing and an end, or two ends."""
     if t.has("end"):
         others = [
@@ -67,21 +67,34 @@ def _read_loxodrome(t: Table) -> dict[str, Any]:
     )
 
 
-def _as_is(value: Any, key: str) -> Any:
+def _as_is(value: object, key: str) -> object:
     return value
 
 
-def _check_loxodrome(line: Any, c: Check) -> dict[str, Any]:
+class _Line(Protocol):
+    """The loxodrome keys, of a :class:`LoxodromeConfig` or a boundary."""
+
+    @property
+    def start(self) -> tuple[float, float]: ...
+    @property
+    def bearing(self) -> float: ...
+    @property
+    def end_lat(self) -> float | None: ...
+    @property
+    def end_lon(self) -> float | None: ...
+
+
+def _check_loxodrome(line: _Line, c: Check) -> float:
     """Check the loxodrome keys; return the bearing in [0, 360)."""
     if not -90 < line.start[1] < 90:
         start = list(line.start)
         raise c.error("start", f"= {start}: latitude must be in (-90, 90)")
     if (line.end_lat is None) == (line.end_lon is None):
         raise c.error("end_lat", "give exactly one of end_lat and end_lon")
-    return {"bearing": line.bearing % 360.0}
+    return line.bearing % 360.0
 
 
-def _loxodrome(line: Any) -> Loxodrome:
+def _loxodrome(line: _Line) -> Loxodrome:
     return Loxodrome(
         line.start, line.bearing, end_lat=line.end_lat, end_lon=line.end_lon
     )
@@ -112,13 +125,15 @@ class LoxodromeConfig:
         return cls((start[0], start[1]), line.azimuth, line.end_lat, line.end_lon)
 
     @classmethod
-    def _read(cls, t: Table, reading: schema.Reading, **given: Any) -> LoxodromeConfig:
+    def _read(
+        cls, t: Table, reading: schema.Reading, **given: object
+    ) -> LoxodromeConfig:
         values = _read_loxodrome(t)
         t.done()
         return cls(**values)
 
     def _validate(self, c: Check) -> LoxodromeConfig:
-        return replace(self, **_check_loxodrome(self, c))
+        return replace(self, bearing=_check_loxodrome(self, c))
 
     @property
     def loxodrome(self) -> Loxodrome:
@@ -143,7 +158,7 @@ class LoxodromeBoundary(BoundaryConfig):
 
     @classmethod
     def _read(
-        cls, t: Table, reading: schema.Reading, **given: Any
+        cls, t: Table, reading: schema.Reading, **given: object
     ) -> LoxodromeBoundary:
         base = schema.read_keys(BoundaryConfig, t, reading)
         values = _read_loxodrome(t)
@@ -151,7 +166,7 @@ class LoxodromeBoundary(BoundaryConfig):
         return cls(**base, **values)
 
     def _validate(self, c: Check) -> LoxodromeBoundary:
-        return replace(self, **_check_loxodrome(self, c))
+        return replace(self, bearing=_check_loxodrome(self, c))
 
     def lonlat(self, spacing: float) -> NDArray[np.float64]:
         """Sample the rhumb line every ``spacing`` metres at most."""

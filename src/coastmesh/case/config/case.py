@@ -237,7 +237,7 @@ class StudyCase:
     text: str = ""
 
 
-def _text(value: Any, key: str) -> str:
+def _text(value: object, key: str) -> str:
     if not isinstance(value, str):
         raise ConfigError(f"{key} = {value!r}: expected the case file's text")
     return value

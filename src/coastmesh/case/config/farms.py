@@ -94,11 +94,11 @@ class RotorLength:
         return f"{self.value:g} D" if self.per_d else f"{self.value:g} m"
 
 
-def _rotor_length(value: Any, key: str) -> RotorLength:
+def _rotor_length(value: object, key: str) -> RotorLength:
     return RotorLength.parse(value, key)
 
 
-def _bearing(value: Any, key: str) -> float:
+def _bearing(value: object, key: str) -> float:
     """Convert a bearing in degrees clockwise from north, to [0, 360)."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise ConfigError(f"{key} = {value!r}: expected a bearing in degrees")
@@ -107,7 +107,7 @@ def _bearing(value: Any, key: str) -> float:
     return float(value) % 360.0
 
 
-def _ids(value: Any, key: str) -> tuple[int, ...]:
+def _ids(value: object, key: str) -> tuple[int, ...]:
     """Convert a list of physical ids (integers >= 1)."""
     if isinstance(value, str | bytes) or not hasattr(value, "__iter__"):
         raise ConfigError(f"{key} = {value!r}: expected a list of integer ids")

@@ -183,7 +183,7 @@ class CleanupConfig:
         return self
 
 
-def _parts(value: Any, key: str) -> int | str:
+def _parts(value: object, key: str) -> int | str:
     """``[mesh] parts``: "auto" or an integer >= 1."""
     if value == "auto":
         return value
@@ -240,7 +240,7 @@ class MeshConfig:
     )
 
 
-def _address(value: Any, key: str) -> str:
+def _address(value: object, key: str) -> str:
     """``[run] scheduler``: a Dask address such as "tcp://host:8786"."""
     text = schema.string(value, key)
     if "://" not in text and ":" not in text:
@@ -294,13 +294,13 @@ def _listed(
     return names
 
 
-def _formats(value: Any, key: str) -> tuple[str, ...]:
+def _formats(value: object, key: str) -> tuple[str, ...]:
     from coastmesh.io import mesh_formats
 
     return _listed(value, key, list(mesh_formats()), "unknown format", "format")
 
 
-def _model_tests(value: Any, key: str) -> tuple[str, ...]:
+def _model_tests(value: object, key: str) -> tuple[str, ...]:
     from coastmesh.io.meshes.model_tests import MODEL_TESTS
 
     if isinstance(value, list | tuple) and not value:
@@ -316,7 +316,7 @@ _CASE_OPTIONS = {
 }
 
 
-def _writer_options(value: Any, key: str) -> dict[str, dict[str, Any]]:
+def _writer_options(value: object, key: str) -> dict[str, dict[str, Any]]:
     from coastmesh.io import mesh_formats
 
     if not isinstance(value, Mapping):
@@ -346,7 +346,7 @@ def _writer_options(value: Any, key: str) -> dict[str, dict[str, Any]]:
     return out
 
 
-def _signs(value: Any, key: str) -> dict[str, str]:
+def _signs(value: object, key: str) -> dict[str, str]:
     from coastmesh.io import mesh_formats
 
     if not isinstance(value, Mapping):

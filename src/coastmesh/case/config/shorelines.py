@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
 
 from coastmesh.case import schema
 from coastmesh.case.config.kinds import DEFAULT_KIND, DOMAIN_KINDS, domain_kind
@@ -16,7 +15,7 @@ __all__ = ["DomainConfig", "RegionConfig", "ShorelineSetConfig", "ShorelinesConf
 _UP_DOWN = ("up", "down")
 
 
-def _height(value: Any, key: str) -> float:
+def _height(value: object, key: str) -> float:
     """Convert a height (metres, or a string in m or km), of either sign."""
     if not (isinstance(value, str) and value.strip().endswith("deg")):
         try:
@@ -97,7 +96,7 @@ class ShorelinesConfig:
 
     @classmethod
     def _read(
-        cls, t: schema.Table, reading: schema.Reading, **given: Any
+        cls, t: schema.Table, reading: schema.Reading, **given: object
     ) -> ShorelinesConfig:
         """``level`` and ``positive`` are for a raster: refused with ``path``."""
         contour = [k for k in ("level", "positive") if t.has(k)]
@@ -121,7 +120,7 @@ class ShorelinesConfig:
             )
         return self
 
-    def _dump(self) -> dict[str, Any]:
+    def _dump(self) -> dict[str, object]:
         """Return the keys; the raster's keys only with a raster."""
         out = schema.dump_keys(self)
         if self.raster is None:
@@ -288,7 +287,7 @@ class DomainConfig:
         "are thickened to it",
     )
 
-    def _dump(self) -> dict[str, Any]:
+    def _dump(self) -> dict[str, object]:
         """Return the keys, less those only another kind of case writes.
 
         A regional domain's are without ``kind``, ``pole`` and ``close``

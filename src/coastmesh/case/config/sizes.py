@@ -29,7 +29,7 @@ if TYPE_CHECKING:
 __all__ = ["SizeConfig", "floor", "terms_smallest"]
 
 
-def _rate(value: Any, key: str) -> float | None:
+def _rate(value: object, key: str) -> float | None:
     """``rate``: a number > 0, or false (None) for no gradation limit."""
     if value is None or value is False:
         return None

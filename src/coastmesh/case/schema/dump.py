@@ -11,14 +11,17 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from coastmesh.case.schema.keys import UNITS, Key, keys_of
+
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
 
 __all__ = ["dump_keys", "dump_part", "toml_value"]
 
 
-def dump_part(part: Any) -> dict[str, Any]:
+def dump_part(part: DataclassInstance) -> dict[str, object]:
     """Return a part as the data of its table (for ``tomli_w``).
 
     A part that leaves keys out where they do not apply (a regional domain's
@@ -34,10 +37,10 @@ def dump_part(part: Any) -> dict[str, Any]:
     return own() if own is not None else dump_keys(part)
 
 
-def dump_keys(part: Any) -> dict[str, Any]:
+def dump_keys(part: DataclassInstance) -> dict[str, object]:
     """Return every key of a part that has a value; a ``kind`` (of a boundary) first."""
     kind = getattr(type(part), "kind", None)
-    out: dict[str, Any] = {"kind": kind} if isinstance(kind, str) else {}
+    out: dict[str, object] = {"kind": kind} if isinstance(kind, str) else {}
     for f, meta in keys_of(part):
         value = getattr(part, f.name)
         if value is None and meta.dump is None:
@@ -48,7 +51,8 @@ def dump_keys(part: Any) -> dict[str, Any]:
     return out
 
 
-def _dump_value(value: Any, meta: Key) -> Any:  # noqa: PLR0911 (one per kind)
+# Any: a field's value, of the type its key declares (a part, parts, a path, ...)
+def _dump_value(value: Any, meta: Key) -> object:  # noqa: PLR0911 (one per kind)
     if meta.dump is not None:
         return meta.dump(value)
     if meta.part is not None and meta.keyed:
@@ -64,7 +68,7 @@ def _dump_value(value: Any, meta: Key) -> Any:  # noqa: PLR0911 (one per kind)
     return toml_value(value)
 
 
-def toml_value(value: Any) -> Any:
+def toml_value(value: object) -> object:
     """Return a value as TOML holds it: tuples as lists, paths as strings."""
     if isinstance(value, tuple | list):
         return [toml_value(v) for v in value]

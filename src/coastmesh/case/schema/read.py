@@ -16,15 +16,19 @@ from __future__ import annotations
 import dataclasses
 import os
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from coastmesh.case.schema import convert
 from coastmesh.case.schema.convert import Converter
 from coastmesh.case.schema.keys import Key, is_required, keys_of
 from coastmesh.case.schema.table import Table
 
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
+
 __all__ = ["Reading", "read_keys", "read_part"]
 
+D = TypeVar("D", bound="DataclassInstance")
 #: A sub-table that is not there: the field keeps its default.
 _ABSENT = object()
 
@@ -49,14 +53,14 @@ class Reading:
 
     base: Path
 
-    def path(self, value: Any, key: str) -> Path:
+    def path(self, value: object, key: str) -> Path:
         """Return a path of the file: relative paths from the file's folder."""
         p = convert.path(value, key)
         # normpath folds "examples/x/../../out" to "out" (it does not resolve links)
         return p if p.is_absolute() else Path(os.path.normpath(self.base / p))
 
 
-def read_part(kind: type, t: Table, reading: Reading, **given: Any) -> Any:
+def read_part(kind: type[D], t: Table, reading: Reading, **given: object) -> D:
     """Read a part of class ``kind`` from its table; ``given``: fields known already.
 
     Unknown keys are an error. The values are converted (units, paths), not yet
@@ -71,8 +75,12 @@ def read_part(kind: type, t: Table, reading: Reading, **given: Any) -> Any:
 
 
 def read_keys(
-    kind: type, t: Table, reading: Reading, *, rename: dict[str, str] | None = None
-) -> dict[str, Any]:
+    kind: type[DataclassInstance],
+    t: Table,
+    reading: Reading,
+    *,
+    rename: dict[str, str] | None = None,
+) -> dict[str, Any]:  # not yet checked: the part's class checks them
     """Take the keys of ``kind`` that are in ``t``; return them by field name.
 
     ``rename`` gives other keys for some fields, by field name (the open
@@ -95,7 +103,7 @@ def read_keys(
     return values
 
 
-def _reader(meta: Key, reading: Reading) -> Converter[Any]:
+def _reader(meta: Key, reading: Reading) -> Converter[object]:
     if meta.read is not None:
         return meta.read
     if meta.path:
@@ -105,14 +113,19 @@ def _reader(meta: Key, reading: Reading) -> Converter[Any]:
     return _as_is
 
 
-def _as_is(value: Any, key: str) -> Any:
+def _as_is(value: object, key: str) -> object:
     """Take a value as it is: the part's checks convert it."""
     return value
 
 
 def _read_parts(
-    meta: Key, part: type, t: Table, reading: Reading, *, required: bool
-) -> Any:
+    meta: Key,
+    part: type[DataclassInstance],
+    t: Table,
+    reading: Reading,
+    *,
+    required: bool,
+) -> object:
     """Read a sub-table, an array of tables, or tables keyed by name."""
     if meta.keyed:
         tables = t.table(meta.name, required=required)
@@ -137,7 +150,9 @@ def _read_parts(
     return read_part(part, t.table(meta.name), reading)
 
 
-def _kind_of(meta: Key, part: type, t: Table) -> type:
+def _kind_of(
+    meta: Key, part: type[DataclassInstance], t: Table
+) -> type[DataclassInstance]:
     """Return the class of one table of an array: by its ``kind``, if it has kinds."""
     if meta.kinds is None:
         return part

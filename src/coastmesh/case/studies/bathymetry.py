@@ -111,7 +111,7 @@ class BathymetryStudyResult(Report):
 
 
 def parse_study(
-    table: Table, path_of: Callable[[Any, str], Path]
+    table: Table, path_of: Callable[[object, str], Path]
 ) -> BathymetryStudyConfig:
     """Read the ``[study]`` table of a ``kind = "bathymetry"`` case.
 
@@ -258,10 +258,10 @@ def run_study(
     return BathymetryStudyResult(tuple(files), rows, time.perf_counter() - started)
 
 
-def _mode_counts(window: int) -> Callable[[Any, str], tuple[int, ...]]:
+def _mode_counts(window: int) -> Callable[[object, str], tuple[int, ...]]:
     size = window * window
 
-    def convert(value: Any, key: str) -> tuple[int, ...]:
+    def convert(value: object, key: str) -> tuple[int, ...]:
         if not isinstance(value, list | tuple) or not value:
             raise ConfigError(f"{key} = {value!r}: expected a list of mode counts")
         counts = tuple(schema.integer(1)(m, f"{key}[{k}]") for k, m in enumerate(value))
@@ -284,7 +284,7 @@ def _default_modes(window: int) -> tuple[int, ...]:
     return tuple(sorted({1, size // 4, size // 2, 3 * size // 4} - {0}))
 
 
-def _prefix(value: Any, key: str) -> str:
+def _prefix(value: object, key: str) -> str:
     if not isinstance(value, str) or not _PREFIX.fullmatch(value):
         raise ConfigError(
             f"{key} = {value!r}: expected a file name start (letters, digits, "

@@ -142,7 +142,7 @@ class ShorelineStudyResult(Report):
 
 
 def parse_study(
-    table: Table, path_of: Callable[[Any, str], Path]
+    table: Table, path_of: Callable[[object, str], Path]
 ) -> ShorelineStudyConfig:
     """Read the ``[study]`` table of a shoreline study case.
 
@@ -328,7 +328,7 @@ def _row(
     }
 
 
-def _positive_length(value: Any, key: str) -> float:
+def _positive_length(value: object, key: str) -> float:
     """Convert a length with its unit to metres, > 0."""
     return schema.length()(schema.length_with_unit(value, key), key)
 

@@ -72,14 +72,14 @@ AUTO_PERCENTILE = 1.0
 AUTO_SHARE = 0.7
 
 
-def _dt(value: Any, key: str) -> float | None:
+def _dt(value: object, key: str) -> float | None:
     """``dt``: a duration > 0, or ``"auto"`` (None)."""
     if value is None or value == "auto":
         return None
     return schema.duration(value, key)
 
 
-def _read_dt(value: Any, key: str) -> Any:
+def _read_dt(value: object, key: str) -> Any:
     """``dt`` in a case file: ``"auto"``, or a duration with its unit."""
     if value == "auto":
         return None

@@ -46,7 +46,7 @@ import os
 import warnings
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -69,7 +69,7 @@ __all__ = ["FieldConfig", "Fields", "FieldsReport", "with_result"]
 REDUCTIONS = ("max", "min", "mean", "range", "at")
 
 
-def _numbers(value: Any, where: str) -> tuple[float, ...]:
+def _numbers(value: object, where: str) -> tuple[float, ...]:
     """Convert a non-empty list of numbers (``-inf`` and ``inf`` allowed)."""
     if isinstance(value, int | float) and not isinstance(value, bool):
         value = [value]
@@ -78,7 +78,7 @@ def _numbers(value: Any, where: str) -> tuple[float, ...]:
     return tuple(schema.number(v, f"{where}[{k}]") for k, v in enumerate(value))
 
 
-def _lengths(value: Any, where: str) -> tuple[float, ...]:
+def _lengths(value: object, where: str) -> tuple[float, ...]:
     """Convert a non-empty list of lengths > 0 (metres, or strings with a unit)."""
     if isinstance(value, int | float | str) and not isinstance(value, bool):
         value = [value]
