@@ -13,7 +13,7 @@ import logging
 import time
 import warnings
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import shapely
@@ -30,7 +30,12 @@ from coastmesh.geometry.projection import (
 )
 from coastmesh.meshing.cleanup.aside import done_now
 from coastmesh.meshing.cleanup.fixes import fix_seam_slivers
-from coastmesh.meshing.cleanup.report import CleanupOptions, combine, stats
+from coastmesh.meshing.cleanup.report import (
+    CleanupOptions,
+    PartCleanup,
+    combine,
+    stats,
+)
 from coastmesh.meshing.gmsh.boundary_nodes import boundary_nodes
 from coastmesh.meshing.gmsh.crossings import boundary_crossings, resample_valid
 from coastmesh.meshing.gmsh.model import (
@@ -59,6 +64,8 @@ from coastmesh.meshing.parts.junctions import join_cuts
 from coastmesh.meshing.parts.report import PartsReport
 from coastmesh.meshing.parts.seams import smooth_seams
 from coastmesh.meshing.parts.tasks import (
+    PartMesh,
+    PartTask,
     Runner,
     merge_parts,
     mesh_part,
@@ -72,6 +79,25 @@ from coastmesh.types.topology import unique_edges
 __all__ = ["ALGORITHMS", "PartsWarning", "generate_mesh", "mesh_in_parts"]
 
 logger = logging.getLogger(__name__)
+
+#: A piece of the boundary: its nodes (k, 2) and its physical id.
+_Piece = tuple[NDArray[np.float64], int]
+#: The boundary (:func:`_boundary`): the rings' segments as projected, as
+#: resampled (pieces of each), and the ids of the rings' segments.
+_Boundary = tuple[
+    list[list[NDArray[np.float64]]],
+    list[list[list[NDArray[np.float64]]]],
+    list[list[int]],
+]
+#: The parts joined (:func:`_joined`): points, triangles, edges, edge ids, and
+#: the seam's nodes moved and (flips, splits).
+_Joined = tuple[
+    NDArray[np.float64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    tuple[int, tuple[int, int]],
+]
 
 
 class PartsWarning(CoastmeshWarning):
@@ -89,7 +115,7 @@ def generate_mesh(
     optimize: bool = True,
     parts: int | str = 1,
     threads: int = 1,
-    runner: Runner | None = None,
+    runner: Runner[Any, Any] | None = None,  # runs boundary batches and parts
     cleanup: CleanupOptions | None = None,
     progress: Progress | None = None,
     inner: Inner | None = None,
@@ -254,7 +280,7 @@ def mesh_in_parts(
     optimize: bool = True,
     parts: int | str = 1,
     threads: int = 1,
-    runner: Runner | None = None,
+    runner: Runner[Any, Any] | None = None,  # runs boundary batches and parts
     cleanup: CleanupOptions | None = None,
     progress: Progress | None = None,
     inner: Inner | None = None,
@@ -349,12 +375,12 @@ def _projected(domain: Domain, mesh_crs: Any) -> CRS:
 
 
 def _nodes(
-    boundary: tuple[list, list, list],
+    boundary: _Boundary,
     map_size: Any,
     mesh_crs: CRS,
-    runner: Runner | None,
+    runner: Runner[Any, Any] | None,
     parts: int | str,
-) -> tuple[list, shapely.Polygon]:
+) -> tuple[list[_Piece], shapely.Polygon]:
     """Return the boundary's mesh nodes and the water they bound, checked.
 
     The workers start meanwhile, on a thread (a head start only).
@@ -391,7 +417,7 @@ def _fixed_nodes(
     return pieces, water
 
 
-def _boundary(domain: Domain, mesh_crs: CRS, map_size: Any) -> tuple[list, list, list]:
+def _boundary(domain: Domain, mesh_crs: CRS, map_size: Any) -> _Boundary:
     """Project the domain's rings and resample them to the local size.
 
     Returns the rings as projected, resampled, and the ids of the rings kept
@@ -444,8 +470,8 @@ def _lonlat(x: float, y: float, crs: CRS) -> str:
 def _mesh(
     domain: Domain,
     size: Any,
-    results: list,
-    joined: tuple,
+    results: list[PartMesh],
+    joined: _Joined,
     cleanup: CleanupOptions | None,
     threads: int,
     crss: tuple[CRS, CRS],
@@ -497,7 +523,9 @@ def _mesh(
     return mesh, report
 
 
-def _line_nodes(points: NDArray[np.float64], plane: InnerPlane) -> list[NDArray]:
+def _line_nodes(
+    points: NDArray[np.float64], plane: InnerPlane
+) -> list[NDArray[np.int64]]:
     """Return the node indices of each line of ``plane`` among ``points``.
 
     A line's nodes are held in every part and seam, so each is a mesh node at
@@ -525,8 +553,8 @@ def _line_nodes(points: NDArray[np.float64], plane: InnerPlane) -> list[NDArray]
 def _parts_report(
     parts: int | str,
     wanted: int,
-    tasks: list,
-    results: list,
+    tasks: list[PartTask],
+    results: list[PartMesh],
     faces: Any,
     cleaned: Any,
     crss: tuple[CRS, CRS],
@@ -558,7 +586,9 @@ def _parts_report(
     )
 
 
-def _joined(results: list, cleanup: CleanupOptions | None, held: set[int]) -> tuple:
+def _joined(
+    results: list[PartMesh], cleanup: CleanupOptions | None, held: set[int]
+) -> _Joined:
     """Join the parts; smooth the cuts; points, triangles, edges, ids, seam.
 
     ``seam``: the nodes moved at the cuts, and the slivers flipped and split
@@ -588,7 +618,7 @@ def _joined(results: list, cleanup: CleanupOptions | None, held: set[int]) -> tu
 
 
 def _cleanup_report(
-    results: list,
+    results: list[PartMesh],
     points: NDArray[np.float64],
     triangles: NDArray[np.int64],
     edges: NDArray[np.int64],
@@ -602,9 +632,9 @@ def _cleanup_report(
     on_boundary = np.zeros(len(points), dtype=bool)
     on_boundary[edges.ravel()] = True
     after = stats(points, triangles, on_boundary, cleanup.min_angle)
-    cleaned = combine(
-        [r.cleanup for r in results], after, seam_moved=seam[0], seam_fixes=seam[1]
-    )
+    # every part was cleaned: part_tasks gave each task this cleanup
+    reports = cast("list[PartCleanup]", [r.cleanup for r in results])
+    cleaned = combine(reports, after, seam_moved=seam[0], seam_fixes=seam[1])
     logger.info("cleanup: %s", cleaned.summary())
     return cleaned
 
@@ -630,13 +660,13 @@ def _check_args(domain: Any, size: Any, algorithm: str, seed: Any, parts: Any) -
 
 
 def _cut(
-    pieces: list,
+    pieces: list[_Piece],
     water: shapely.Polygon,
     size: SizeGrid,
     parts: int | str,
     plane: InnerPlane,
     threads: int = 1,
-) -> tuple[list, list[NDArray[np.float64]], int]:
+) -> tuple[list[_Piece], list[NDArray[np.float64]], int]:
     """Cut the water into parts: the pieces joined to the cuts, chords, aim.
 
     No cut may cross a region of ``plane`` (or come within two of its
@@ -681,7 +711,9 @@ def _cut(
     return pieces, chords, wanted
 
 
-def _signed_areas(points: NDArray[np.float64], triangles: NDArray[np.int64]) -> NDArray:
+def _signed_areas(
+    points: NDArray[np.float64], triangles: NDArray[np.int64]
+) -> NDArray[np.float64]:
     a, b, c = (points[triangles[:, k]] for k in range(3))
     return 0.5 * (
         (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1])
@@ -689,7 +721,9 @@ def _signed_areas(points: NDArray[np.float64], triangles: NDArray[np.int64]) -> 
     )
 
 
-def _orient(points: NDArray[np.float64], triangles: NDArray[np.int64]) -> NDArray:
+def _orient(
+    points: NDArray[np.float64], triangles: NDArray[np.int64]
+) -> NDArray[np.int64]:
     """Make every triangle counter-clockwise; raise on degenerate ones."""
     area = _signed_areas(points, triangles)
     if (area == 0).any():
@@ -729,12 +763,15 @@ def _check_edges(
     return edges[order], ids[order].astype(np.int64)
 
 
-def _member(keys: NDArray[np.int64], sorted_keys: NDArray[np.int64]) -> NDArray:
+def _member(
+    keys: NDArray[np.int64], sorted_keys: NDArray[np.int64]
+) -> NDArray[np.bool_]:
     """Return which of ``keys`` are in ``sorted_keys`` (ascending)."""
     if len(sorted_keys) == 0:
         return np.zeros(len(keys), dtype=bool)
     at = np.minimum(np.searchsorted(sorted_keys, keys), len(sorted_keys) - 1)
-    return sorted_keys[at] == keys
+    found: NDArray[np.bool_] = sorted_keys[at] == keys  # numpy's stub: Any
+    return found
 
 
 def _inner_plane(
@@ -756,7 +793,7 @@ def _inner_plane(
     points = np.asarray(inner.points, dtype=np.float64).reshape(-1, 2)
     if len(points) and not crs.equals(mesh_crs):
         points = project_points(points, crs, mesh_crs, what="turbines")
-    lines = []
+    lines: list[NDArray[np.float64]] = []
     for given, _, _ in inner.lines:
         xy = np.asarray(given, dtype=np.float64)
         if not crs.equals(mesh_crs):
@@ -774,7 +811,7 @@ def _inner_plane(
     )
 
 
-def _held_numbers(tasks: list, plane: InnerPlane) -> set[int]:
+def _held_numbers(tasks: list[PartTask], plane: InnerPlane) -> set[int]:
     """Return the shared numbers of the region outlines' and embedded nodes."""
     noded = {(float(x), float(y)) for ring in plane.rings for x, y in ring}
     held: set[int] = set()

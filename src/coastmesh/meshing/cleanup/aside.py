@@ -8,7 +8,7 @@ from typing import Any
 __all__ = ["done_now"]
 
 
-def done_now(fn: Any, *args: Any) -> Future:
+def done_now(fn: Any, *args: Any) -> Future[Any]:
     """Call ``fn(*args)`` now; return its result (or error) as a done Future.
 
     Stands in for ``executor.submit`` on one thread, so that the caller reads
@@ -19,7 +19,7 @@ def done_now(fn: Any, *args: Any) -> Future:
     >>> done_now(max, 2, 3).result()
     3
     """
-    future: Future = Future()
+    future: Future[Any] = Future()
     try:
         future.set_result(fn(*args))
     except Exception as exc:  # raised by .result(), as a thread's would be

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from coastmesh.geometry.sphere import local_plane
 from coastmesh.meshing.cleanup import smoothing
 from coastmesh.meshing.cleanup.planar import signed_areas, triangle_angles
 from coastmesh.types import Mesh
@@ -39,7 +40,7 @@ class EditableMesh:
     ) -> None:
         """Load the mesh; ``region``: (boundary fixes, max valence, min angle)."""
         self.mesh = mesh
-        self.to_plane = smoothing.local_plane(mesh)
+        self.to_plane = local_plane(mesh)
         self.xy = smoothing.plane_points(mesh.points, self.to_plane)
         self.extra_xy: list[NDArray[np.float64]] = []  # new nodes, and the
         self.extra_from: list[tuple[int, ...]] = []  # neighbours of each
@@ -164,7 +165,7 @@ class EditableMesh:
             np.add.at(self.valence, [w for w in t if w < n], change)
         self._replace([k1, k2], [new1, new2])
 
-    def _new_node(self, point: NDArray[np.float64], neighbours: tuple) -> int:
+    def _new_node(self, point: NDArray[np.float64], neighbours: tuple[int, ...]) -> int:
         self.extra_xy.append(point)
         self.extra_from.append(neighbours)
         return len(self.xy) + len(self.extra_xy) - 1
@@ -188,7 +189,9 @@ class EditableMesh:
         self._replace([k], [[t[i], t[(i + 1) % 3], node] for i in range(3)])
         np.add.at(self.valence, [w for w in t if w < len(self.valence)], 1)
 
-    def _split_edge(self, k: int, k2: int, point: NDArray, quad: tuple) -> None:
+    def _split_edge(
+        self, k: int, k2: int, point: NDArray[np.float64], quad: tuple[int, ...]
+    ) -> None:
         u, v, a, b = quad
         node = self._new_node(point, quad)
         pieces = [[u, node, a], [v, node, b], [node, v, a], [node, u, b]]
@@ -199,7 +202,9 @@ class EditableMesh:
         """Return which of every node (new ones last) may not move."""
         return np.concatenate([self.fixed, np.zeros(len(self.extra_xy), bool)])
 
-    def arrays(self) -> tuple[NDArray, NDArray, NDArray]:
+    def arrays(
+        self,
+    ) -> tuple[NDArray[np.float64], NDArray[np.int64], NDArray[np.bool_]]:
         """Return every node's plane coordinates, the triangles, the boundary."""
         xy = np.concatenate([self.xy, np.array(self.extra_xy).reshape(-1, 2)])
         on_boundary = np.zeros(len(xy), dtype=bool)

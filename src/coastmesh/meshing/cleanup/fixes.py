@@ -235,13 +235,23 @@ def fix_seam_slivers(
     return np.concatenate([xy, extra]), out, (flips, splits)
 
 
-def _smoothed(xy: NDArray, tri: NDArray, held: NDArray, good: float) -> tuple:
+def _smoothed(
+    xy: NDArray[np.float64],
+    tri: NDArray[np.int64],
+    held: NDArray[np.bool_],
+    good: float,
+) -> tuple[NDArray[np.float64], int]:
     """Return ``xy`` smoothed with the ``held`` nodes fixed, and the nodes moved."""
     new = smoothing.smooth_points(xy, tri, held, good_angle=good)[0]
     return new, int((new != xy).any(axis=1).sum())
 
 
-def _cannot_pass(xy: NDArray, tri: NDArray, held: NDArray, before: dict) -> bool:
+def _cannot_pass(
+    xy: NDArray[np.float64],
+    tri: NDArray[np.int64],
+    held: NDArray[np.bool_],
+    before: dict[str, float],
+) -> bool:
     """Whether a triangle smoothing cannot touch already fails the acceptance.
 
     Smoothing moves no ``held`` node, so a triangle of three held nodes keeps
@@ -269,7 +279,12 @@ class _Work(EditableMesh):
 
     def _edge_split(
         self, k: int, u: int, v: int
-    ) -> tuple[float, int, NDArray, tuple[int, ...], float, NDArray] | None:
+    ) -> (
+        tuple[
+            float, int, NDArray[np.float64], tuple[int, ...], float, NDArray[np.float64]
+        ]
+        | None
+    ):
         """Return the best split of edge (u, v) of triangle k, or None.
 
         (quality, k2, point, (u, v, a, b), r_in, pieces): a new node joined to
@@ -406,7 +421,7 @@ class _Work(EditableMesh):
         return flips
 
     def flip_slivers(
-        self, min_angle: float, limit: int | None, only: NDArray | None = None
+        self, min_angle: float, limit: int | None, only: NDArray[np.int64] | None = None
     ) -> tuple[int, int]:
         """Flip, else split, the edge opposite each sliver's widest angle.
 

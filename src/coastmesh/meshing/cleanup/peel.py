@@ -30,6 +30,7 @@ here, over plain Python dicts, and touches only the all-boundary triangles.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -38,6 +39,11 @@ from numpy.typing import NDArray
 from coastmesh.types import Mesh, Report
 
 __all__ = ["PeelReport", "peel_channels"]
+
+#: A side of a triangle: its two nodes, the lower first (:func:`_edge`).
+_Side = tuple[int, int]
+#: The all-boundary triangles of a pass: each one's nodes.
+_Alive = dict[int, tuple[int, ...]]
 
 
 @dataclass(frozen=True, slots=True)
@@ -222,7 +228,16 @@ def _peel_once(
     return _without(mesh, keep, removed, side_id, report)
 
 
-def _peel_ears(queue, alive, kept, removed, side_id, by_side, ear, open_) -> None:
+def _peel_ears(
+    queue: Iterable[int],
+    alive: _Alive,
+    kept: set[int],
+    removed: set[int],
+    side_id: dict[_Side, int],
+    by_side: dict[_Side, list[int]],
+    ear: Callable[[int], tuple[_Side, list[_Side]] | None],
+    open_: Callable[[_Side], bool],
+) -> None:
     """Remove ears whose inner neighbour is all-boundary, until none is left."""
     queue = list(queue)
     while queue:
@@ -257,7 +272,16 @@ class _Straits:
     most :data:`MAX_FANS` nodes a run.
     """
 
-    def __init__(self, tris, alive, kept, removed, side_id, by_side, open_):
+    def __init__(
+        self,
+        tris: NDArray[np.int64],
+        alive: _Alive,
+        kept: set[int],
+        removed: set[int],
+        side_id: dict[_Side, int],
+        by_side: dict[_Side, list[int]],
+        open_: Callable[[_Side], bool],
+    ) -> None:
         self.tris, self.alive, self.kept = tris, alive, kept
         self.removed, self.side_id, self.by_side = removed, side_id, by_side
         self.open_ = open_
@@ -312,7 +336,9 @@ class _Straits:
             unpinched += len(group) > len(run)
         return closed, unpinched
 
-    def _closed(self, run: set[int], like: int) -> tuple[set[int], tuple] | None:
+    def _closed(
+        self, run: set[int], like: int
+    ) -> tuple[set[int], tuple[set[_Side], dict[_Side, int]]] | None:
         """Return the triangles to take out for ``run`` and the change of sides.
 
         The change is (the boundary sides that go, the new ones with their id).
@@ -360,7 +386,9 @@ class _Straits:
         at = np.repeat(lo - np.cumsum(np.r_[0, (hi - lo)[:-1]]), hi - lo)
         return np.unique(order[np.arange(at.size) + at])
 
-    def _side_ids(self, group: set[int], like: int) -> tuple[set, dict, dict]:
+    def _side_ids(
+        self, group: set[int], like: int
+    ) -> tuple[set[_Side], dict[_Side, int], dict[_Side, list[int]]]:
         """Return how the boundary sides change once ``group`` is out.
 
         Returns the boundary sides that go, the new ones with their id, and
@@ -385,7 +413,9 @@ class _Straits:
                     added[side] = like
         return gone, added, around
 
-    def _pinched(self, gone: set, added: dict, nodes: set[int]) -> list[int]:
+    def _pinched(
+        self, gone: set[_Side], added: dict[_Side, int], nodes: set[int]
+    ) -> list[int]:
         """Return the ``nodes`` with boundary sides other than none or two.
 
         Those are pinches, once the sides ``gone`` go and those ``added`` come.
@@ -398,7 +428,14 @@ class _Straits:
                         degree[v] += step
         return sorted(v for v, d in degree.items() if d not in (0, 2))
 
-    def _smaller_fan(self, node, group, gone, added, around) -> set[int] | None:
+    def _smaller_fan(
+        self,
+        node: int,
+        group: set[int],
+        gone: set[_Side],
+        added: dict[_Side, int],
+        around: dict[_Side, list[int]],
+    ) -> set[int] | None:
         """Return the smaller fan of water around ``node`` (fans part at the boundary).
 
         None if it holds a triangle of a site.
@@ -431,7 +468,13 @@ class _Straits:
 MAX_FANS = 2
 
 
-def _run(start, alive, rest, side_id, by_side) -> set[int]:
+def _run(
+    start: int,
+    alive: _Alive,
+    rest: set[int],
+    side_id: dict[_Side, int],
+    by_side: dict[_Side, list[int]],
+) -> set[int]:
     """Return the all-boundary triangles joined to ``start`` by inner sides."""
     run, stack = {start}, [start]
     while stack:
@@ -497,7 +540,7 @@ def _cut_off(mesh: Mesh, removed: set[int]) -> tuple[set[int], set[int]]:
     return set(index[cut].tolist()), set(index[forced].tolist())
 
 
-def _strips(alive, removed: set[int]) -> int:
+def _strips(alive: _Alive, removed: set[int]) -> int:
     """Count the strips peeled: the removed triangles joined by a side."""
     parent = {t: t for t in removed}
 
@@ -536,7 +579,7 @@ def _left(mesh: Mesh) -> int:
     return int((sides <= 1).sum())
 
 
-def _spanning(alive, side_id, removed) -> int:
+def _spanning(alive: _Alive, side_id: dict[_Side, int], removed: set[int]) -> int:
     """Count the all-boundary triangles with at most one boundary side."""
     count = 0
     for t, (a, b, c) in alive.items():
@@ -552,7 +595,7 @@ def _without(
     mesh: Mesh,
     sites: NDArray[np.bool_] | None,
     removed: set[int],
-    side_id: dict,
+    side_id: dict[_Side, int],
     report: PeelReport,
 ) -> tuple[Mesh, NDArray[np.bool_] | None, PeelReport]:
     """Return the mesh without the ``removed`` triangles; boundary from ``side_id``.
@@ -686,7 +729,9 @@ def open_short_runs(mesh: Mesh, min_edges: int = MIN_RUN_EDGES) -> tuple[Mesh, i
     return out, sum(len(run) for run, _ in runs)
 
 
-def _short_runs(edges, ids, kinds, min_edges: int) -> list[tuple[list[int], list]]:
+def _short_runs(
+    edges: list[tuple[int, ...]], ids: list[int], kinds: dict[int, str], min_edges: int
+) -> list[tuple[list[int], list[int | None]]]:
     """Return the runs of coast too short between open ends: (edges, end ids)."""
     at: dict[int, list[int]] = {}
     for k, (u, v) in enumerate(edges):
@@ -717,7 +762,7 @@ def _short_runs(edges, ids, kinds, min_edges: int) -> list[tuple[list[int], list
         if (
             len(run) < min_edges
             and len(ends) == 2
-            and all(kinds.get(e) == "open" for e in ends)
+            and all(e is not None and kinds.get(e) == "open" for e in ends)
         ):
             runs.append((sorted(run), ends))
     return runs

@@ -32,7 +32,9 @@ def triangle_angles(xy: NDArray[np.float64]) -> NDArray[np.float64]:
     b = np.linalg.norm(xy[:, 2] - xy[:, 0], axis=1)
     c = np.linalg.norm(xy[:, 0] - xy[:, 1], axis=1)
 
-    def angle(opposite, s1, s2):
+    def angle(
+        opposite: NDArray[np.float64], s1: NDArray[np.float64], s2: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
         cos = (s1**2 + s2**2 - opposite**2) / np.maximum(2 * s1 * s2, 1e-300)
         return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
 
@@ -81,7 +83,11 @@ def radius_ratios(xy: ArrayLike) -> NDArray[np.float64]:
     xy = np.asarray(xy, dtype=float)
     sides = np.linalg.norm(xy - np.roll(xy, -1, axis=1), axis=2)
     area = signed_areas(xy)
-    return 16 * area**2 / np.maximum(sides.sum(axis=1) * sides.prod(axis=1), 1e-300)
+    # numpy's stub: Any (np.linalg.norm of an array of unknown dtype)
+    ratio: NDArray[np.float64] = (
+        16 * area**2 / np.maximum(sides.sum(axis=1) * sides.prod(axis=1), 1e-300)
+    )
+    return ratio
 
 
 def sin_min_angles(
@@ -124,18 +130,29 @@ def sines_and_ratios(
     return sine, ratio
 
 
-def _sides(xy: NDArray[np.float64], triangles: NDArray[np.int64]) -> tuple:
+def _sides(
+    xy: NDArray[np.float64], triangles: NDArray[np.int64]
+) -> tuple[
+    NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]
+]:
     """Return the side vectors 0->1, 0->2, 1->2 and twice the signed area."""
     p0, p1, p2 = (xy[triangles[:, i]] for i in range(3))
     d1, d2, d3 = p1 - p0, p2 - p0, p2 - p1
     return d1, d2, d3, d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
 
 
-def _sines(d1: NDArray, d2: NDArray, d3: NDArray, area2: NDArray) -> NDArray:
+def _sines(
+    d1: NDArray[np.float64],
+    d2: NDArray[np.float64],
+    d3: NDArray[np.float64],
+    area2: NDArray[np.float64],
+) -> NDArray[np.float64]:
     """Return ``2 A c / (a b c)``, c the shortest side (0 for a degenerate one)."""
     a, b, c = np.hypot(*d1.T), np.hypot(*d2.T), np.hypot(*d3.T)
     product = a * b * c
     shortest = np.minimum(np.minimum(a, b), c)
-    return np.divide(
+    # numpy's stub: Any (np.hypot of unpacked columns)
+    sine: NDArray[np.float64] = np.divide(
         area2 * shortest, product, out=np.zeros_like(area2), where=product > 0
     )
+    return sine

@@ -139,7 +139,7 @@ def stats(
     on_boundary: NDArray[np.bool_],
     min_angle: float,
     fixed: NDArray[np.bool_] | None = None,
-) -> dict:
+) -> dict[str, Any]:  # ints and floats, by CleanupReport's field
     """Return the numbers the report has before and after.
 
     ``fixed`` nodes (the nodes of cuts in a part) are left out of the valence.
@@ -202,7 +202,7 @@ class PartCleanup:
 
 def combine(
     parts: Sequence[PartCleanup],
-    after: dict,
+    after: dict[str, Any],
     *,
     seam_moved: int = 0,
     seam_fixes: tuple[int, int] = (0, 0),

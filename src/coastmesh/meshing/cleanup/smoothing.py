@@ -418,6 +418,7 @@ def _first_steps(
     p = xy[triangles[tri]]  # (K, 3, 2)
     sides = np.hypot(*(np.roll(p, -1, axis=1) - p).transpose(2, 0, 1))
     scale = np.add.reduceat(sides.sum(axis=1), starts) / (3 * count[:, 0])
+    step: NDArray[np.float64]  # numpy's stub: np.add.reduceat returns Any
     if method == "laplacian":
         # the other two corners of each triangle: all three minus the node
         total = np.add.reduceat(p.sum(axis=1), starts)
@@ -464,7 +465,8 @@ def _angle_gradient(
     d_b = np.column_stack([ab[:, 1], -ab[:, 0]]) / (ab**2).sum(axis=1)[:, None]
     d_c = np.column_stack([-ac[:, 1], ac[:, 0]]) / (ac**2).sum(axis=1)[:, None]
     options = np.stack([-(d_b + d_c), d_b, d_c])  # (3, k, 2): A, B, C move
-    return options[(corner - a) % 3, rows]
+    gradient: NDArray[np.float64] = options[(corner - a) % 3, rows]  # stub: Any
+    return gradient
 
 
 def _guarded(

@@ -43,16 +43,19 @@ from __future__ import annotations
 
 import logging
 import math
-from concurrent.futures import ThreadPoolExecutor
+from collections.abc import Callable
+from concurrent.futures import Future, ThreadPoolExecutor
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from pyproj import Transformer
 from scipy import sparse
 
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import EARTH_RADIUS
-from coastmesh.geometry.sphere import is_world_plane, plane_scale
+from coastmesh.geometry.sphere import is_world_plane, local_plane, plane_scale
 from coastmesh.meshing.cleanup import smoothing
 from coastmesh.meshing.cleanup.aside import done_now
 from coastmesh.meshing.cleanup.planar import signed_areas, triangle_angles
@@ -238,7 +241,7 @@ def relieve_time_step(
             f"mesh.point_data has no 'depth' (it has {sorted(mesh.point_data)}); "
             "add one with mesh.with_point_data(depth=...)"
         )
-    to_plane = smoothing.local_plane(mesh)
+    to_plane = local_plane(mesh)
     xy = smoothing.plane_points(mesh.points, to_plane)
     held = _held(mesh, held)
     plane = mesh.crs if to_plane is None else to_plane.target_crs
@@ -297,7 +300,13 @@ def _held(mesh: Mesh, held: NDArray[np.bool_] | None) -> NDArray[np.bool_]:
     return out
 
 
-def _prepare(mesh: Mesh, xy, velocity, held, radius=None) -> _Collapser:
+def _prepare(
+    mesh: Mesh,
+    xy: NDArray[np.float64],
+    velocity: float,
+    held: NDArray[np.bool_],
+    radius: float | None = None,
+) -> _Collapser:
     """Return a fresh :class:`_Collapser` of ``mesh``, ready for the passes.
 
     ``radius``: the sphere's, when ``xy`` is a world plane (its lengths are
@@ -314,7 +323,9 @@ def _prepare(mesh: Mesh, xy, velocity, held, radius=None) -> _Collapser:
     return work
 
 
-def _passes(work: _Collapser, ratio, floor, passes) -> tuple[int, int]:
+def _passes(
+    work: _Collapser, ratio: float, floor: float, passes: int
+) -> tuple[int, int]:
     """Run the passes on ``work``; return the collapses and moves made."""
     collapses = moves = 0
     for _ in range(passes):
@@ -341,7 +352,9 @@ def _coast_links(mesh: Mesh) -> dict[int, dict[int, int]]:
     return {n: nb for n, nb in links.items() if len(nb) == 2}
 
 
-def _check_options(velocity: float, ratio: float, min_angle: float, passes: int):
+def _check_options(
+    velocity: float, ratio: float, min_angle: float, passes: int
+) -> None:
     """Raise ConfigError naming the first option out of range."""
     integer = isinstance(passes, int | np.integer) and not isinstance(passes, bool)
     speed = math.isfinite(velocity) and velocity >= 0
@@ -356,8 +369,12 @@ def _check_options(velocity: float, ratio: float, min_angle: float, passes: int)
 
 
 def _measures(
-    mesh: Mesh, xy: NDArray, velocity: float, ratio: float, aside=None
-) -> dict:
+    mesh: Mesh,
+    xy: NDArray[np.float64],
+    velocity: float,
+    ratio: float,
+    aside: Callable[..., Future[Any]] | None = None,
+) -> dict[str, Any]:  # ints and floats, by ThrottleReport's field
     """Return the report's numbers: time steps on the Earth, angles in the plane.
 
     ``aside(fn, *args)`` returns a future: the angles are measured there
@@ -377,8 +394,11 @@ def _measures(
 
 
 def _plane_time_steps(
-    pts: NDArray, corner_depth: NDArray, velocity: float, radius: float | None = None
-) -> NDArray:
+    pts: NDArray[np.float64],
+    corner_depth: NDArray[np.float64],
+    velocity: float,
+    radius: float | None = None,
+) -> NDArray[np.float64]:
     """Return the time steps of triangles as (k, 3, 2) coordinates (inf: dry).
 
     ``r_in / (sqrt(g max(d, 0)) + u)``, ``d`` the deepest of ``corner_depth``.
@@ -412,11 +432,34 @@ _COMPASS = np.array(
 _SLIDES = (0.05, 0.1, 0.15, 0.2, 0.25, 0.3, 0.35, 0.4)
 
 
-def _to_segment(p: NDArray, a: NDArray, b: NDArray) -> float:
+def _to_segment(
+    p: NDArray[np.float64], a: NDArray[np.float64], b: NDArray[np.float64]
+) -> float:
     """Return the distance from point ``p`` to the segment ``a``-``b``."""
     ab = b - a
     t = np.clip(np.dot(p - a, ab) / max(float(np.dot(ab, ab)), 1e-300), 0.0, 1.0)
     return float(np.linalg.norm(p - (a + t * ab)))
+
+
+#: A collapse (:meth:`_Collapser.try_edge`): kept node, removed node, the kept
+#: node's place and depth, the deleted triangles, the changed ones, their new
+#: nodes and time steps.
+_Collapse = tuple[
+    int,
+    int,
+    NDArray[np.float64],
+    float,
+    set[int],
+    NDArray[np.int64],
+    NDArray[np.int64],
+    NDArray[np.float64],
+]
+
+#: What :meth:`_Collapser._relinked` finds: kept node, removed node, the
+#: deleted triangles, the changed ones, their new nodes, all affected.
+_Relinked = tuple[
+    int, int, set[int], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]
+]
 
 
 # Edge collapse is hand-written: no maintained Python library among our
@@ -429,7 +472,16 @@ class _Collapser:
     the removed node in the others, so the indices stay.
     """
 
-    def __init__(self, xy, triangles, fixed, depth, velocity, radius=None) -> None:
+    def __init__(
+        self,
+        xy: NDArray[np.float64],
+        triangles: NDArray[np.int64],
+        fixed: NDArray[np.bool_],
+        # node_depth's (None never comes: relieve_time_step checks first)
+        depth: NDArray[np.float64] | None,
+        velocity: float,
+        radius: float | None = None,
+    ) -> None:
         self.xy0, self.xy = xy, np.array(xy, dtype=np.float64)  # at first, now
         self.fixed, self.velocity = fixed, velocity
         #: the sphere's radius when ``xy`` is a world plane (lengths scaled)
@@ -454,7 +506,9 @@ class _Collapser:
         self._stars: dict[int, set[int]] = {}
         self.dt = self._steps(self.xy[self.tri], self.depth[self.tri])
 
-    def _steps(self, pts: NDArray, corner_depth: NDArray) -> NDArray:
+    def _steps(
+        self, pts: NDArray[np.float64], corner_depth: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
         """Return the time steps of triangles, on the Earth (`_plane_time_steps`)."""
         return _plane_time_steps(pts, corner_depth, self.velocity, self.radius)
 
@@ -512,7 +566,9 @@ class _Collapser:
                 moved += self._move(node, place)
         return moved
 
-    def _place(self, node: int, min_angle: float) -> tuple | None:
+    def _place(
+        self, node: int, min_angle: float
+    ) -> tuple[float, int, NDArray[np.float64]] | None:
         """Return (time step, node, place) of ``node``'s best move; None if none."""
         node = int(node)
         if self.removed[node]:
@@ -528,7 +584,9 @@ class _Collapser:
     def _star(self, node: int) -> NDArray[np.int64]:
         return np.fromiter(self.star(node), dtype=np.int64)
 
-    def place_inside(self, node: int, min_angle: float) -> tuple | None:
+    def place_inside(
+        self, node: int, min_angle: float
+    ) -> tuple[float, NDArray[np.float64]] | None:
         """Return ``node``'s best place inside and its star's smallest time step.
 
         None if no place beats where it is.
@@ -555,7 +613,9 @@ class _Collapser:
                 step /= 2
         return None if best == start else (best, here)
 
-    def place_on_coast(self, node: int, min_angle: float) -> tuple | None:
+    def place_on_coast(
+        self, node: int, min_angle: float
+    ) -> tuple[float, NDArray[np.float64]] | None:
         """Return a shoreline node's best place along its coast, and time step.
 
         None if none helps.
@@ -589,7 +649,13 @@ class _Collapser:
             return None
         return score, places[k]
 
-    def _best_place(self, node, star, places, min_angle) -> tuple[float, int]:
+    def _best_place(
+        self,
+        node: int,
+        star: NDArray[np.int64],
+        places: NDArray[np.float64],
+        min_angle: float,
+    ) -> tuple[float, int]:
         """Return the best smallest time step of ``star`` over ``node``'s places.
 
         Places where a triangle of the star would turn over, or an angle fall
@@ -610,7 +676,7 @@ class _Collapser:
         k = int(np.argmax(score))
         return float(score[k]), k
 
-    def _move(self, node: int, place: NDArray) -> bool:
+    def _move(self, node: int, place: NDArray[np.float64]) -> bool:
         """Put ``node`` at ``place``; update the time steps of its triangles."""
         self.xy[node] = place
         star = self._star(node)
@@ -618,7 +684,7 @@ class _Collapser:
         self.dt[star] = self._steps(self.xy[tris], self.depth[tris])
         return True
 
-    def best_collapse(self, t: int, min_angle: float) -> tuple | None:
+    def best_collapse(self, t: int, min_angle: float) -> _Collapse | None:
         """Return the first collapse of an edge of ``t`` that passes, shortest first.
 
         As (kept, removed, position, depth, deleted, changed, new triangles,
@@ -633,7 +699,7 @@ class _Collapser:
                 return collapse
         return None
 
-    def try_edge(self, a: int, b: int, min_angle: float) -> tuple | None:
+    def try_edge(self, a: int, b: int, min_angle: float) -> _Collapse | None:
         """Return the collapse of edge ``(a, b)`` if it passes, else None."""
         found = self._relinked(a, b)
         if found is None:
@@ -707,7 +773,7 @@ class _Collapser:
                 prev, at = at, nxt
         return edges <= MIN_RUN and all(e in self.open_ids for e in ends)
 
-    def _relinked(self, a: int, b: int) -> tuple | None:
+    def _relinked(self, a: int, b: int) -> _Relinked | None:
         """Return the new triangles if collapsing ``(a, b)`` leaves a valid mesh.
 
         As (kept, removed, deleted, changed, their nodes, all affected).
@@ -748,7 +814,17 @@ class _Collapser:
             return None  # a shoreline edge has one triangle
         return kept, gone, deleted, ids, new, np.array(sorted(own | other))
 
-    def apply(self, kept, gone, position, merged, deleted, ids, new, dt) -> None:
+    def apply(
+        self,
+        kept: int,
+        gone: int,
+        position: NDArray[np.float64],
+        merged: float,
+        deleted: set[int],
+        ids: NDArray[np.int64],
+        new: NDArray[np.int64],
+        dt: NDArray[np.float64],
+    ) -> None:
         """Make a collapse returned by :meth:`try_edge`."""
         for t in deleted:
             for node in self.tri[t].tolist():
@@ -772,7 +848,7 @@ class _Collapser:
                     self.coast[node].pop(gone, None)
                     self.coast[node][other] = sid
 
-    def result(self, mesh: Mesh, to_plane) -> Mesh:
+    def result(self, mesh: Mesh, to_plane: Transformer | None) -> Mesh:
         """Return ``mesh`` with the collapses: removed nodes dropped, renumbered."""
         keep = ~self.removed
         index = np.cumsum(keep) - 1

@@ -68,7 +68,7 @@ def boundary_nodes(
     rings: list[list[list[NDArray[np.float64]]]],
     ids: list[list[int]],
     size: SizeGrid,
-    runner: Runner = serial_runner,
+    runner: Runner[BoundaryBatch, list[NDArray[np.float64]]] = serial_runner,
 ) -> tuple[list[tuple[NDArray[np.float64], int]], shapely.Polygon]:
     """Return the boundary as chains of its mesh nodes, and the water.
 
@@ -164,7 +164,9 @@ def batch_nodes(batch: BoundaryBatch) -> list[NDArray[np.float64]]:
     return inner
 
 
-def _batches(by_ring: list[list], size: Any) -> list[BoundaryBatch]:
+def _batches(
+    by_ring: list[list[tuple[NDArray[np.float64], int]]], size: Any
+) -> list[BoundaryBatch]:
     """Split the rings' pieces into :data:`BATCHES` batches, or one if few.
 
     One batch for at most :data:`BATCH_CURVES` pieces. The pieces in order,
@@ -178,7 +180,7 @@ def _batches(by_ring: list[list], size: Any) -> list[BoundaryBatch]:
     edges = np.unique(np.concatenate([[0], cuts, [len(where)]]))
     batches = []
     for a, b in itertools.pairwise(edges):
-        runs: list[tuple[int, list]] = []
+        runs: list[tuple[int, list[tuple[NDArray[np.float64], int]]]] = []
         for r, k in where[a:b]:
             if runs and runs[-1][0] == r:
                 runs[-1][1].append(by_ring[r][k])
@@ -257,7 +259,9 @@ def _size_cells(size: Any) -> int:
     return int(grid.values.size)
 
 
-def _ring_pieces(rings: list, ids: list) -> list[list]:
+def _ring_pieces(
+    rings: list[list[list[NDArray[np.float64]]]], ids: list[list[int]]
+) -> list[list[tuple[NDArray[np.float64], int]]]:
     """Return each ring's pieces, chunked, with their ids."""
     return [
         chunked(
@@ -267,7 +271,10 @@ def _ring_pieces(rings: list, ids: list) -> list[list]:
     ]
 
 
-def _add_curves(gmsh: Any, runs: tuple) -> list[tuple[NDArray[np.float64], int, int]]:
+def _add_curves(
+    gmsh: Any,
+    runs: tuple[tuple[tuple[tuple[NDArray[np.float64], int], ...], bool], ...],
+) -> list[tuple[NDArray[np.float64], int, int]]:
     """Add each run's pieces as Gmsh splines; return (piece, id, curve tag).
 
     The pieces of a run share their end points; those of a whole ring close
@@ -290,7 +297,9 @@ def _add_curves(gmsh: Any, runs: tuple) -> list[tuple[NDArray[np.float64], int, 
     return out
 
 
-def chunked(pieces: list[tuple[NDArray, int]], most: int = CURVE_POINTS) -> list:
+def chunked(
+    pieces: list[tuple[NDArray[np.float64], int]], most: int = CURVE_POINTS
+) -> list[tuple[NDArray[np.float64], int]]:
     """Split (piece, id) pairs of more than ``most`` points; ends are shared.
 
     Made for Gmsh's threads (one spline through thousands of points is one

@@ -45,7 +45,7 @@ class FinerCoastWarning(CoastmeshWarning):
 
 def boundary_crossings(
     rings: Sequence[Sequence[Sequence[NDArray[np.float64]]]],
-) -> NDArray:
+) -> NDArray[np.float64]:
     """Return where the rings' edges cross or touch, other than at their joints.
 
     Parameters

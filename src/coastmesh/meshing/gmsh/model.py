@@ -205,7 +205,9 @@ def grid_view_data(
     return cells.ravel()
 
 
-def _quads(x, y, v) -> NDArray[np.float64]:
+def _quads(
+    x: NDArray[np.float64], y: NDArray[np.float64], v: NDArray[np.float64]
+) -> NDArray[np.float64]:
     """Return the cells of a grid as (ny - 1, nx - 1, 16) Gmsh list quadrangles."""
     ny, nx = len(y) - 1, len(x) - 1
     cells = np.zeros((ny, nx, 16))
@@ -216,7 +218,9 @@ def _quads(x, y, v) -> NDArray[np.float64]:
     return cells
 
 
-def _cut_patch(patch: SizeGrid, x, y) -> SizeGrid | None:
+def _cut_patch(
+    patch: SizeGrid, x: NDArray[np.float64], y: NDArray[np.float64]
+) -> SizeGrid | None:
     """Return ``patch`` within the frame of axes ``x``, ``y``; None outside it."""
     x0, x1 = max(patch.x[0], x[0]), min(patch.x[-1], x[-1])
     y0, y1 = max(patch.y[0], y[0]), min(patch.y[-1], y[-1])

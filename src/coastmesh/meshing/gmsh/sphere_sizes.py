@@ -160,10 +160,14 @@ class SphereSizeGrid:
         if near is None:
             px, py = self._whole_plane()
 
-            def plane(j: NDArray, i: NDArray) -> tuple[NDArray, NDArray]:
+            def plane(
+                j: NDArray[np.int64], i: NDArray[np.int64]
+            ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
                 return px[j, i], py[j, i]
 
-            def chosen(order: list, r0: int, r1: int) -> NDArray[np.bool_]:
+            def chosen(
+                order: list[tuple[int, int]], r0: int, r1: int
+            ) -> NDArray[np.bool_]:
                 """Return which cells of rows r0 to r1 meet ``bounds``."""
                 keep = np.ones((r1 - r0, columns), dtype=bool)
                 if bounds is None:
@@ -181,10 +185,14 @@ class SphereSizeGrid:
         else:  # the few cells along the curves: their corners projected alone
             plane, wanted = self._nodes_in_plane, self._cells_near(near)
 
-            def chosen(order: list, r0: int, r1: int) -> NDArray[np.bool_]:
+            def chosen(
+                order: list[tuple[int, int]], r0: int, r1: int
+            ) -> NDArray[np.bool_]:
                 return wanted[r0:r1]
 
-        def block(order: list, r0: int, r1: int) -> NDArray[np.float64]:
+        def block(
+            order: list[tuple[int, int]], r0: int, r1: int
+        ) -> NDArray[np.float64]:
             # the cells are chosen on the grid, then only theirs are gathered: a
             # part's view holds a few per cent of the world's 10^6 cells
             j, i = np.nonzero(chosen(order, r0, r1))
@@ -244,7 +252,7 @@ class SphereSizeGrid:
 
     def _wrap(self, lon: ArrayLike) -> NDArray[np.float64]:
         """Return longitudes moved by whole turns into the grid's first turn."""
-        x0 = self.grid.x[0]
+        x0 = float(self.grid.x[0])
         return (np.asarray(lon, dtype=np.float64) - x0) % 360.0 + x0
 
     def _cells_near(self, xy: NDArray[np.float64]) -> NDArray[np.bool_]:
@@ -275,14 +283,15 @@ class SphereSizeGrid:
         a cell's nearest point to the centre is at least its nearest corner's
         distance less its longest side.
         """
-        ok = np.all(np.isfinite(cells), axis=1)
+        ok: NDArray[np.bool_] = np.all(np.isfinite(cells), axis=1)  # stub: Any
         if math.isinf(self.reach):
             return ok
         x, y = cells[:, :corners], cells[:, corners : 2 * corners]
         with np.errstate(invalid="ignore"):
             r = np.hypot(x, y).min(axis=1)
             side = np.hypot(np.diff(x, append=x[:, :1]), np.diff(y, append=y[:, :1]))
-            return ok & (r - side.max(axis=1) <= self.reach)
+            near: NDArray[np.bool_] = r - side.max(axis=1) <= self.reach  # Any
+            return ok & near
 
     def cells(
         self, polygon: shapely.Polygon, threads: int = 1
@@ -310,7 +319,10 @@ class SphereSizeGrid:
         return px[inside], py[inside], area[inside] / v[:, :-1][inside] ** 2
 
 
-def _meets(xy: list, bounds: tuple[float, ...]) -> NDArray[np.bool_]:
+def _meets(
+    xy: list[tuple[NDArray[np.float64], NDArray[np.float64]]],
+    bounds: tuple[float, ...],
+) -> NDArray[np.bool_]:
     """Return which cells, by their corners' plane x and y, meet ``bounds``."""
     keep = np.ones(len(xy[0][0]), dtype=bool)
     for k, low, high in ((0, bounds[0], bounds[2]), (1, bounds[1], bounds[3])):
@@ -324,7 +336,15 @@ def _meets(xy: list, bounds: tuple[float, ...]) -> NDArray[np.bool_]:
 #: The last grid's nodes in the plane: (x, y, pole, px, py). The cuts ask
 #: for :meth:`SphereSizeGrid.cells` of every part they try (15 on world.toml,
 #: 0.14 s each to project the world grid).
-_LAST_NODES: list[tuple] = []
+_LAST_NODES: list[
+    tuple[
+        NDArray[np.float64],
+        NDArray[np.float64],
+        tuple[float, float],
+        NDArray[np.float64],
+        NDArray[np.float64],
+    ]
+] = []
 
 
 def _plane_nodes(

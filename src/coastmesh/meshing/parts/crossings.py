@@ -22,6 +22,7 @@ from coastmesh.types import SizeGrid
 __all__ = [
     "MIN_CROSSING",
     "PENALTY",
+    "Coast",
     "Turned",
     "chord_edges",
     "coast_tree",
@@ -35,6 +36,16 @@ __all__ = [
 #: under two target edges wide, is penalised by this many edges.
 MIN_CROSSING = 35.0
 PENALTY = 1e6
+
+#: What a cut's crossings are checked against (:func:`chord_edges`): the
+#: coast's R-tree (:func:`coast_tree`), an R-tree of the curves' end points (or
+#: None), the ends of the cuts chosen so far, and their crossings of the water.
+Coast = tuple[
+    shapely.STRtree,
+    shapely.STRtree | None,
+    list[NDArray[np.float64]],
+    list[shapely.LineString],
+]
 
 
 def coast_tree(polygon: shapely.Polygon) -> shapely.STRtree:
@@ -99,7 +110,7 @@ def wet(polygon: Any, line: shapely.LineString) -> Any:
 
 
 def edges_across(
-    grid: SizeGrid, coast: tuple, chords: list[shapely.LineString]
+    grid: SizeGrid, coast: Coast, chords: list[shapely.LineString]
 ) -> tuple[float, list[shapely.LineString]]:
     """Return the target edges along a cut's crossings (``chords``), plus penalties.
 
@@ -121,7 +132,7 @@ def edges_across(
 
 
 def chord_edges(
-    grid: SizeGrid, coast: tuple, chord: shapely.LineString
+    grid: SizeGrid, coast: Coast, chord: shapely.LineString
 ) -> tuple[float, bool]:
     """Return the target edges along one crossing, and whether it is clean.
 
@@ -146,7 +157,12 @@ def chord_edges(
     return edges, clean
 
 
-def near_ends(coast: tuple, a: NDArray, b: NDArray, h_ends: NDArray) -> bool:
+def near_ends(
+    coast: Coast,
+    a: NDArray[np.float64],
+    b: NDArray[np.float64],
+    h_ends: NDArray[np.float64],
+) -> bool:
     """Whether a chord ends near a curve's end (half an edge) or a cut's (an edge)."""
     if coast[1] is not None:
         _, to_end = coast[1].query_nearest(
@@ -161,7 +177,13 @@ def near_ends(coast: tuple, a: NDArray, b: NDArray, h_ends: NDArray) -> bool:
     return False
 
 
-def tight(coast: tuple, xy: NDArray, h: NDArray, t: NDArray, length: float) -> bool:
+def tight(
+    coast: Coast,
+    xy: NDArray[np.float64],
+    h: NDArray[np.float64],
+    t: NDArray[np.float64],
+    length: float,
+) -> bool:
     """Whether a chord comes nearer the coast or a cut than ``sin(35 deg) min(s, 2 h)``.
 
     Only points at ``s >= 2 h`` from the nearer end count: within two target

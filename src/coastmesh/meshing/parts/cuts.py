@@ -54,7 +54,7 @@ in the parts report (:func:`~coastmesh.meshing.parts.report.oversize_parts`).
 
 from __future__ import annotations
 
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, cast
 
 import numpy as np
 import shapely
@@ -63,6 +63,7 @@ from numpy.typing import NDArray
 from coastmesh.geometry.cells import points_inside
 from coastmesh.meshing.parts.crossings import (
     PENALTY,
+    Coast,
     Turned,
     chord_edges,
     coast_tree,
@@ -296,7 +297,7 @@ def plan_cuts(
         raise ValueError(f"parts is {parts!r}; expected an integer >= 1")
     x, y, w = water_cells(polygon, grid, threads) if cells is None else cells
     cuts: list[shapely.LineString] = []
-    coast: tuple[Any, shapely.STRtree | None, list[Any], list[Any]] = (
+    coast: Coast = (
         coast_tree(polygon),
         (
             None
@@ -337,9 +338,9 @@ def cut_lines(
 def _bisect(
     polygon: shapely.Polygon,
     grid: SizeGrid,
-    coast: tuple,
+    coast: Coast,
     region: shapely.Polygon,
-    cells: tuple[NDArray, NDArray, NDArray],
+    cells: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
     aim: tuple[int, float],
     cuts: list[shapely.LineString],
     missed: list[int],
@@ -390,7 +391,7 @@ def _bisect(
         _bisect(polygon, grid, coast, half, cells, (n, limit), cuts, missed)
 
 
-def _worth_cutting(parts: int, w: NDArray, limit: float) -> bool:
+def _worth_cutting(parts: int, w: NDArray[np.float64], limit: float) -> bool:
     """Whether water of these expected triangles is cut (in two, if one part)."""
     if parts < 2 and w.sum() <= limit:
         return False  # one part, not too large
@@ -400,8 +401,8 @@ def _worth_cutting(parts: int, w: NDArray, limit: float) -> bool:
 def _cut_faces(
     faces: list[shapely.Polygon],
     grid: SizeGrid,
-    coast: tuple,
-    cells: tuple[NDArray, NDArray, NDArray],
+    coast: Coast,
+    cells: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
     aim: tuple[int, float],
     cuts: list[shapely.LineString],
     missed: list[int],
@@ -419,7 +420,8 @@ def _cut_faces(
     x, y, w = cells
     if labels is None:
         labels = cells_of(faces, x, y)
-    costs = np.bincount(labels, w, minlength=len(faces))
+    # weighted, bincount gives float64 (numpy's stub says intp either way)
+    costs = cast("NDArray[np.float64]", np.bincount(labels, w, minlength=len(faces)))
     shares = _allocate(parts, costs)
     for k, face in enumerate(faces):
         side = labels == k
@@ -438,8 +440,8 @@ def _cut_faces(
 def _cut_face(
     face: shapely.Polygon,
     grid: SizeGrid,
-    coast: tuple,
-    cells: tuple[NDArray, NDArray, NDArray],
+    coast: Coast,
+    cells: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
     aim: tuple[int, float],
     cuts: list[shapely.LineString],
     missed: list[int],
@@ -497,7 +499,7 @@ def _cut_face(
     _cut_faces(faces, grid, coast, cells, aim, cuts, missed, labels=labels)
 
 
-def _allocate(parts: int, costs: NDArray) -> list[int]:
+def _allocate(parts: int, costs: NDArray[np.float64]) -> list[int]:
     """Share ``parts`` among faces by their ``costs``: largest remainders.
 
     Examples
@@ -516,8 +518,8 @@ def _allocate(parts: int, costs: NDArray) -> list[int]:
 def _partial_cut(
     face: shapely.Polygon,
     grid: SizeGrid,
-    coast: tuple,
-    cells: tuple[NDArray, NDArray, NDArray],
+    coast: Coast,
+    cells: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
     share: float,
     most: float,
 ) -> list[shapely.LineString]:
@@ -560,7 +562,9 @@ def _directions(longer_x: bool) -> list[tuple[float, float]]:
     return (axes if longer_x else axes[::-1]) + oblique
 
 
-def _along(x: NDArray, y: NDArray, direction: tuple[float, float]) -> NDArray:
+def _along(
+    x: NDArray[np.float64], y: NDArray[np.float64], direction: tuple[float, float]
+) -> NDArray[np.float64]:
     """Coordinates along the normal ``direction``: exactly x or y on the axes."""
     c, s = direction
     if s == 0.0:
@@ -615,7 +619,7 @@ def _line(
 
 def _frame(
     region: shapely.Polygon, direction: tuple[float, float], at: float
-) -> tuple[NDArray, NDArray, NDArray, float]:
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], float]:
     """Return a cut's normal, tangent, base point and reach across ``region``.
 
     The base is the point of the line nearest the region's centre, and the
@@ -667,9 +671,9 @@ def _past_node(
 
 def _places(
     grid: SizeGrid,
-    x: NDArray,
-    y: NDArray,
-    w: NDArray,
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    w: NDArray[np.float64],
     share: float,
     direction: tuple[float, float],
 ) -> Any:
@@ -696,18 +700,23 @@ def _places(
 def _best_cut(
     polygon: shapely.Polygon | shapely.MultiPolygon,
     grid: SizeGrid,
-    coast: tuple,
+    coast: Coast,
     region: shapely.Polygon,
-    x: NDArray,
-    y: NDArray,
-    w: NDArray,
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    w: NDArray[np.float64],
     share: float,
     direction: tuple[float, float],
 ) -> tuple[float, shapely.LineString, list[shapely.LineString], float]:
     """Return the best cut normal to ``direction``: score, line, crossings, place."""
     places = _places(grid, x, y, w, share, direction)
     turned = Turned(polygon, direction)
-    best: tuple = (np.inf, shapely.LineString(), [], 0.0)
+    best: tuple[float, shapely.LineString, list[shapely.LineString], float] = (
+        np.inf,
+        shapely.LineString(),
+        [],
+        0.0,
+    )
     for spread, count in ((_SPREAD, _CANDIDATES), (_WIDER, _WIDER_CANDIDATES)):
         if best[0] < PENALTY:
             break  # a clean cut within the first spread: no need to look wider

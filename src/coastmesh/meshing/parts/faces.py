@@ -87,7 +87,7 @@ def split_faces(
         pieces[int(on_piece[k])][1] if dist[k] <= 1e-9 * scale else None
         for k in range(len(curves))
     ]
-    first_edge: dict[tuple, int] = {}
+    first_edge: dict[tuple[tuple[float, ...], tuple[float, ...]], int] = {}
     for k, c in enumerate(curves):
         first_edge[(tuple(c[0]), tuple(c[1]))] = k + 1
         first_edge[(tuple(c[-1]), tuple(c[-2]))] = -(k + 1)
@@ -111,7 +111,12 @@ def split_faces(
     return Faces([curves[k] for k in used], [ids[k] for k in used], faces)
 
 
-def _loop(ring, first_edge: dict, ends: set, curves: list) -> list[int]:
+def _loop(
+    ring: shapely.LinearRing,
+    first_edge: dict[tuple[tuple[float, ...], tuple[float, ...]], int],
+    ends: set[tuple[float, ...]],
+    curves: list[NDArray[np.float64]],
+) -> list[int]:
     """Return a face's ring as signed curve indices, from a curve end."""
     xy = np.asarray(ring.coords)[:-1]
     start = next(k for k in range(len(xy)) if tuple(xy[k]) in ends)
@@ -125,8 +130,13 @@ def _loop(ring, first_edge: dict, ends: set, curves: list) -> list[int]:
 
 
 def canonical_order(
-    points: NDArray, triangles: NDArray, edges: NDArray, edge_ids: NDArray
-) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    points: NDArray[np.float64],
+    triangles: NDArray[np.int64],
+    edges: NDArray[np.int64],
+    edge_ids: NDArray[np.int64],
+) -> tuple[
+    NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]
+]:
     """Return nodes in (x, y) order, triangles and edges in order of their nodes.
 
     This numbering depends on the mesh only, not on the order in which Gmsh
@@ -145,7 +155,7 @@ def canonical_order(
     return points[order], triangles, edges[keep], edge_ids[keep]
 
 
-def _lowest_first(triangles: NDArray) -> NDArray:
+def _lowest_first(triangles: NDArray[np.int64]) -> NDArray[np.int64]:
     """Turn each triangle to start at its (first) lowest node, as ``argmin``."""
     a, b, c = triangles.T
     second = (b < a) & (b <= c)
@@ -156,7 +166,7 @@ def _lowest_first(triangles: NDArray) -> NDArray:
     return out
 
 
-def _row_order(triangles: NDArray, n: int) -> NDArray:
+def _row_order(triangles: NDArray[np.int64], n: int) -> NDArray[np.int64]:
     """Return the order of ``triangles`` by their first, second, third node.
 
     In a conforming mesh, triangles oriented alike and turned to start at

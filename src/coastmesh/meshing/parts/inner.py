@@ -92,7 +92,8 @@ class InnerPlane:
 
 
 def node_ring(
-    ring: NDArray[np.float64], size_at: Callable[[NDArray[np.float64]], NDArray]
+    ring: NDArray[np.float64],
+    size_at: Callable[[NDArray[np.float64]], NDArray[np.float64]],
 ) -> NDArray[np.float64]:
     """Return a closed ring with each side split evenly at the local size.
 
@@ -114,7 +115,8 @@ def node_ring(
 
 
 def node_line(
-    line: NDArray[np.float64], size_at: Callable[[NDArray[np.float64]], NDArray]
+    line: NDArray[np.float64],
+    size_at: Callable[[NDArray[np.float64]], NDArray[np.float64]],
 ) -> NDArray[np.float64]:
     """Return an open line with each side split evenly at the local size.
 

@@ -50,7 +50,7 @@ def split_costs(
     polygon: shapely.Polygon,
     turned: Turned,
     at: float,
-    cells: tuple[NDArray, NDArray, NDArray],
+    cells: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
     chords: list[shapely.LineString],
     clean: list[bool],
     small: float,
@@ -146,7 +146,7 @@ def split_costs(
     return Split(kept, sorted(totals.values(), reverse=True))
 
 
-def _totals(cost: NDArray, find: Callable[[int], int]) -> dict[int, float]:
+def _totals(cost: NDArray[np.float64], find: Callable[[int], int]) -> dict[int, float]:
     """Return each joined face's cost, by its root piece."""
     totals: dict[int, float] = {}
     for k, c in enumerate(cost):
@@ -156,8 +156,11 @@ def _totals(cost: NDArray, find: Callable[[int], int]) -> dict[int, float]:
 
 
 def _frame(
-    polygon: shapely.Polygon, turned: Turned, x: NDArray, y: NDArray
-) -> tuple[shapely.Polygon, NDArray, NDArray, bool]:
+    polygon: shapely.Polygon,
+    turned: Turned,
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+) -> tuple[shapely.Polygon, NDArray[np.float64], NDArray[np.float64], bool]:
     """Return the plane the line is straight in, the cells there, and its axis.
 
     ``first``: whether the line runs across the first coordinate (x, or the
@@ -199,8 +202,8 @@ def faces_of(
 
 def cells_of(
     faces: list[shapely.Polygon],
-    x: NDArray,
-    y: NDArray,
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
     mask: NDArray[np.bool_] | None = None,
 ) -> NDArray[np.int64]:
     """Return the index of the face that holds each point (``mask``: those only).

@@ -259,13 +259,20 @@ def part_tasks(
     return tasks
 
 
-def _numbered(xy: NDArray[np.float64], numbers: dict) -> NDArray[np.int64]:
+def _numbered(
+    xy: NDArray[np.float64], numbers: dict[tuple[float, float], int]
+) -> NDArray[np.int64]:
     """Return the shared numbers of points, numbering the new ones next."""
     keys = [(float(x), float(y)) for x, y in xy]
     return np.array([numbers.setdefault(k, len(numbers)) for k in keys], np.int64)
 
 
-def start_workers(runner: Any, parts: int | str, rings: list, size: SizeGrid) -> None:
+def start_workers(
+    runner: Any,
+    parts: int | str,
+    rings: list[list[NDArray[np.float64]]],
+    size: SizeGrid,
+) -> None:
     """Have ``runner`` start the workers for the parts now, if it can.
 
     Called while the boundary nodes are made, seconds before the parts are
@@ -296,7 +303,9 @@ def ready() -> None:
     import gmsh  # noqa: F401  (this module brought the rest mesh_part needs)
 
 
-def _ring(loop: Sequence[int], curves: tuple) -> NDArray[np.float64]:
+def _ring(
+    loop: Sequence[int], curves: tuple[NDArray[np.float64], ...]
+) -> NDArray[np.float64]:
     """Return a loop of signed 1-based curve indices as one ring's points."""
     pieces = [curves[abs(s) - 1][:: 1 if s > 0 else -1] for s in loop]
     return np.concatenate([p[:-1] for p in pieces])
@@ -453,7 +462,7 @@ def _build_part(gmsh: Any, task: PartTask) -> int:
     geo = gmsh.model.geo
     point: dict[tuple[float, float], int] = {}
 
-    def tag(xy: NDArray) -> int:
+    def tag(xy: NDArray[np.float64]) -> int:
         key = (float(xy[0]), float(xy[1]))
         if key not in point:
             point[key] = geo.addPoint(key[0], key[1], 0.0)
@@ -470,7 +479,7 @@ def _build_part(gmsh: Any, task: PartTask) -> int:
             lines = made[abs(s) - 1]
             signed += lines if s > 0 else [-t for t in reversed(lines)]
         loops.append(geo.addCurveLoop(signed))
-    surface = geo.addPlaneSurface(loops)
+    surface: int = geo.addPlaneSurface(loops)  # gmsh is untyped: Any
     for line in itertools.chain.from_iterable(made):
         geo.mesh.setTransfiniteCurve(line, 2)  # its two end nodes, nothing between
     geo.synchronize()
@@ -507,7 +516,9 @@ def mesh_arrays(gmsh: Any) -> tuple[NDArray[np.float64], NDArray[np.int64]]:
 
 def merge_parts(
     parts: Sequence[PartMesh],
-) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+) -> tuple[
+    NDArray[np.float64], NDArray[np.int64], NDArray[np.int64], NDArray[np.int64]
+]:
     """Join the parts' meshes into one: each shared node once.
 
     Returns

@@ -64,7 +64,8 @@ def lengths(
     if not planar:
         return arc_lengths(p, q)
     d = q - p
-    return np.sqrt(np.einsum("ij,ij->i", d, d))
+    length: NDArray[np.float64] = np.sqrt(np.einsum("ij,ij->i", d, d))  # einsum: Any
+    return length
 
 
 def triangle_measures(

@@ -261,7 +261,7 @@ def histogram_bins(key: str, values: NDArray[np.float64]) -> NDArray[np.float64]
 
 def histograms(
     shape: dict[str, NDArray[np.float64]], edges: dict[str, Any]
-) -> dict[str, tuple[NDArray, NDArray]]:
+) -> dict[str, tuple[NDArray[np.int64], NDArray[np.float64]]]:
     """Return :attr:`QualityReport.histograms` of measured triangles and edges.
 
     ``shape`` holds ``"min_angle"`` and ``"radius_ratio"`` per triangle,
@@ -280,7 +280,9 @@ def histograms(
     }
 
 
-def histogram(key: str, values: NDArray[np.float64]) -> tuple[NDArray, NDArray]:
+def histogram(
+    key: str, values: NDArray[np.float64]
+) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
     """Return ``(counts, edges)`` of ``values`` in :func:`histogram_bins`.
 
     Values outside the bins are counted in the end bins.

@@ -230,7 +230,9 @@ def _cross(u: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64
 
 def _dot(u: NDArray[np.float64], v: NDArray[np.float64]) -> NDArray[np.float64]:
     """Return the dot products of vectors given as rows of components (3, k)."""
-    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+    # numpy's stub: Any (a row taken by an int index)
+    dot: NDArray[np.float64] = u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+    return dot
 
 
 def sphere_quality(mesh: Mesh, *, span_limit: float = SPAN_LIMIT) -> SphereQuality:
