@@ -31,15 +31,20 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
-from typing import Any
+from typing import TYPE_CHECKING, TypeVar
 
 from coastmesh.case.processes import GUARD, check_main, process_context
 from coastmesh.errors import ConfigError, MeshingError
 from coastmesh.meshing.parts.tasks import Runner, serial_runner
 
+if TYPE_CHECKING:
+    from distributed import Client
+
 __all__ = ["SCHEDULER_TIMEOUT", "connect_scheduler", "open_runner"]
 
 logger = logging.getLogger(__name__)
+T = TypeVar("T")
+R = TypeVar("R")
 
 #: Seconds to wait for a Dask scheduler to answer and to have a worker.
 SCHEDULER_TIMEOUT = 20.0
@@ -94,11 +99,11 @@ def open_runner(
             pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _label(item: Any, index: int, count: int) -> str:
+def _label(item: object, index: int, count: int) -> str:
     return getattr(item, "label", f"task {index + 1} of {count}")
 
 
-def _longest_first(items: Sequence[Any]) -> list[int]:
+def _longest_first(items: Sequence[object]) -> list[int]:
     return sorted(
         range(len(items)), key=lambda i: (-float(getattr(items[i], "expected", 0)), i)
     )
@@ -115,7 +120,7 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
 
     ahead: list[tuple[ProcessPoolExecutor, int]] = []  # from warm, for next run
 
-    def warm(count: int, ready: Callable[[], Any]) -> None:
+    def warm(count: int, ready: Callable[[], object]) -> None:
         """Start ``min(workers, count)`` processes now, each calling ``ready``."""
         if not ahead:
             started = min(workers, count)
@@ -134,10 +139,10 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
             pool.shutdown(wait=False, cancel_futures=True)  # too few: not used
         return new_pool(wanted)
 
-    def run(fn: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
+    def run(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
         if len(items) <= 1:
             return [fn(item) for item in items]
-        results: dict[int, Any] = {}
+        results: dict[int, R] = {}
         todo = _longest_first(items)
         for attempt in range(2):
             pool = pool_for(len(todo))
@@ -173,7 +178,7 @@ def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
 
 def connect_scheduler(
     address: str, *, timeout: float | None = None, work: str = "mesh"
-) -> Any:
+) -> Client:
     """Return a :class:`distributed.Client` of a scheduler that has a worker.
 
     Parameters
@@ -200,7 +205,7 @@ def connect_scheduler(
     return _connect(address, timeout or SCHEDULER_TIMEOUT, work)
 
 
-def _connect(address: str, timeout: float, work: str = "mesh") -> Any:
+def _connect(address: str, timeout: float, work: str = "mesh") -> Client:
     """Connect to a Dask scheduler that has at least one worker."""
     from distributed import Client
 
@@ -231,11 +236,11 @@ def _connect(address: str, timeout: float, work: str = "mesh") -> Any:
     return client
 
 
-def _dask_runner(client: Any) -> Runner:
+def _dask_runner(client: Client) -> Runner:
     """Return a runner on a Dask cluster: one task per item, its data inside it."""
     from distributed import KilledWorker
 
-    def run(fn: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
+    def run(fn: Callable[[T], R], items: Sequence[T]) -> list[R]:
         order = _longest_first(items)
         # Each task carries its own part. Scattered data would live on one
         # worker only: if that worker died, the part could not be run again.

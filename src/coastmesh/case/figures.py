@@ -28,7 +28,7 @@ import os
 from concurrent.futures import Future, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -46,9 +46,16 @@ from coastmesh.case.pipeline.state import (
 from coastmesh.case.processes import GUARD, process_context
 from coastmesh.errors import CoastmeshError
 from coastmesh.geometry import reproject_points
+from coastmesh.sizing.courant import CourantReport
 
 if TYPE_CHECKING:
+    import xarray as xr
+    from pyproj import CRS
+
     from coastmesh.case.result import CaseResult
+    from coastmesh.depth import DepthReport
+    from coastmesh.meshing import PartsReport, QualityReport
+    from coastmesh.types import Domain, Mesh
 
 __all__ = [
     "POOL_MIN_TRIANGLES",
@@ -100,16 +107,17 @@ _ORDER = (
     "mesh_mercator",
 )
 
-Job = tuple[str, str, tuple[Any, ...], dict[str, Any]]
+#: ``(stem, plot function, args, kwargs)``: the arguments only passed on to it.
+Job = tuple[str, str, tuple[object, ...], dict[str, object]]
 
 
 def setup_jobs(
     name: str,
-    domain: Any,
-    size: Any,
+    domain: Domain,
+    size: xr.DataArray,
     *,
-    channel_width: Any = None,
-    channels: Any = None,
+    channel_width: xr.DataArray | None = None,
+    channels: object = None,
 ) -> list[Job]:
     """Return the figures of what is meshed: the domain, size field and channels.
 
@@ -132,7 +140,9 @@ def setup_jobs(
     return jobs
 
 
-def parts_jobs(name: str, domain: Any, parts: Any, crs: Any) -> list[Job]:
+def parts_jobs(
+    name: str, domain: Domain, parts: PartsReport | None, crs: CRS | None
+) -> list[Job]:
     """Return the figure of the parts, in ``crs`` (the mesh's); none for one part."""
     if parts is None or parts.parts < 2:
         return []
@@ -142,11 +152,11 @@ def parts_jobs(name: str, domain: Any, parts: Any, crs: Any) -> list[Job]:
 
 def mesh_jobs(
     name: str,
-    mesh: Any,
-    domain: Any,
+    mesh: Mesh,
+    domain: Domain,
     config: CaseConfig,
-    depth: Any = None,
-    courant: Any = None,
+    depth: DepthReport | None = None,
+    courant: CourantReport | None = None,
 ) -> list[Job]:
     """Return the figures of the finished mesh: mesh, depth, time step, globe.
 
@@ -214,7 +224,7 @@ def mesh_jobs(
     return jobs
 
 
-def quality_jobs(name: str, mesh: Any, quality: Any) -> list[Job]:
+def quality_jobs(name: str, mesh: Mesh, quality: QualityReport | None) -> list[Job]:
     """Return the figure of the mesh's quality report (none without one)."""
     if quality is None:
         return []
@@ -228,6 +238,7 @@ def figure_jobs(result: CaseResult) -> list[Job]:
     In the order of the case's list of files.
     """
     report = result.report
+    courant = report.size_field.courant
     jobs = [
         *setup_jobs(
             result.name,
@@ -243,7 +254,7 @@ def figure_jobs(result: CaseResult) -> list[Job]:
             result.domain,
             result.config,
             report.depth,
-            report.size_field.courant,
+            courant if isinstance(courant, CourantReport) else None,
         ),
         *quality_jobs(result.name, result.mesh, report.quality),
         *site_jobs(result),
@@ -265,11 +276,11 @@ def site_jobs(result: CaseResult) -> list[Job]:
         reproject_points(np.asarray(band.exterior.coords), site.crs, mesh.crs)
         for _, band, _ in site.wakes
     ]
-    kwargs = {"title": title, "wakes": wakes}
+    kwargs: dict[str, object] = {"title": title, "wakes": wakes}
     return [("site", "site_figure", (mesh, turbines), kwargs)]
 
 
-def render(function: str, args: tuple, kwargs: dict[str, Any]) -> bytes:
+def render(function: str, args: tuple[object, ...], kwargs: dict[str, object]) -> bytes:
     """Draw one figure with ``coastmesh.plot.<function>``; return it as PNG."""
     from coastmesh import plot
     from coastmesh.plot.base import FIGURE_DPI
