@@ -10,8 +10,6 @@ the last; its elements likewise take the numbers of the elements cut out.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 from numpy.typing import NDArray
 from pyproj import CRS
@@ -184,9 +182,9 @@ def _point_data(
     given: NDArray[np.int64],
     n: int,
     depth: NDArray[np.float64] | None,
-) -> dict[str, NDArray[Any]]:
+) -> dict[str, NDArray[np.generic]]:
     """Return the input's node values, the new nodes given theirs (NaN if none)."""
-    out: dict[str, NDArray[Any]] = {}
+    out: dict[str, NDArray[np.generic]] = {}
     for key, given_values in mesh.point_data.items():
         values = np.asarray(given_values)
         if values.ndim != 1 or not np.issubdtype(values.dtype, np.number):

@@ -21,7 +21,7 @@ import logging
 import math
 import warnings
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
@@ -35,7 +35,12 @@ from coastmesh.case.patch.report import PatchReport, patch_report, seam_faults
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry.earth import reproject_points
 from coastmesh.geometry.projection import default_mesh_crs
-from coastmesh.types import Domain, Mesh, SizeGrid
+from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
+
+if TYPE_CHECKING:
+    from coastmesh.case.config import RasterConfig
+    from coastmesh.case.pipeline.farms import SiteFeatures
+    from coastmesh.depth import DepthSources
 
 __all__ = ["Patched", "patch_mesh", "site_polygon"]
 
@@ -87,7 +92,7 @@ def patch_mesh(
     config: CaseConfig,
     *,
     polygon: shapely.Geometry | None = None,
-    polygon_crs: Any = "EPSG:4326",
+    polygon_crs: CRS | str = "EPSG:4326",
     distance: float | None = None,
     name: str = "mesh",
     threads: int = 1,
@@ -221,7 +226,9 @@ def _meshing_crs(mesh: Mesh, config: CaseConfig) -> CRS:
     return _utm_at(np.asarray(hull.centroid.coords), mesh.crs)
 
 
-def _site_crs(mesh: Mesh, config: CaseConfig, polygon: Any, crs: CRS) -> CRS:
+def _site_crs(
+    mesh: Mesh, config: CaseConfig, polygon: shapely.Geometry, crs: CRS
+) -> CRS:
     """Return the meshing CRS at the site: UTM at the polygon, for a lon/lat mesh."""
     assert mesh.crs is not None
     if mesh.crs.is_projected or config.mesh.crs is not None:
@@ -229,20 +236,20 @@ def _site_crs(mesh: Mesh, config: CaseConfig, polygon: Any, crs: CRS) -> CRS:
     return _utm_at(np.asarray(shapely.centroid(polygon).coords), crs)
 
 
-def _utm_at(point: NDArray[np.float64], crs: Any) -> CRS:
+def _utm_at(point: NDArray[np.float64], crs: CRS) -> CRS:
     """Return the CRS a small domain at ``point`` (in ``crs``) is meshed in: its UTM."""
     lon, lat = reproject_points(point, crs, "EPSG:4326")[0]
     box = shapely.box(lon - 0.01, lat - 0.01, lon + 0.01, lat + 0.01)
     return default_mesh_crs(Domain(box, _box_segments(box), CRS.from_epsg(4326)))
 
 
-def _box_segments(box: shapely.Polygon) -> tuple[Any, ...]:
-    from coastmesh.types import BoundarySegment
-
+def _box_segments(box: shapely.Polygon) -> tuple[BoundarySegment, ...]:
     return (BoundarySegment(np.asarray(box.exterior.coords), "open", "box", 1),)
 
 
-def _reproject(geometry: shapely.Geometry, src: Any, dst: CRS) -> shapely.Geometry:
+def _reproject(
+    geometry: shapely.Geometry, src: CRS | str, dst: CRS
+) -> shapely.Geometry:
     from coastmesh.geometry import reproject
 
     minx, miny, maxx, maxy = geometry.bounds
@@ -320,7 +327,7 @@ def _sizes(
     points: NDArray[np.float64],
     crs: CRS,
     threads: int,
-) -> tuple[SizeGrid, Any]:
+) -> tuple[SizeGrid, SiteFeatures]:
     """Return the size field over the hole: the case's terms, the seam's, the site's."""
     from coastmesh.case.pipeline.closing import smallest_size
     from coastmesh.case.pipeline.depth import read_sources
@@ -347,7 +354,7 @@ def _sizes(
     )
     ring = shapely.get_coordinates(domain.polygon.exterior)
 
-    def read(part: Any) -> Any:
+    def read(part: RasterConfig) -> DepthSources:
         return read_sources(part.stack, ring, crs)
 
     case = SizeCase(
@@ -390,7 +397,7 @@ def _mesh_hole(
     config: CaseConfig,
     domain: Domain,
     size: SizeGrid,
-    site: Any,
+    site: SiteFeatures,
     crs: CRS,
     threads: int,
 ) -> Mesh:

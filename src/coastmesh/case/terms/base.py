@@ -29,7 +29,12 @@ from coastmesh.types import Domain, Runner
 if TYPE_CHECKING:
     import xarray as xr
 
-    from coastmesh.case.config import CaseConfig, RasterConfig
+    from coastmesh.case.config import (
+        CaseConfig,
+        NodeDepthConfig,
+        RasterConfig,
+        SizeConfig,
+    )
     from coastmesh.depth import DepthSources
     from coastmesh.sizing.narrow import ChannelReport
 
@@ -79,8 +84,8 @@ class SizeTables:
     a case; one made by :func:`coastmesh.case.domain_size_field` holds these.
     """
 
-    size: Any
-    bathymetry: Any = None
+    size: SizeConfig
+    bathymetry: NodeDepthConfig | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -119,7 +124,9 @@ class SizeCase:
     closing: Closing = field(default_factory=Closing)
     site_area: shapely.Geometry | None = None
     lines: Mapping[str, shapely.Geometry] = field(default_factory=dict)
-    _read: dict[Any, Any] = field(default_factory=dict, repr=False)
+    _read: dict[RasterConfig, xr.DataArray | DepthSources] = field(
+        default_factory=dict, repr=False
+    )
     _lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
 
     def sites(self, grid: Grid) -> NDArray[np.bool_] | None:
@@ -175,7 +182,7 @@ class SizeTerm:
     key: ClassVar[str]
     config: ClassVar[type]
     many: ClassVar[bool] = False
-    default: ClassVar[Any] = None
+    default: ClassVar[object] = None
     reports: ClassVar[bool] = False
     doc: ClassVar[str] = ""
     floors: ClassVar[bool] = False
