@@ -83,7 +83,7 @@ _FIELD_KEYS: list[tuple[str, Any, Any]] = [
 ]
 
 
-def _term_key(term: SizeTerm) -> tuple[str, Any, Any]:
+def _term_key(term: SizeTerm[Any]) -> tuple[str, Any, Any]:
     kind = tuple[term.config, ...] if term.many else term.config | None  # type: ignore[name-defined]
     return (
         term.key,

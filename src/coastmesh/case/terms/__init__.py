@@ -15,6 +15,8 @@ in :data:`TERMS`.
 
 from __future__ import annotations
 
+from typing import Any
+
 from coastmesh.case.terms.base import SizeTerm
 from coastmesh.case.terms.bathymetry import Bathymetry, BathymetryConfig
 from coastmesh.case.terms.channels import ChannelConfig, Channels
@@ -38,7 +40,7 @@ __all__ = [
 ]
 
 #: The size terms, in the order their sizes are applied.
-TERMS: tuple[SizeTerm, ...] = (
+TERMS: tuple[SizeTerm[Any], ...] = (  # each term typed by its settings
     Gradations(),
     Bathymetry(),
     Channels(),

@@ -16,7 +16,7 @@ import threading
 from collections.abc import Callable, Mapping
 from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, Generic, TypeVar, cast
 
 import numpy as np
 import shapely
@@ -38,7 +38,7 @@ if TYPE_CHECKING:
     from coastmesh.depth import DepthSources
     from coastmesh.sizing.narrow import ChannelReport
 
-__all__ = ["Closing", "SizeCase", "SizeTables", "SizeTerm", "switched_on"]
+__all__ = ["Closing", "Settings", "SizeCase", "SizeTables", "SizeTerm", "switched_on"]
 
 
 def switched_on(enabled: bool | None) -> bool:
@@ -148,8 +148,16 @@ class SizeCase:
             return self._read[part]
 
 
-class SizeTerm:
+#: A term's settings: its table's config (or None: off), or a tuple of them.
+Settings = TypeVar("Settings")
+
+
+class SizeTerm(Generic[Settings]):
     """A size term: its key in ``[mesh_size]``, its config, and its sizes.
+
+    Generic over its settings (``SizeTerm[CourantConfig | None]``,
+    ``SizeTerm[tuple[GradationConfig, ...]]``): :meth:`settings` reads them
+    typed, and :meth:`smallest` and :meth:`check` take them so.
 
     Attributes
     ----------
@@ -194,7 +202,7 @@ class SizeTerm:
 
     def check(
         self,
-        settings: Any,
+        settings: Settings,
         case: Mapping[str, Any],
         *,
         label: str,
@@ -208,11 +216,13 @@ class SizeTerm:
         ``label`` (the case file) and the key; by default nothing is checked.
         """
 
-    def settings(self, case: SizeCase) -> Any:
+    def settings(self, case: SizeCase) -> Settings:
         """Return the term's config in ``case``: its table (or tables), or None."""
-        return getattr(case.config.size, self.key)
+        # SizeConfig's field of the term is made from TERMS (make_dataclass):
+        # its type is this term's Settings, which type checkers cannot see
+        return cast(Settings, getattr(case.config.size, self.key))
 
-    def smallest(self, settings: Any) -> float | None:
+    def smallest(self, settings: Settings) -> float | None:
         """Return the smallest size the term asks for, given its config.
 
         The size grid is no coarser than the smallest of the terms'

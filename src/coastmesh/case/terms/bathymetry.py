@@ -61,7 +61,7 @@ class BathymetryConfig(RasterConfig):
         return super()._validate(c)
 
 
-class Bathymetry(SizeTerm):
+class Bathymetry(SizeTerm[BathymetryConfig | None]):
     """The term of ``[mesh_size.bathymetry]``."""
 
     key = "bathymetry"
@@ -72,7 +72,7 @@ class Bathymetry(SizeTerm):
 
     def sizes(self, grid: Grid, case: SizeCase) -> TermSizes | None:
         """Return the smaller of the wavelength and slope terms at the nodes."""
-        b = case.config.size.bathymetry
+        b = self.settings(case)
         if b is None:
             return None
         depth = grid.depth(case.depth(b), b.positive)

@@ -80,7 +80,7 @@ class ChannelConfig:
         return self
 
 
-class Channels(SizeTerm):
+class Channels(SizeTerm[ChannelConfig | None]):
     """The term of ``[mesh_size.channels]``."""
 
     key = "channels"
@@ -97,7 +97,7 @@ class Channels(SizeTerm):
         Off on a grid that does not measure widths, and with ``enabled = false``
         (:func:`~coastmesh.case.terms.base.switched_on`).
         """
-        ch = case.config.size.channels
+        ch = self.settings(case)
         if ch is None or not switched_on(ch.enabled):
             return None
         width = grid.widths(

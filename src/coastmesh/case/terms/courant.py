@@ -185,7 +185,7 @@ def auto_time_step(
     return round_step(AUTO_SHARE * float(steps[order][min(k, len(order) - 1)]))
 
 
-class Courant(SizeTerm):
+class Courant(SizeTerm[CourantConfig | None]):
     """The term of ``[mesh_size.courant]``."""
 
     key = "courant"
@@ -225,7 +225,7 @@ class Courant(SizeTerm):
         terms (:func:`auto_time_step`). Warns of the area where no size in
         ``[h_min, h_max]`` meets the window.
         """
-        co = case.config.size.courant
+        co = self.settings(case)
         source = case.config.size.bathymetry or case.config.bathymetry
         if co is None or source is None:
             return None

@@ -249,7 +249,7 @@ class FieldsReport(Report):
         return "fields: " + "; ".join(e.summary() for e in self.entries)
 
 
-class Fields(SizeTerm):
+class Fields(SizeTerm[tuple[FieldConfig, ...]]):
     """The term of ``[[mesh_size.fields]]``."""
 
     key = "fields"
@@ -272,7 +272,7 @@ class Fields(SizeTerm):
         """Return the entries' sizes, combined by minimum; None without entries."""
         from coastmesh.io.fields.field_values import sample_field
 
-        entries: tuple[FieldConfig, ...] = self.settings(case)
+        entries = self.settings(case)
         for k, entry in enumerate(entries):
             if entry.source is None:
                 warnings.warn(

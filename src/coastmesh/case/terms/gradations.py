@@ -55,7 +55,7 @@ class GradationConfig:
     )
 
 
-class Gradations(SizeTerm):
+class Gradations(SizeTerm[tuple[GradationConfig, ...]]):
     """The term of ``[mesh_size.gradations]``."""
 
     key = "gradations"
@@ -96,7 +96,7 @@ class Gradations(SizeTerm):
         skipped, with a warning.
         """
         graded = []
-        for k, g in enumerate(case.config.size.gradations):
+        for k, g in enumerate(self.settings(case)):
             wanted = set(g.lines)
             lines = [
                 shapely.LineString(s.coords)
