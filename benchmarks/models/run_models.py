@@ -300,6 +300,12 @@ def main() -> None:
     p.add_argument("--land", default="essential", choices=["essential", "natural"])
     p.add_argument("--hours", type=float, help="stop each run after H model hours")
     p.add_argument("--timeout", type=float, default=6 * 3600, help="s per run")
+    p.add_argument(
+        "--schism-dt",
+        type=float,
+        help="SCHISM's time step, s (default the case's own, as the smoke test "
+        "writes it): SCHISM's own sample param.nml uses 100 s",
+    )
     args = p.parse_args()
     import coastmesh
     from coastmesh.io.meshes.model_tests import ModelTest
@@ -307,9 +313,12 @@ def main() -> None:
     rows = []
     for case in args.cases:
         name = Path(case).stem
-        mesh_file, dt = build(case, args.out / name)
+        mesh_file, case_dt = build(case, args.out / name)
         mesh = coastmesh.read_mesh(mesh_file)
         for model in args.models:
+            dt = case_dt
+            if model == "schism" and args.schism_dt is not None:
+                dt = args.schism_dt
             binary = getattr(args, model)
             if not binary:
                 sys.exit(f"--{model}: give the path of the {model} binary")
