@@ -8,6 +8,7 @@ the README's test command (and CI) enforces it.
 from __future__ import annotations
 
 import ast
+import os
 import shutil
 import subprocess
 import sys
@@ -30,6 +31,10 @@ def test_import_contracts_hold():
     command = shutil.which("lint-imports") or str(
         Path(sys.executable).parent / "lint-imports"
     )
+    # the tree's own modules, not a coastmesh installed (maybe stale) beside it
+    path = os.pathsep.join(
+        p for p in (str(ROOT / "src"), os.environ.get("PYTHONPATH")) if p
+    )
     run = subprocess.run(
         [command, "--no-cache", str(ROOT / "pyproject.toml")],
         cwd=ROOT,
@@ -37,6 +42,7 @@ def test_import_contracts_hold():
         text=True,
         timeout=300,
         check=False,
+        env={**os.environ, "PYTHONPATH": path},
     )
     assert run.returncode == 0, run.stdout + run.stderr
     assert "0 broken" in run.stdout
