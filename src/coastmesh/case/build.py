@@ -16,13 +16,12 @@ import os
 import time
 
 from coastmesh.case.config import CaseConfig, StudyCase
-from coastmesh.case.executor import open_runner
+from coastmesh.case.executor import TaskRunner, open_runner
 from coastmesh.case.figures import FigureJobs
 from coastmesh.case.pipeline import RunContext, build_run
 from coastmesh.case.pipeline.depth import check_rasters
 from coastmesh.case.result import CaseResult
 from coastmesh.errors import ConfigError
-from coastmesh.meshing.parts import Runner
 from coastmesh.types import StageFactory, local_cores, quiet_stage
 
 __all__ = ["as_case", "build_case", "build_drawing", "worker_count"]
@@ -120,7 +119,7 @@ def _build(
     config: CaseConfig,
     stage: StageFactory | None,
     threads: int,
-    runner: Runner,
+    runner: TaskRunner,
     figures: FigureJobs | None,
 ) -> CaseResult:
     """Build the case (see :func:`build_case`) with the parts meshed by ``runner``."""

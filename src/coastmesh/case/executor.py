@@ -1,6 +1,6 @@
 """Where the parts of a mesh are made: here, a local process pool, or Dask.
 
-:func:`open_runner` yields a :data:`~coastmesh.meshing.parts.tasks.Runner`,
+:func:`open_runner` yields a :class:`TaskRunner`,
 ``runner(fn, tasks) -> [fn(t) for t in tasks]``, that computes the tasks
 
 - one after the other in this process, with one worker;
@@ -31,20 +31,34 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
-from typing import TYPE_CHECKING, TypeVar
+from typing import TYPE_CHECKING, Protocol, TypeVar
 
 from coastmesh.case.processes import GUARD, check_main, process_context
 from coastmesh.errors import ConfigError, MeshingError
-from coastmesh.meshing.parts.tasks import Runner, serial_runner
+from coastmesh.meshing.parts.tasks import serial_runner
 
 if TYPE_CHECKING:
     from distributed import Client
 
-__all__ = ["SCHEDULER_TIMEOUT", "connect_scheduler", "open_runner"]
+__all__ = ["SCHEDULER_TIMEOUT", "TaskRunner", "connect_scheduler", "open_runner"]
 
 logger = logging.getLogger(__name__)
 T = TypeVar("T")
 R = TypeVar("R")
+
+
+class TaskRunner(Protocol):
+    """A :data:`~coastmesh.types.Runner` of any tasks: what :func:`open_runner` yields.
+
+    ``runner(fn, items) -> [fn(item) for item in items]``, whatever ``fn``
+    takes and returns, so one runner serves the parts, the boundary batches and
+    the bands of the size terms (each a ``Runner[task, result]``).
+    """
+
+    def __call__(self, fn: Callable[[T], R], items: Sequence[T], /) -> list[R]:
+        """Return ``[fn(item) for item in items]``, in the items' order."""
+        ...
+
 
 #: Seconds to wait for a Dask scheduler to answer and to have a worker.
 SCHEDULER_TIMEOUT = 20.0
@@ -53,7 +67,7 @@ SCHEDULER_TIMEOUT = 20.0
 @contextmanager
 def open_runner(
     workers: int, scheduler: str | None = None, *, timeout: float | None = None
-) -> Iterator[Runner]:
+) -> Iterator[TaskRunner]:
     """Yield a runner for the parts' tasks; close what it opened on exit.
 
     Parameters
@@ -86,7 +100,7 @@ def open_runner(
         try:
             yield _dask_runner(client)
         finally:
-            client.close()
+            client.close()  # type: ignore[no-untyped-call]  # unannotated (distributed)
         return
     if workers == 1:
         yield serial_runner
@@ -109,7 +123,7 @@ def _longest_first(items: Sequence[object]) -> list[int]:
     )
 
 
-def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> Runner:
+def _pool_runner(workers: int, pools: list[ProcessPoolExecutor]) -> TaskRunner:
     """Return a runner on a local process pool, replaced once if a worker dies."""
 
     def new_pool(n: int) -> ProcessPoolExecutor:
@@ -214,7 +228,10 @@ def _connect(address: str, timeout: float, work: str = "mesh") -> Client:
         f"--nthreads 1`, or leave the scheduler out to {work} on this machine"
     )
     try:
-        client = Client(address, timeout=f"{timeout}s", set_as_default=False)
+        # distributed annotates neither Client() nor its close() and cancel()
+        client = Client(  # type: ignore[no-untyped-call]
+            address, timeout=f"{timeout}s", set_as_default=False
+        )
     except (OSError, TimeoutError, ValueError) as exc:
         raise ConfigError(
             f"scheduler = {address!r}: no Dask scheduler answered within "
@@ -223,7 +240,7 @@ def _connect(address: str, timeout: float, work: str = "mesh") -> Client:
     try:
         client.wait_for_workers(1, timeout=timeout)
     except (OSError, TimeoutError) as exc:
-        client.close()
+        client.close()  # type: ignore[no-untyped-call]
         raise ConfigError(
             f"scheduler = {address!r}: the scheduler has no workers after "
             f"{timeout:g} s ({exc}); {advice}"
@@ -236,7 +253,7 @@ def _connect(address: str, timeout: float, work: str = "mesh") -> Client:
     return client
 
 
-def _dask_runner(client: Client) -> Runner:
+def _dask_runner(client: Client) -> TaskRunner:
     """Return a runner on a Dask cluster: one task per item, its data inside it."""
     from distributed import KilledWorker
 
@@ -263,7 +280,7 @@ def _dask_runner(client: Client) -> Runner:
                         f"running it died ({exc}); nothing was written"
                     ) from exc
         finally:
-            client.cancel(list(futures.values()))
+            client.cancel(list(futures.values()))  # type: ignore[no-untyped-call]
         return [results[i] for i in range(len(items))]
 
     workers = client.scheduler_info()["workers"].values()

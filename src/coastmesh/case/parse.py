@@ -21,7 +21,14 @@ from pathlib import Path
 
 from coastmesh.case.config import CaseConfig, CaseKeys, StudyCase
 from coastmesh.case.config.kinds import DOMAIN_KINDS, domain_kind
-from coastmesh.case.schema import Check, Reading, Table, checked, read_keys
+from coastmesh.case.schema import (
+    Check,
+    Reading,
+    Table,
+    checked,
+    read_keys,
+    unchecked_part,
+)
 from coastmesh.errors import ConfigError
 
 __all__ = ["parse_case", "read_case"]
@@ -105,7 +112,8 @@ def parse_case(text: str, source: str | os.PathLike[str]) -> CaseConfig | StudyC
     reading = Reading(source.parent)
     root = Table(data, "", label)
     head = root.table("case", required=True)
-    keys = checked(CaseKeys(**read_keys(CaseKeys, head, reading)), Check(label, "case"))
+    given = read_keys(CaseKeys, head, reading)
+    keys = checked(unchecked_part(CaseKeys, given), Check(label, "case"))
     head.done()
     output = keys.output or Path(os.path.normpath(reading.base / "out" / keys.name))
     if keys.kind != "mesh":
@@ -115,8 +123,14 @@ def parse_case(text: str, source: str | os.PathLike[str]) -> CaseConfig | StudyC
         return StudyCase(source, keys.name, keys.kind, output, study, text)
     parts = read_keys(CaseConfig, root, reading, rename=_boundary_table(root, label))
     root.done()
-    return CaseConfig(
-        name=keys.name, output=output, crs=keys.crs, source=source, text=text, **parts
+    return unchecked_part(
+        CaseConfig,
+        parts,
+        name=keys.name,
+        output=output,
+        crs=keys.crs,
+        source=source,
+        text=text,
     )
 
 

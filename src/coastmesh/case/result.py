@@ -9,16 +9,16 @@ from __future__ import annotations
 
 import dataclasses
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
 from pyproj import CRS
 
-from coastmesh.case.config import CaseConfig, OutputConfig
+from coastmesh.case.config import CaseConfig, OutputConfig, StudyCase
 from coastmesh.case.dump import dump_case
 from coastmesh.case.figures import FigureJobs, figure_jobs
 from coastmesh.case.pipeline.farms import write_turbines
@@ -149,7 +149,7 @@ class CaseResult:
         """The size field as a :class:`~coastmesh.types.SizeGrid` (mesh CRS)."""
         return SizeGrid.from_dataarray(self.size)
 
-    def to_dict(self) -> dict[str, Any]:
+    def to_dict(self) -> dict[str, object]:
         """Return the report as data, with where it was written and the time."""
         return self.report.to_dict() | {
             "output": None if self.output is None else str(self.output),
@@ -303,7 +303,7 @@ def _write_case(
     return files
 
 
-def write_case_copy(folder: Path, config: CaseConfig | Any) -> None:
+def write_case_copy(folder: Path, config: CaseConfig | StudyCase) -> None:
     """Keep the case as run, as ``case.toml``, saying where it came from.
 
     A case read from a file is copied as it is (its relative paths stay
@@ -322,7 +322,8 @@ def write_case_copy(folder: Path, config: CaseConfig | Any) -> None:
             f"# A case built in Python, as run by coastmesh {__version__}.\n"
             "# Run it again with: coastmesh run case.toml\n"
         )
-        text = dump_case(config)
+        # a study case is always read from its file
+        text = dump_case(config) if isinstance(config, CaseConfig) else config.text
     (folder / "case.toml").write_text(header + text, encoding="utf-8")
 
 
@@ -342,13 +343,15 @@ def _write_models(result: CaseResult, folder: Path, outputs: OutputConfig) -> li
         if filename in taken:
             filename = f"{name}-{fmt_name}{suffix}"
         taken.add(filename)
-        options: dict[str, Any] = {}  # the format's own keyword options
+        options: dict[str, object] = {}  # the format's own keyword options
         if outputs.positive and fmt_name in outputs.positive:
             options["positive"] = outputs.positive[fmt_name]
         if outputs.sphere_xyz and "sphere_xyz" in fmt.holds:
             options["sphere_xyz"] = True
         options |= (outputs.options or {}).get(fmt_name, {})
-        write_mesh(folder / filename, result.mesh, format=fmt_name, **options)
+        write_mesh(
+            folder / filename, result.mesh, format=fmt_name, overwrite=False, **options
+        )
         files.append(filename)
         ends = fmt.companions_for(result.mesh)
         files += [f"{Path(filename).stem}{ext}" for ext in ends]
@@ -367,6 +370,10 @@ def _write_model_tests(
         return []
     dt = model_dt(result.report.quality)
     land = (result.config.outputs.options or {}).get("fort14", {}).get("land")
+    if land is not None and not isinstance(land, str):
+        raise ConfigError(
+            f'output.options.fort14.land = {land!r}: expected "natural" or "essential"'
+        )
     files = []
     for model in models:
         sub = folder / "model_test" / model
@@ -427,7 +434,9 @@ def _write_domain(path: Path, result: CaseResult) -> None:
     write_domain(path, result.domain, metadata=notes, extra_layers=extra)
 
 
-def _layer(geometry: list[Any], crs: Any, **fields: list[Any]) -> Features:
+def _layer(
+    geometry: Sequence[shapely.Geometry], crs: CRS, **fields: Sequence[object]
+) -> Features:
     return Features(
         np.array(geometry, dtype=object),
         crs,

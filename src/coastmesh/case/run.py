@@ -14,6 +14,7 @@ import importlib
 import logging
 import os
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +24,7 @@ from coastmesh.case.figures import FigureJobs
 from coastmesh.case.processes import start_server
 from coastmesh.case.result import CaseResult, write_case_copy
 from coastmesh.io import atomic_directory, check_directory
-from coastmesh.types import StageFactory, quiet_stage
+from coastmesh.types import Report, StageFactory, quiet_stage
 
 __all__ = ["run_case"]
 
@@ -102,11 +103,13 @@ def run_case(
 
 def _run_study(
     config: StudyCase, target: Path, overwrite: bool, stage: StageFactory | None
-) -> Any:
+) -> Report:
     """Run a PCA study case (``[case] kind``) into ``target``, atomically."""
     module = importlib.import_module(f"coastmesh.case.studies.{config.kind}")
+    # each study module's run_study(study, folder, stage) returns its Report
+    run_study: Callable[[object, Path, StageFactory], Report] = module.run_study
     with atomic_directory(target, overwrite=overwrite) as folder:
-        result = module.run_study(config.study, folder, stage or quiet_stage)
+        result = run_study(config.study, folder, stage or quiet_stage)
         write_case_copy(folder, config)
         (folder / "summary.txt").write_text(result.summary() + "\n", encoding="utf-8")
     logger.info("%s: %s", config.name, result.summary())

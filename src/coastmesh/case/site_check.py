@@ -12,12 +12,21 @@ the file.
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import shapely
 from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig
-from coastmesh.case.config.farms import RotorLength, TurbinesConfig
+from coastmesh.case.config.farms import (
+    FarmConfig,
+    LineConfig,
+    RotorLength,
+    StructureConfig,
+    TurbinesConfig,
+    WakeConfig,
+)
 from coastmesh.geometry import arc_lengths, earth_centred, polygon_areas
 
 __all__ = ["site_counts", "site_lines"]
@@ -91,7 +100,7 @@ def site_lines(config: CaseConfig) -> list[str]:
     return out
 
 
-def _farm(farm) -> str:
+def _farm(farm: FarmConfig) -> str:
     h = "the size field's" if farm.h is None else _metres(farm.h)
     return (
         f"farm {farm.name!r}: region {farm.id}, h {h}; "
@@ -140,7 +149,7 @@ def _footprint_ids(group: TurbinesConfig) -> list[int]:
     return [(group.id or 0) + n for n in range(len(group.positions or ()))]
 
 
-def _wake(config: CaseConfig, wake) -> str:
+def _wake(config: CaseConfig, wake: WakeConfig) -> str:
     farms = {f.name: f for f in config.farms}
     if wake.of in farms:
         groups = [t for t in config.turbines if t.farm == wake.of]
@@ -167,7 +176,7 @@ def _wake(config: CaseConfig, wake) -> str:
     )
 
 
-def _line(line) -> str:
+def _line(line: LineConfig) -> str:
     if line.points is not None:
         ends = earth_centred(np.asarray(line.points, dtype=np.float64), _LONLAT)
         length = float(arc_lengths(ends[:-1], ends[1:]).sum())
@@ -178,19 +187,21 @@ def _line(line) -> str:
     return f"line {line.name!r}: id {line.id}; {place}; h {h}"
 
 
-def _structure(structure) -> str:
+def _structure(structure: StructureConfig) -> str:
     place = _polygon(structure.polygon, structure.path, structure.layer)
     return f"structure {structure.name!r}: boundary id {structure.id}; {place}"
 
 
-def _polygon(points, path, layer) -> str:
+def _polygon(
+    points: tuple[tuple[float, float], ...] | None, path: Path | None, layer: str | None
+) -> str:
     if points is None:
         return _from(path, layer)
     area = float(polygon_areas([shapely.Polygon(points)], _LONLAT)[0])
     return f"a polygon of {len(points)} points, {_area(area)}"
 
 
-def _from(path, layer) -> str:
+def _from(path: Path | None, layer: str | None) -> str:
     return f"from {path}" + (f" layer {layer!r}" if layer else "")
 
 

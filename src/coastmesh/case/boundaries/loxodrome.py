@@ -9,7 +9,7 @@ its two ends (``start`` and ``end``).
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Any, ClassVar, Protocol
+from typing import ClassVar, Protocol
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,7 +32,7 @@ _BEARING_DOC = (
 )
 
 
-def _read_loxodrome(t: Table) -> dict[str, Any]:  # not yet checked (_validate)
+def _read_loxodrome(t: Table) -> dict[str, object]:  # not yet checked (_validate)
     """Read the loxodrome keys of a table: a bearing and an end, or two ends."""
     if t.has("end"):
         others = [
@@ -130,7 +130,7 @@ class LoxodromeConfig:
     ) -> LoxodromeConfig:
         values = _read_loxodrome(t)
         t.done()
-        return cls(**values)
+        return schema.unchecked_part(cls, values)
 
     def _validate(self, c: Check) -> LoxodromeConfig:
         return replace(self, bearing=_check_loxodrome(self, c))
@@ -163,7 +163,7 @@ class LoxodromeBoundary(BoundaryConfig):
         base = schema.read_keys(BoundaryConfig, t, reading)
         values = _read_loxodrome(t)
         t.done()
-        return cls(**base, **values)
+        return schema.unchecked_part(cls, values, **base)
 
     def _validate(self, c: Check) -> LoxodromeBoundary:
         return replace(self, bearing=_check_loxodrome(self, c))

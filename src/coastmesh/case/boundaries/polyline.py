@@ -78,4 +78,4 @@ class PolylineBoundary(BoundaryConfig):
         line = parts[0]
         if features.crs is not None:
             line = reproject(line, features.crs, crs)
-        return shapely.get_coordinates(line)
+        return np.asarray(shapely.get_coordinates(line), dtype=np.float64)

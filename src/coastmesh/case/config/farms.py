@@ -19,7 +19,6 @@ import numbers
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 from coastmesh.case import schema
 from coastmesh.case.schema import Check, key
@@ -62,7 +61,7 @@ class RotorLength:
     per_d: bool = False
 
     @classmethod
-    def parse(cls, value: Any, key: str) -> RotorLength:
+    def parse(cls, value: object, key: str) -> RotorLength:
         """Read ``"D/4"``, ``"0.25 D"``, ``"20 D"``, ``"D"``, or a length."""
         if isinstance(value, RotorLength):
             return value
@@ -114,14 +113,14 @@ def _ids(value: object, key: str) -> tuple[int, ...]:
     return tuple(schema.integer(1)(x, f"{key}[{i}]") for i, x in enumerate(value))
 
 
-def _one_place(part: Any, c: Check, keys: tuple[str, ...]) -> None:
+def _one_place(part: object, c: Check, keys: tuple[str, ...]) -> None:
     """Raise unless exactly one of ``keys`` is given."""
     given = [k for k in keys if getattr(part, k) is not None]
     if len(given) != 1:
         raise c.error(keys[0], f"give exactly one of {', '.join(keys)}")
 
 
-def _dump_length(value: RotorLength | None) -> Any:
+def _dump_length(value: object) -> str | None:  # a RotorLength or None
     return None if value is None else str(value)
 
 

@@ -20,7 +20,6 @@ True
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 __all__ = ["DEFAULT_KIND", "DOMAIN_KINDS", "DomainKind", "domain_kind"]
 
@@ -58,10 +57,12 @@ class DomainKind:
     refuses_model_tests: str | None = None
     other_boundaries: str | None = None
 
-    def refuse_boundaries(self, table: str, given: Any) -> str:
+    def refuse_boundaries(self, table: str, given: object) -> str:
         """Return the error for another kind's ``table`` (its entries ``given``)."""
         if self.other_boundaries is not None:
-            names = [t.get("name") if isinstance(t, dict) else t for t in given]
+            # the file's value: an array of tables, or one value (not an array)
+            entries = given if isinstance(given, list) else [given]
+            names = [t.get("name") if isinstance(t, dict) else t for t in entries]
             return f"[[{table}]] {names}: {self.other_boundaries}"
         owner = next(k for k in DOMAIN_KINDS.values() if k.boundaries == table)
         return (
@@ -96,7 +97,7 @@ DEFAULT_KIND = _REGIONAL.name
 def domain_kind(name: object) -> DomainKind:
     """Return the kind of case named ``name`` (``[domain] kind``).
 
-    Any other value gives the default kind: the key's own check reports it.
+    Every other value gives the default kind: the key's own check reports it.
     """
     if isinstance(name, str) and name in DOMAIN_KINDS:
         return DOMAIN_KINDS[name]

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 from coastmesh.case import schema
 from coastmesh.case.schema import Check, key
@@ -280,7 +279,7 @@ class RunConfig:
 
 
 def _listed(
-    value: Any, key: str, known: Sequence[str], unknown: str, what: str
+    value: object, key: str, known: Sequence[str], unknown: str, what: str
 ) -> tuple[str, ...]:
     """Names from ``known``, each once: ``unknown`` says what a name is not."""
     names = schema.names(value, key)
@@ -316,7 +315,7 @@ _CASE_OPTIONS = {
 }
 
 
-def _writer_options(value: object, key: str) -> dict[str, dict[str, Any]]:
+def _writer_options(value: object, key: str) -> dict[str, dict[str, object]]:
     from coastmesh.io import mesh_formats
 
     if not isinstance(value, Mapping):
@@ -416,7 +415,7 @@ class OutputConfig:
         "the formats that hold `sphere_xyz` (`coastmesh formats`), for Fluidity "
         "and Thetis meshes of the globe",
     )
-    options: Mapping[str, Mapping[str, Any]] | None = key(
+    options: Mapping[str, Mapping[str, object]] | None = key(
         None,
         check=_writer_options,
         default_doc="each writer's defaults",

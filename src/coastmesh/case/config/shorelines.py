@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import Protocol, TypeVar
 
 from coastmesh.case import schema
 from coastmesh.case.config.kinds import DEFAULT_KIND, DOMAIN_KINDS, domain_kind
@@ -104,7 +105,7 @@ class ShorelinesConfig:
             raise t.error(contour[0], "is for a raster shoreline (raster = PATH)")
         values = schema.read_keys(cls, t, reading)
         t.done()
-        return cls(**values)
+        return schema.unchecked_part(cls, values)
 
     def _validate(self, c: Check) -> ShorelinesConfig:
         if (self.path is None) == (self.raster is None):
@@ -184,7 +185,21 @@ class ShorelineSetConfig:
         return replace(self, name=c(schema.string, self.name, "name"))
 
 
-def _one_area(part, c: Check):
+class _Area(Protocol):
+    """A place given as a box, a polygon or a file: a region or a site."""
+
+    @property
+    def box(self) -> tuple[float, float, float, float] | None: ...
+    @property
+    def polygon(self) -> tuple[tuple[float, float], ...] | None: ...
+    @property
+    def path(self) -> Path | None: ...
+
+
+_A = TypeVar("_A", bound=_Area)
+
+
+def _one_area(part: _A, c: Check) -> _A:
     """Exactly one of ``box``, ``polygon`` (three points or more) and ``path``."""
     given = [k for k in ("box", "polygon", "path") if getattr(part, k) is not None]
     if len(given) != 1:

@@ -177,9 +177,8 @@ def seam_faults(
 
 def _sizes(xy: NDArray[np.float64], tris: NDArray[np.int64]) -> NDArray[np.float64]:
     p = xy[tris]
-    return np.mean(
-        [np.hypot(*(p[:, (i + 1) % 3] - p[:, i]).T) for i in range(3)], axis=0
-    )
+    sides = [np.hypot(*(p[:, (i + 1) % 3] - p[:, i]).T) for i in range(3)]
+    return np.asarray(np.mean(sides, axis=0), dtype=np.float64)
 
 
 def _seam_ratios(

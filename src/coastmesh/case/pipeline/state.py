@@ -69,13 +69,13 @@ from coastmesh.types import (
     Mesh,
     Progress,
     Report,
-    Runner,
     StageFactory,
 )
 
 if TYPE_CHECKING:
     import xarray as xr
 
+    from coastmesh.case.executor import TaskRunner
     from coastmesh.case.figures import FigureJobs
     from coastmesh.case.pipeline.farms import SiteFeatures  # farms imports this
     from coastmesh.case.pipeline.strategy import Strategy
@@ -454,7 +454,7 @@ class RunContext:
     threads : int
         Local workers: processes for the parts and figures; threads for the
         PCA, the closing and the size terms.
-    runner : Runner
+    runner : TaskRunner
         Where the parts are meshed (here, a process pool, or Dask).
     stage : StageFactory
         ``stage(label)`` gives a progress callback per stage (the command
@@ -466,7 +466,7 @@ class RunContext:
     """
 
     threads: int
-    runner: Runner
+    runner: TaskRunner
     stage: StageFactory
     figures: FigureJobs | None = None
     seconds: dict[str, float] = field(default_factory=dict)

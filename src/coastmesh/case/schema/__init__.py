@@ -56,7 +56,7 @@ from coastmesh.case.schema.keys import (
     layer_key,
     sequence,
 )
-from coastmesh.case.schema.read import Reading, read_keys, read_part
+from coastmesh.case.schema.read import Reading, read_keys, read_part, unchecked_part
 from coastmesh.case.schema.table import MISSING, Table, located
 
 __all__ = [
@@ -100,4 +100,5 @@ __all__ = [
     "speed",
     "speed_with_unit",
     "string",
+    "unchecked_part",
 ]

@@ -9,9 +9,11 @@ value is None are left out, so the reader takes their defaults again.
 
 from __future__ import annotations
 
+import dataclasses
 import os
+from collections.abc import Iterable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from coastmesh.case.schema.keys import UNITS, Key, keys_of
 
@@ -51,21 +53,45 @@ def dump_keys(part: DataclassInstance) -> dict[str, object]:
     return out
 
 
-# Any: a field's value, of the type its key declares (a part, parts, a path, ...)
-def _dump_value(value: Any, meta: Key) -> object:  # noqa: PLR0911 (one per kind)
+def _dump_value(value: object, meta: Key) -> object:  # noqa: PLR0911 (one per kind)
+    """Dump a field's value, of the type its key declares (a part, parts, a path...)."""
     if meta.dump is not None:
         return meta.dump(value)
     if meta.part is not None and meta.keyed:
-        return {p.name: dump_part(p) for p in value}
+        return {_name(p): dump_part(p) for p in _parts(value)}
     if meta.part is not None and meta.many:
-        return [dump_part(p) for p in value]
+        return [dump_part(p) for p in _parts(value)]
     if meta.part is not None:
-        return dump_part(value)
+        return dump_part(_part(value))
     if meta.path:
+        if not isinstance(value, str | os.PathLike):
+            raise TypeError(f"expected a path, got {value!r}")
         return os.path.abspath(value)
     if meta.unit is not None:
         return f"{value!r} {UNITS[meta.unit][0]}"
     return toml_value(value)
+
+
+def _part(value: object) -> DataclassInstance:
+    """Return a sub-table's value as the part it is (a config dataclass)."""
+    if not dataclasses.is_dataclass(value) or isinstance(value, type):
+        raise TypeError(f"expected a config part, got {value!r}")
+    return value
+
+
+def _parts(value: object) -> list[DataclassInstance]:
+    """Return an array of tables' value as its parts."""
+    if not isinstance(value, Iterable):
+        raise TypeError(f"expected config parts, got {value!r}")
+    return [_part(p) for p in value]
+
+
+def _name(part: DataclassInstance) -> str:
+    """Return the ``NAME`` of a keyed table's part (``[shoreline_sets.NAME]``)."""
+    name = getattr(part, "name", None)
+    if not isinstance(name, str):
+        raise TypeError(f"expected a named config part, got {part!r}")
+    return name
 
 
 def toml_value(value: object) -> object:

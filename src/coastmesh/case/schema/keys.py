@@ -121,8 +121,7 @@ class Key:
     keyed: bool = False
     kinds: Mapping[str, type] | None = None
     read: Converter[object] | None = None
-    # Any: each key's dump takes that key's values (RotorLength, a tuple, ...)
-    dump: Callable[[Any], object] | None = None
+    dump: Callable[[object], object] | None = None
     doc: str = ""
     default_doc: str | None = None
 
@@ -140,7 +139,7 @@ def key(
     keyed: bool = False,
     kinds: Mapping[str, type] | None = None,
     read: Converter[object] | None = None,
-    dump: Callable[[Any], object] | None = None,
+    dump: Callable[[object], object] | None = None,
     default_doc: str | None = None,
     kw_only: bool | None = None,
 ) -> Any:  # as dataclasses.field: the field's type, whatever it is
@@ -169,12 +168,19 @@ def key(
 
 def file_key(doc: str, *, default_doc: str | None = None) -> Path | None:
     """Declare ``path``: a file, relative to the case file's folder, default none."""
-    return key(None, check=to_path, path=True, doc=doc, default_doc=default_doc)
+    # a field, declared as the value it holds (as with key and dataclasses.field)
+    declared: Path | None = key(
+        None, check=to_path, path=True, doc=doc, default_doc=default_doc
+    )
+    return declared
 
 
 def layer_key() -> str | None:
     """Declare ``layer``: the layer of ``path``'s vector file, default its only one."""
-    return key(None, check=string, default_doc="the only layer", doc="its layer")
+    declared: str | None = key(
+        None, check=string, default_doc="the only layer", doc="its layer"
+    )
+    return declared
 
 
 def keys_of(

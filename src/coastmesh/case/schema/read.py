@@ -15,8 +15,9 @@ from __future__ import annotations
 
 import dataclasses
 import os
+from collections.abc import Callable, Mapping
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
 from coastmesh.case.schema import convert
 from coastmesh.case.schema.convert import Converter
@@ -26,7 +27,7 @@ from coastmesh.case.schema.table import Table
 if TYPE_CHECKING:
     from _typeshed import DataclassInstance
 
-__all__ = ["Reading", "read_keys", "read_part"]
+__all__ = ["Reading", "read_keys", "read_part", "unchecked_part"]
 
 D = TypeVar("D", bound="DataclassInstance")
 #: A sub-table that is not there: the field keeps its default.
@@ -66,11 +67,22 @@ def read_part(kind: type[D], t: Table, reading: Reading, **given: object) -> D:
     Unknown keys are an error. The values are converted (units, paths), not yet
     checked.
     """
-    own = getattr(kind, "_read", None)
+    # a part's own reader: a class method, ``_read(t, reading, **given) -> part``
+    own: Callable[..., D] | None = getattr(kind, "_read", None)
     if own is not None:
         return own(t, reading, **given)
     values = read_keys(kind, t, reading)
     t.done()
+    return unchecked_part(kind, values, **given)
+
+
+def unchecked_part(kind: type[D], values: Mapping[str, object], **given: object) -> D:
+    """Make a part of class ``kind`` of values read from a file, not yet checked.
+
+    The part's fields are declared as what its checks make of them (a length
+    given as ``"2 km"`` is a float once checked): :func:`~.keys.checked`
+    converts and checks them, when the case that holds the part is made.
+    """
     return kind(**given, **values)
 
 
@@ -80,13 +92,13 @@ def read_keys(
     reading: Reading,
     *,
     rename: dict[str, str] | None = None,
-) -> dict[str, Any]:  # not yet checked: the part's class checks them
+) -> dict[str, object]:  # not yet checked: the part's class checks them
     """Take the keys of ``kind`` that are in ``t``; return them by field name.
 
     ``rename`` gives other keys for some fields, by field name (the open
     boundaries of a global case are ``[[cuts]]``).
     """
-    values: dict[str, Any] = {}
+    values: dict[str, object] = {}
     for f, declared in keys_of(kind):
         meta = declared
         if rename and f.name in rename:

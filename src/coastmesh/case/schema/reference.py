@@ -20,7 +20,6 @@ from __future__ import annotations
 import dataclasses
 import re
 from collections.abc import Iterable, Mapping
-from typing import Any
 
 from coastmesh.case.schema.keys import UNITS, Key, is_required, keys_of
 
@@ -131,7 +130,7 @@ def _inherited(kind: type) -> set[str]:
     }
 
 
-def _default(f: dataclasses.Field[Any], meta: Key) -> str:  # noqa: PLR0911
+def _default(f: dataclasses.Field[object], meta: Key) -> str:  # noqa: PLR0911
     if meta.default_doc is not None:
         return meta.default_doc
     if is_required(f):

@@ -20,10 +20,10 @@ import json
 import logging
 import re
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -31,10 +31,11 @@ from numpy.typing import NDArray
 from coastmesh.case import schema
 from coastmesh.case.schema import Table
 from coastmesh.errors import ConfigError, InputDataError
-from coastmesh.types import Report, StageFactory
+from coastmesh.types import Progress, Report, StageFactory
 
 if TYPE_CHECKING:
     import xarray as xr
+    from matplotlib.figure import Figure
 
 __all__ = [
     "BathymetryStudyConfig",
@@ -98,7 +99,7 @@ class BathymetryStudyResult(Report):
     """
 
     files: tuple[str, ...]
-    rows: tuple[dict[str, Any], ...]
+    rows: tuple[dict[str, float], ...]
     seconds: float
 
     def summary(self) -> str:
@@ -218,7 +219,8 @@ def run_study(
         energy = np.cumsum(np.clip(spectrum, 0.0, None))
         energy /= energy[-1]
         shown = sorted({*config.modes, size})
-        curve, kept = [], {}
+        curve: list[dict[str, float]] = []
+        kept: dict[int, NDArray[np.float64]] = {}
         valid = np.isfinite(values)
         with stage(f"approximations with 1 .. {size} modes") as progress:
             for r in range(1, size + 1):
@@ -308,7 +310,14 @@ def _approximation(
     return out
 
 
-def _write_tables(folder, config, raster, rows, curve, spectrum) -> list[str]:
+def _write_tables(
+    folder: Path,
+    config: BathymetryStudyConfig,
+    raster: xr.DataArray,
+    rows: Sequence[dict[str, float]],
+    curve: list[dict[str, float]],
+    spectrum: NDArray[np.float64],
+) -> list[str]:
     from coastmesh.version import __version__
 
     size = config.window**2
@@ -347,14 +356,22 @@ def _write_tables(folder, config, raster, rows, curve, spectrum) -> list[str]:
     return ["table.md", "table.csv", "study.json"]
 
 
-def _write_figures(folder, config, raster, kept, curve, spectrum, progress):
+def _write_figures(
+    folder: Path,
+    config: BathymetryStudyConfig,
+    raster: xr.DataArray,
+    kept: Mapping[int, NDArray[np.float64]],
+    curve: list[dict[str, float]],
+    spectrum: NDArray[np.float64],
+    progress: Progress,
+) -> list[str]:
     from coastmesh.plot import studies as plot_studies
     from coastmesh.plot.base import save_figure
 
     (folder / "figures").mkdir()
     panels = [(_title(r), kept[r]) for r in config.modes]
     panels.append((f"input: {config.path.name}", raster.values))
-    builders = {
+    builders: dict[str, Callable[[], Figure]] = {
         "maps": lambda: plot_studies.relief_maps_figure(raster, panels),
         "surfaces": lambda: plot_studies.relief_surfaces_figure(raster, panels),
         "spectrum": lambda: plot_studies.spectrum_figure(spectrum, config.modes),

@@ -33,10 +33,10 @@ import logging
 import math
 import re
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TypedDict
 
 import numpy as np
 import shapely
@@ -46,12 +46,17 @@ from pyproj import CRS
 from coastmesh.case import schema
 from coastmesh.case.schema import Table
 from coastmesh.errors import ConfigError, InputDataError
-from coastmesh.geometry import densify_long_edges, land_polygons, simplify_shorelines
+from coastmesh.geometry import (
+    ShorelineReport,
+    densify_long_edges,
+    land_polygons,
+    simplify_shorelines,
+)
 from coastmesh.geometry.earth import metres_per_unit, reproject, reproject_points
 from coastmesh.io import read_features, write_features
 from coastmesh.plot.base import detail_bounds, save_figure
 from coastmesh.plot.studies import overlay_figure
-from coastmesh.types import Report, StageFactory
+from coastmesh.types import Features, Report, StageFactory
 from coastmesh.version import __version__
 
 __all__ = [
@@ -119,12 +124,39 @@ class ShorelineStudyConfig:
     hausdorff_spacing: float = 25.0
 
 
+class Distances(TypedDict):
+    """How far a reconstruction is from the original, metres; where it is farthest."""
+
+    hausdorff_m: float
+    hausdorff_lon: float
+    hausdorff_lat: float
+    mean_distance_m: float
+
+
+class StudyRow(Distances):
+    """One row of the study's table: a reconstruction, its counts and distances."""
+
+    name: str
+    label: str
+    window: int
+    modes: int
+    rings_in: int
+    rings_dropped: int
+    features_in: int
+    features_dropped: int
+    points_in: int
+    points_added: int
+    points_out: int
+    repaired: int
+    seconds: float
+
+
 @dataclass(frozen=True, slots=True)
 class ShorelineStudyResult(Report):
     """What :func:`run_study` wrote: file names (relative to the folder), the rows."""
 
     files: tuple[str, ...]
-    rows: tuple[dict[str, Any], ...]
+    rows: tuple[StudyRow, ...]
     seconds: float
 
     def summary(self) -> str:
@@ -231,8 +263,7 @@ def run_study(
     """
     started = time.perf_counter()
     with stage("reading shorelines"):
-        features = _read(config)
-    crs = features.crs
+        features, crs = _read(config)
     bounds = tuple(float(v) for v in shapely.total_bounds(features.geometry))
     detail = config.detail or detail_bounds(features.geometry, crs)
     assert detail is not None  # _read keeps land polygons only, and some
@@ -248,7 +279,8 @@ def run_study(
     points = (_distinct_points(features.geometry), _distinct_points(land))
     rings, ring_part = shapely.get_rings(shapely.get_parts(land), return_index=True)
     original = to_metric(rings)
-    rows, results = [], []
+    rows: list[StudyRow] = []
+    results: list[NDArray[np.object_]] = []
     for rec in config.reconstructions:
         with stage(f"{rec.name}: {rec.label}") as progress:
             t0 = time.perf_counter()
@@ -265,7 +297,7 @@ def run_study(
         rows.append(_row(rec, report, points, distances, seconds))
         results.append(out)
         logger.info("%s: %s; %s", rec.name, report.summary(), distances)
-    files = []
+    files: list[str] = []
     with stage("writing GeoPackages") as progress:
         for k, (rec, out) in enumerate(
             zip(config.reconstructions, results, strict=True)
@@ -275,7 +307,7 @@ def run_study(
     with stage("figures"):
         files += _figures(folder, config, features.geometry, results, detail, crs)
     with stage("tables"):
-        setup = {
+        setup: dict[str, object] = {
             "path": str(config.path),
             "layer": features.layer,
             "bbox": config.bbox,
@@ -291,24 +323,23 @@ def run_study(
     return ShorelineStudyResult(tuple(files), tuple(rows), seconds)
 
 
-def _read(config: ShorelineStudyConfig) -> Any:
-
+def _read(config: ShorelineStudyConfig) -> tuple[Features, CRS]:
+    """Read the layer's land polygons, and its CRS."""
     features = read_features(config.path, layer=config.layer, bbox=config.bbox)
     if features.crs is None:
         raise InputDataError(
             "the file declares no CRS; distances need one", path=str(config.path)
         )
-
-    return land_polygons(features, purpose="a shoreline study")
+    return land_polygons(features, purpose="a shoreline study"), features.crs
 
 
 def _row(
     rec: ReconstructionConfig,
-    report: Any,
+    report: ShorelineReport,
     points: tuple[int, int],
-    distances: dict[str, float],
+    distances: Distances,
     seconds: float,
-) -> dict[str, Any]:
+) -> StudyRow:
     """One row of the table: the reconstruction, its counts and distances."""
     return {
         "name": rec.name,
@@ -343,7 +374,7 @@ def _kept_rings(
     rings: NDArray[np.object_], ring_part: NDArray[np.int64], window: int
 ) -> NDArray[np.bool_]:
     """Rings that PCA keeps: long enough, and (holes) in a shell that is kept."""
-    long_enough = shapely.get_num_coordinates(rings) - 1 >= window
+    long_enough: NDArray[np.bool_] = shapely.get_num_coordinates(rings) - 1 >= window
     shell = np.r_[True, ring_part[1:] != ring_part[:-1]]
     shell_kept = np.zeros(int(ring_part.max()) + 1 if len(rings) else 0, dtype=bool)
     shell_kept[ring_part[shell & long_enough]] = True
@@ -378,15 +409,18 @@ def _distances(
     spacing: float,
     metric: CRS,
     crs: CRS,
-) -> dict[str, float]:
+) -> Distances:
     """Symmetric Hausdorff distance, where it is reached, and the mean distance.
 
     All lengths in metres; ``original`` and ``rebuilt`` are rings in ``metric``.
     """
-    nan = {"hausdorff_m": math.nan, "hausdorff_lon": math.nan}
-    nan |= {"hausdorff_lat": math.nan, "mean_distance_m": math.nan}
     if len(original) == 0 or len(rebuilt) == 0:
-        return nan
+        return {
+            "hausdorff_m": math.nan,
+            "hausdorff_lon": math.nan,
+            "hausdorff_lat": math.nan,
+            "mean_distance_m": math.nan,
+        }
     to_rebuilt, to_original = _segment_tree(rebuilt), _segment_tree(original)
     a = shapely.get_coordinates(shapely.segmentize(original, spacing))
     b = shapely.get_coordinates(shapely.segmentize(rebuilt, spacing))
@@ -417,11 +451,14 @@ def _nearest(tree: shapely.STRtree, xy: NDArray[np.float64]) -> NDArray[np.float
     _, distance = tree.query_nearest(
         shapely.points(xy), return_distance=True, all_matches=False
     )
-    return distance
+    return np.asarray(distance, dtype=np.float64)
 
 
 def _write_gpkg(
-    folder: Path, rec: ReconstructionConfig, features: Any, out: NDArray[np.object_]
+    folder: Path,
+    rec: ReconstructionConfig,
+    features: Features,
+    out: NDArray[np.object_],
 ) -> str:
 
     name = f"{rec.name}.gpkg"
@@ -466,10 +503,10 @@ def _figures(
 
 
 def _tables(
-    folder: Path, rows: list[dict[str, Any]], setup: dict[str, Any]
+    folder: Path, rows: Sequence[Mapping[str, object]], setup: dict[str, object]
 ) -> list[str]:
 
-    def cell(key: str, value: Any) -> str:
+    def cell(key: str, value: object) -> str:
         if isinstance(value, float):
             digits = 2 if key == "seconds" else 1
             return "n/a" if math.isnan(value) else f"{value:,.{digits}f}"
