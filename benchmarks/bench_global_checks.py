@@ -89,7 +89,7 @@ def rebuild_sizes(config) -> dict:
     from coastmesh.case.config import floor
     from coastmesh.case.pipeline import STAGES, CaseRun, RunContext, strategy_of
     from coastmesh.case.pipeline.size import size_stage
-    from coastmesh.case.terms import TERMS
+    from coastmesh.case.config import TERMS
     from coastmesh.case.terms.base import SizeCase
     from coastmesh.sizing.combine import TermSizes, combine
     from coastmesh.types import quiet_stage, serial_runner

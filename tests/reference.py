@@ -193,6 +193,37 @@ def bilinear_loop(rx, ry, values, px, py, *, clamp=False):
     return out
 
 
+def nearest_loop(rx, ry, values, px, py):
+    """The value of the nearest node, one point at a time.
+
+    The literal reference of ``coastmesh.geometry.grids.interpolate_nearest``
+    (ascending ``rx``, ``ry``): along each axis the node at the least distance
+    (the lower one at a tie), NaN for a point more than half a cell beyond the
+    outer nodes (half the outer spacing on each side; a single node, exactly on
+    it).
+    """
+    out = np.full(len(px), np.nan)
+
+    def node(axis, p):
+        if len(axis) == 1:
+            return 0 if p == axis[0] else None
+        if (
+            not axis[0] - (axis[1] - axis[0]) / 2
+            <= p
+            <= axis[-1] + (axis[-1] - axis[-2]) / 2
+        ):
+            return None
+        distances = [abs(p - a) for a in axis]
+        best = min(distances)
+        return distances.index(best)
+
+    for k, (x, y) in enumerate(zip(px, py, strict=True)):
+        i, j = node(rx, x), node(ry, y)
+        if i is not None and j is not None:
+            out[k] = values[j, i]
+    return out
+
+
 def rank_channels_loop(labels, width, area, kept):
     """Kept labels, largest area first, numbered 1, 2, ...; each one's widest nodes.
 

@@ -15,7 +15,8 @@ from coastmesh.case import (
     dump_case,
     parse_case,
 )
-from coastmesh.case.terms import TERMS
+from coastmesh.case.config import TERMS, SizeConfig, term_key, terms_of
+from coastmesh.case.terms import Courant
 from coastmesh.errors import ConfigError
 from coastmesh.sizing import DEFAULT_RATE
 
@@ -259,33 +260,16 @@ def test_keep_and_min_depth_together_are_refused():
         )
 
 
-def test_size_config_as_type_checkers_see_it_has_the_fields_it_is_made_with():
-    """sizes.py declares SizeConfig for type checkers; it is made from TERMS.
+def test_size_config_is_the_registry_of_the_terms():
+    """SizeConfig's fields: the field's keys, then one term_key line per term.
 
-    The declaration names the field's keys and the first terms; a later term
-    (``fields``) reads through its ``__getattr__``, so a new term needs no line
-    there: the made class has the declared fields first, then terms only.
+    TERMS is read from them, in order; the defaults are the terms' own.
     """
-    import ast
-    import inspect
-
-    from coastmesh.case.config import sizes
-
-    tree = ast.parse(inspect.getsource(sizes))
-    declared = next(
-        node
-        for node in ast.walk(tree)
-        if isinstance(node, ast.ClassDef) and node.name == "SizeConfig"
-    )
-    names = [
-        s.target.id
-        for s in declared.body
-        if isinstance(s, ast.AnnAssign) and isinstance(s.target, ast.Name)
-    ]
-    made = dataclasses.fields(sizes.SizeConfig)
-    assert names == [f.name for f in made][: len(names)]
-    assert {f.name for f in made[len(names) :]} <= {t.key for t in TERMS}
-    assert "fields" in {f.name for f in made[len(names) :]}
+    made = dataclasses.fields(SizeConfig)
+    keys = ["gradations", "bathymetry", "channels", "courant", "fields"]
+    assert [f.name for f in made] == ["h_max", "h_min", "cell", "rate", *keys]
+    assert [t.key for t in TERMS] == keys
+    assert [f.metadata["term"] for f in made[4:]] == list(TERMS)
     defaults = {f.name: f.default for f in made if f.default is not dataclasses.MISSING}
     assert defaults == {
         "h_min": None,
@@ -303,6 +287,26 @@ def test_size_config_as_type_checkers_see_it_has_the_fields_it_is_made_with():
     assert made_anew == {"channels": ChannelConfig(), "courant": CourantConfig()}
 
 
+def test_a_term_under_another_name_or_reading_a_later_term_is_refused():
+    @dataclasses.dataclass(frozen=True)
+    class Misnamed(SizeConfig):
+        other: CourantConfig | None = term_key(Courant())
+
+    with pytest.raises(TypeError, match=r"Misnamed.other registers Courant, whose"):
+        terms_of(Misnamed)
+
+    class Early(Courant):
+        key = "early"
+        reads = ("courant", "later")
+
+    @dataclasses.dataclass(frozen=True)
+    class Reads(SizeConfig):
+        early: CourantConfig | None = term_key(Early())
+
+    with pytest.raises(TypeError, match=r"'early' reads \['later'\]: a term reads"):
+        terms_of(Reads)
+
+
 def test_what_is_on_by_default_and_the_cross_checks_are_the_terms_own(monkeypatch):
     """The reader asks each term of TERMS: no term named in the case reader."""
     by_key = {term.key: term for term in TERMS}
@@ -315,7 +319,7 @@ def test_what_is_on_by_default_and_the_cross_checks_are_the_terms_own(monkeypatc
     seen = {}
 
     def check(self, settings, case, *, label, lines):
-        seen.update(settings=settings, bathymetry=case.get("bathymetry"), lines=lines)
+        seen.update(settings=settings, bathymetry=case.bathymetry, lines=lines)
         raise ConfigError(f"{label}: refused by the term")
 
     monkeypatch.setattr(type(by_key["fields"]), "check", check)

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from typing import ClassVar
 
 import numpy as np
 import pytest
@@ -26,10 +27,12 @@ from coastmesh.case import (
     SizeConfig,
     domain_size_field,
 )
+from coastmesh.case.terms import SizeTerm
 from coastmesh.case.terms.courant import AUTO_PERCENTILE, AUTO_SHARE, auto_time_step
 from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.geometry.earth import GRAVITY
 from coastmesh.sizing import courant_bounds, domain_slots
+from coastmesh.sizing.combine import TermSizes
 from coastmesh.sizing.courant import round_step
 from coastmesh.types import BoundarySegment, Domain
 
@@ -354,3 +357,74 @@ def test_closing_every_channel_is_refused_with_a_clear_message():
     every = SimpleNamespace(narrow_km2=0.95 * sea, h_min=300.0)
     with pytest.raises(ConfigError, match=r"would leave no sea.*\[\[sites\]\]"):
         _refuse_closing_all(state, config, every)
+
+
+class _HalfConfig:
+    """The table of a term kept outside the package (a test's plug-in)."""
+
+
+class _Half(SizeTerm[object]):
+    """Half the gradations' sizes: a term that reads another term's field."""
+
+    key, config, default = "half", _HalfConfig, _HalfConfig()
+    reads = ("gradations",)
+    seen: ClassVar[list[TermSizes | None]] = []
+
+    def sizes(self, grid, case):
+        graded = case.sizes_of("gradations")
+        self.seen.append(graded)
+        return TermSizes(upper=graded.upper / 2.0, history="half")
+
+
+class _Peeks(_Half):
+    """Reads a term's field it does not declare."""
+
+    key = "peeks"
+
+    def sizes(self, grid, case):
+        case.sizes_of("courant")
+
+
+def test_a_term_reads_the_field_of_a_term_it_declares():
+    """A SizeConfig subclass adds a term (one line); it reads the gradations.
+
+    Its field is the gradations' own sizes, not a copy made anew, and the field
+    follows it; a term reading one it does not declare is stopped by name.
+    """
+    import dataclasses
+
+    from coastmesh.case.config import term_key
+
+    @dataclasses.dataclass(frozen=True)
+    class WithHalf(SizeConfig):
+        half: object = term_key(_Half())
+
+    def sized(size, threads=1):
+        from coastmesh.case.pipeline.size import size_field
+        from coastmesh.case.terms.base import SizeCase, SizeTables
+        from coastmesh.sizing.grid import PlaneGrid
+
+        domain = _bay()
+        grid = PlaneGrid.around(domain, "EPSG:32631", spacing=200.0, smallest=400.0)
+        case = SizeCase(SizeTables(size), domain, 200.0, read_depth=None)
+        return size_field(grid, case, threads=threads)
+
+    plain = {"h_max": 3000.0, "h_min": 200.0, "gradations": GRADE, "rate": None}
+    off = {"channels": OFF, "courant": CourantConfig(enabled=False)}
+    base = sized(SizeConfig(**plain, **off))
+    for threads in (1, 4):
+        _Half.seen.clear()
+        halved = sized(WithHalf(**plain, **off), threads)
+        (graded,) = _Half.seen
+        assert graded is not None and graded.upper is not None
+        expected = np.clip(graded.upper / 2.0, 200.0, 3000.0)
+        np.testing.assert_allclose(halved.field.values, expected)
+        assert (halved.field.values <= base.field.values).all()
+        assert (halved.field.values < base.field.values).any()
+
+    @dataclasses.dataclass(frozen=True)
+    class WithPeeks(SizeConfig):
+        peeks: object = term_key(_Peeks())
+
+    with pytest.raises(KeyError, match="'peeks' reads the field of 'courant' but"):
+        sized(WithPeeks(**plain, **off))

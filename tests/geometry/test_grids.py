@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from reference import bilinear_loop
+from reference import bilinear_loop, nearest_loop
 
-from coastmesh.geometry.grids import cell_of, interpolate_bilinear
+from coastmesh.geometry.grids import cell_of, interpolate_bilinear, interpolate_nearest
 from coastmesh.geometry.projection import sample_size
 from coastmesh.types import SizeGrid
 
@@ -51,6 +51,32 @@ def test_bilinear_matches_the_loop_bit_for_bit(seed, nx, ny, missing, clamp):
         x, y, values, px[:-4].reshape(4, -1), py[:-4].reshape(4, -1), clamp=clamp
     )
     np.testing.assert_array_equal(shaped, expected[:-4].reshape(4, -1))
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    nx=st.integers(1, 8),
+    ny=st.integers(1, 8),
+    missing=st.sampled_from([0.0, 0.2]),
+)
+def test_nearest_matches_the_loop(seed, nx, ny, missing):
+    rng = np.random.default_rng(seed)
+    x = np.cumsum(rng.uniform(0.1, 2.0, nx)) - rng.uniform(0, 5)
+    y = np.cumsum(rng.uniform(0.1, 2.0, ny)) - rng.uniform(0, 5)
+    values = rng.integers(0, 9, (ny, nx)).astype(float)
+    values[rng.random(values.shape) < missing] = np.nan
+    px, py = _points(rng, x, y, 120)
+    # half-way between nodes, and half a cell beyond the outer ones
+    if nx > 1:
+        px[5:8] = [
+            (x[0] + x[1]) / 2,
+            x[0] - (x[1] - x[0]) / 2,
+            x[-1] + 0.6 * (x[-1] - x[-2]),
+        ]
+    got = interpolate_nearest(x, y, values, px, py)
+    np.testing.assert_array_equal(got, nearest_loop(x, y, values, px, py))
+    assert set(np.unique(got[np.isfinite(got)])) <= set(np.unique(values))
 
 
 def test_bilinear_matches_the_loop_with_nodata_and_outside_points():

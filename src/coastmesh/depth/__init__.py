@@ -7,6 +7,8 @@
 :class:`DepthSource`               one raster of such a stack
 :func:`depth_on_grid`              a raster's (or a stack's) depth on the
                                    nodes of a regular grid
+:func:`raster_on_grid`             any raster's values on the nodes of a
+                                   regular grid, bilinear or nearest
 :func:`depth_at_nodes`             depth on the nodes of a mesh: coverage,
                                    land, the depth floor, the slope limit
 :func:`raster_grid`                a raster's axes (ascending) and values
@@ -22,7 +24,7 @@ stage.
 
 from __future__ import annotations
 
-from coastmesh.depth.grid import depth_on_grid
+from coastmesh.depth.grid import READINGS, depth_on_grid, raster_on_grid
 from coastmesh.depth.nodes import (
     DEPTH_METHODS,
     LAND_TREATMENTS,
@@ -38,6 +40,7 @@ __all__ = [
     "DEPTH_METHODS",
     "LAND_TREATMENTS",
     "OUTSIDE_RULES",
+    "READINGS",
     "DepthReport",
     "DepthSource",
     "DepthSources",
@@ -46,4 +49,5 @@ __all__ = [
     "depth_on_grid",
     "node_sources",
     "raster_grid",
+    "raster_on_grid",
 ]

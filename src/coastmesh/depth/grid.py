@@ -12,12 +12,73 @@ from coastmesh.depth.raster import raster_grid
 from coastmesh.depth.sources import DepthSource, DepthSources
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import reproject_points
-from coastmesh.geometry.grids import interpolate_bilinear
+from coastmesh.geometry.grids import interpolate_bilinear, interpolate_nearest
 
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["depth_on_grid"]
+__all__ = ["READINGS", "depth_on_grid", "raster_on_grid"]
+
+#: How :func:`raster_on_grid` reads a raster between its cell centres.
+READINGS = ("bilinear", "nearest")
+
+
+def raster_on_grid(
+    raster: xr.DataArray,
+    x: ArrayLike,
+    y: ArrayLike,
+    *,
+    crs: CRS | str,
+    how: str = "bilinear",
+) -> NDArray[np.float64]:
+    """Read any raster at the nodes of a grid, in the raster's own CRS.
+
+    Parameters
+    ----------
+    raster : xarray.DataArray
+        Dims ``("y", "x")`` with 1-D cell-centre coordinates and a ``crs`` attr
+        (WKT), as :func:`coastmesh.io.read_raster` returns; NaN = missing.
+    x, y : array_like of shape (nx,), (ny,)
+        Node coordinates of the grid in ``crs``.
+    crs : pyproj.CRS or str
+        CRS of the grid; the nodes are moved into the raster's CRS.
+    how : {"bilinear", "nearest"}
+        ``"bilinear"`` between the four cell centres around a node (NaN where
+        one with a weight is missing: :func:`interpolate_bilinear`);
+        ``"nearest"`` the value of the cell the node is in
+        (:func:`interpolate_nearest`), for classes and codes.
+
+    Returns
+    -------
+    ndarray of shape (ny, nx)
+        The raster's values as they are (no sign changed); NaN outside it.
+
+    Raises
+    ------
+    ConfigError
+        For another ``how``, or a raster without dims ``("y", "x")``, a ``crs``
+        attribute or monotonic axes
+        (:func:`~coastmesh.depth.raster.raster_grid`).
+
+    Examples
+    --------
+    >>> import xarray as xr
+    >>> r = xr.DataArray([[1.0, 2.0], [3.0, 4.0]], dims=("y", "x"),
+    ...                  coords={"y": [0.0, 1.0], "x": [0.0, 1.0]},
+    ...                  attrs={"crs": "EPSG:4326"})
+    >>> raster_on_grid(r, [0.25, 0.75], [0.0], crs="EPSG:4326").tolist()
+    [[1.25, 1.75]]
+    >>> raster_on_grid(r, [0.25, 0.75], [0.0], crs="EPSG:4326", how="nearest").tolist()
+    [[1.0, 2.0]]
+    """
+    if how not in READINGS:
+        raise ConfigError(f"how = {how!r}: use one of {', '.join(READINGS)}")
+    gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
+    nodes = np.column_stack([gx.ravel(), gy.ravel()])
+    rx, ry, values, raster_crs = raster_grid(raster)
+    px, py = reproject_points(nodes, crs, raster_crs).T
+    read = interpolate_bilinear if how == "bilinear" else interpolate_nearest
+    return read(rx, ry, values, px, py).reshape(gx.shape)
 
 
 def depth_on_grid(
@@ -89,7 +150,5 @@ def depth_on_grid(
         return depth.reshape(gx.shape)
     if isinstance(raster, DepthSources):
         return raster.sample(nodes, crs).depth.reshape(gx.shape)
-    rx, ry, values, raster_crs = raster_grid(raster)
-    px, py = reproject_points(nodes, crs, raster_crs).T
-    z = interpolate_bilinear(rx, ry, values, px, py).reshape(gx.shape)
+    z = raster_on_grid(raster, x, y, crs=crs)
     return -z if positive == "up" else z

@@ -17,7 +17,12 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["bilinear_corners", "cell_of", "interpolate_bilinear"]
+__all__ = [
+    "bilinear_corners",
+    "cell_of",
+    "interpolate_bilinear",
+    "interpolate_nearest",
+]
 
 #: One corner of the cells around points: its (rows, columns) and its weights.
 Corner = tuple[tuple[NDArray[np.intp], NDArray[np.intp]], NDArray[np.float64]]
@@ -55,6 +60,68 @@ def cell_of(
     i = np.clip(np.searchsorted(x, px, side="right") - 1, 0, len(x) - 2)
     j = np.clip(np.searchsorted(y, py, side="right") - 1, 0, len(y) - 2)
     return i, j
+
+
+def interpolate_nearest(
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    values: NDArray[np.float64],
+    px: ArrayLike,
+    py: ArrayLike,
+) -> NDArray[np.float64]:
+    """Return the value of the node nearest each point, along each axis.
+
+    For a raster whose nodes are its cell centres, the value of the cell each
+    point is in: classes and codes (a habitat map) keep their values.
+
+    Parameters
+    ----------
+    x, y : ndarray of shape (nx,), (ny,)
+        Node (cell-centre) coordinates, strictly increasing.
+    values : ndarray of shape (ny, nx)
+        The values at the nodes; NaN where missing.
+    px, py : array_like of the same shape
+        Where to read, in the grid's coordinates.
+
+    Returns
+    -------
+    ndarray of the shape of ``px``
+        NaN for points beyond half a cell outside the outer nodes (a single
+        node along an axis: a cell of no width) and for NaN points. A point
+        half-way between two nodes takes the lower one.
+
+    Examples
+    --------
+    >>> axis = np.array([0.0, 1.0, 2.0])
+    >>> v = np.array([[1.0, 2.0, 3.0]] * 3)
+    >>> interpolate_nearest(axis, axis, v, [0.4, 0.5, 0.6, 2.5, 2.6], [1.0] * 5)
+    array([ 1.,  1.,  2.,  3., nan])
+    """
+    px, py = np.asarray(px, dtype=np.float64), np.asarray(py, dtype=np.float64)
+    i, in_x = _nearest_node(x, px)
+    j, in_y = _nearest_node(y, py)
+    out = np.asarray(values, dtype=np.float64)[j, i]
+    return np.where(in_x & in_y, out, np.nan)
+
+
+def _nearest_node(
+    axis: NDArray[np.float64], p: NDArray[np.float64]
+) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
+    """Return the node of ``axis`` nearest each ``p``, and which are in its cells.
+
+    In its cells: within half a cell of the outer nodes.
+    """
+    axis = np.asarray(axis, dtype=np.float64)
+    if len(axis) < 2:
+        return np.zeros(p.shape, dtype=np.intp), p == axis[0]
+    k = np.clip(np.searchsorted(axis, p), 1, len(axis) - 1)
+    lower = (p - axis[k - 1]) <= (axis[k] - p)
+    node = np.where(lower, k - 1, k)
+    half_low = (axis[1] - axis[0]) / 2.0
+    half_high = (axis[-1] - axis[-2]) / 2.0
+    with np.errstate(invalid="ignore"):
+        inside = (p >= axis[0] - half_low) & (p <= axis[-1] + half_high)
+    return node.astype(np.intp), inside
 
 
 def bilinear_corners(

@@ -4,8 +4,8 @@ A grid is a value: its nodes (``x``, ``y``), its CRS, its spacing, which nodes
 lie in the sea (``sea``), and the scale factor of the map at each node
 (``scale``). Each size term computes on the grid it is given and never asks
 which kind it is: the grid measures distances to lines (:meth:`graded`),
-samples the depth (:meth:`depth`) and limits the field's gradation
-(:meth:`limit`) in its own way.
+samples any raster (:meth:`sample`; the depth is one way of reading it) and
+limits the field's gradation (:meth:`limit`) in its own way.
 
 * :class:`PlaneGrid`: regular in the projected, conformal CRS a regional domain
   is meshed in, every ``spacing`` metres, two cells beyond the domain.
@@ -28,7 +28,7 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS
 
-from coastmesh.depth import DepthSources, depth_on_grid
+from coastmesh.depth import READINGS, DepthSources, depth_on_grid, raster_on_grid
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import (
     EARTH_RADIUS,
@@ -57,7 +57,15 @@ from coastmesh.types import Domain
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["CELLS_ACROSS", "PAD_CELLS", "Grid", "PlaneGrid", "SphereGrid", "grid_axes"]
+__all__ = [
+    "CELLS_ACROSS",
+    "PAD_CELLS",
+    "SAMPLINGS",
+    "Grid",
+    "PlaneGrid",
+    "SphereGrid",
+    "grid_axes",
+]
 
 #: The default spacing of a plane grid, and the densification of the domain's
 #: outline before it is projected, are the domain's extent over this.
@@ -66,6 +74,9 @@ CELLS_ACROSS = 1000
 PAD_CELLS = 2
 _LONLAT = CRS.from_epsg(4326)
 _T = TypeVar("_T")
+#: How :meth:`Grid.sample` reads a raster at the nodes: between the cell
+#: centres (:data:`~coastmesh.depth.READINGS`), or as a mesh's nodes get depth.
+SAMPLINGS = (*READINGS, "depth")
 
 
 def grid_axes(
@@ -221,11 +232,64 @@ class Grid:
         """Return the gradations' sizes, combined by minimum (metres)."""
         raise NotImplementedError
 
+    def sample(
+        self,
+        raster: xr.DataArray | DepthSources,
+        how: str = "bilinear",
+        *,
+        positive: str = "up",
+    ) -> NDArray[np.float64]:
+        """Return a raster's values at the grid's nodes, read as ``how`` says.
+
+        The raster is read in its own CRS (any CRS: the nodes are moved into
+        it), and a world lon/lat raster wraps round the antimeridian on a
+        :class:`SphereGrid`.
+
+        Parameters
+        ----------
+        raster : xarray.DataArray or DepthSources
+            Dims ``("y", "x")`` with cell-centre coordinates and a ``crs``
+            attribute (:func:`coastmesh.io.read_raster`). A stack of depth
+            rasters (:class:`~coastmesh.depth.DepthSources`) with ``"depth"``.
+        how : {"bilinear", "nearest", "depth"}
+            ``"bilinear"`` between the four cell centres around a node;
+            ``"nearest"`` the value of the cell the node is in (classes and
+            codes); ``"depth"`` the depth as the mesh's nodes get it, metres
+            positive down: bilinear over the wet cells alone, and a node of the
+            domain's sea with no wet cell around takes the nearest wet cell, so
+            a size term never reads a land height in the sea
+            (:func:`~coastmesh.depth.depth_on_grid` with ``sea``).
+        positive : {"up", "down"}
+            With ``"depth"``: the raster's sign (``"up"`` for elevations).
+
+        Returns
+        -------
+        ndarray of shape :attr:`shape`
+            NaN outside the raster and at missing cells.
+
+        Raises
+        ------
+        ConfigError
+            For another ``how``, or a raster without dims, CRS or monotonic
+            axes.
+        """
+        if how not in SAMPLINGS:
+            raise ConfigError(f"how = {how!r}: use one of {', '.join(SAMPLINGS)}")
+        if how != "depth" and isinstance(raster, DepthSources):
+            raise ConfigError(
+                f"how = {how!r} reads one raster; a stack of depth sources is read "
+                'with how = "depth"'
+            )
+        return self._sample(raster, how, positive)
+
     def depth(
         self, raster: xr.DataArray | DepthSources, positive: str = "up"
     ) -> NDArray[np.float64]:
-        """Return a raster's depth at the nodes, metres, positive down."""
-        raise NotImplementedError
+        """Return a raster's depth at the nodes, metres, positive down.
+
+        :meth:`sample` with ``how = "depth"``: as the mesh's nodes will get it.
+        """
+        return self.sample(raster, "depth", positive=positive)
 
     def limit(self, values: NDArray[np.float64], rate: float) -> NDArray[np.float64]:
         """Return ``values`` with no step growing faster than ``rate`` m per m."""
@@ -255,6 +319,11 @@ class Grid:
             name="size",
             attrs={"crs": self.crs.to_wkt(), "units": "m", "history": history},
         )
+
+    def _sample(
+        self, raster: xr.DataArray | DepthSources, how: str, positive: str
+    ) -> NDArray[np.float64]:
+        raise NotImplementedError
 
     def _sea(self) -> NDArray[np.bool_]:
         raise NotImplementedError
@@ -401,18 +470,16 @@ class PlaneGrid(Grid):
             self, domain, max_width=max_width, step=step, narrow_only=narrow_only
         )
 
-    def depth(
-        self, raster: xr.DataArray | DepthSources, positive: str = "up"
+    def _sample(
+        self, raster: xr.DataArray | DepthSources, how: str, positive: str
     ) -> NDArray[np.float64]:
-        """Return the depth at the nodes, as the mesh's nodes will get it.
-
-        Bilinear over the wet cells alone, in the rasters' own CRS; a sea node
-        with no wet cell around takes the nearest wet cell
-        (:func:`~coastmesh.depth.grid.depth_on_grid` with ``sea``).
-        """
-        return depth_on_grid(
-            raster, self.x, self.y, crs=self.crs, positive=positive, sea=self.sea
-        )
+        """Read ``raster`` at the nodes, in the raster's own CRS."""
+        if how == "depth":
+            return depth_on_grid(
+                raster, self.x, self.y, crs=self.crs, positive=positive, sea=self.sea
+            )
+        assert not isinstance(raster, DepthSources)  # sample() refuses it
+        return raster_on_grid(raster, self.x, self.y, crs=self.crs, how=how)
 
     def limit(self, values: NDArray[np.float64], rate: float) -> NDArray[np.float64]:
         """Limit the gradation in 8 directions, ``spacing`` apart."""
@@ -541,26 +608,26 @@ class SphereGrid(Grid):
             np.minimum(size, np.hstack([graded, graded[:, :1]]), out=size)
         return size
 
-    def depth(
-        self, raster: xr.DataArray | DepthSources, positive: str = "up"
+    def _sample(
+        self, raster: xr.DataArray | DepthSources, how: str, positive: str
     ) -> NDArray[np.float64]:
-        """Return the depth at the nodes; a world raster wraps round.
+        """Read ``raster`` on the nodes; a world raster wraps round.
 
-        As the mesh's nodes get it: bilinear over the wet cells alone, and a
-        node in the domain's sea with no wet cell around (an island the case
-        drops, which the raster still has) takes the nearest wet cell, so a
-        size term never reads a land height in the sea
-        (:func:`~coastmesh.depth.grid.depth_on_grid` with ``sea``).
+        The first column is read once and repeated as the last (-180 and 180
+        are one meridian). With ``"depth"``, a node in the domain's sea with no
+        wet cell around (an island the case drops, which the raster still has)
+        takes the nearest wet cell.
         """
-        depth = depth_on_grid(
-            raster if isinstance(raster, DepthSources) else wrapped(raster),
-            self.x[:-1],
-            self.y,
-            crs=_LONLAT,
-            positive=positive,
-            sea=self.sea[:, :-1],
-        )
-        return np.hstack([depth, depth[:, :1]])
+        x, sea = self.x[:-1], self.sea[:, :-1]
+        if isinstance(raster, DepthSources):  # how == "depth": sample() says so
+            values = depth_on_grid(raster, x, self.y, crs=_LONLAT, sea=sea)
+        elif how == "depth":
+            values = depth_on_grid(
+                wrapped(raster), x, self.y, crs=_LONLAT, positive=positive, sea=sea
+            )
+        else:
+            values = raster_on_grid(wrapped(raster), x, self.y, crs=_LONLAT, how=how)
+        return np.hstack([values, values[:, :1]])
 
     def limit(self, values: NDArray[np.float64], rate: float) -> NDArray[np.float64]:
         """Limit the gradation with each step's true length on the sphere."""

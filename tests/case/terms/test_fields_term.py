@@ -72,6 +72,11 @@ mapping = "ramp"
         ('values = [1.0]\nsizes = [50]\nreduce = "at"', "time"),
         ('values = [1.0]\nsizes = [50]\ntime = "1 h"', "time"),
         ('values = [1.0]\nsizes = [50]\nreduce = "median"', "reduce"),
+        ('values = [1.0]\nsizes = [50]\nsample = "cubic"', "sample"),
+        (
+            'values = [1.0]\nsizes = [50]\nsource = "r.sww"\nsample = "nearest"',
+            r"sample = 'nearest' reads a raster; .*r\.sww is a mesh file",
+        ),
     ],
 )
 def test_bad_entries_name_the_key(table, message):
@@ -178,6 +183,30 @@ def test_sizes_follow_a_raster_in_another_crs_and_leave_the_rest(tmp_path):
     assert report.uncovered == 0.0
     assert report.size_after_m == 100.0
     assert report.elements_after > report.elements_before > 0
+
+
+def test_a_raster_of_classes_is_read_as_the_cell_each_node_is_in(tmp_path):
+    """``sample = "nearest"``: class 2 (a habitat) sized, classes 1 and 3 not.
+
+    Bilinear reading would make class 2 of the edge between classes 1 and 3.
+    """
+    domain = _domain()
+    box = _lonlat_box(domain)
+    west, east = box[0] + (box[2] - box[0]) / 3, box[0] + 2 * (box[2] - box[0]) / 3
+    classes = _raster(
+        tmp_path / "habitat.tif",
+        box,
+        lambda lon, lat: np.where(lon < west, 1.0, np.where(lon < east, 3.0, 1.0)),
+        cells=60,
+    )
+    table = {"source": classes, "values": (2.0, 2.5), "sizes": (100.0, 2000.0)}
+    bilinear = _size(domain, **table, mapping="thresholds")
+    nearest = _size(domain, **table, mapping="thresholds", sample="nearest")
+    without = _size(domain)
+    # nearest: classes 1 and 3 only, never 2: the mesh is the mesh without it
+    np.testing.assert_array_equal(nearest.field.values, without.field.values)
+    # bilinear: the cells between classes 1 and 3 read 2 there
+    assert (bilinear.field.values == 100.0).sum() > 0
 
 
 def test_the_size_holds_wherever_the_value_is_reached(tmp_path):

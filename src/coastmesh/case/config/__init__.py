@@ -46,13 +46,21 @@ from coastmesh.case.config.shorelines import (
     ShorelineSetConfig,
     SiteConfig,
 )
-from coastmesh.case.config.sizes import SizeConfig, floor, terms_smallest
+from coastmesh.case.config.sizes import (
+    TERMS,
+    SizeConfig,
+    floor,
+    term_key,
+    terms_of,
+    terms_smallest,
+)
 from coastmesh.case.sources import DepthSourceConfig, RasterConfig
 
 __all__ = [
     "CASE_KINDS",
     "DOCUMENTED",
     "PYTHON_SOURCE",
+    "TERMS",
     "CaseConfig",
     "CaseKeys",
     "CleanupConfig",
@@ -77,6 +85,8 @@ __all__ = [
     "WakeConfig",
     "floor",
     "reference_blocks",
+    "term_key",
+    "terms_of",
     "terms_smallest",
 ]
 
@@ -127,7 +137,6 @@ def reference_blocks() -> dict[str, str]:
 
     from coastmesh.case.boundaries import BOUNDARY_KINDS
     from coastmesh.case.schema.reference import section
-    from coastmesh.case.terms import TERMS
 
     def doc(kind: type) -> tuple[str, str]:
         title, _, body = (sys.modules[kind.__module__].__doc__ or "").partition("\n")

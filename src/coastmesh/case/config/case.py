@@ -5,7 +5,6 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 from coastmesh.case import schema
 from coastmesh.case.boundaries import BOUNDARY_KINDS, BoundaryConfig
@@ -31,10 +30,9 @@ from coastmesh.case.config.shorelines import (
     ShorelineSetConfig,
     SiteConfig,
 )
-from coastmesh.case.config.sizes import SizeConfig
+from coastmesh.case.config.sizes import TERMS, SizeConfig
 from coastmesh.case.schema import Check, key, keys_of
 from coastmesh.case.schema.keys import Key, check_value
-from coastmesh.case.terms import TERMS
 from coastmesh.errors import ConfigError
 
 __all__ = ["CASE_KINDS", "PYTHON_SOURCE", "CaseConfig", "CaseKeys", "StudyCase"]
@@ -194,6 +192,7 @@ class CaseConfig:
             "text": c(_text, self.text, "text"),
         }
         domain = check_value(self.domain, *_key(self, "domain"), c)
+        assert isinstance(domain, DomainConfig)  # the part's check makes one
         for f, meta in keys_of(self):
             if f.name == "domain":
                 checked[f.name] = domain
@@ -202,9 +201,9 @@ class CaseConfig:
             if f.name == "boundaries":
                 named = dataclasses.replace(meta, name=boundary_key(domain))
             checked[f.name] = check_value(getattr(self, f.name), f, named, c)
-        _cross_check(checked, c.source)
         for name, value in checked.items():
             object.__setattr__(self, name, value)
+        _cross_check(self, c.source)
 
     @property
     def background_set(self) -> ShorelineSetConfig:
@@ -233,7 +232,7 @@ class StudyCase:
     name: str
     kind: str
     output: Path
-    study: Any
+    study: object
     text: str = ""
 
 
@@ -243,12 +242,12 @@ def _text(value: object, key: str) -> str:
     return value
 
 
-def boundary_key(domain: Any) -> str:
+def boundary_key(domain: DomainConfig) -> str:
     """Return the table of open boundaries: ``cuts`` in a global case."""
-    return domain_kind(getattr(domain, "kind", None)).boundaries
+    return domain_kind(domain.kind).boundaries
 
 
-def _term_defaults(case: dict[str, Any]) -> None:
+def _term_defaults(case: CaseConfig) -> None:
     """Switch the terms on by default on, unless the case says otherwise.
 
     :attr:`~coastmesh.case.terms.base.SizeTerm.on_by_default` (channels and
@@ -256,21 +255,21 @@ def _term_defaults(case: dict[str, Any]) -> None:
     it is), in regional and global cases alike
     (:func:`~coastmesh.case.terms.base.switched_on`).
     """
-    size = case["size"]
+    size = case.size
     terms = {
         term.key: dataclasses.replace(part, enabled=True)
         for term in TERMS
         if term.on_by_default
-        and (part := getattr(size, term.key)) is not None
+        and (part := term.of(size)) is not None
         and part.enabled is None
     }
-    if terms:
-        case["size"] = dataclasses.replace(size, **terms)
+    if terms:  # in the case being made (CaseConfig.__post_init__)
+        object.__setattr__(case, "size", dataclasses.replace(size, **terms))
 
 
-def _cross_check(case: dict[str, Any], label: str) -> None:
+def _cross_check(case: CaseConfig, label: str) -> None:
     """Names and ids across tables: sets, regions, boundaries, gradations."""
-    sets, regions, boundaries = case["sets"], case["regions"], case["boundaries"]
+    sets, regions, boundaries = case.sets, case.regions, case.boundaries
     _term_defaults(case)
     set_names = [s.name for s in sets]
     for k, r in enumerate(regions):
@@ -290,7 +289,7 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
     names: set[str] = set()
     items = [("shoreline_sets", s.name, s.physical_id) for s in sets]
     items += [
-        (f"{boundary_key(case['domain'])}[{k}]", b.name, b.physical_id)
+        (f"{boundary_key(case.domain)}[{k}]", b.name, b.physical_id)
         for k, b in enumerate(boundaries)
     ]
     for where, name, physical_id in items:
@@ -306,34 +305,34 @@ def _cross_check(case: dict[str, Any], label: str) -> None:
     _check_sites(case, label, names, owners)
     _check_model_tests(case, label)
     for term in TERMS:  # each term's own cross-checks (SizeTerm.check)
-        term.check(getattr(case["size"], term.key), case, label=label, lines=names)
+        term.check(term.of(case.size), case, label=label, lines=names)
 
 
-def _check_model_tests(case: dict[str, Any], label: str) -> None:
+def _check_model_tests(case: CaseConfig, label: str) -> None:
     """``[output] model_test``: a case whose kind takes them, depths, open boundaries.
 
     The kind of case may refuse them
     (:attr:`~coastmesh.case.config.kinds.DomainKind.refuses_model_tests`).
     """
-    tests = case["outputs"].model_test
+    tests = case.outputs.model_test
     if not tests:
         return
     what = f"{label}: output.model_test = {list(tests)}"
-    refused = domain_kind(case["domain"].kind).refuses_model_tests
+    refused = domain_kind(case.domain.kind).refuses_model_tests
     if refused is not None:
         raise ConfigError(f"{what}: {refused}")
-    if case.get("bathymetry") is None:
+    if case.bathymetry is None:
         raise ConfigError(
             f"{what}: a model needs depths at the nodes; add [bathymetry]"
         )
-    if not case["boundaries"]:
+    if not case.boundaries:
         raise ConfigError(
             f"{what}: the case has no open boundary to force the tide through"
         )
 
 
 def _check_sites(
-    case: dict[str, Any], label: str, names: set[str], owners: dict[int, str]
+    case: CaseConfig, label: str, names: set[str], owners: dict[int, str]
 ) -> None:
     """Names and ids of farms, turbines and structures.
 
@@ -343,17 +342,13 @@ def _check_sites(
     edges are boundary edges that gradations may name. The kind of case may
     refuse them all (:attr:`~coastmesh.case.config.kinds.DomainKind.refuses_sites`).
     """
-    refused = domain_kind(case["domain"].kind).refuses_sites
+    refused = domain_kind(case.domain.kind).refuses_sites
     if refused is not None and (
-        case["farms"]
-        or case["turbines"]
-        or case["wakes"]
-        or case["structures"]
-        or case["lines"]
+        case.farms or case.turbines or case.wakes or case.structures or case.lines
     ):
         raise ConfigError(f"{label}: {refused}")
     taken = dict(owners)
-    surface = case["domain"].surface_id
+    surface = case.domain.surface_id
     taken.setdefault(surface, "the domain's surface (domain.surface_id)")
     seen = set(names)
 
@@ -370,16 +365,16 @@ def _check_sites(
                 )
             taken[pid] = repr(name) if name is not None else where
 
-    for k, f in enumerate(case["farms"]):
+    for k, f in enumerate(case.farms):
         claim(f"farms[{k}]", f.name, [f.id])
         names.add(f.name)  # gradations may name its outline
-    for k, ln in enumerate(case["lines"]):
+    for k, ln in enumerate(case.lines):
         claim(f"lines[{k}]", ln.name, [ln.id])
-    for k, st in enumerate(case["structures"]):
+    for k, st in enumerate(case.structures):
         claim(f"structures[{k}]", st.name, [st.id])
         names.add(st.name)  # gradations may name it: it is boundary edges
-    farms = {f.name for f in case["farms"]}
-    for k, t in enumerate(case["turbines"]):
+    farms = {f.name for f in case.farms}
+    for k, t in enumerate(case.turbines):
         if t.farm is not None and t.farm not in farms:
             raise ConfigError(
                 f"{label}: turbines[{k}].farm = {t.farm!r}: no such farm; the farms "
@@ -389,8 +384,8 @@ def _check_sites(
         if t.id is not None and t.ids is None and t.positions is not None:
             ids = list(range(t.id, t.id + len(t.positions)))
         claim(f"turbines[{k}]", t.name, ids)
-    groups = farms | {t.name for t in case["turbines"]}
-    for k, w in enumerate(case["wakes"]):
+    groups = farms | {t.name for t in case.turbines}
+    for k, w in enumerate(case.wakes):
         if w.of not in groups:
             raise ConfigError(
                 f"{label}: wakes[{k}].of = {w.of!r}: no such farm or turbine group; "

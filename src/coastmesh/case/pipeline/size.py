@@ -1,9 +1,10 @@
 """The size stage: every size term on the strategy's grid, combined.
 
-Each term of :data:`coastmesh.case.terms.TERMS` computes its sizes on the grid
-(:meth:`~coastmesh.case.terms.SizeTerm.sizes`), all at once on threads (the
-distance queries, the distance transforms of the channel term and the raster
-reads let go of the GIL); :func:`~coastmesh.sizing.combine.combine` then
+Each size term of the case (:func:`~coastmesh.case.config.terms_of`) computes its
+sizes on the grid (:meth:`~coastmesh.case.terms.SizeTerm.sizes`), all at once on
+threads (the distance queries, the distance transforms of the channel term and
+the raster reads let go of the GIL; a term that reads another's sizes waits for
+them); :func:`~coastmesh.sizing.combine.combine` then
 combines them in the one order its docs give, with the floor
 (:func:`~coastmesh.case.config.floor`), ``h_max`` and the gradation limit.
 """
@@ -12,7 +13,7 @@ from __future__ import annotations
 
 import logging
 import warnings
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
 from functools import partial
 from typing import TYPE_CHECKING
 
@@ -26,6 +27,7 @@ from coastmesh.case.config import (
     RasterConfig,
     SizeConfig,
     floor,
+    terms_of,
     terms_smallest,
 )
 from coastmesh.case.pipeline.closing import smallest_size
@@ -34,15 +36,15 @@ from coastmesh.case.pipeline.domain import site_area
 from coastmesh.case.pipeline.farms import SiteFeatures
 from coastmesh.case.pipeline.state import DomainRun, RunContext, SizedRun, SizeState
 from coastmesh.case.schema import Check, check_part
-from coastmesh.case.terms import TERMS
 from coastmesh.case.terms.base import SizeCase, SizeTables
 from coastmesh.depth import DepthSources
 from coastmesh.errors import CoastmeshWarning
 from coastmesh.geometry import reproject
 from coastmesh.geometry.projection import default_mesh_crs
+from coastmesh.sizing.bands import BandRunner
 from coastmesh.sizing.combine import TermSizes, combine
 from coastmesh.sizing.grid import Grid, PlaneGrid
-from coastmesh.types import Domain, Progress, Runner
+from coastmesh.types import Domain, Progress
 
 __all__ = ["domain_size_field", "size_field", "size_stage"]
 
@@ -103,15 +105,23 @@ def size_field(
     SizeState
         The grid, the field (metres), its report, and the terms' other grids.
     """
-    total = len(TERMS) + 1
-    with ThreadPoolExecutor(max(1, min(int(threads), len(TERMS)))) as pool:
-        running = [(term, pool.submit(term.sizes, grid, case)) for term in TERMS]
+    size = case.config.size
+    terms = terms_of(size)
+    total = len(terms) + 1
+    # first in, first out: a term that waits for the sizes of terms before it
+    # (its reads) holds a thread only once they have all started, so the pool
+    # cannot deadlock at any size
+    with ThreadPoolExecutor(max(1, min(int(threads), len(terms)))) as pool:
+        running: dict[str, Future[TermSizes | None]] = {}
+        for term in terms:
+            running[term.key] = pool.submit(
+                term.sizes, grid, case.reading(term, running)
+            )
         done = []
-        for k, (term, future) in enumerate(running):
-            done.append((term.key, future.result()))
+        for k, (key, future) in enumerate(running.items()):
+            done.append((key, future.result()))
             if progress is not None:
                 progress(k + 1, total)
-    size = case.config.size
     _warn_if_floored_away(size, done)
     combined = combine(
         grid,
@@ -119,7 +129,7 @@ def size_field(
         h_min=case.floor,
         h_max=size.h_max,
         rate=size.rate,
-        reporting=[term.key for term in TERMS if term.reports],
+        reporting=[term.key for term in terms if term.reports],
     )
     if progress is not None:
         progress(total, total)
@@ -158,7 +168,7 @@ def domain_size_field(
     mesh_crs: CRS | str | None = None,
     bathymetry: NodeDepthConfig | None = None,
     depth: xr.DataArray | DepthSources | None = None,
-    runner: Runner | None = None,
+    runner: BandRunner | None = None,
     sites: shapely.Geometry | None = None,
 ) -> SizeState:
     """Make the size field of a domain built in Python: the size stage alone.

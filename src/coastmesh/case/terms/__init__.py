@@ -1,4 +1,4 @@
-"""Size terms: each term of the size field a module, registered in :data:`TERMS`.
+"""Size terms: each term of the size field a module, registered in ``SizeConfig``.
 
 ===================  =======================================================
 :class:`Gradations`  ``[[mesh_size.gradations]]``: the paper's gradations
@@ -8,16 +8,16 @@
 :class:`Fields`      ``[[mesh_size.fields]]``: sizes from a raster or results
 ===================  =======================================================
 
-A term is a :class:`SizeTerm` with its config class. ``[mesh_size]`` has a key
-per term in this list, in this order. A new term is a module here and one entry
-in :data:`TERMS`.
+A term is a :class:`SizeTerm` with its config class. A new term is a module
+here and its line in :class:`~coastmesh.case.config.SizeConfig` (its key of
+``[mesh_size]``, :func:`~coastmesh.case.config.sizes.term_key`): the registry,
+whose order is the order the terms' sizes are applied
+(:data:`coastmesh.case.config.TERMS`).
 """
 
 from __future__ import annotations
 
-from typing import Any
-
-from coastmesh.case.terms.base import SizeTerm
+from coastmesh.case.terms.base import AnyTerm, SizeTerm
 from coastmesh.case.terms.bathymetry import Bathymetry, BathymetryConfig
 from coastmesh.case.terms.channels import ChannelConfig, Channels
 from coastmesh.case.terms.courant import Courant, CourantConfig
@@ -25,7 +25,7 @@ from coastmesh.case.terms.fields import FieldConfig, Fields
 from coastmesh.case.terms.gradations import GradationConfig, Gradations
 
 __all__ = [
-    "TERMS",
+    "AnyTerm",
     "Bathymetry",
     "BathymetryConfig",
     "ChannelConfig",
@@ -38,12 +38,3 @@ __all__ = [
     "Gradations",
     "SizeTerm",
 ]
-
-#: The size terms, in the order their sizes are applied.
-TERMS: tuple[SizeTerm[Any], ...] = (  # each term typed by its settings
-    Gradations(),
-    Bathymetry(),
-    Channels(),
-    Courant(),
-    Fields(),
-)

@@ -4,10 +4,11 @@ A size term is a table of ``[mesh_size]`` (its config class, with its keys) and
 what it asks of the size field on a grid: :meth:`SizeTerm.sizes` gets the grid
 (:class:`~coastmesh.sizing.grid.Grid`) and the case (:class:`SizeCase`) and
 returns its sizes and its report (:class:`~coastmesh.sizing.combine.TermSizes`).
-:data:`coastmesh.case.terms.TERMS` lists the terms, in the order their sizes are
-applied; ``[mesh_size]`` has one key per term
-(:class:`~coastmesh.case.config.SizeConfig` is made from the list), so a new
-term is one module and one entry there.
+A term is registered by one line of :class:`~coastmesh.case.config.SizeConfig`,
+its key of ``[mesh_size]`` (:func:`~coastmesh.case.config.sizes.term_key`), so a
+new term is one module and that entry; :data:`coastmesh.case.config.TERMS` lists
+them, in the order their sizes are applied. A term may read the sizes of terms
+before it (:attr:`SizeTerm.reads`, :meth:`SizeCase.sizes_of`).
 """
 
 from __future__ import annotations
@@ -15,16 +16,18 @@ from __future__ import annotations
 import threading
 from collections.abc import Callable, Mapping
 from collections.abc import Set as AbstractSet
-from dataclasses import dataclass, field
+from concurrent.futures import Future
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, ClassVar, Generic, TypeVar, cast
 
 import numpy as np
 import shapely
 from numpy.typing import NDArray
 
+from coastmesh.sizing.bands import BandRunner
 from coastmesh.sizing.combine import TermSizes
 from coastmesh.sizing.grid import Grid
-from coastmesh.types import Domain, Runner
+from coastmesh.types import Domain
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -38,7 +41,15 @@ if TYPE_CHECKING:
     from coastmesh.depth import DepthSources
     from coastmesh.sizing.narrow import ChannelReport
 
-__all__ = ["Closing", "Settings", "SizeCase", "SizeTables", "SizeTerm", "switched_on"]
+__all__ = [
+    "AnyTerm",
+    "Closing",
+    "Settings",
+    "SizeCase",
+    "SizeTables",
+    "SizeTerm",
+    "switched_on",
+]
 
 
 def switched_on(enabled: bool | None) -> bool:
@@ -120,7 +131,7 @@ class SizeCase:
     domain: Domain
     floor: float
     read_depth: Callable[[RasterConfig], xr.DataArray | DepthSources]
-    runner: Runner | None = None
+    runner: BandRunner | None = None
     closing: Closing = field(default_factory=Closing)
     site_area: shapely.Geometry | None = None
     lines: Mapping[str, shapely.Geometry] = field(default_factory=dict)
@@ -128,6 +139,40 @@ class SizeCase:
         default_factory=dict, repr=False
     )
     _lock: threading.Lock = field(default_factory=threading.Lock, repr=False)
+    _terms: Mapping[str, Future[TermSizes | None]] = field(
+        default_factory=dict, repr=False
+    )
+    _reader: str = field(default="", repr=False)
+
+    def reading(
+        self, term: AnyTerm, sizes: Mapping[str, Future[TermSizes | None]]
+    ) -> SizeCase:
+        """Return the case as ``term`` sees it: with the fields it reads.
+
+        ``sizes`` holds the terms' sizes by key, as they are computed; the case
+        returned gives ``term`` those of its :attr:`SizeTerm.reads` alone
+        (:meth:`sizes_of`).
+        """
+        return replace(self, _terms={k: sizes[k] for k in term.reads}, _reader=term.key)
+
+    def sizes_of(self, key: str) -> TermSizes | None:
+        """Return the sizes of the term ``key``, one the reading term declares.
+
+        A term lists the terms it reads in :attr:`SizeTerm.reads`; they come
+        before it in the registry, and this waits for their sizes (None: that
+        term is off).
+
+        Raises
+        ------
+        KeyError
+            ``key`` is not among the reading term's :attr:`SizeTerm.reads`.
+        """
+        if key not in self._terms:
+            raise KeyError(
+                f"size term {self._reader or '?'!r} reads the field of {key!r} "
+                f"but does not declare it: add {key!r} to its reads"
+            )
+        return self._terms[key].result()
 
     def sites(self, grid: Grid) -> NDArray[np.bool_] | None:
         """Return the grid's nodes inside a ``[[sites]]`` region; None without sites.
@@ -185,6 +230,9 @@ class SizeTerm(Generic[Settings]):
         Whether its config's ``enabled``, left unset by the case, is read as
         on (:func:`switched_on`); the case reader sets it so, for every such
         term, in the case it returns.
+    reads : tuple of str
+        The keys of the terms whose sizes it reads (:meth:`SizeCase.sizes_of`):
+        terms registered before it, whose sizes are computed before its own.
     """
 
     key: ClassVar[str]
@@ -195,6 +243,7 @@ class SizeTerm(Generic[Settings]):
     doc: ClassVar[str] = ""
     floors: ClassVar[bool] = False
     on_by_default: ClassVar[bool] = False
+    reads: ClassVar[tuple[str, ...]] = ()
 
     def sizes(self, grid: Grid, case: SizeCase) -> TermSizes | None:
         """Return the term's sizes on ``grid``; None when it is off."""
@@ -203,24 +252,28 @@ class SizeTerm(Generic[Settings]):
     def check(
         self,
         settings: Settings,
-        case: Mapping[str, Any],
+        case: CaseConfig,
         *,
         label: str,
         lines: AbstractSet[str],
     ) -> None:
         """Check the term's config against the rest of the case, once all is read.
 
-        ``case`` has the case's parts by table (``case["bathymetry"]``, ...),
-        ``lines`` the names gradations may grade from (shoreline sets, open
-        boundaries, farms, structures). Raise :class:`ConfigError` naming
+        ``case`` is the case as read (``case.bathymetry``, ...), ``lines`` the
+        names gradations may grade from (shoreline sets, open boundaries,
+        farms, structures). Raise :class:`ConfigError` naming
         ``label`` (the case file) and the key; by default nothing is checked.
         """
 
     def settings(self, case: SizeCase) -> Settings:
         """Return the term's config in ``case``: its table (or tables), or None."""
-        # SizeConfig's field of the term is made from TERMS (make_dataclass):
-        # its type is this term's Settings, which type checkers cannot see
-        return cast(Settings, getattr(case.config.size, self.key))
+        return self.of(case.config.size)
+
+    def of(self, size: SizeConfig) -> Settings:
+        """Return the term's config in a ``[mesh_size]`` config."""
+        # the SizeConfig field named as the term's key: term_key gave it the
+        # type of this term's Settings, which getattr cannot carry
+        return cast(Settings, getattr(size, self.key))
 
     def smallest(self, settings: Settings) -> float | None:
         """Return the smallest size the term asks for, given its config.
@@ -232,3 +285,7 @@ class SizeTerm(Generic[Settings]):
         size of its own (its sizes follow the field's floor).
         """
         return None
+
+
+#: A size term, whatever its settings: the element type of the registry.
+AnyTerm = SizeTerm[Any]

@@ -33,10 +33,9 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Mapping
 from collections.abc import Set as AbstractSet
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -53,6 +52,9 @@ from coastmesh.sizing.courant import (
     wave_speed,
 )
 from coastmesh.sizing.grid import Grid
+
+if TYPE_CHECKING:
+    from coastmesh.case.config import CaseConfig
 
 __all__ = [
     "AUTO_PERCENTILE",
@@ -79,7 +81,7 @@ def _dt(value: object, key: str) -> float | None:
     return schema.duration(value, key)
 
 
-def _read_dt(value: object, key: str) -> Any:
+def _read_dt(value: object, key: str) -> float | None:
     """``dt`` in a case file: ``"auto"``, or a duration with its unit."""
     if value == "auto":
         return None
@@ -199,7 +201,7 @@ class Courant(SizeTerm[CourantConfig | None]):
     def check(
         self,
         settings: CourantConfig | None,
-        case: Mapping[str, Any],
+        case: CaseConfig,
         *,
         label: str,
         lines: AbstractSet[str],
@@ -209,8 +211,8 @@ class Courant(SizeTerm[CourantConfig | None]):
             settings is not None
             and settings.enabled is not False
             and settings.dt is not None
-            and case["size"].bathymetry is None
-            and case.get("bathymetry") is None
+            and case.size.bathymetry is None
+            and case.bathymetry is None
         ):
             raise ConfigError(
                 f"{label}: mesh_size.courant.dt = {settings.dt:g} s: the Courant term "
@@ -238,7 +240,9 @@ class Courant(SizeTerm[CourantConfig | None]):
         sites = case.sites(grid)
         h_min, h_max = case.floor, case.config.size.h_max
 
-        def bounds(dt: float, share: float = 1.0):
+        def bounds(
+            dt: float, share: float = 1.0
+        ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
             high = None if co.courant_max is None else co.courant_max * share
             floor, cap = courant_bounds(
                 depth,
@@ -260,8 +264,10 @@ class Courant(SizeTerm[CourantConfig | None]):
             assert courant_max is not None  # _validate: dt = "auto" needs it
 
             def time_step(floored: NDArray[np.float64]) -> float:
-                return auto_time_step(
-                    floored, speed, grid.sea, courant_max, areas=grid.areas
+                return float(
+                    auto_time_step(
+                        floored, speed, grid.sea, courant_max, areas=grid.areas
+                    )
                 )
 
             def lower(floored: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -278,7 +284,8 @@ class Courant(SizeTerm[CourantConfig | None]):
             return TermSizes(
                 lower_from=lower, report=report, history="Courant at dt auto"
             )
-        floor, cap = bounds(co.dt)
+        dt = co.dt
+        floor, cap = bounds(dt)
         _refuse_impossible(co, grid, floor, depth, h_max)
         unmet = grid.km2(grid.sea & ((floor > h_max) | (cap < h_min)))
         if unmet > 0:
@@ -293,14 +300,20 @@ class Courant(SizeTerm[CourantConfig | None]):
             )
 
         def given(applied: Applied) -> CourantReport:
-            return _report(co, co.dt, grid, floor, cap, applied, unmet, auto=False)
+            return _report(co, dt, grid, floor, cap, applied, unmet, auto=False)
 
         return TermSizes(
             upper=cap, lower=floor, report=given, history=f"Courant at dt {co.dt:g} s"
         )
 
 
-def _refuse_impossible(co, grid: Grid, floor, depth, h_max: float) -> None:
+def _refuse_impossible(
+    co: CourantConfig,
+    grid: Grid,
+    floor: NDArray[np.float64],
+    depth: NDArray[np.float64],
+    h_max: float,
+) -> None:
     """Raise if no element of the sea can meet ``dt``: the floor is above h_max."""
     sea = grid.sea & np.isfinite(depth)
     if not sea.any() or not (floor[sea] > h_max).all():
@@ -315,7 +328,17 @@ def _refuse_impossible(co, grid: Grid, floor, depth, h_max: float) -> None:
     )
 
 
-def _report(co, dt, grid, floor, cap, applied, unmet, *, auto) -> CourantReport:
+def _report(
+    co: CourantConfig,
+    dt: float,
+    grid: Grid,
+    floor: NDArray[np.float64],
+    cap: NDArray[np.float64] | None,
+    applied: Applied,
+    unmet: float,
+    *,
+    auto: bool,
+) -> CourantReport:
     """Return the term's report: the step, and where its bounds set the size."""
     lowered = 0.0 if cap is None else grid.km2(grid.sea & (cap < applied.before))
     return CourantReport(

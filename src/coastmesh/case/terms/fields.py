@@ -3,7 +3,9 @@
 Each entry takes a field from a ``source`` and maps its value to a size:
 
 * a **raster** (any raster GDAL reads, in any CRS; a NetCDF variable by
-  ``variable``), sampled bilinearly at the size grid's nodes;
+  ``variable``), read at the size grid's nodes bilinearly, or ``sample =
+  "nearest"`` for classes and codes
+  (:meth:`~coastmesh.sizing.grid.Grid.sample`);
 * a **mesh file** with results (an ANUGA ``.sww``, a SCHISM ``out2d_*.nc``,
   ADCIRC ``fort.63``/``fort.64``/``maxvel.63``/``maxele.63``, text or NetCDF,
   a UGRID NetCDF, a VTU): a ``variable`` at its nodes (linear in each
@@ -54,6 +56,7 @@ from numpy.typing import NDArray
 from coastmesh.case import schema
 from coastmesh.case.schema import Check, key
 from coastmesh.case.terms.base import SizeCase, SizeTerm
+from coastmesh.depth import READINGS
 from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.sizing.combine import Applied, TermSizes
 from coastmesh.sizing.fields import MAPPINGS, SizeMapping
@@ -137,6 +140,13 @@ class FieldConfig:
         doc="map the magnitude of the (reduced) field's gradient on the source "
         "mesh, per metre, not the field",
     )
+    sample: str = key(
+        "bilinear",
+        check=schema.choice(READINGS),
+        doc='how a raster is read at the size grid\'s nodes: `"bilinear"`, or '
+        '`"nearest"` (the value of the cell a node is in: a raster of classes or '
+        "codes, such as a habitat map); a mesh source is read in its triangles",
+    )
     mapping: str = key(
         "thresholds",
         check=schema.choice(MAPPINGS),
@@ -170,6 +180,15 @@ class FieldConfig:
         self.size_mapping(c.key("mapping"))
         if (self.reduce == "at") != (self.time is not None):
             raise c.error("time", 'give time with reduce = "at", and only then')
+        if self.sample != "bilinear" and self.source is not None:
+            from coastmesh.io.fields.field_values import is_mesh_source
+
+            if is_mesh_source(self.source):
+                raise c.error(
+                    "sample",
+                    f"= {self.sample!r} reads a raster; {self.source} is a mesh "
+                    "file, read in its triangles: leave sample out",
+                )
         return self
 
     def size_mapping(self, where: str = "mesh_size.fields") -> SizeMapping:
@@ -297,6 +316,7 @@ class Fields(SizeTerm[tuple[FieldConfig, ...]]):
                 reduce=entry.reduce,
                 time=entry.time,
                 gradient=entry.gradient,
+                sample=entry.sample,
                 mesh=entry.mesh,
                 crs=entry.crs,
                 where=where,

@@ -11,10 +11,9 @@ global case's grid).
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping
 from collections.abc import Set as AbstractSet
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
@@ -26,6 +25,9 @@ from coastmesh.errors import CoastmeshWarning, ConfigError
 from coastmesh.sizing.combine import TermSizes
 from coastmesh.sizing.gradation import Gradation
 from coastmesh.sizing.grid import Grid
+
+if TYPE_CHECKING:
+    from coastmesh.case.config import CaseConfig
 
 __all__ = ["GradationConfig", "Gradations"]
 
@@ -68,7 +70,7 @@ class Gradations(SizeTerm[tuple[GradationConfig, ...]]):
     def check(
         self,
         settings: tuple[GradationConfig, ...],
-        case: Mapping[str, Any],
+        case: CaseConfig,
         *,
         label: str,
         lines: AbstractSet[str],

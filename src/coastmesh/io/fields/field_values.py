@@ -112,6 +112,7 @@ def sample_field(
     reduce: str | None = None,
     time: float | None = None,
     gradient: bool = False,
+    sample: str = "bilinear",
     mesh: str | os.PathLike[str] | None = None,
     crs: Any = None,
     where: str = "field",
@@ -133,6 +134,10 @@ def sample_field(
         Seconds from the file's time origin, with ``reduce = "at"``.
     gradient : bool
         The magnitude of the reduced field's gradient, per metre (a mesh).
+    sample : {"bilinear", "nearest"}
+        How a raster is read at the nodes
+        (:meth:`~coastmesh.sizing.grid.Grid.sample`); a mesh is read in its
+        triangles.
     mesh : path-like, optional
         The grid of an ADCIRC text output.
     crs : CRS-like, optional
@@ -161,7 +166,7 @@ def sample_field(
             raise ConfigError(
                 f"{where}: gradient = true needs a mesh source; {source} is a raster"
             )
-        found = _raster_field(grid, source, variable, crs, where)
+        found = _raster_field(grid, source, variable, crs, sample, where)
     found = _reach(found, EDGE_CELLS)
     _check_cover(grid, found, source, where)
     return found
@@ -207,19 +212,15 @@ def _check_cover(grid: Grid, found: Sampled, source: Any, where: str) -> None:
 
 
 def _raster_field(
-    grid: Grid, source: Any, variable: str | None, crs: Any, where: str
+    grid: Grid, source: Any, variable: str | None, crs: Any, how: str, where: str
 ) -> Sampled:
-    """Sample a raster bilinearly at the grid's nodes, in the raster's CRS."""
-    from coastmesh.depth.raster import raster_grid
-    from coastmesh.geometry.grids import interpolate_bilinear
-    from coastmesh.io.rasters.raster_window import read_raster_around
+    """Read a raster at the grid's nodes, in the raster's CRS (:meth:`Grid.sample`)."""
+    from coastmesh.io.rasters.raster_window import raster_extent, read_raster_around
 
     path = source
     if variable is not None:
         _check_raster_variable(source, variable, where)
         path = f'NETCDF:"{os.fspath(source)}":{variable}'
-    from coastmesh.io.rasters.raster_window import raster_extent
-
     xx, yy = np.meshgrid(grid.x, grid.y)
     nodes = np.column_stack([xx.ravel(), yy.ravel()])
     _, wkt, _ = raster_extent(path)
@@ -227,11 +228,10 @@ def _raster_field(
     raster_crs = given or (CRS.from_wkt(wkt) if wkt else None)
     if raster_crs is None:
         raise InputDataError(f"{where}: {source} has no CRS; give the entry's crs")
-    # the nodes moved once, into the raster's CRS: the window is found there
+    # the window the nodes need, found in the raster's CRS
     moved = reproject_points(nodes, grid.crs, raster_crs)
     raster = read_raster_around(path, moved, raster_crs, name=f"{where}: {source}")
-    rx, ry, values, _ = raster_grid(raster.assign_attrs(crs=raster_crs.to_wkt()))
-    z = interpolate_bilinear(rx, ry, values, *moved.T).reshape(grid.shape)
+    z = grid.sample(raster.assign_attrs(crs=raster_crs.to_wkt()), how)
     return Sampled(z, np.isfinite(z), variable or "band 1")
 
 
