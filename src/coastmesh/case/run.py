@@ -16,7 +16,6 @@ import os
 import time
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 
 from coastmesh.case.build import as_case, build_drawing, worker_count
 from coastmesh.case.config import CaseConfig, StudyCase
@@ -39,7 +38,7 @@ def run_case(
     stage: StageFactory | None = None,
     workers: int | None = None,
     scheduler: str | None = None,
-) -> CaseResult | Any:
+) -> CaseResult | Report:
     """Run a case end to end and write its outputs.
 
     Parameters
@@ -63,8 +62,9 @@ def run_case(
 
     Returns
     -------
-    CaseResult
-        With ``output`` and ``files`` set; for a study case, the study's result.
+    CaseResult or Report
+        With ``output`` and ``files`` set; for a study case
+        (:class:`~coastmesh.case.config.StudyCase`), the study's result.
 
     Raises
     ------

@@ -116,7 +116,7 @@ def run(
             for line in site_lines(config):
                 click.echo(f"  {line}")
         return
-    from coastmesh.case import run_case
+    from coastmesh.case import CaseResult, run_case
 
     result = run_case(
         config,
@@ -134,6 +134,7 @@ def run(
         click.echo(f"Look at {folder / 'figures'}/ and {folder / 'table.md'}")
         return
     if not quiet:
+        assert isinstance(result, CaseResult)  # a mesh case, not a study
         written = result.output
         assert written is not None  # run_case wrote the case there
         click.echo(result.summary())

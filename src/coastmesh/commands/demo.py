@@ -129,7 +129,7 @@ def _demo_case(folder: Path, final: Path) -> DemoStep:
     import dataclasses
     import warnings
 
-    from coastmesh.case import run_case
+    from coastmesh.case import CaseResult, run_case
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", CoastmeshWarning)  # dropped small islands
@@ -142,6 +142,7 @@ def _demo_case(folder: Path, final: Path) -> DemoStep:
         "ADCIRC and SCHISM smoke tests, quality report"
     )
     outputs = ("pentland_firth/summary.txt", "pentland_firth/figures/mesh.png")
+    assert isinstance(result, CaseResult)  # a mesh case, not a study
     # the folder is renamed from its .partial name when the demo ends
     result = dataclasses.replace(result, output=final / "pentland_firth")
     logger.info("demo: %s", result.summary())
