@@ -86,10 +86,9 @@ def rebuild_sizes(config) -> dict:
     largest relative difference of all the terms recombined from the stage's
     field, and the stages' times.
     """
-    from coastmesh.case.config import floor
+    from coastmesh.case.config import TERMS, floor
     from coastmesh.case.pipeline import STAGES, CaseRun, RunContext, strategy_of
     from coastmesh.case.pipeline.size import size_stage
-    from coastmesh.case.config import TERMS
     from coastmesh.case.terms.base import SizeCase
     from coastmesh.sizing.combine import TermSizes, combine
     from coastmesh.types import quiet_stage, serial_runner

@@ -9,6 +9,7 @@
                                    nodes of a regular grid
 :func:`raster_on_grid`             any raster's values on the nodes of a
                                    regular grid, bilinear or nearest
+:func:`raster_at`                  the same at any points
 :func:`depth_at_nodes`             depth on the nodes of a mesh: coverage,
                                    land, the depth floor, the slope limit
 :func:`raster_grid`                a raster's axes (ascending) and values
@@ -24,7 +25,7 @@ stage.
 
 from __future__ import annotations
 
-from coastmesh.depth.grid import READINGS, depth_on_grid, raster_on_grid
+from coastmesh.depth.grid import READINGS, depth_on_grid, raster_at, raster_on_grid
 from coastmesh.depth.nodes import (
     DEPTH_METHODS,
     LAND_TREATMENTS,
@@ -48,6 +49,7 @@ __all__ = [
     "depth_at_nodes",
     "depth_on_grid",
     "node_sources",
+    "raster_at",
     "raster_grid",
     "raster_on_grid",
 ]

@@ -17,7 +17,7 @@ from coastmesh.geometry.grids import interpolate_bilinear, interpolate_nearest
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["READINGS", "depth_on_grid", "raster_on_grid"]
+__all__ = ["READINGS", "depth_on_grid", "raster_at", "raster_on_grid"]
 
 #: How :func:`raster_on_grid` reads a raster between its cell centres.
 READINGS = ("bilinear", "nearest")
@@ -43,22 +43,12 @@ def raster_on_grid(
     crs : pyproj.CRS or str
         CRS of the grid; the nodes are moved into the raster's CRS.
     how : {"bilinear", "nearest"}
-        ``"bilinear"`` between the four cell centres around a node (NaN where
-        one with a weight is missing: :func:`interpolate_bilinear`);
-        ``"nearest"`` the value of the cell the node is in
-        (:func:`interpolate_nearest`), for classes and codes.
+        As :func:`raster_at`.
 
     Returns
     -------
     ndarray of shape (ny, nx)
         The raster's values as they are (no sign changed); NaN outside it.
-
-    Raises
-    ------
-    ConfigError
-        For another ``how``, or a raster without dims ``("y", "x")``, a ``crs``
-        attribute or monotonic axes
-        (:func:`~coastmesh.depth.raster.raster_grid`).
 
     Examples
     --------
@@ -71,14 +61,56 @@ def raster_on_grid(
     >>> raster_on_grid(r, [0.25, 0.75], [0.0], crs="EPSG:4326", how="nearest").tolist()
     [[1.0, 2.0]]
     """
-    if how not in READINGS:
-        raise ConfigError(f"how = {how!r}: use one of {', '.join(READINGS)}")
     gx, gy = np.meshgrid(np.asarray(x, float), np.asarray(y, float))
     nodes = np.column_stack([gx.ravel(), gy.ravel()])
+    return raster_at(raster, nodes, crs, how=how).reshape(gx.shape)
+
+
+def raster_at(
+    raster: xr.DataArray,
+    points: NDArray[np.float64],
+    crs: CRS | str,
+    *,
+    how: str = "bilinear",
+) -> NDArray[np.float64]:
+    """Read any raster at points, in the raster's own CRS.
+
+    Parameters
+    ----------
+    raster : xarray.DataArray
+        As :func:`raster_on_grid` takes it.
+    points : ndarray of shape (n, 2)
+        The points, in ``crs``; moved into the raster's CRS unless that is
+        ``crs`` (a caller that has them there already moves nothing).
+    crs : pyproj.CRS or str
+        CRS of ``points``.
+    how : {"bilinear", "nearest"}
+        ``"bilinear"`` between the four cell centres around a point (NaN where
+        one with a weight is missing:
+        :func:`~coastmesh.geometry.grids.interpolate_bilinear`); ``"nearest"``
+        the value of the cell the point is in
+        (:func:`~coastmesh.geometry.grids.interpolate_nearest`), for classes
+        and codes.
+
+    Returns
+    -------
+    ndarray of shape (n,)
+        The raster's values as they are; NaN outside it.
+
+    Raises
+    ------
+    ConfigError
+        For another ``how``, or a raster without dims ``("y", "x")``, a ``crs``
+        attribute or monotonic axes
+        (:func:`~coastmesh.depth.raster.raster_grid`).
+    """
+    if how not in READINGS:
+        raise ConfigError(f"how = {how!r}: use one of {', '.join(READINGS)}")
     rx, ry, values, raster_crs = raster_grid(raster)
-    px, py = reproject_points(nodes, crs, raster_crs).T
+    if CRS.from_user_input(crs) != raster_crs:
+        points = reproject_points(points, crs, raster_crs)
     read = interpolate_bilinear if how == "bilinear" else interpolate_nearest
-    return read(rx, ry, values, px, py).reshape(gx.shape)
+    return read(rx, ry, values, points[:, 0], points[:, 1])
 
 
 def depth_on_grid(

@@ -28,7 +28,14 @@ import shapely
 from numpy.typing import NDArray
 from pyproj import CRS
 
-from coastmesh.depth import READINGS, DepthSources, depth_on_grid, raster_on_grid
+from coastmesh.depth import (
+    READINGS,
+    DepthSources,
+    depth_on_grid,
+    raster_at,
+    raster_grid,
+    raster_on_grid,
+)
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import (
     EARTH_RADIUS,
@@ -164,6 +171,20 @@ class Grid:
                 self.__dict__[name] = measure()
             value: _T = self.__dict__[name]  # what ``measure`` returned
             return value
+
+    def nodes_as(self, crs: CRS) -> NDArray[np.float64]:
+        """Return the nodes moved into ``crs``, shape ``(ny * nx, 2)``, row by row.
+
+        Moved once for each CRS however many terms ask (a raster's window, then
+        its values at the nodes).
+        """
+
+        def moved() -> NDArray[np.float64]:
+            xx, yy = np.meshgrid(self.x, self.y)
+            nodes = np.column_stack([xx.ravel(), yy.ravel()])
+            return reproject_points(nodes, self.crs, crs)
+
+        return self._once(f"nodes in {crs.to_wkt()}", moved)
 
     def km2(self, nodes: NDArray[np.bool_]) -> float:
         """Return the area the ``nodes`` stand for, km2 (a cell each)."""
@@ -479,7 +500,9 @@ class PlaneGrid(Grid):
                 raster, self.x, self.y, crs=self.crs, positive=positive, sea=self.sea
             )
         assert not isinstance(raster, DepthSources)  # sample() refuses it
-        return raster_on_grid(raster, self.x, self.y, crs=self.crs, how=how)
+        crs = raster_grid(raster)[3]
+        values = raster_at(raster, self.nodes_as(crs), crs, how=how)
+        return values.reshape(self.shape)
 
     def limit(self, values: NDArray[np.float64], rate: float) -> NDArray[np.float64]:
         """Limit the gradation in 8 directions, ``spacing`` apart."""

@@ -221,15 +221,14 @@ def _raster_field(
     if variable is not None:
         _check_raster_variable(source, variable, where)
         path = f'NETCDF:"{os.fspath(source)}":{variable}'
-    xx, yy = np.meshgrid(grid.x, grid.y)
-    nodes = np.column_stack([xx.ravel(), yy.ravel()])
     _, wkt, _ = raster_extent(path)
     given = CRS.from_user_input(crs) if crs is not None else None
     raster_crs = given or (CRS.from_wkt(wkt) if wkt else None)
     if raster_crs is None:
         raise InputDataError(f"{where}: {source} has no CRS; give the entry's crs")
-    # the window the nodes need, found in the raster's CRS
-    moved = reproject_points(nodes, grid.crs, raster_crs)
+    # the window the nodes need, found in the raster's CRS (the nodes moved
+    # there once: grid.sample reads them again)
+    moved = grid.nodes_as(raster_crs)
     raster = read_raster_around(path, moved, raster_crs, name=f"{where}: {source}")
     z = grid.sample(raster.assign_attrs(crs=raster_crs.to_wkt()), how)
     return Sampled(z, np.isfinite(z), variable or "band 1")
