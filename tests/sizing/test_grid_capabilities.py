@@ -106,3 +106,19 @@ def test_a_grid_refuses_an_unknown_reading():
     raster = _lonlat_raster(np.random.default_rng(0), np.arange(3), np.arange(3))
     with pytest.raises(ConfigError, match="how = 'cubic': use one of bilinear, "):
         grid.sample(raster, "cubic")
+
+
+def test_the_nodes_are_moved_into_a_crs_once_row_by_row():
+    from pyproj import CRS, Transformer
+
+    grid = PlaneGrid.from_bounds(
+        (480_000, 6_480_000, 500_000, 6_490_000), 2500.0, "EPSG:32630"
+    )
+    lonlat = CRS.from_epsg(4326)
+    moved = grid.nodes_as(lonlat)
+    assert grid.nodes_as(CRS.from_wkt(lonlat.to_wkt())) is moved  # the same CRS: once
+    gx, gy = np.meshgrid(grid.x, grid.y)
+    lon, lat = Transformer.from_crs(grid.crs, lonlat, always_xy=True).transform(
+        gx.ravel(), gy.ravel()
+    )
+    np.testing.assert_allclose(moved, np.column_stack([lon, lat]), rtol=0, atol=1e-9)
