@@ -150,6 +150,29 @@ def shorten(folder: Path, model: str, hours: float) -> None:
         (folder / "param.nml").write_text(text)
 
 
+def set_params(folder: Path, pairs: list[str]) -> None:
+    """Set ``key=value`` pairs in SCHISM's param.nml (a key it lists, or a new one).
+
+    A new key goes into ``&OPT``. For trying other SCHISM settings on the same
+    mesh and forcing, e.g. ``ishapiro=1 ihorcon=0``.
+    """
+    text = (folder / "param.nml").read_text()
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep:
+            sys.exit(f"--schism-param {pair!r}: expected key=value")
+        pattern = rf"^(\s*){re.escape(key.strip())}\s*=.*$"
+        if re.search(pattern, text, flags=re.M):
+            text = re.sub(
+                pattern, rf"\g<1>{key.strip()} = {value.strip()}", text, flags=re.M
+            )
+        else:
+            text = text.replace(
+                "&OPT\n", f"&OPT\n  {key.strip()} = {value.strip()}\n", 1
+            )
+    (folder / "param.nml").write_text(text)
+
+
 def run(folder: Path, model: str, binary: str, timeout: float) -> float:
     """Run the model in ``folder``; return the wall time, s."""
     if model == "adcirc":
@@ -306,6 +329,13 @@ def main() -> None:
         help="SCHISM's time step, s (default the case's own, as the smoke test "
         "writes it): SCHISM's own sample param.nml uses 100 s",
     )
+    p.add_argument(
+        "--schism-param",
+        nargs="+",
+        default=[],
+        metavar="KEY=VALUE",
+        help="set these in SCHISM's param.nml (e.g. ishapiro=1 ihorcon=0)",
+    )
     args = p.parse_args()
     import coastmesh
     from coastmesh.io.meshes.model_tests import ModelTest
@@ -340,6 +370,8 @@ def main() -> None:
                 fmt = "fort14" if model == "adcirc" else "gr3"
                 old_grid(args.writer, mesh_file, folder / grid, fmt)
                 fit_forcing(folder, model)
+            if model == "schism" and args.schism_param:
+                set_params(folder, args.schism_param)
             duration = ModelTest(dt).duration
             if args.hours is not None:
                 duration = min(duration, args.hours * 3600)
@@ -351,6 +383,8 @@ def main() -> None:
                 "nodes": len(mesh.points),
                 "dt": dt,
             }
+            if model == "schism" and args.schism_param:
+                row["schism_param"] = args.schism_param
             row |= summarise(folder, model, mesh, duration, dt, wall)
             rows.append(row)
             print(json.dumps(row), flush=True)
