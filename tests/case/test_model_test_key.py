@@ -12,6 +12,7 @@ from model_rules import check_adcirc, check_schism
 from coastmesh.case import parse_case
 from coastmesh.case.result import model_dt
 from coastmesh.errors import ConfigError
+from coastmesh.io.meshes.model_tests import schism_time_step
 
 ROOT = Path(__file__).parents[2]
 #: the example case's own line (it writes both run folders)
@@ -83,7 +84,11 @@ def test_a_case_writes_both_run_folders(coarse_case, tmp_path):
     dt = model_dt(coarse_case.report.quality)
     assert dt == coarse_case.report.quality.time_step.courant.dt
     assert f"{dt:g} ! DTDP" in (folder / "adcirc" / "fort.15").read_text()
-    assert f"dt = {dt:g}" in (folder / "schism" / "param.nml").read_text()
+    # SCHISM at a step of its own rules, not the explicit model's
+    step, _ = schism_time_step(coarse_case.mesh)
+    assert step != dt
+    assert f"dt = {step:g}\n" in (folder / "schism" / "param.nml").read_text()
+    assert (folder / "schism" / "adv.gr3").is_file()
     assert (folder / "schism" / "outputs").is_dir()
 
 

@@ -48,7 +48,7 @@ def test_example_writes_every_output(example_run):
     runs = {
         "adcirc": ["fort.14", "fort.13", "fort.15", "README.txt"],
         "schism": ["hgrid.gr3", "hgrid.ll", "vgrid.in", "bctides.in", "manning.gr3",
-                   "param.nml", "README.txt"],
+                   "adv.gr3", "param.nml", "README.txt"],
     }  # fmt: skip
     expected |= {
         f"model_test/{m}/{name}" for m, names in runs.items() for name in names

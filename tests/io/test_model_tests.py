@@ -144,14 +144,56 @@ def test_schism_folder_has_what_schism_reads(tmp_path, mesh):
         abs(ll.xy[:, 1] - 58.6) < 0.2
     ).all()
     param = (folder / "param.nml").read_text()
-    for setting in ("dt = 2.5", "ics = 1", "ncor = 1", "nchi = -1", "ibc = 1",
-                    "iof_hydro(25) = 0", "dramp = 0.25"):  # fmt: skip
+    # SCHISM's own step (the mesh's explicit 2.5 s is ADCIRC's), its stabilizer
+    # and advection rules
+    step = _schism_step_loop(mesh)
+    assert step == 100.0  # CFL > 0.4 everywhere from 37 s: the range's lowest
+    for setting in (f"dt = {step:g}\n", "ics = 1", "ncor = 1", "nchi = -1",
+                    "ibc = 1", "iof_hydro(25) = 0", "dramp = 0.25", "nadv = 0",
+                    "ishapiro = 1", "shapiro0 = 0.5", "ihorcon = 0"):  # fmt: skip
         assert setting in param
+    assert (
+        f"The step, {step:g} s, is SCHISM's own" in (folder / "README.txt").read_text()
+    )
+    # advection off within two rings of nodes of the open sides, on elsewhere
+    xy = mesh.points - mesh.points.min(axis=0)
+    near = (xy[:, 1] <= 2000.0) | (xy[:, 0] >= 2000.0)
+    np.testing.assert_array_equal(_node_values(folder / "adv.gr3", mesh), ~near)
     manning = (folder / "manning.gr3").read_text().splitlines()
     assert manning[1].split() == [str(len(mesh.triangles)), str(len(mesh.points))]
     values = {float(line.split()[3]) for line in manning[2 : 2 + len(mesh.points)]}
     assert values == {0.025}
     assert (folder / "vgrid.in").read_text().splitlines()[1].split()[0] == "2"
+
+
+def test_schism_at_a_step_given_turns_advection_off_below_its_cfl(tmp_path, mesh):
+    write_model_test(tmp_path / "s", mesh, "schism", dt=2.5, schism_dt=20.0)
+    assert "  dt = 20\n" in (tmp_path / "s" / "param.nml").read_text()
+    # every element needs 36 s or more for CFL > 0.4: advection off everywhere
+    assert (_node_values(tmp_path / "s" / "adv.gr3", mesh) == 0).all()
+
+
+def _schism_step_loop(mesh):
+    """SCHISM's step, one element at a time (the module's rule, written out).
+
+    The least ``dt`` with ``(1 + sqrt(g h)) dt / dx > 0.4`` on 95 % of the
+    wet elements (h the deepest node, over 0.1 m; dx the mean side), rounded
+    up to a second, within 100 .. 400 s.
+    """
+    need = []
+    for tri in mesh.triangles:
+        p = mesh.points[tri]
+        dx = sum(math.dist(p[k], p[(k + 1) % 3]) for k in range(3)) / 3
+        h = max(mesh.point_data["depth"][k] for k in tri)
+        if h > 0.1:
+            need.append(0.4 * dx / (math.sqrt(9.81 * h) + 1.0))
+    return float(min(max(math.ceil(np.percentile(need, 95)), 100.0), 400.0))
+
+
+def _node_values(path, mesh):
+    """The value column of a node ``.gr3`` (manning.gr3, adv.gr3)."""
+    lines = path.read_text().splitlines()[2 : 2 + len(mesh.points)]
+    return np.array([float(line.split()[3]) for line in lines])
 
 
 def test_a_geographic_mesh_runs_in_lonlat(tmp_path, mesh):
@@ -224,4 +266,6 @@ def test_model_test_values_are_checked():
         ModelTest(1.0, amplitude=0)
     with pytest.raises(ConfigError, match="region_manning"):
         ModelTest(1.0, region_manning={20: -1})
+    with pytest.raises(ConfigError, match=r"schism_dt = -5; expected a number > 0"):
+        ModelTest(1.0, schism_dt=-5)
     assert ModelTest(2.0).duration == pytest.approx(21600 + M2_PERIOD)

@@ -430,7 +430,8 @@ class OutputConfig:
         default_doc="none",
         doc="smoke-test run folders, `model_test/adcirc/` and `model_test/schism/`: "
         "the mesh, an M2 tide of 0.5 m on every open boundary after a 6 h ramp, "
-        "the mesh's own `dt`, Manning friction, wetting and drying, ready to run "
+        "ADCIRC at the mesh's own `dt` and SCHISM at a step of its own rules, "
+        "Manning friction, wetting and drying, ready to run "
         "([formats.md](formats.md#smoke-tests-run-the-model-on-the-mesh)); a "
         "smoke test, not a calibrated model; regional cases only",
     )

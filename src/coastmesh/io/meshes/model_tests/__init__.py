@@ -7,8 +7,10 @@ place. Each model gets a folder with everything it reads:
 - an M2 tide of ``amplitude`` (0.5 m) on every open boundary node, with the same
   phase everywhere;
 - a ramp of ``ramp`` seconds (6 h), then ``cycles`` M2 cycles (one: 12.42 h);
-- the mesh's own time step ``dt`` (``coastmesh run`` reports it:
-  ``quality.time_step.courant.dt``);
+- ADCIRC at the mesh's own time step ``dt`` (``coastmesh run`` reports it:
+  ``quality.time_step.courant.dt``), and SCHISM, implicit, at a step of its
+  own rules (:func:`schism_time_step`:
+  its advection scheme asks for a Courant number above 0.4, within 100-400 s);
 - quadratic bottom friction from a Manning coefficient per node, derived from
   the mesh's region ids (:func:`~coastmesh.io.meshes.adcirc.node_regions`): ``manning``
   (0.025) in the sea and, if asked, other values in the farms and footprints;
@@ -20,7 +22,7 @@ model             files (run in the folder)
 ``adcirc``        ``fort.14``, ``fort.13`` (``mannings_n_at_sea_floor``),
                   ``fort.15``; run ``adcirc`` (serial)
 ``schism``        ``hgrid.gr3``, ``hgrid.ll``, ``vgrid.in`` (2-D: one layer),
-                  ``bctides.in``, ``manning.gr3``, ``param.nml``,
+                  ``bctides.in``, ``manning.gr3``, ``adv.gr3``, ``param.nml``,
                   ``outputs/``; run ``mpirun -np 2 pschism 1`` (one process
                   computes, one writes)
 ================  ===========================================================
@@ -55,12 +57,15 @@ from coastmesh.io.meshes.adcirc import node_regions
 from coastmesh.io.meshes.adcirc._segments import DEFAULT_LAND, land_codes
 from coastmesh.io.meshes.sphere import on_sphere
 from coastmesh.types import Mesh
+from coastmesh.types.topology import unique_edges
 
 __all__ = [
     "M2_FREQUENCY",
     "M2_PERIOD",
     "MODEL_TESTS",
     "ModelTest",
+    "near_nodes",
+    "schism_time_step",
     "write_model_test",
 ]
 
@@ -90,6 +95,9 @@ class ModelTest:
     region_manning : mapping of int to float
         Manning's n of the nodes of other regions (farms, footprints), by
         region id; a region not listed takes ``manning``.
+    schism_dt : float, optional
+        SCHISM's step, s; default its own rule
+        (:func:`schism_time_step`).
     """
 
     dt: float
@@ -98,6 +106,7 @@ class ModelTest:
     cycles: float = 1.0
     manning: float = 0.025
     region_manning: Mapping[int, float] = field(default_factory=dict)
+    schism_dt: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("dt", "amplitude", "cycles", "manning"):
@@ -108,6 +117,14 @@ class ModelTest:
                 raise ConfigError(
                     f"model test: {name} = {value!r}; expected a number > 0"
                 )
+        if self.schism_dt is not None and not (
+            isinstance(self.schism_dt, int | float)
+            and math.isfinite(self.schism_dt)
+            and self.schism_dt > 0
+        ):
+            raise ConfigError(
+                f"model test: schism_dt = {self.schism_dt!r}; expected a number > 0"
+            )
         if not (math.isfinite(self.ramp) and self.ramp >= 0):
             raise ConfigError(
                 f"model test: ramp = {self.ramp!r}; expected seconds >= 0"
@@ -188,6 +205,7 @@ def write_model_test(
     manning: float = 0.025,
     region_manning: Mapping[int, float] | None = None,
     land: str | None = None,
+    schism_dt: float | None = None,
     overwrite: bool = False,
 ) -> list[str]:
     """Write a smoke test of ``model`` on ``mesh`` into ``folder``, atomically.
@@ -203,9 +221,10 @@ def write_model_test(
     model : {"adcirc", "schism"}
         The model.
     dt : float
-        The time step, s: the mesh's own (``coastmesh run`` reports it as
-        ``quality.time_step.courant.dt``).
-    amplitude, ramp, cycles, manning, region_manning
+        ADCIRC's time step, s: the mesh's own (``coastmesh run`` reports it as
+        ``quality.time_step.courant.dt``). SCHISM takes a step of its own rules
+        unless ``schism_dt`` is given.
+    amplitude, ramp, cycles, manning, region_manning, schism_dt
         As :class:`ModelTest`.
     land : {"essential", "natural"}, optional
         ADCIRC's land types in the ``fort.14``
@@ -250,7 +269,9 @@ def write_model_test(
             f"model test {model!r}: unknown model; expected one of "
             f"{', '.join(MODEL_TESTS)}"
         )
-    test = ModelTest(dt, amplitude, ramp, cycles, manning, dict(region_manning or {}))
+    test = ModelTest(
+        dt, amplitude, ramp, cycles, manning, dict(region_manning or {}), schism_dt
+    )
     check_regional(mesh, model)
     land = land or DEFAULT_LAND
     land_codes(land)
@@ -281,8 +302,19 @@ def check_regional(mesh: Mesh, model: str) -> None:
         )
 
 
-def readme(model: str, test: ModelTest, run: str, look: str) -> str:
-    """Return the README of a smoke-test folder."""
+def near_nodes(mesh: Mesh, nodes: NDArray[np.int64], rings: int) -> NDArray[np.intp]:
+    """Return the nodes ``nodes`` and those within ``rings`` edges of them."""
+    edges, _ = unique_edges(mesh.triangles, len(mesh.points))
+    mark = np.zeros(len(mesh.points), dtype=bool)
+    mark[nodes] = True
+    for _ in range(rings):
+        reached = mark[edges[:, 0]] | mark[edges[:, 1]]
+        mark[edges[reached].ravel()] = True
+    return np.flatnonzero(mark)
+
+
+def readme(model: str, test: ModelTest, run: str, look: str, note: str = "") -> str:
+    """Return the README of a smoke-test folder (``note``: after the forcing)."""
     steps = math.ceil(test.duration / test.dt)
     return (
         f"coastmesh smoke test for {model}: NOT a calibrated model.\n\n"
@@ -293,8 +325,12 @@ def readme(model: str, test: ModelTest, run: str, look: str) -> str:
         f"{test.cycles:g} M2 cycle(s) ({test.duration / 3600:.2f} h in all, "
         f"{steps} steps of {test.dt:g} s); Manning's n {test.manning:g} "
         "(quadratic friction), wetting and drying, Coriolis from the latitude.\n\n"
-        f"Run, in this folder:\n    {run}\n\nLook at:\n{look}\n"
+        f"{note}Run, in this folder:\n    {run}\n\nLook at:\n{look}\n"
         "A tide of this amplitude gives speeds of a few tenths of m/s in most "
         "seas; elevations or speeds far above it, or a stop, point at the mesh "
         "(or at a time step too long for it).\n"
     )
+
+
+# SCHISM's own step rule, public here; its module imports the names above
+from coastmesh.io.meshes.model_tests._schism import schism_time_step  # noqa: E402

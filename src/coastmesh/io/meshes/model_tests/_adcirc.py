@@ -55,9 +55,14 @@ import numpy as np
 from coastmesh.io.meshes._model import require_kinds
 from coastmesh.io.meshes.adcirc import write_fort14
 from coastmesh.io.meshes.adcirc._segments import grid_segments
-from coastmesh.io.meshes.model_tests import M2_FREQUENCY, ModelTest, Place, readme
+from coastmesh.io.meshes.model_tests import (
+    M2_FREQUENCY,
+    ModelTest,
+    Place,
+    near_nodes,
+    readme,
+)
 from coastmesh.types import Mesh
-from coastmesh.types.topology import unique_edges
 
 _OUTPUT_EVERY = 1800.0  # s: global output during the cycles
 _H0 = 0.1  # m: ADCIRC's minimum depth for wetting and drying
@@ -75,7 +80,7 @@ def write(
     kinds = require_kinds(mesh, "fort.14")
     opened, _ = grid_segments(mesh, "fort.14", kinds, "fort14", land=land)
     neta = sum(len(s.nodes) for s in opened)
-    quiet = _near(mesh, np.concatenate([s.nodes for s in opened]), _QUIET_RINGS)
+    quiet = near_nodes(mesh, np.concatenate([s.nodes for s in opened]), _QUIET_RINGS)
     _write_fort13(folder / "fort.13", test.node_manning(mesh), test.manning, quiet)
     (folder / "fort.15").write_text(_fort15(test, where, neta), encoding="ascii")
     run = "adcirc          (serial; reads fort.14, fort.13 and fort.15)"
@@ -87,17 +92,6 @@ def write(
     )
     (folder / "README.txt").write_text(readme("ADCIRC", test, run, look))
     return ["fort.14", "fort.13", "fort.15", "README.txt"]
-
-
-def _near(mesh: Mesh, nodes: np.ndarray, rings: int) -> np.ndarray:
-    """Return the nodes ``nodes`` and those within ``rings`` edges of them."""
-    edges, _ = unique_edges(mesh.triangles, len(mesh.points))
-    mark = np.zeros(len(mesh.points), dtype=bool)
-    mark[nodes] = True
-    for _ in range(rings):
-        reached = mark[edges[:, 0]] | mark[edges[:, 1]]
-        mark[edges[reached].ravel()] = True
-    return np.flatnonzero(mark)
 
 
 def _write_fort13(path: Path, n: np.ndarray, default: float, quiet: np.ndarray) -> None:

@@ -17,21 +17,41 @@ From SCHISM's own docs and source (``schism-dev/schism``: ``docs/input-output/``
 - ``manning.gr3``: Manning's n at each node, read with ``nchi = -1`` and
   ``hmin_man = 1`` m;
 - ``param.nml``: ``ibc = 1, ibtp = 0`` (barotropic), ``dramp`` the ramp in days
-  (``nramp_elev = 0``); ``indvel = 0, ihorcon = 2, hvis_coef0 = 0.025,
-  ishapiro = 0`` (``param.md``'s starting point for the eddying regime:
-  discontinuous node velocities with bi-harmonic viscosity) and ``thetai = 1``
-  ("maximum stability for strong wet/dry"), chosen on the examples: with
-  ``indvel = 1`` and no viscosity, the NW shelf's coarse mesh blew up off
-  Ireland within 5 h of the ramp (150 m, the speed at SCHISM's cap), also with
-  ``thetai = 1``, at ``dt`` 25 s or in a projected frame, and with the
-  Shapiro filter (11 m), while with these it ran the cycle at 2.1 m and 1.4
-  m/s (ADCIRC: 2.2 m, 1.4 m/s); ``h0 = 0.01`` m (wetting and drying),
-  ``itur = 0``, ``rmaxvel = 10`` m/s (SCHISM's cap on the speed; its default
-  5 would hide a blow-up under the 3 m/s a smoke test looks for);
-  elevation and depth-averaged velocity in ``outputs/out2d_1.nc`` every 10
-  min, and none of the 3-D outputs SCHISM writes by default (each would need
-  a scribe process of its own). ``&CORE`` lists every key, as SCHISM gives
-  it no defaults; ``&OPT`` only those changed;
+  (``nramp_elev = 0``), ``thetai = 1`` ("maximum stability for strong
+  wet/dry"), ``h0 = 0.01`` m (wetting and drying), ``itur = 0``, ``rmaxvel =
+  10`` m/s (SCHISM's cap on the speed; its default 5 would hide a blow-up
+  under the 3 m/s a smoke test looks for); elevation and depth-averaged
+  velocity in ``outputs/out2d_1.nc`` every 10 min, and none of the 3-D
+  outputs SCHISM writes by default (each would need a scribe process of its
+  own). ``&CORE`` lists every key, as SCHISM gives it no defaults; ``&OPT``
+  only those changed;
+- **SCHISM's own time step**, not the mesh's explicit one
+  (:func:`schism_time_step`). SCHISM is implicit and tracks momentum
+  advection by Eulerian-Lagrangian backtracking (ELM), whose numerical
+  diffusion asks for the opposite of an explicit model's limit:
+  ``CFL = (|u| + sqrt(g h)) dt / dx > 0.4``, "at least in wet areas", with
+  ``dt`` in "100-400 s for barotropic" field applications
+  (``docs/getting-started/grid-generation.md``, "Beware of CFL number", and
+  ``typical-workflow.md``, mesh generation tips 4, 5 and 9). The step is the
+  one at which 95 % of the wet elements meet that criterion, held to that
+  range, in whole seconds;
+- **momentum advection off** (``nadv = 0`` with ``adv.gr3`` 0 at a node, 1
+  elsewhere, ``docs/input-output/optional-inputs.md``) where the elements
+  still have ``CFL < 0.4`` at that step (the deep, coarse sea:
+  SCHISM's ``case-study.md`` turns advection off in the open ocean as it "is
+  negligible there ... this bypasses the inverse CFL criterion"), and within
+  two rings of nodes of the open boundaries (an elevation boundary gives
+  backtracking no inflow to start from; ADCIRC's set does the same);
+- ``indvel = 0, ishapiro = 1, shapiro0 = 0.5, niter_shap = 1, ihorcon = 0``:
+  ``sample_inputs/param.nml``'s "easiest option" for non-eddying
+  applications (nearshore, estuary, river).
+
+  Measured with SCHISM master 820ac00 on the examples' meshes (one M2 cycle
+  of 0.5 m after a 6 h ramp): the demo ran at 0.54 m and 0.64 m/s at this
+  step, where the mesh's own 1.8 s gave 0.72 m and 1.00 m/s, and where 100 s
+  without the two advection rules and with bi-harmonic viscosity (``ihorcon
+  = 2``, the earlier set) reached 10.9 m/s; the NW-shelf intermediate mesh at
+  its own 6.6 s reached 305 m;
 - ``outputs/``, which SCHISM needs before it starts.
 
 SCHISM is run under MPI with one scribe (``mpirun -np 2 pschism 1``: the last
@@ -42,18 +62,46 @@ depth-averaged speed of each node over the run.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import NDArray
 from pyproj import CRS
 
 from coastmesh.io.meshes._model import require_kinds
 from coastmesh.io.meshes._table import put_lines, write_table
 from coastmesh.io.meshes.adcirc import write_gr3
 from coastmesh.io.meshes.adcirc._segments import grid_segments
-from coastmesh.io.meshes.model_tests import M2_FREQUENCY, ModelTest, Place, readme
+from coastmesh.io.meshes.model_tests import (
+    M2_FREQUENCY,
+    ModelTest,
+    Place,
+    near_nodes,
+    readme,
+)
+from coastmesh.meshing.quality.time_step import element_time_steps
 from coastmesh.types import Mesh
+
+__all__ = ["INVERSE_CFL", "STEP_RANGE", "schism_time_step", "write"]
+
+#: SCHISM's lower bound on the Courant number of its ELM advection ("CFL >
+#: 0.4", docs/getting-started/grid-generation.md)
+INVERSE_CFL = 0.4
+#: SCHISM's operating range of time steps for barotropic field runs, s
+#: (docs/getting-started/grid-generation.md; typical-workflow.md, tip 4)
+STEP_RANGE = (100.0, 400.0)
+#: The share of wet elements that meet INVERSE_CFL at the step chosen; advection
+#: is off on the rest (module docstring)
+_MET_SHARE = 95.0
+#: The velocity scale |u| of SCHISM's CFL, m/s (its docs drop sqrt(g h) in the
+#: shallows and take |u| ~ 1 there)
+_VELOCITY = 1.0
+#: Wet: deeper than this, m (the docs' h < 0.1 m is dry)
+_WET = 0.1
+#: Rings of nodes inside the open boundaries with advection off
+_QUIET_RINGS = 2
 
 _OUTPUT_EVERY = 600.0  # s
 _VGRID_2D = """2 !ivcor: SZ
@@ -72,6 +120,11 @@ def write(
 ) -> list[str]:
     """Write the SCHISM run folder; return its files (``land`` is ADCIRC's)."""
     del land
+    if test.schism_dt is None:
+        step, slow = schism_time_step(mesh)
+    else:
+        step, slow = test.schism_dt, _below_inverse_cfl(mesh, test.schism_dt)
+    test = dataclasses.replace(test, dt=step)
     write_gr3(folder / "hgrid.gr3", mesh, regions=False)
     lonlat = mesh if where.geographic else _in_lonlat(mesh, where)
     write_gr3(folder / "hgrid.ll", lonlat, regions=False, title="coastmesh hgrid.ll")
@@ -82,6 +135,14 @@ def write(
         _bctides(test, [len(s.nodes) for s in opened]), encoding="ascii"
     )
     _write_node_file(folder / "manning.gr3", mesh, test.node_manning(mesh), "manning")
+    advection = np.ones(len(mesh.points))
+    advection[np.unique(mesh.triangles[slow])] = 0.0
+    advection[
+        near_nodes(mesh, np.concatenate([s.nodes for s in opened]), _QUIET_RINGS)
+    ] = 0.0
+    _write_node_file(
+        folder / "adv.gr3", mesh, advection, "adv: momentum advection on (1) or off (0)"
+    )
     (folder / "param.nml").write_text(_param(test, where), encoding="ascii")
     (folder / "outputs").mkdir()
     run = "mpirun -np 2 pschism 1   (one process computes, one writes outputs/)"
@@ -91,16 +152,74 @@ def write(
         "- outputs/maxelev_* and outputs/maxdahv_* (node, x, y, largest elevation\n"
         "  or speed, ...), one file per computing process; outputs/out2d_1.nc.\n"
     )
-    (folder / "README.txt").write_text(readme("SCHISM", test, run, look))
+    note = (
+        f"The step, {step:g} s, is SCHISM's own, not the mesh's explicit one: "
+        f"CFL = (|u| + sqrt(g h)) dt / dx > {INVERSE_CFL:g} on {_MET_SHARE:g} % of "
+        f"the wet elements, within {STEP_RANGE[0]:g}-{STEP_RANGE[1]:g} s (SCHISM's "
+        "docs, 'Beware of CFL number'). Momentum advection is off (adv.gr3) "
+        f"where CFL < {INVERSE_CFL:g} still ({int(slow.sum())} elements) and "
+        "within two rings of nodes of the open boundaries.\n\n"
+    )
+    (folder / "README.txt").write_text(readme("SCHISM", test, run, look, note))
     return [
         "hgrid.gr3",
         "hgrid.ll",
         "vgrid.in",
         "bctides.in",
         "manning.gr3",
+        "adv.gr3",
         "param.nml",
         "README.txt",
     ]  # and the empty folder outputs/
+
+
+def schism_time_step(mesh: Mesh) -> tuple[float, NDArray[np.bool_]]:
+    """Return SCHISM's time step for ``mesh``, and the elements still below it.
+
+    The step at which ``CFL = (|u| + sqrt(g h)) dt / dx`` is above
+    :data:`INVERSE_CFL` on 95 % of the wet elements (``dx`` the mean side,
+    ``h`` the deepest node, ``|u|`` 1 m/s), rounded up to a whole second and
+    held to :data:`STEP_RANGE`; and which elements have a CFL under
+    :data:`INVERSE_CFL` at that step (the smoke test turns advection off
+    there).
+
+    Examples
+    --------
+    >>> n = 11  # 1 km squares, 20 m deep: sqrt(g h) + 1 = 15 m/s
+    >>> pts = np.mgrid[0:n, 0:n].reshape(2, -1).T * 1000.0
+    >>> q = (np.arange(n - 1)[:, None] * n + np.arange(n - 1)).ravel()
+    >>> tri = np.vstack([np.column_stack([q, q + n, q + n + 1]),
+    ...                  np.column_stack([q, q + n + 1, q + 1])])
+    >>> m = Mesh(pts, tri, [[0, 1]], [1], 1, "EPSG:32630", {"depth": [20.0] * n * n})
+    >>> step, slow = schism_time_step(m)
+    >>> step, int(slow.sum())  # 0.4 x 1138 m / 15 m/s = 30.4 s: the range's 100 s
+    (100.0, 0)
+    """
+    need = _needed_steps(mesh)
+    wet = np.isfinite(need)
+    met = float(np.percentile(need[wet], _MET_SHARE)) if wet.any() else STEP_RANGE[0]
+    step = float(np.clip(math.ceil(met), *STEP_RANGE))
+    return step, _below_inverse_cfl(mesh, step, need)
+
+
+def _needed_steps(mesh: Mesh) -> NDArray[np.float64]:
+    """Return the shortest step at which each element meets the inverse CFL.
+
+    NaN where the element is dry.
+    """
+    e = element_time_steps(mesh)
+    depth = e["depth"]
+    speed = np.sqrt(9.81 * np.maximum(depth, 0.0)) + _VELOCITY
+    need = INVERSE_CFL * e["mean_edge"] / speed
+    return np.where(depth > _WET, need, np.nan)
+
+
+def _below_inverse_cfl(
+    mesh: Mesh, step: float, need: NDArray[np.float64] | None = None
+) -> NDArray[np.bool_]:
+    """Which wet elements have CFL < :data:`INVERSE_CFL` at ``step``."""
+    need = _needed_steps(mesh) if need is None else need
+    return np.asarray(np.isfinite(need) & (need > step), dtype=bool)
 
 
 def _in_lonlat(mesh: Mesh, where: Place) -> Mesh:
@@ -185,9 +304,11 @@ def _param(test: ModelTest, where: Place) -> str:
         "dramp": f"{test.ramp / 86400.0:.10f}",
         "nramp_elev": 0,
         "indvel": 0,
-        "ihorcon": 2,
-        "hvis_coef0": 0.025,
-        "ishapiro": 0,
+        "ihorcon": 0,
+        "ishapiro": 1,
+        "shapiro0": 0.5,
+        "niter_shap": 1,
+        "nadv": 0,
         "thetai": 1.0,
         "slam0": f"{lon:.6f}",
         "sfea0": f"{lat:.6f}",
