@@ -152,9 +152,8 @@ def test_schism_folder_has_what_schism_reads(tmp_path, mesh):
                     "ibc = 1", "iof_hydro(25) = 0", "dramp = 0.25", "nadv = 0",
                     "ishapiro = 1", "shapiro0 = 0.5", "ihorcon = 0"):  # fmt: skip
         assert setting in param
-    assert (
-        f"The step, {step:g} s, is SCHISM's own" in (folder / "README.txt").read_text()
-    )
+    readme = (folder / "README.txt").read_text()
+    assert f"It runs at SCHISM's own step, {step:g} s, not the mesh's" in readme
     # advection off within two rings of nodes of the open sides, on elsewhere
     xy = mesh.points - mesh.points.min(axis=0)
     near = (xy[:, 1] <= 2000.0) | (xy[:, 0] >= 2000.0)
@@ -171,6 +170,9 @@ def test_schism_at_a_step_given_turns_advection_off_below_its_cfl(tmp_path, mesh
     assert "  dt = 20\n" in (tmp_path / "s" / "param.nml").read_text()
     # every element needs 36 s or more for CFL > 0.4: advection off everywhere
     assert (_node_values(tmp_path / "s" / "adv.gr3", mesh) == 0).all()
+    readme = (tmp_path / "s" / "README.txt").read_text()
+    assert "It runs at the step given, 20 s. Momentum advection is off" in readme
+    assert f"at that step ({len(mesh.triangles)} elements)" in readme
 
 
 def _schism_step_loop(mesh):

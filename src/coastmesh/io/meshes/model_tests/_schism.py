@@ -152,13 +152,18 @@ def write(
         "- outputs/maxelev_* and outputs/maxdahv_* (node, x, y, largest elevation\n"
         "  or speed, ...), one file per computing process; outputs/out2d_1.nc.\n"
     )
+    why = (
+        f"the step given, {step:g} s"
+        if test.schism_dt is not None
+        else f"SCHISM's own step, {step:g} s, not the mesh's explicit one: CFL = "
+        f"(|u| + sqrt(g h)) dt / dx > {INVERSE_CFL:g} on {_MET_SHARE:g} % of the "
+        f"wet elements, within {STEP_RANGE[0]:g}-{STEP_RANGE[1]:g} s (SCHISM's "
+        "docs, 'Beware of CFL number')"
+    )
     note = (
-        f"The step, {step:g} s, is SCHISM's own, not the mesh's explicit one: "
-        f"CFL = (|u| + sqrt(g h)) dt / dx > {INVERSE_CFL:g} on {_MET_SHARE:g} % of "
-        f"the wet elements, within {STEP_RANGE[0]:g}-{STEP_RANGE[1]:g} s (SCHISM's "
-        "docs, 'Beware of CFL number'). Momentum advection is off (adv.gr3) "
-        f"where CFL < {INVERSE_CFL:g} still ({int(slow.sum())} elements) and "
-        "within two rings of nodes of the open boundaries.\n\n"
+        f"It runs at {why}. Momentum advection is off (adv.gr3) where CFL < "
+        f"{INVERSE_CFL:g} at that step ({int(slow.sum())} elements) and within two "
+        "rings of nodes of the open boundaries.\n\n"
     )
     (folder / "README.txt").write_text(readme("SCHISM", test, run, look, note))
     return [
