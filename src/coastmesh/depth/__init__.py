@@ -34,7 +34,7 @@ from coastmesh.depth.nodes import (
     depth_at_nodes,
     node_sources,
 )
-from coastmesh.depth.raster import raster_grid
+from coastmesh.depth.raster import raster_crs, raster_grid
 from coastmesh.depth.sources import DepthSource, DepthSources, SourceSample
 
 __all__ = [
@@ -50,6 +50,7 @@ __all__ = [
     "depth_on_grid",
     "node_sources",
     "raster_at",
+    "raster_crs",
     "raster_grid",
     "raster_on_grid",
 ]

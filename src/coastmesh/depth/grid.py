@@ -182,5 +182,5 @@ def depth_on_grid(
         return depth.reshape(gx.shape)
     if isinstance(raster, DepthSources):
         return raster.sample(nodes, crs).depth.reshape(gx.shape)
-    z = raster_on_grid(raster, x, y, crs=crs)
+    z = raster_at(raster, nodes, crs).reshape(gx.shape)
     return -z if positive == "up" else z

@@ -22,7 +22,7 @@ from coastmesh.geometry.grids import bilinear_corners
 if TYPE_CHECKING:
     import xarray as xr
 
-__all__ = ["interpolate_wet", "raster_grid"]
+__all__ = ["interpolate_wet", "raster_crs", "raster_grid"]
 
 
 def raster_grid(
@@ -65,13 +65,8 @@ def raster_grid(
     >>> y.tolist(), values.tolist(), crs.to_epsg()
     ([0.0, 10.0], [[3.0, 4.0], [1.0, 2.0]], 4326)
     """
+    crs = raster_crs(raster)
     dims = tuple(raster.dims)
-    if dims != ("y", "x"):
-        raise ConfigError(f"raster dims {dims}: expected ('y', 'x')")
-    if "crs" not in raster.attrs:
-        raise ConfigError(
-            "raster has no 'crs' attribute: give the CRS of its coordinates (WKT)"
-        )
     values = np.asarray(raster.values, dtype=np.float64)
     axes = []
     for axis, dim in enumerate(dims):
@@ -85,7 +80,25 @@ def raster_grid(
             )
         axes.append(coords)
     y, x = axes
-    return x, y, values, CRS.from_user_input(raster.attrs["crs"])
+    return x, y, values, crs
+
+
+def raster_crs(raster: xr.DataArray) -> CRS:
+    """Return a raster's CRS, from its ``crs`` attribute, without reading its cells.
+
+    Raises
+    ------
+    ConfigError
+        If the dims are not ``("y", "x")`` or there is no ``crs`` attribute.
+    """
+    dims = tuple(raster.dims)
+    if dims != ("y", "x"):
+        raise ConfigError(f"raster dims {dims}: expected ('y', 'x')")
+    if "crs" not in raster.attrs:
+        raise ConfigError(
+            "raster has no 'crs' attribute: give the CRS of its coordinates (WKT)"
+        )
+    return CRS.from_user_input(raster.attrs["crs"])
 
 
 def interpolate_wet(

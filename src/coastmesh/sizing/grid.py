@@ -33,7 +33,7 @@ from coastmesh.depth import (
     DepthSources,
     depth_on_grid,
     raster_at,
-    raster_grid,
+    raster_crs,
     raster_on_grid,
 )
 from coastmesh.errors import ConfigError
@@ -500,7 +500,7 @@ class PlaneGrid(Grid):
                 raster, self.x, self.y, crs=self.crs, positive=positive, sea=self.sea
             )
         assert not isinstance(raster, DepthSources)  # sample() refuses it
-        crs = raster_grid(raster)[3]
+        crs = raster_crs(raster)  # the cells are read once, by raster_at
         values = raster_at(raster, self.nodes_as(crs), crs, how=how)
         return values.reshape(self.shape)
 
