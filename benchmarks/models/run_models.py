@@ -27,9 +27,10 @@ TVD limiter, with ``OLDIO=OFF``) and pass the binaries::
 ``SRC`` (a subprocess with ``PYTHONPATH=SRC``), everything else with today's, and
 fits the forcing to that grid's open nodes: the before-and-after of a writer
 change on the same mesh. ``--hours H`` stops each run after H model hours
-(default: the whole ramp and cycle). SCHISM runs as ``mpirun -np 2 pschism 1``
-(one process computes, one writes; the writer niced, as its busy wait would
-take a core from the computing one on a 2-core machine).
+(default: the whole ramp and cycle). ``--adcirc-procs N`` runs ``padcirc`` on
+N processes after ``adcprep`` (see :func:`run`). SCHISM runs as ``mpirun -np 2
+pschism 1`` (one process computes, one writes; the writer niced, as its busy
+wait would take a core from the computing one on a 2-core machine).
 """
 
 from __future__ import annotations
@@ -174,9 +175,31 @@ def set_params(folder: Path, pairs: list[str]) -> None:
     (folder / "param.nml").write_text(text)
 
 
-def run(folder: Path, model: str, binary: str, timeout: float) -> float:
-    """Run the model in ``folder``; return the wall time, s."""
-    if model == "adcirc":
+def run(folder: Path, model: str, binary: str, timeout: float, procs: int = 1) -> float:
+    """Run the model in ``folder``; return the wall time, s.
+
+    ADCIRC with ``procs`` > 1 runs ``binary`` (then ``padcirc``) on that many
+    MPI processes, after ADCIRC's own decomposition: ``adcprep --np N
+    --partmesh`` then ``--prepall``, with the ``adcprep`` beside ``binary``
+    (both built with ``-DBUILD_PADCIRC=ON -DBUILD_ADCPREP=ON``). The maxima
+    files are written whole by the root process, as in a serial run.
+    """
+    env = dict(
+        os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1"
+    )
+    if model == "adcirc" and procs > 1:
+        adcprep = str(Path(binary).with_name("adcprep"))
+        with open(folder / "adcprep.log", "wb") as log:
+            for step in ("--partmesh", "--prepall"):
+                subprocess.run(
+                    [adcprep, "--np", str(procs), step],
+                    cwd=folder,
+                    stdout=log,
+                    stderr=subprocess.STDOUT,
+                    check=True,
+                )
+        command = ["mpirun", "--oversubscribe", "-np", str(procs), binary]
+    elif model == "adcirc":
         command = [binary]
     else:
         # the scribe (the last process) only writes; niced, its busy wait gives
@@ -197,9 +220,6 @@ def run(folder: Path, model: str, binary: str, timeout: float) -> float:
             binary,
             "1",
         ]
-    env = dict(
-        os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1"
-    )
     start = time.perf_counter()
     with open(folder / "run.log", "wb") as log:
         try:
@@ -314,7 +334,13 @@ def where(mesh, k: int, depth) -> dict:
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--adcirc", help="the adcirc binary (serial)")
+    p.add_argument("--adcirc", help="the adcirc binary (padcirc with --adcirc-procs)")
+    p.add_argument(
+        "--adcirc-procs",
+        type=int,
+        default=1,
+        help="run --adcirc (then padcirc, with adcprep beside it) on N MPI processes",
+    )
     p.add_argument("--schism", help="the pschism binary")
     p.add_argument("--models", nargs="+", default=["adcirc", "schism"])
     p.add_argument("--cases", nargs="+", default=CASES)
@@ -383,7 +409,7 @@ def main() -> None:
             if args.hours is not None:
                 duration = min(duration, args.hours * 3600)
                 shorten(folder, model, duration / 3600)
-            wall = run(folder, model, binary, args.timeout)
+            wall = run(folder, model, binary, args.timeout, args.adcirc_procs)
             row = {
                 "case": name,
                 "label": args.label,
@@ -392,6 +418,8 @@ def main() -> None:
             }
             if model == "schism" and args.schism_param:
                 row["schism_param"] = args.schism_param
+            if model == "adcirc" and args.adcirc_procs > 1:
+                row["procs"] = args.adcirc_procs
             row |= summarise(folder, model, mesh, duration, dt, wall)
             rows.append(row)
             print(json.dumps(row), flush=True)

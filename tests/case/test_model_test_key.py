@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import json
 from pathlib import Path
 
 import pytest
@@ -90,6 +91,12 @@ def test_a_case_writes_both_run_folders(coarse_case, tmp_path):
     assert f"dt = {step:g}\n" in (folder / "schism" / "param.nml").read_text()
     assert (folder / "schism" / "adv.gr3").is_file()
     assert (folder / "schism" / "outputs").is_dir()
+    # the report gives each test's step, as written
+    assert result.report.model_tests == {"adcirc": dt, "schism": step}
+    written = json.loads((tmp_path / "out" / "report.json").read_text())
+    assert written["model_tests"] == {"adcirc": dt, "schism": step}
+    summary = (tmp_path / "out" / "summary.txt").read_text()
+    assert f"model tests, time step (s): adcirc {dt:g}, schism {step:g}" in summary
 
 
 @pytest.mark.parametrize(

@@ -107,6 +107,11 @@ class CaseReport(Report):
     files : tuple of str
         The files written, relative to the output folder; empty before
         :meth:`CaseResult.write`.
+    model_tests : dict of str to float
+        The time step, s, of each smoke test written (``[output] model_test``),
+        by model: ADCIRC at the mesh's own, SCHISM at a step of its own rules
+        (:func:`~coastmesh.io.meshes.model_tests.model_test_step`); empty before
+        :meth:`CaseResult.write`.
     """
 
     case: str
@@ -129,6 +134,7 @@ class CaseReport(Report):
     time_step: ThrottleReport | None = None
     parts: PartsReport | None = None
     channels: PeelReport | None = None
+    model_tests: dict[str, float] = field(default_factory=dict)
 
     @classmethod
     def of(
@@ -205,6 +211,13 @@ class CaseReport(Report):
             if self.peak_memory_mb is None
             else f"peak memory: {self.peak_memory_mb:,.0f} MB"
         )
+        if self.model_tests:
+            lines.append(
+                "model tests, time step (s): "
+                + ", ".join(f"{m} {dt:g}" for m, dt in self.model_tests.items())
+                + " (SCHISM at a step of its own rules: model_test/schism/README.txt)"
+                * ("schism" in self.model_tests)
+            )
         if self.files:
             lines.append("files: " + ", ".join(self.files))
         return "\n".join(lines)

@@ -35,6 +35,7 @@ from coastmesh.io import (
     write_raster,
     write_report,
 )
+from coastmesh.io.meshes.model_tests import model_test_step
 from coastmesh.types import Domain, Features, Mesh, SizeGrid, StageFactory, quiet_stage
 from coastmesh.version import __version__
 
@@ -222,7 +223,7 @@ class CaseResult:
             outputs = dataclasses.replace(self.config.outputs, formats=tuple(formats))
             config = dataclasses.replace(self.config, outputs=outputs)
             result = dataclasses.replace(self, config=config)
-        files = _write_case(
+        report = _write_case(
             result,
             Path(folder),
             result.config.outputs,
@@ -233,8 +234,8 @@ class CaseResult:
         return dataclasses.replace(
             result,
             output=Path(folder),
-            files=tuple(files),
-            report=dataclasses.replace(self.report, files=tuple(files)),
+            files=report.files,
+            report=report,
         )
 
 
@@ -246,7 +247,7 @@ def _write_case(
     overwrite: bool = False,
     stage: StageFactory | None = None,
     figures: FigureJobs,
-) -> list[str]:
+) -> CaseReport:
     """Write every output of a case into ``folder``, atomically.
 
     Parameters
@@ -267,8 +268,9 @@ def _write_case(
 
     Returns
     -------
-    list of str
-        File names relative to ``folder``, in the order written.
+    CaseReport
+        The report written (``report.json``): the case's, with ``files`` (names
+        relative to ``folder``, in the order written) and ``model_tests``.
     """
     jobs = figure_jobs(result) if outputs.figures else []
     triangles = len(result.mesh.triangles)
@@ -279,7 +281,8 @@ def _write_case(
     ):
         figures.start(jobs, triangles)  # on the pool, while the files are written
         files = _write_models(result, partial, outputs)
-        files += _write_model_tests(result, partial, outputs.model_test)
+        tests, steps = _write_model_tests(result, partial, outputs.model_test)
+        files += tests
         if result.site is not None and result.site.turbines:
             write_turbines(partial / "turbines.csv", result.site, result.mesh)
             files.append("turbines.csv")
@@ -298,9 +301,11 @@ def _write_case(
         files += figures.save(jobs, partial, triangles)
         write_case_copy(partial, result.config)
         files += ["case.toml", "report.json", "summary.txt"]
-        report = dataclasses.replace(result.report, files=tuple(files))
+        report = dataclasses.replace(
+            result.report, files=tuple(files), model_tests=steps
+        )
         write_report(partial / "report.json", report, summary=partial / "summary.txt")
-    return files
+    return report
 
 
 def write_case_copy(folder: Path, config: CaseConfig | StudyCase) -> None:
@@ -360,26 +365,28 @@ def _write_models(result: CaseResult, folder: Path, outputs: OutputConfig) -> li
 
 def _write_model_tests(
     result: CaseResult, folder: Path, models: tuple[str, ...]
-) -> list[str]:
+) -> tuple[list[str], dict[str, float]]:
     """Write the smoke-test run folders of ``[output] model_test``.
 
     The time step is the one the case measured its Courant numbers at (the
-    Courant term's ``dt``), else the mesh's largest stable one.
+    Courant term's ``dt``), else the mesh's largest stable one; SCHISM takes
+    one of its own rules. Return the files and each model's step.
     """
     if not models:
-        return []
+        return [], {}
     dt = model_dt(result.report.quality)
     land = (result.config.outputs.options or {}).get("fort14", {}).get("land")
     if land is not None and not isinstance(land, str):
         raise ConfigError(
             f'output.options.fort14.land = {land!r}: expected "natural" or "essential"'
         )
-    files = []
+    files, steps = [], {}
     for model in models:
         sub = folder / "model_test" / model
         written = write_model_test(sub, result.mesh, model, dt=dt, land=land)
         files += [f"model_test/{model}/{name}" for name in written]
-    return files
+        steps[model] = model_test_step(result.mesh, model, dt=dt)
+    return files, steps
 
 
 def model_dt(quality: QualityReport | None) -> float:

@@ -64,6 +64,7 @@ __all__ = [
     "M2_PERIOD",
     "MODEL_TESTS",
     "ModelTest",
+    "model_test_step",
     "near_nodes",
     "schism_time_step",
     "write_model_test",
@@ -279,6 +280,33 @@ def write_model_test(
     with atomic_directory(folder, overwrite=overwrite) as partial:
         files = writers[model](partial, mesh, test, where, land)
     return files
+
+
+def model_test_step(
+    mesh: Mesh, model: str, *, dt: float, schism_dt: float | None = None
+) -> float:
+    """Return the time step, s, that :func:`write_model_test` writes for ``model``.
+
+    ADCIRC runs at ``dt``, the mesh's own; SCHISM at ``schism_dt`` if given,
+    else at :func:`schism_time_step`.
+
+    Examples
+    --------
+    >>> from coastmesh.types import Mesh
+    >>> m = Mesh([[0, 0], [1000, 0], [1000, 1000], [0, 1000]],
+    ...          [[0, 1, 2], [0, 2, 3]], [[0, 1], [1, 2], [2, 3], [3, 0]],
+    ...          [2, 1, 1, 1], 1, "EPSG:32630", {"depth": [10.0] * 4})
+    >>> model_test_step(m, "adcirc", dt=5.0), model_test_step(m, "schism", dt=5.0)
+    (5.0, 100.0)
+    """
+    if model not in MODEL_TESTS:
+        raise ConfigError(
+            f"model test {model!r}: unknown model; expected one of "
+            f"{', '.join(MODEL_TESTS)}"
+        )
+    if model != "schism":
+        return float(dt)
+    return float(schism_dt) if schism_dt is not None else schism_time_step(mesh)[0]
 
 
 def check_regional(mesh: Mesh, model: str) -> None:

@@ -1,0 +1,98 @@
+"""Is a strait's peak speed in a SCHISM run the tide's, or the mesh's?
+
+A tidal current through a strait is driven by the difference in sea level
+between its two ends. Where friction holds it back (a long, shallow strait),
+Manning's law for a wide channel gives the speed that head drives::
+
+    u = h^(2/3) sqrt(|eta_a - eta_b| / L) / n
+
+with ``h`` the water depth at the node (depth plus elevation), ``L`` the
+distance between the two ends and ``n`` Manning's coefficient. Inertia only
+lowers the speed below this, so a model speed of the same size, following
+the head from one half-cycle to the next, is the tide's; a speed far above
+it, or one that grows while the head does not, is a fault of the mesh or the
+run. (The current lags the head, as a strait's flow does, so each half-cycle's
+peak is compared, not each output.)
+
+This reads SCHISM's ``outputs/out2d_1.nc`` (elevation and depth-averaged
+velocity at every output) and prints, for the node nearest ``--at``, the
+model's largest speed in each half-cycle (between the slack waters) beside the
+estimate's::
+
+    python benchmarks/models/channel_speed.py runs/models/intermediate/schism-now \\
+        --at -3.029 58.642 --ends -3.47 58.72 -2.86 58.69
+
+(the Pentland Firth's Inner Sound, between the Atlantic and the North Sea
+ends of the Firth, on the NW shelf's intermediate mesh).
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from pyproj import Geod
+
+
+def nearest(x: np.ndarray, y: np.ndarray, lon: float, lat: float) -> int:
+    """The node nearest (lon, lat), by distance on the ellipsoid."""
+    _, _, d = Geod(ellps="WGS84").inv(np.full_like(x, lon), np.full_like(y, lat), x, y)
+    return int(np.argmin(d))
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("run", type=Path, help="a SCHISM run folder (with outputs/)")
+    p.add_argument("--at", nargs=2, type=float, required=True, metavar=("LON", "LAT"))
+    p.add_argument(
+        "--ends",
+        nargs=4,
+        type=float,
+        required=True,
+        metavar=("LON_A", "LAT_A", "LON_B", "LAT_B"),
+    )
+    p.add_argument("--manning", type=float, default=0.025)
+    args = p.parse_args()
+    with xr.open_dataset(args.run / "outputs" / "out2d_1.nc") as ds:
+        x = ds["SCHISM_hgrid_node_x"].values
+        y = ds["SCHISM_hgrid_node_y"].values
+        eta = ds["elevation"].values
+        speed = np.hypot(ds["depthAverageVelX"].values, ds["depthAverageVelY"].values)
+        depth = ds["depth"].values
+        hours = (ds["time"].values - ds["time"].values[0]) / np.timedelta64(1, "h")
+        hours += hours[1] - hours[0] if len(hours) > 1 else 0.0
+    k = nearest(x, y, *args.at)
+    a = nearest(x, y, *args.ends[:2])
+    b = nearest(x, y, *args.ends[2:])
+    _, _, length = Geod(ellps="WGS84").inv(x[a], y[a], x[b], y[b])
+    head = eta[:, a] - eta[:, b]
+    h = depth[k] + eta[:, k]
+    estimate = h ** (2 / 3) * np.sqrt(np.abs(head) / length) / args.manning
+    print(
+        f"node {k + 1} at {x[k]:.4f}, {y[k]:.4f}, {depth[k]:.1f} m deep; ends: node "
+        f"{a + 1} ({x[a]:.3f}, {y[a]:.3f}) and node {b + 1} ({x[b]:.3f}, "
+        f"{y[b]:.3f}), {length / 1000:.1f} km apart; n = {args.manning:g}"
+    )
+    # slack waters: the local minima of the speed; half-cycles lie between
+    s = speed[:, k]
+    slack = [0]
+    slack += [i for i in range(1, len(s) - 1) if s[i] <= s[i - 1] and s[i] < s[i + 1]]
+    slack.append(len(s))
+    print(
+        "| half-cycle (model h) | largest head (m) | largest speed (m/s) "
+        "| Manning estimate (m/s) |"
+    )
+    print("|---|---:|---:|---:|")
+    for lo, hi in itertools.pairwise(slack):
+        j = lo + int(np.argmax(np.abs(head[lo:hi])))
+        print(
+            f"| {hours[lo]:.1f}-{hours[hi - 1]:.1f} | {head[j]:+.2f} "
+            f"| {s[lo:hi].max():.2f} | {estimate[lo:hi].max():.2f} |"
+        )
+
+
+if __name__ == "__main__":
+    main()
