@@ -81,6 +81,41 @@ def test_seed_chooses_the_face_and_errors():
         build_domain(land, [], crs="EPSG:32630")
 
 
+def test_a_seed_in_open_water_is_told_where_the_water_runs_out():
+    # a bay closed by its mouth (one sea face) and, east of it, a strait that
+    # runs off the data at its east end, with a side channel off its north
+    # edge (metres, UTM 30N)
+    bay = shapely.box(0, 0, 10_000, 10_000).difference(
+        shapely.box(2000, 2000, 8000, 12_000)
+    )
+    land = [
+        bay,
+        shapely.box(10_000, 6000, 25_000, 10_000),
+        shapely.box(27_000, 6000, 40_000, 10_000),
+        shapely.box(10_000, 0, 40_000, 4000),
+    ]
+    mouth = OpenBoundary(np.array([(1000.0, 9000.0), (9000.0, 9000.0)]), "mouth", 3)
+    with pytest.raises(ConfigError) as error:
+        build_domain(land, [mouth], crs="EPSG:32630", seed=(12_000.0, 5000.0))
+    message = str(error.value)
+    assert "in no sea region closed by the shorelines and open boundaries" in message
+    assert "runs out of the shoreline data at 2 places, the nearest at " in message
+    # the side channel's mouth on the data's edge is nearer the seed than the
+    # strait's east end; both are named, nearest first
+    to_lonlat = Transformer.from_crs(32630, 4326, always_xy=True).transform
+    first, second = (to_lonlat(26_000, 10_000), to_lonlat(40_000, 5000))
+    named = [f"({lon:.4f}, {lat:.4f})" for lon, lat in (first, second)]
+    assert f"nearest at {named[0]}, {named[1]} (lon, lat)" in message
+    # a boundary with a loose end is named instead: the water runs round it
+    gate = OpenBoundary(np.array([(30_000.0, 4000.0), (30_000.0, 5000.0)]), "gate", 4)
+    with pytest.raises(ConfigError) as error:
+        build_domain(land, [mouth, gate], crs="EPSG:32630", seed=(12_000.0, 5000.0))
+    message = str(error.value)
+    assert "open boundary 'gate' (id 4) ends at (" in message
+    assert "the water runs round it" in message
+    assert "runs out of the shoreline data" not in message
+
+
 def test_no_sea_says_which_open_boundary_ends_short_and_where():
     bay = shapely.box(0, 0, 10_000, 10_000).difference(
         shapely.box(2000, 2000, 8000, 12_000)

@@ -22,7 +22,7 @@ from pyproj import CRS, Geod
 from coastmesh.errors import ConfigError, InputDataError
 from coastmesh.geometry.earth import metres_per_unit, reproject
 from coastmesh.geometry.layers import valid_polygons
-from coastmesh.geometry.no_sea import no_sea_error
+from coastmesh.geometry.no_sea import no_sea_error, open_water_exits
 from coastmesh.geometry.sphere import is_world_plane
 from coastmesh.geometry.unions import union_meeting
 from coastmesh.types import BoundarySegment, Domain, Report
@@ -201,9 +201,10 @@ def build_domain(
             raise ConfigError(f"seed = {seed}: lies on land")
         holding = [f for f in sea if shapely.covers(shapely.Polygon(f.exterior), point)]
         if not holding:
+            exits = open_water_exits(seed, merged, open_boundaries, crs)
             raise ConfigError(
                 f"seed = {seed}: in no sea region closed by the shorelines and open "
-                "boundaries"
+                "boundaries" + (f": {exits}" if exits else "")
             )
         domain = min(holding, key=lambda f: f.area)  # the innermost face
     else:

@@ -14,6 +14,10 @@ the water open:
   that no coast joins within the shoreline data, the sea runs out between
   them. A coast contoured from a DEM at a higher level has less land, and its
   pieces can part where the land between them is lower than the level.
+
+When there is sea, but not around the seed, :func:`open_water_exits` says
+where the seed's water runs out of the shoreline data (a fjord or strait cut
+by the data's edge, with no open boundary across it).
 """
 
 from __future__ import annotations
@@ -32,7 +36,7 @@ from coastmesh.geometry.earth import metres_per_unit, reproject_points
 if TYPE_CHECKING:
     from coastmesh.geometry.domain import OpenBoundary
 
-__all__ = ["REACH", "no_sea_error"]
+__all__ = ["REACH", "no_sea_error", "open_water_exits"]
 
 #: An open boundary's end farther than this from land and from the other open
 #: boundaries (metres) leaves the water open there, unless it lies past a crossing.
@@ -60,6 +64,27 @@ def no_sea_error(
         short) and each boundary wholly on land; or, when there is none, the
         pieces of land the open boundaries reach.
     """
+    faults = _loose_ends(land, open_boundaries, crs)
+    if not open_boundaries:
+        faults.append("there are no open boundaries")
+    if faults:
+        return InputDataError(
+            f"the shorelines and open boundaries enclose no sea: {'; '.join(faults)}. "
+            "An open boundary must cross the coast, or meet another open boundary, "
+            "at both ends"
+        )
+    lines = [shapely.LineString(b.coords) for b in open_boundaries]
+    return InputDataError(
+        "the shorelines and open boundaries enclose no sea: "
+        f"{_unclosed(land, lines, open_boundaries, crs)}. The sea must be closed "
+        "all round, by the coast and the open boundaries"
+    )
+
+
+def _loose_ends(
+    land: shapely.Geometry, open_boundaries: Sequence[OpenBoundary], crs: CRS
+) -> list[str]:
+    """Name each open boundary wholly on land, and each loose end (lon/lat)."""
     lines = [shapely.LineString(b.coords) for b in open_boundaries]
     coast = shapely.boundary(land)
     unit = metres_per_unit(crs)
@@ -84,19 +109,7 @@ def no_sea_error(
             for end, ((lon, lat), gap) in enumerate(zip(lonlat, gaps, strict=True))
             if gap > REACH and not _past_crossing(meets, end, line.length)
         ]
-    if not open_boundaries:
-        faults.append("there are no open boundaries")
-    if faults:
-        return InputDataError(
-            f"the shorelines and open boundaries enclose no sea: {'; '.join(faults)}. "
-            "An open boundary must cross the coast, or meet another open boundary, "
-            "at both ends"
-        )
-    return InputDataError(
-        "the shorelines and open boundaries enclose no sea: "
-        f"{_unclosed(land, lines, open_boundaries, crs)}. The sea must be closed "
-        "all round, by the coast and the open boundaries"
-    )
+    return faults
 
 
 def _meetings(
@@ -218,3 +231,88 @@ def _has_ring(nodes: int, edges: list[tuple[int, int]]) -> bool:
             return True
         parent[ra] = rb
     return False
+
+
+#: Places named in :func:`open_water_exits`'s text.
+_EXITS_SHOWN = 3
+
+
+def open_water_exits(
+    seed: tuple[float, float],
+    land: shapely.Geometry,
+    open_boundaries: Sequence[OpenBoundary],
+    crs: CRS,
+) -> str:
+    """Say where the water around ``seed`` runs out of the shoreline data.
+
+    The data's frame is the box round the land and the open boundaries. Noded
+    with it, the coast and the open boundaries split the frame into faces; the
+    seed's, when no sea face holds the seed, reaches the frame where the frame
+    is not on land: there its water runs out (a fjord cut by a shoreline file's
+    box, a strait with no open boundary across it).
+
+    Parameters
+    ----------
+    seed : (float, float)
+        The seed, in ``crs``.
+    land : shapely (Multi)Polygon
+        The merged land, in ``crs``.
+    open_boundaries : sequence of OpenBoundary
+        The open boundaries, in ``crs``.
+    crs : pyproj.CRS
+        Their CRS; places are given in lon/lat.
+
+    Returns
+    -------
+    str
+        The loose ends of the open boundaries, if any (as
+        :func:`no_sea_error` names them: the water most likely runs round
+        them); else ``"the water around it runs out of the shoreline data at N
+        places, the nearest at (lon, lat), ..."``, nearest the seed first;
+        empty when no such place is found.
+
+    Examples
+    --------
+    >>> land = shapely.box(0, 0, 10, 4).union(shapely.box(0, 6, 10, 10))
+    >>> open_water_exits((5.0, 5.0), land, [], CRS.from_epsg(3857))[:64]
+    'the water around it runs out of the shoreline data at 2 places, '
+    """
+    loose = _loose_ends(land, open_boundaries, crs)
+    if loose:
+        return (
+            f"{'; '.join(loose)}: the water runs round "
+            f"{'them' if len(loose) > 1 else 'it'}. An open boundary must cross "
+            "the coast, or meet another open boundary, at both ends"
+        )
+    lines = [shapely.LineString(b.coords) for b in open_boundaries]
+    frame = shapely.envelope(shapely.union_all([land, *lines]))
+    linework = shapely.node(
+        shapely.union_all([shapely.boundary(land), *lines, shapely.boundary(frame)])
+    )
+    faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(linework)))
+    point = shapely.Point(seed)
+    holding = [f for f in faces if shapely.covers(f, point)]
+    if not holding:
+        return ""
+    gaps = shapely.intersection(
+        shapely.difference(shapely.boundary(frame), land), holding[0]
+    )
+    parts = (
+        [g for g in shapely.get_parts(shapely.line_merge(gaps)) if g.length > 0]
+        if not gaps.is_empty
+        else []
+    )
+    if not parts:
+        return ""
+    mids = shapely.line_interpolate_point(parts, 0.5, normalized=True)
+    xy = shapely.get_coordinates(mids)
+    order = np.argsort(np.hypot(xy[:, 0] - seed[0], xy[:, 1] - seed[1]))
+    lonlat = reproject_points(xy[order[:_EXITS_SHOWN]], crs, "EPSG:4326")
+    where = ", ".join(f"({lon:.4f}, {lat:.4f})" for lon, lat in lonlat)
+    nearest = "the nearest at " if len(parts) > 1 else ""
+    return (
+        f"the water around it runs out of the shoreline data at {len(parts)} "
+        f"place{'s' if len(parts) > 1 else ''}, {nearest}{where} (lon, lat): "
+        "widen the shorelines there (their bbox or file), or close that water "
+        "with an open boundary"
+    )
