@@ -238,13 +238,17 @@ def run(folder: Path, model: str, binary: str, timeout: float, procs: int = 1) -
 
 
 def _adcirc_max(path: Path, n: int) -> np.ndarray | None:
-    """The first dataset of an ASCII maxele.63 / maxvel.63: one value per node."""
+    """The first dataset of an ASCII maxele.63 / maxvel.63: one value per node.
+
+    NaN where the node was never wet (ADCIRC writes -99999 there).
+    """
     if not path.exists():
         return None
     lines = path.read_text().splitlines()
     if len(lines) < 3 + n:
         return None
-    return np.array([float(s.split()[1]) for s in lines[3 : 3 + n]])
+    values = np.array([float(s.split()[1]) for s in lines[3 : 3 + n]])
+    return np.where(values <= -99998.0, np.nan, values)
 
 
 def _schism_max(folder: Path, prefix: str, n: int) -> np.ndarray | None:
