@@ -530,3 +530,38 @@ def cut_hole_reference(points, triangles, polygon, grow=None):
         "inner": np.array(inner, dtype=np.int64),
         "widened": sum(removed) - hit,
     }
+
+
+def bridge_loop(mask, segments):
+    """Closing of each tile by each segment, ORed: cell by cell, placement by placement.
+
+    ``segments`` are lists of (dy, dx) offsets, each holding (0, 0) and
+    symmetric about it. A cell is in a segment's closing when every placement
+    of the segment that covers it meets the mask or leaves the tile.
+    """
+    tiles, rows, cols = mask.shape
+    out = mask.copy()
+    for t in range(tiles):
+        for y in range(rows):
+            for x in range(cols):
+                if mask[t, y, x]:
+                    continue
+                for cells in segments:
+                    closed = True
+                    for oy, ox in cells:  # the placement with (y, x) at offset o
+                        hit = False
+                        for dy, dx in cells:
+                            yy, xx = y - oy + dy, x - ox + dx
+                            if (
+                                not (0 <= yy < rows and 0 <= xx < cols)
+                                or mask[t, yy, xx]
+                            ):
+                                hit = True
+                                break
+                        if not hit:
+                            closed = False
+                            break
+                    if closed:
+                        out[t, y, x] = True
+                        break
+    return out

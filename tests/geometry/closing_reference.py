@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 import shapely
+import shapely.affinity
 
 from coastmesh.geometry.earth import EARTH_RADIUS
 
@@ -31,7 +32,8 @@ def close_narrow_water_reference(land, width, *, within=None, keep_area=0.0, thi
     is then opened away, but for land of ``keep_area`` or more (square metres
     on the Earth, ``k^2`` at each polygon's centroid), whose thin parts are
     grown by ``width / 2`` instead (:func:`_thickened`; appended to ``thin``
-    if given); land beyond ``within``
+    if given), and the necks between land facing itself over a straight gap
+    narrower than 0.7 ``width`` bridged (:func:`_bridged`); land beyond ``within``
     (metres in the plane) is kept as it is. Returns the polygons, the largest
     first, and how many fewer there are than the input's.
     """
@@ -62,7 +64,8 @@ def close_narrow_water_reference(land, width, *, within=None, keep_area=0.0, thi
         closed = near.buffer(half, quad_segs=4).buffer(-back, quad_segs=4)
         opened = closed.buffer(-back, quad_segs=4).buffer(half, quad_segs=4)
         kept = _thickened(_kept(closed, big), opened, half, back, thin)
-        pieces.append(shapely.union_all([opened, *kept]).intersection(ring))
+        piece = _bridged(shapely.union_all([opened, *kept]), 0.35 * 2 * half)
+        pieces.append(piece.intersection(ring))
     if within is not None:  # the land beyond, as it is
         pieces.append(union.difference(_annulus(0.0, edges[-1])))
     # the rings' seams can leave spikes of no width; a metre's closing and
@@ -115,6 +118,36 @@ def _thickened(kept, opened, half, back, found=None):
         found.append(thin)
     grown = shapely.union(land, thin.buffer(half, quad_segs=4))
     return [grown.buffer(half, quad_segs=4).buffer(-back, quad_segs=4)]
+
+
+def _bridged(land, half):
+    """``land`` and every point on a straight gap of at most ``2 half`` across it.
+
+    The union, over 12 directions 15 degrees apart, of the closing by a
+    segment of ``half`` each side: the Minkowski sum with the segment (the
+    land moved both ways, and each edge swept), then the same of the water
+    taken away.
+    """
+    if land.is_empty:
+        return land
+    frame = shapely.box(*land.buffer(4 * half, quad_segs=1).bounds)
+    out = [land]
+    for angle in np.deg2rad(np.arange(0.0, 180.0, 15.0)):
+        u = half * np.array([math.cos(angle), math.sin(angle)])
+        grown = _swept(land, u)
+        out.append(frame.difference(_swept(frame.difference(grown), u)))
+    return shapely.union_all(out)
+
+
+def _swept(polygons, u):
+    """The Minkowski sum of ``polygons`` with the segment from ``-u`` to ``u``."""
+    rings = shapely.get_rings(shapely.get_parts(polygons))
+    xy, ring = shapely.get_coordinates(rings, return_index=True)
+    same = ring[1:] == ring[:-1]
+    a, b = xy[:-1][same], xy[1:][same]
+    quads = shapely.polygons(np.stack([a - u, b - u, b + u, a + u, a - u], axis=1))
+    moved = [shapely.affinity.translate(polygons, *s) for s in (u, -u)]
+    return shapely.union_all([*moved, *quads[shapely.is_valid(quads)]])
 
 
 def _annulus(r0, r1):

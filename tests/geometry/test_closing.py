@@ -7,14 +7,16 @@ import math
 import numpy as np
 import pytest
 import shapely
+import shapely.affinity
 from closing_reference import close_narrow_water_reference
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from pyproj import Geod
+from reference import bridge_loop
 from scipy import ndimage
 
 from coastmesh.data import path as data_path
-from coastmesh.geometry.cells import dilate, winding
+from coastmesh.geometry.cells import _segments, bridge, dilate, winding
 from coastmesh.geometry.closing import (
     _DISK,
     _HALO,
@@ -431,3 +433,41 @@ def test_no_wedge_of_water_is_left_where_rings_meet():
     r = width * k / 8
     narrow = shapely.difference(water, water.buffer(-r).buffer(r))
     assert shapely.area(shapely.get_parts(narrow)).max() / k**2 < 10e6
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 2**31), st.floats(0.01, 0.3), st.sampled_from([2, 3]))
+def test_bridging_by_shifts_is_the_closing_by_each_segment(seed, share, half):
+    mask = np.random.default_rng(seed).random((2, 17, 19)) < share
+    segments = [s.tolist() for s in _segments(half)]
+    assert len(segments) == (12 if half == 3 else 8)
+    assert (bridge(mask, half) == bridge_loop(mask, segments)).all()
+
+
+def _corners(gap):
+    """Two squares (40 km corner to corner) whose corners face over ``gap``."""
+    west = shapely.Polygon(
+        [
+            (-gap / 2, 0),
+            (-gap / 2 - 20e3, -20e3),
+            (-gap / 2 - 40e3, 0),
+            (-gap / 2 - 20e3, 20e3),
+        ]
+    )
+    east = shapely.affinity.scale(west, -1.0, 1.0, origin=(0, 0))
+    return np.array([west, east], dtype=object)
+
+
+@pytest.mark.parametrize("closing", [close_narrow_water, close_narrow_water_reference])
+def test_a_neck_between_corners_of_land_is_closed_below_the_width(closing):
+    # a disk's closing fills between two square corners only where they are
+    # less than 0.41 of its width apart: the disk passes round them. A mesh
+    # at the width's size cannot pass the neck either (world_fine's shortest
+    # step, 0.45 of its p1, was such a neck on an ice front)
+    width = 4e3
+    for gap, joined in ((0.5 * width, True), (0.6 * width, True), (1.0 * width, False)):
+        out, _ = closing(_corners(gap), width, keep_area=100e6)  # kept whole
+        union = shapely.union_all(out)
+        assert union.contains(shapely.Point(0, 0)) == joined, (closing, gap)
+        # a bridge, not a fill of the water on either side
+        assert not union.contains(shapely.Point(0, width))

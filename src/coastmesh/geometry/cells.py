@@ -11,6 +11,8 @@ and :mod:`contourpy` (marching squares) traces.
   polygons may overlap (a cell is land if any holds it) and have holes;
 * :func:`crossed`: the cells an edge crosses;
 * :func:`dilate`, :func:`erode`: by a disk of cells, by shifted ORs;
+* :func:`bridge`: the water on short straight runs between land (a neck
+  between two points of land, which no disk closing fills);
 * :func:`joined`: the cells joined to seed cells;
 * :func:`trace`: the polygons of True cells;
 * :func:`points_inside`: which of many points a polygon holds, on threads;
@@ -32,6 +34,7 @@ from scipy import ndimage
 from coastmesh.geometry.dem import _polygons
 
 __all__ = [
+    "bridge",
     "copies",
     "crossed",
     "dilate",
@@ -265,6 +268,72 @@ def dilate(mask: NDArray[np.bool_], radius: float) -> NDArray[np.bool_]:
 def erode(mask: NDArray[np.bool_], radius: float) -> NDArray[np.bool_]:
     """Erode each tile by a disk of ``radius`` cells (a square for 1)."""
     return ~dilate(~mask, radius)
+
+
+def bridge(mask: NDArray[np.bool_], half: int) -> NDArray[np.bool_]:
+    """Return ``mask`` with every cell on a short straight run between two of its cells.
+
+    The union, over directions 15 degrees apart, of the closing by a digital
+    segment of ``half`` cells each side of its centre (the line to the
+    nearest cell of ``half (cos, sin)``; 2 ``half`` to 2.9 ``half`` cells long;
+    8 distinct directions for 2 cells, 12 for 3): a cell is added when,
+    along one of the directions, the run of cells outside ``mask`` through
+    it is no longer than the segment. A
+    disk's closing does not join two points of land facing each other over
+    a gap narrower than the disk (the disk passes round them); this does.
+    Cells beyond a tile's edge count as in ``mask``, as :func:`erode` has
+    them.
+    """
+    pad = ((0, 0), (half, half), (half, half))
+    padded = np.pad(mask, pad, constant_values=True)
+    out = padded.copy()
+    for offsets in _segments(half):
+        grown = padded.copy()  # the dilation by the segment (it holds 0, 0)
+        for dy, dx in offsets:
+            if dy or dx:
+                _shifted(padded, dy, dx, grown, np.bitwise_or)
+        shrunk = grown.copy()  # then the erosion: past the edge counts as in
+        for dy, dx in offsets:
+            if dy or dx:
+                _shifted(grown, dy, dx, shrunk, np.bitwise_and)
+        out |= shrunk
+    return out[:, half:-half, half:-half]
+
+
+def _segments(half: int) -> list[NDArray[np.intp]]:
+    """Return the (dy, dx) cells of each direction's segment, centred on 0."""
+    found: dict[tuple[int, int], NDArray[np.intp]] = {}
+    for angle in np.deg2rad(np.arange(0.0, 180.0, 15.0)):
+        end = half * np.array([np.cos(angle), np.sin(angle)])
+        # halves away from 0, and sin(30 deg) * 3 is 1.4999...: to the nearest
+        a, b = (int(v) for v in np.sign(end) * np.floor(np.abs(end) + 0.5 + 1e-9))
+        n = max(abs(a), abs(b))
+        t = np.arange(-n, n + 1)
+        cells = np.column_stack([np.rint(t * b / n), np.rint(t * a / n)])
+        found.setdefault((a, b), np.unique(cells.astype(np.intp), axis=0))
+    return list(found.values())
+
+
+def _shifted(
+    src: NDArray[np.bool_],
+    dy: int,
+    dx: int,
+    out: NDArray[np.bool_],
+    op: np.ufunc,
+) -> None:
+    """``out[..., y, x] = op(out[..., y, x], src[..., y - dy, x - dx])`` in the tile."""
+    rows, cols = src.shape[-2:]
+    to = (
+        ...,
+        slice(max(dy, 0), rows + min(dy, 0)),
+        slice(max(dx, 0), cols + min(dx, 0)),
+    )
+    frm = (
+        ...,
+        slice(max(-dy, 0), rows + min(-dy, 0)),
+        slice(max(-dx, 0), cols + min(-dx, 0)),
+    )
+    op(out[to], src[frm], out=out[to])
 
 
 def trace(

@@ -21,14 +21,18 @@ minutes at GSHHG's full resolution (10 M vertices) and more memory than a
    3.5 cells: land thinner than a cell (a barrier island) still bounds the
    water behind it, and a cell the coast crosses is land half way across on
    average;
-3. the cells the closing fills, the cells the coast crosses inside the closed
+3. the necks the disk's closing leaves between points of land facing each
+   other over less than about 0.7 of the width, bridged along straight runs
+   of cells (:func:`~coastmesh.geometry.cells.bridge`), and the land closed
+   again round the bridges;
+4. the cells the closing fills, the cells the coast crosses inside the closed
    land (water narrower than a cell), and the land cells beside those, so a
    patch covers the water part of each cell the coast crosses there, traced
    into polygons (marching squares);
-4. and the inlets narrower than a cell that open on the sea, which the
+5. and the inlets narrower than a cell that open on the sea, which the
    rasters see as coast, found on the coast itself
    (:func:`~coastmesh.geometry.inlets.inlet_patches`);
-5. those patches unioned with the exact land they touch, one connected group
+6. those patches unioned with the exact land they touch, one connected group
    at a time; holes left that cannot hold the disk are filled.
 
 The coast keeps its exact vertices wherever the closing changed nothing, and
@@ -75,8 +79,15 @@ _R2 = 2.0 * EARTH_RADIUS  #: r = _R2 sqrt(k - 1) inverts plane_scale (any pole)
 _DISK = 4  #: the closing's disk radius, in cells: a cell is width / 8
 _CLOSE = _DISK - 0.5  #: the disk of the closing of the cells land touches
 _TILE = 256  #: a tile's core, cells a side
-_HALO = 7 * _DISK + 4  #: the closing, the opening, the thickening and the
-#: closing again reach 2, 2, 1 and 2 disks
+_BRIDGE = _DISK // 2  #: the bridging's segments reach this far each side
+#: (cells): with the cells the coast crosses, gaps of water up to about 0.7
+#: of the width (5 to 7 cells), the necks that make elements of under half
+#: the size; the disk's closing already fills those between square corners
+#: up to 0.41 of it
+_HALO = 8 * _DISK + 2 * _BRIDGE + 4  #: the closing, the opening, the
+#: thickening (grown from the opening's reach) and the closing again reach 2,
+#: 2, 2 and 2 disks, and the bridging two segments' halves (a segment
+#: covering a cell at its end)
 _WINDOW = _TILE + 2 * _HALO  #: a tile's window, cells a side
 _OVERLAP = 2  #: cells past a tile's core (and a ring's edge) traced too
 _THICK = 2 * _DISK  #: how far (cells) the thickening reaches from the thin land
@@ -539,7 +550,19 @@ def _close_tiles(
         )
     opened = cells.dilate(cells.erode(closed, _DISK), _DISK)
     with_big = cells.joined(closed, big_land & land)
-    thick = _thickened(closed, opened, with_big & _own(ring, origin))
+    grown = _thickened(closed, opened, with_big & _own(ring, origin))
+    # and the necks between points of land that face each other over less
+    # than 0.7 of the width (ice-front tongues, headlands), which the disk's
+    # closing leaves open (one held world_fine's shortest time step to 0.45
+    # of its p1), bridged before the closing again, which fills the narrow
+    # water a bridge leaves beside it: in the cells traced, a cell round
+    # them, and what those need
+    near = slice(
+        _HALO - _OVERLAP - 1 - 2 * _DISK - 2 * _BRIDGE,
+        _HALO + _TILE + _OVERLAP + 1 + 2 * _DISK + 2 * _BRIDGE,
+    )
+    thick = grown.copy()
+    thick[:, near, near] = _closing(cells.bridge(grown[:, near, near], _BRIDGE))
     region = _changeable(ring, origin)
     first = _HALO - _OVERLAP  # the first cell traced
     patch = _patch(thick, land, coast)
@@ -589,8 +612,8 @@ def _thickened(
     Big land narrower than the width (a spit, a peninsula, a long neck: what
     the opening takes away, farther than half the width from the land it
     keeps; not the corners it rounds, of over 60 degrees) is grown by half
-    the width on each side, and the closing done again round it: a mesh at
-    the width's size then resolves it, and it stays land. Land of
+    the width on each side, so a mesh at the width's size resolves it, and
+    it stays land; the caller closes the land again round it. Land of
     ``keep_area`` or more is never opened away.
     """
     thin = closed & ~opened & with_big & ~cells.dilate(opened, _DISK)
@@ -598,7 +621,7 @@ def _thickened(
         return closed
     # the cells the coast crosses already widen it by about a cell: grown by
     # a cell less than the disk, it is the width wide
-    return _closing(closed | cells.dilate(thin, _DISK - 1))
+    return closed | cells.dilate(thin, _DISK - 1)
 
 
 def _patch(
