@@ -68,7 +68,10 @@ def _dask_and_local(run_cli, case, scheduler, workers, tmp_path):
 def test_a_cluster_makes_the_mesh_a_local_run_makes(run_cli, scheduler, tmp_path):
     case = _case_file(tmp_path / "case.toml", ORKNEY, 3, tmp_path)
     runs = _dask_and_local(run_cli, case, scheduler, "1", tmp_path)
-    assert all(parts["parts"] >= 3 for _, parts in runs.values())
+    # one clean cut of the two asked (a warning says so): two parts; the
+    # third there was before, of 11 triangles, was a sliver between the cut's
+    # crossings, now joined to a neighbour
+    assert all(parts["parts"] >= 2 for _, parts in runs.values())
     assert runs["dask"][0] == runs["local"][0]  # byte for byte
 
 

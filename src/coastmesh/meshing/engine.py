@@ -40,16 +40,22 @@ from coastmesh.meshing.gmsh.boundary_nodes import boundary_nodes
 from coastmesh.meshing.gmsh.crossings import boundary_crossings, resample_valid
 from coastmesh.meshing.gmsh.model import (
     ALGORITHMS,
+    crop_grid,
 )
 from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
+from coastmesh.meshing.parts import cuts as cut_plans
 from coastmesh.meshing.parts.cuts import (
     MIN_PART_TRIANGLES,
     auto_parts,
+    expected_triangles,
     plan_cuts,
     water_cells,
 )
 from coastmesh.meshing.parts.faces import (
+    Faces,
     canonical_order,
+    face_polygon,
+    merge_small_faces,
     split_faces,
 )
 from coastmesh.meshing.parts.inner import (
@@ -320,12 +326,7 @@ def mesh_in_parts(
         )
     plane = _inner_plane(inner, domain.crs, mesh_crs, map_size)
     pieces, chords, wanted = _cut(pieces, water, map_size, parts, plane, threads)
-    faces = split_faces(
-        pieces,
-        water,
-        [shapely.LineString(c) for c in chords]
-        + [shapely.LineString(r) for r in plane.rings],
-    )
+    faces = _faces(pieces, water, chords, plane, map_size, wanted)
     tasks = part_tasks(
         faces,
         map_size,
@@ -657,6 +658,38 @@ def _check_args(domain: Any, size: Any, algorithm: str, seed: Any, parts: Any) -
         isinstance(parts, bool) or not isinstance(parts, int | np.integer) or parts < 1
     ):
         raise ValueError(f'parts is {parts!r}, expected "auto" or an integer >= 1')
+
+
+def _faces(
+    pieces: list[_Piece],
+    water: shapely.Polygon,
+    chords: list[NDArray[np.float64]],
+    plane: InnerPlane,
+    size: SizeGrid,
+    wanted: int,
+) -> Faces:
+    """Return the faces of water the cuts and the inner outlines make.
+
+    No face is left of a few triangles between two cuts: a face of under a
+    tenth of its share of the water (the water's expected triangles over
+    ``wanted``) and under the planners' floor joins a neighbour across a
+    piece of cut (never an inner outline). Parts asked for on purpose that
+    are small all the same (``[mesh] parts = 3`` on a small case) stay.
+    """
+    rings = [shapely.LineString(r) for r in plane.rings]
+    faces = split_faces(pieces, water, [shapely.LineString(c) for c in chords] + rings)
+    if len(faces.faces) < 2:
+        return faces
+
+    def cost(polygon: shapely.Polygon) -> float:
+        return expected_triangles(polygon, crop_grid(size, polygon.bounds))
+
+    total = sum(cost(face_polygon(faces, i)) for i in range(len(faces.faces)))
+    small = min(cut_plans.MIN_PART_TRIANGLES, 0.1 * total / max(wanted, 1))
+    faces, dropped = merge_small_faces(faces, water, cost, small, fixed=rings)
+    if dropped:
+        logger.info("%d pieces of cut dropped: faces of few triangles", dropped)
+    return faces
 
 
 def _cut(

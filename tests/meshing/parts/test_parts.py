@@ -24,7 +24,7 @@ from coastmesh.meshing.parts.cuts import (
     expected_triangles,
     plan_cuts,
 )
-from coastmesh.meshing.parts.faces import split_faces
+from coastmesh.meshing.parts.faces import face_polygon, merge_small_faces, split_faces
 from coastmesh.types import BoundarySegment, Domain, SizeGrid
 
 OUTER = np.array([[0, 0], [12000, 0], [12000, 8000], [0, 8000], [0, 0]], float)
@@ -152,6 +152,34 @@ def test_split_faces_shares_cut_curves_and_keeps_ids():
     assert (uses[cut] == 2).all()  # shared by both faces
     assert set(uses[[k for k in range(len(uses)) if k not in cut]]) == {1}
     assert sorted({pid for pid in faces.ids if pid is not None}) == [1, 9]
+
+
+def test_a_sliver_between_two_cuts_joins_a_neighbour_and_fixed_cuts_stay():
+    # two cuts 50 m apart across the water (and an island): the sliver
+    # between them are parts of a few triangles unless joined to a side
+    ring, island = OUTER, ISLAND[::-1]
+    water = shapely.Polygon(ring, [island])
+    cuts = [shapely.LineString([(x, -100), (x, 8100)]) for x in (6000.0, 6050.0)]
+    fixed = shapely.LineString([(2000, -100), (2000, 8100)])
+    faces = split_faces([(ring, 1), (island, 9)], water, [*cuts, fixed])
+    assert len(faces.faces) == 5  # two slivers: above the island and below
+    area = [face_polygon(faces, i).area for i in range(5)]
+    assert sum(area) == pytest.approx(water.area)
+    joined, dropped = merge_small_faces(
+        faces, water, lambda p: p.area, 1e6, fixed=[fixed]
+    )
+    # each sliver (under 1 km2) joined a side; the fixed cut's faces stay
+    assert dropped == 2 and len(joined.faces) == 3
+    areas = sorted(face_polygon(joined, i).area for i in range(3))
+    assert min(areas) >= 1e6
+    assert sum(areas) == pytest.approx(water.area)
+    left = shapely.box(-1e4, -1e4, 2000, 1e4).intersection(water).area
+    assert any(a == pytest.approx(left) for a in areas)
+    # ids of the coast are kept
+    assert sorted({i for i in joined.ids if i is not None}) == [1, 9]
+    # nothing to join: as it was
+    same, none = merge_small_faces(faces, water, lambda p: p.area, 1.0)
+    assert none == 0 and same is faces
 
 
 def test_chunks_share_their_ends():

@@ -10,6 +10,7 @@ written here is the bookkeeping from faces to loops of signed curves.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -19,6 +20,8 @@ from numpy.typing import NDArray
 __all__ = [
     "Faces",
     "canonical_order",
+    "face_polygon",
+    "merge_small_faces",
     "split_faces",
 ]
 
@@ -109,6 +112,119 @@ def split_faces(
         for loops in faces
     ]
     return Faces([curves[k] for k in used], [ids[k] for k in used], faces)
+
+
+def face_polygon(faces: Faces, index: int) -> shapely.Polygon:
+    """Return face ``index`` of ``faces`` as a polygon (its loops' points)."""
+    rings = [
+        np.concatenate(
+            [faces.curves[abs(s) - 1][:: 1 if s > 0 else -1][:-1] for s in loop]
+        )
+        for loop in faces.faces[index]
+    ]
+    return shapely.Polygon(rings[0], rings[1:])
+
+
+def merge_small_faces(
+    faces: Faces,
+    polygon: shapely.Polygon,
+    cost: Callable[[shapely.Polygon], float],
+    small: float,
+    fixed: Sequence[shapely.Geometry] = (),
+) -> tuple[Faces, int]:
+    """Join each face of under ``small`` cost to a neighbour: drop a cut between.
+
+    The cut planners keep a crossing that would leave a piece of few
+    triangles uncut (:mod:`~coastmesh.meshing.parts.cuts`), but two cuts of
+    different lines that run close together, or a face that holds no size
+    grid node (its cost is counted at the grid's nodes), can still leave a
+    sliver of water between them: a part of a few triangles, meshed and
+    seamed alone. Such a face joins the neighbour of least cost across a
+    piece of cut (its longest with that neighbour; never one lying on
+    ``fixed``, the outlines that must stay cuts), so the parts stay as
+    even as they were; the faces are found again, until no face is under
+    ``small`` or none can be joined.
+
+    Parameters
+    ----------
+    faces : Faces
+        From :func:`split_faces`.
+    polygon : shapely.Polygon
+        The water, as :func:`split_faces` took it.
+    cost : callable
+        A face's polygon to its cost (expected triangles).
+    small : float
+        Faces of a lower cost are joined.
+    fixed : sequence of shapely geometries
+        Cuts that stay, whatever their faces' cost.
+
+    Returns
+    -------
+    faces : Faces
+    dropped : int
+        Pieces of cut dropped.
+
+    Examples
+    --------
+    >>> ring = np.array([[0, 0], [10, 0], [10, 2], [0, 2], [0, 0]], dtype=float)
+    >>> cuts = [shapely.LineString([(x, -1), (x, 3)]) for x in (5.0, 5.1)]
+    >>> f = split_faces([(ring, 7)], shapely.Polygon(ring), cuts)
+    >>> g, dropped = merge_small_faces(f, shapely.Polygon(ring), lambda p: p.area, 1.0)
+    >>> len(f.faces), len(g.faces), dropped
+    (3, 2, 1)
+    """
+    on_fixed = shapely.union_all(list(fixed)) if len(fixed) else None
+    dropped = 0
+    while len(faces.faces) > 1:
+        costs = [cost(face_polygon(faces, i)) for i in range(len(faces.faces))]
+        sides: dict[int, list[int]] = {}
+        for i, loops in enumerate(faces.faces):
+            for loop in loops:
+                for s in loop:
+                    sides.setdefault(abs(s) - 1, []).append(i)
+        gone: set[int] = set()
+        for i in np.argsort(costs, kind="stable"):
+            if costs[i] >= small:
+                break
+            # (a piece of cut, the face beyond it) for each piece that may go
+            beyond = [
+                (g, j)
+                for loop in faces.faces[i]
+                for g in {abs(s) - 1 for s in loop}
+                if faces.ids[g] is None and not _lies_on(faces.curves[g], on_fixed)
+                for j in sides[g]
+                if j != i
+            ]
+            if beyond:  # to the least face beyond, across its longest piece
+                g, _ = min(
+                    beyond, key=lambda p: (costs[p[1]], -_length(faces.curves[p[0]]))
+                )
+                gone.add(g)
+        if not gone:
+            break
+        dropped += len(gone)
+        keep = [g for g in range(len(faces.curves)) if g not in gone]
+        boundary = [
+            (faces.curves[g], pid) for g in keep if (pid := faces.ids[g]) is not None
+        ]
+        cuts = [
+            shapely.LineString(faces.curves[g]) for g in keep if faces.ids[g] is None
+        ]
+        faces = split_faces(boundary, polygon, cuts)
+    return faces, dropped
+
+
+def _length(curve: NDArray[np.float64]) -> float:
+    return float(np.hypot(*np.diff(curve, axis=0).T).sum())
+
+
+def _lies_on(curve: NDArray[np.float64], fixed: shapely.Geometry | None) -> bool:
+    """Whether a curve's first edge's midpoint lies on ``fixed`` (to 1e-9)."""
+    if fixed is None:
+        return False
+    middle = shapely.points(0.5 * (curve[0] + curve[1]))
+    scale = max(float(np.abs(curve).max()), 1.0)
+    return bool(shapely.distance(fixed, middle) <= 1e-9 * scale)
 
 
 def _loop(
