@@ -248,3 +248,115 @@ def test_a_spline_that_misses_its_points_gets_the_whole_view():
     # more samples than the grid has cells: the whole grid costs less
     small = SizeGrid(x[:8], y, np.ones((len(y), 8)))  # 35 cells
     assert curves._along(Gmsh(0.0), [(piece, 1, 1)], small) is None
+
+
+def _fewer_edges_loop(pieces, counts, h):
+    """A literal fewer_edges for a constant size h: piece by piece, edge by edge."""
+    out, start = [], 0
+    for count in counts:
+        ring = pieces[start : start + count]
+        for k, (nodes, pid) in enumerate(ring):
+            before, after = ring[k - 1][1], ring[(k + 1) % count][1]
+            lengths = [
+                float(np.hypot(*(nodes[i + 1] - nodes[i])))
+                for i in range(len(nodes) - 1)
+            ]
+            s = sum(lengths) / h
+            n = max(1, int(np.ceil(s - curves.NEAREST_SLACK)))
+            closed = tuple(nodes[0]) == tuple(nodes[-1])
+            if before != pid or after != pid or closed or s >= curves.NEAREST_BELOW:
+                out.append((nodes, pid))
+                continue
+            if n >= len(lengths) or len(lengths) < 2:
+                out.append((nodes, pid))
+                continue
+            new = [nodes[0]]
+            for j in range(1, n):
+                want, walked = s * j / n * h, 0.0
+                for i, length in enumerate(lengths):  # walk Gmsh's edges
+                    if walked + length >= want:
+                        t = (want - walked) / length
+                        new.append(nodes[i] + t * (nodes[i + 1] - nodes[i]))
+                        break
+                    walked += length
+            new.append(nodes[-1])
+            out.append((np.array(new), pid))
+        start += count
+    return out
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    edges=st.lists(st.integers(1, 5), min_size=3, max_size=6),
+    ids=st.lists(st.sampled_from([1, 1, 1, 2]), min_size=6, max_size=6),
+    jitter=st.lists(st.floats(0.0, 0.3), min_size=30, max_size=30),
+)
+def test_fewer_edges_is_the_literal_walk(edges, ids, jitter):
+    h = 10.0
+    rng = iter(jitter)
+    pieces, corner = [], np.zeros(2)
+    angles = np.linspace(0, 2 * np.pi, len(edges), endpoint=False)
+    for k, n in enumerate(edges):
+        end = (
+            np.array(
+                [
+                    np.cos(angles[(k + 1) % len(edges)]),
+                    np.sin(angles[(k + 1) % len(edges)]),
+                ]
+            )
+            * 15.0
+            if k < len(edges) - 1
+            else pieces[0][0][0]
+        )
+        if k == 0:
+            corner = np.array([15.0, 0.0])
+        t = np.sort(
+            np.concatenate(
+                [[0.0, 1.0], np.cumsum([next(rng) + 0.5] * (n - 1)) / (n + 1)]
+            )
+        )
+        pieces.append((corner + t[:, None] * (end - corner), ids[k]))
+        corner = end
+    fast = curves.fewer_edges(
+        pieces, [len(pieces)], SizeGrid([0.0, 1.0], [0.0, 1.0], np.full((2, 2), h))
+    )
+    slow = _fewer_edges_loop(pieces, [len(pieces)], h)
+    for (a, pid_a), (b, pid_b) in zip(fast, slow, strict=True):
+        assert pid_a == pid_b
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-9)
+
+
+@settings(max_examples=20, deadline=None)
+@given(
+    a=st.floats(1.01, 6.0),
+    b=st.floats(1.01, 6.0),
+    turn=st.floats(0.0, np.pi / 2),
+)
+def test_sides_between_corners_get_edges_of_0_65_to_1_3_sizes(a, b, turn):
+    # a rectangle of one id: every vertex a corner, every side a piece
+    h = 100.0
+    c, s = np.cos(turn), np.sin(turn)
+    box = np.array([[0, 0], [a, 0], [a, b], [0, b], [0, 0]]) * h @ [[c, s], [-s, c]]
+    size = SizeGrid([-1000.0, 1000.0], [-1000.0, 1000.0], np.full((2, 2), h))
+    rings, _ = resample_rings([[box]], lambda xy: sample_size(size, xy))
+    pieces, _ = boundary_nodes(rings, [[4]], size)
+    assert len(pieces) == 4
+    length = np.concatenate([np.hypot(*np.diff(p, axis=0).T) for p, _ in pieces])
+    # a side of just over 1.3 sizes takes two edges: the shortest there are
+    assert length.min() >= (1 + curves.NEAREST_SLACK) / 2 * h * (1 - 1e-3)
+    assert length.max() <= (1 + curves.NEAREST_SLACK) * h * (1 + 1e-3)
+
+
+def test_a_side_by_an_open_boundary_keeps_gmsh_s_count():
+    # the side of 1.05 sizes: one edge between two coast corners, two where
+    # one of its ends is an open boundary's
+    h = 100.0
+    box = np.array([[0, 0], [105, 0], [105, 400], [0, 400], [0, 0]], float)
+    size = SizeGrid([-1000.0, 1000.0], [-1000.0, 1000.0], np.full((2, 2), h))
+    rings, _ = resample_rings([[box]], lambda xy: sample_size(size, xy))
+    alone, _ = boundary_nodes(rings, [[4]], size)
+    assert [len(p) - 1 for p, _ in alone] == [1, 4, 1, 4]
+    sides = [box[:2], box[1:]]
+    rings, _ = resample_rings([sides], lambda xy: sample_size(size, xy))
+    beside, _ = boundary_nodes(rings, [[2, 4]], size)
+    assert [len(p) - 1 for p, _ in beside] == [2, 4, 1, 4]

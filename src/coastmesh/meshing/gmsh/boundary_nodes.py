@@ -4,8 +4,9 @@ Gmsh meshes each boundary piece (a spline through the points of
 :func:`~coastmesh.meshing.gmsh.resample.resample_rings`, at most
 :data:`~coastmesh.meshing.gmsh.boundary_nodes.CURVE_POINTS` points) from the size grid:
 equal steps of the integral of 1/h, rounded up, so no boundary edge is longer
-than its target. That is done here once, for the whole boundary (a long one
-in batches, on the workers), before the water is cut; the nodes are then
+than its target (but on a short piece between corners, :func:`fewer_edges`).
+That is done here once, for the whole boundary (a long one in batches, on the
+workers), before the water is cut; the nodes are then
 fixed, and every part (or the whole water) is meshed inside them. So the
 boundary nodes, where the worst triangles of a coastal mesh sit, are the same
 however the water is cut, and a cut that ends on a boundary curve cannot move
@@ -22,6 +23,7 @@ import shapely
 from numpy.typing import NDArray
 
 from coastmesh.errors import MeshingError
+from coastmesh.geometry.projection import sample_size
 from coastmesh.meshing.gmsh.model import add_size_view, gmsh_session, set_options
 from coastmesh.meshing.gmsh.sphere_sizes import SphereSizeGrid
 from coastmesh.types import Runner, SizeGrid, serial_runner
@@ -30,14 +32,25 @@ __all__ = [
     "BATCHES",
     "BATCH_CURVES",
     "CURVE_POINTS",
+    "NEAREST_BELOW",
+    "NEAREST_SLACK",
     "BoundaryBatch",
     "batch_nodes",
     "boundary_nodes",
     "chunked",
+    "fewer_edges",
 ]
 
 #: The most points of one Gmsh spline (:func:`chunked`).
 CURVE_POINTS = 500
+
+#: A piece between two corners of one boundary segment (:func:`fewer_edges`) of
+#: under this many target sizes gets ``ceil(s - NEAREST_SLACK)`` edges, not
+#: Gmsh's ``floor(s + 0.99)``: its edges are 0.65 to 1.3 sizes, not 0.5 to 1.
+#: (From three sizes on, Gmsh's edges are at least 0.75 of a size.)
+NEAREST_BELOW = 3.0
+#: See :data:`NEAREST_BELOW`.
+NEAREST_SLACK = 0.3
 
 
 #: A boundary of more curves than this is meshed in :data:`BATCHES` batches
@@ -126,12 +139,104 @@ def boundary_nodes(
         (np.vstack([piece[:1], nodes, piece[-1:]]), pid)
         for (piece, pid), nodes in zip(flat, inner, strict=True)
     ]
+    pieces = fewer_edges(pieces, [len(r) for r in by_ring], size)
     starts = np.cumsum([0] + [len(r) for r in by_ring])
     coords = [
         np.concatenate([pieces[a][0][:1], *(p[1:] for p, _ in pieces[a:b])])
         for a, b in itertools.pairwise(starts)
     ]
     return pieces, shapely.Polygon(coords[0], coords[1:])
+
+
+def fewer_edges(
+    pieces: list[tuple[NDArray[np.float64], int]], counts: list[int], size: Any
+) -> list[tuple[NDArray[np.float64], int]]:
+    """Give short pieces between corners the nearest count of edges, not more.
+
+    Gmsh cuts a curve of ``s`` target sizes (the integral of 1/h along it) into
+    ``floor(s + 0.99)`` edges, so that none is longer than its size: a piece
+    of 1.05 sizes gets two edges of 0.53. Where the piece is the coast between
+    two corners (:mod:`~coastmesh.meshing.gmsh.resample` keeps a vertex that
+    turns by more than 30 degrees between straight runs of a size or more) the
+    triangle on such an edge is half the size around it, and in deep water it
+    caps an explicit model's time step (``world_fine.toml``'s coast has 540
+    such pieces with an edge under 0.6 of a size, the time-step relief's work
+    afterwards). So a piece whose neighbours on both sides have its id (it ends at
+    corners, or where an island's ring starts: never at an open boundary or a
+    change of shoreline set, whose runs keep Gmsh's count) and of under
+    :data:`NEAREST_BELOW` sizes gets ``max(1, ceil(s - NEAREST_SLACK))`` edges
+    if that is fewer than Gmsh's. The new nodes are Gmsh's own polyline's
+    points at equal steps of ``s``.
+
+    Parameters
+    ----------
+    pieces : list of (ndarray of shape (m, 2), int)
+        Each piece's nodes from end to end, and its id, ring by ring; each
+        ring's pieces close on its first point.
+    counts : list of int
+        The pieces of each ring.
+    size : SizeGrid or SphereSizeGrid
+        Target sizes in map units, as Gmsh saw them.
+
+    Returns
+    -------
+    list of (ndarray, int)
+        The pieces, some with fewer inner nodes; the ends never move.
+
+    Examples
+    --------
+    Two corners 1.1 sizes apart, in a ring of one id: Gmsh's two edges become
+    one; a piece whose neighbour has another id keeps its two.
+
+    >>> g = SizeGrid([0.0, 100.0], [0.0, 100.0], np.full((2, 2), 10.0))
+    >>> def piece(a, b, n):
+    ...     return np.linspace(a, b, n + 1)
+    >>> ring = [(piece([0, 0], [11, 0], 2), 1), (piece([11, 0], [11, 30], 3), 1),
+    ...         (piece([11, 30], [0, 0], 4), 1)]
+    >>> [len(p) - 1 for p, _ in fewer_edges(ring, [3], g)]
+    [1, 3, 4]
+    >>> ring[1] = (ring[1][0], 2)
+    >>> [len(p) - 1 for p, _ in fewer_edges(ring, [3], g)]
+    [2, 3, 4]
+    """
+    out = list(pieces)
+    if not pieces:
+        return out
+    # every edge's length in sizes at once (one search of the size grid)
+    nodes_of = [nodes for nodes, _ in pieces]
+    edges = np.array([len(nodes) - 1 for nodes in nodes_of])
+    a = np.concatenate([nodes[:-1] for nodes in nodes_of])
+    b = np.concatenate([nodes[1:] for nodes in nodes_of])
+    sizes = np.hypot(*(b - a).T) / sample_size(size, 0.5 * (a + b))
+    first = np.cumsum(edges) - edges
+    s_of = np.add.reduceat(sizes, first) if len(sizes) else np.zeros(0)
+    ids = np.array([pid for _, pid in pieces])
+    ring = np.repeat(np.arange(len(counts)), counts)
+    at_ring = np.arange(len(pieces)) - np.repeat(np.cumsum(counts) - counts, counts)
+    ring_start = (np.cumsum(counts) - counts)[ring]
+    before = ids[ring_start + (at_ring - 1) % np.asarray(counts)[ring]]
+    after = ids[ring_start + (at_ring + 1) % np.asarray(counts)[ring]]
+    wanted = np.maximum(1, np.ceil(s_of - NEAREST_SLACK)).astype(np.intp)
+    closed = np.array([(nodes[0] == nodes[-1]).all() for nodes in nodes_of])
+    fewer = (
+        (edges >= 2)
+        & (before == ids)
+        & (after == ids)
+        & ~closed
+        & (s_of < NEAREST_BELOW)
+        & (wanted < edges)
+    )
+    for k in np.flatnonzero(fewer).tolist():
+        nodes, n = nodes_of[k], int(wanted[k])
+        steps = np.concatenate(
+            [[0.0], np.cumsum(sizes[first[k] : first[k] + edges[k]])]
+        )
+        at = np.interp(s_of[k] * np.arange(1, n) / n, steps, np.arange(len(nodes)))
+        below = np.minimum(at.astype(np.intp), edges[k] - 1)
+        t = (at - below)[:, None]
+        inner = (1 - t) * nodes[below] + t * nodes[below + 1]
+        out[k] = (np.vstack([nodes[:1], inner, nodes[-1:]]), pieces[k][1])
+    return out
 
 
 def batch_nodes(batch: BoundaryBatch) -> list[NDArray[np.float64]]:
