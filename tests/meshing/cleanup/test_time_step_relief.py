@@ -502,7 +502,12 @@ NOTCH = Path(__file__).parents[2] / "data" / "meshes" / "sognefjord_notch.npz"
 def notch_mesh() -> Mesh:
     """20 km of the Sognefjord example's mesh around a notch of the coast at
     6.48 E, 61.08 N (tests/data/meshes/README.md), as the relief gets it."""
-    z = np.load(NOTCH)
+    return piece_mesh(NOTCH)
+
+
+def piece_mesh(path: Path) -> Mesh:
+    """A piece of a mesh saved as tests/data/meshes/README.md describes."""
+    z = np.load(path)
     return Mesh(
         z["points"],
         z["triangles"],
@@ -677,17 +682,7 @@ def test_a_spike_of_coast_gets_a_second_round_of_slides():
     # world_fine mesh; on the whole world, 0.53 of the 1st percentile after
     # one round, 0.60 after two. Here the piece's own 1st percentile is
     # smaller: the triangle is 0.72 of it, so the test asks for 0.9.
-    z = np.load(TIP)
-    mesh = Mesh(
-        z["points"],
-        z["triangles"],
-        z["boundary_edges"],
-        z["boundary_ids"],
-        1,
-        "EPSG:4326",
-        {"depth": z["depth"]},
-        boundary_kinds={10: "shoreline", 99: "open"},
-    )
+    mesh = piece_mesh(TIP)
     _, once = relieve_time_step(mesh, velocity=1.0, ratio=0.9, target=0.0)
     out, twice = relieve_time_step(mesh, velocity=1.0, ratio=0.9, target=0.9)
     assert once.accepted and twice.accepted

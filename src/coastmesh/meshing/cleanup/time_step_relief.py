@@ -343,6 +343,19 @@ def _passes(
     Then, if a triangle is below ``min(ratio, target)`` times the 1st
     percentile, a second round of passes for those.
     """
+    collapses, moves = _round(work, ratio, floor, passes)
+    last = min(ratio, target)
+    if work.throttling(last)[0]:  # a second round, for those under the target
+        work.since = work.xy.copy()
+        more = _round(work, last, floor, passes)
+        collapses, moves = collapses + more[0], moves + more[1]
+    return collapses, moves
+
+
+def _round(
+    work: _Collapser, ratio: float, floor: float, passes: int
+) -> tuple[int, int]:
+    """Run up to ``passes`` passes of collapses, then moves; return how many."""
     collapses = moves = 0
     for _ in range(passes):
         made = work.run_pass(ratio, floor)
@@ -350,15 +363,6 @@ def _passes(
         collapses, moves = collapses + made, moves + moved
         if not made and not moved:
             break
-    last = min(ratio, target)
-    if work.throttling(last)[0]:  # a second round, for those under the target
-        work.since = work.xy.copy()
-        for _ in range(passes):
-            made = work.run_pass(last, floor)
-            moved = work.move_pass(last, floor)
-            collapses, moves = collapses + made, moves + moved
-            if not made and not moved:
-                break
     return collapses, moves
 
 
