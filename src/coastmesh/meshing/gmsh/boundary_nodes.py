@@ -159,14 +159,14 @@ def fewer_edges(
     two corners (:mod:`~coastmesh.meshing.gmsh.resample` keeps a vertex that
     turns by more than 30 degrees between straight runs of a size or more) the
     triangle on such an edge is half the size around it, and in deep water it
-    caps an explicit model's time step (``world_fine.toml``'s coast has 540
-    such pieces with an edge under 0.6 of a size, the time-step relief's work
-    afterwards). So a piece whose neighbours on both sides have its id (it ends at
-    corners, or where an island's ring starts: never at an open boundary or a
-    change of shoreline set, whose runs keep Gmsh's count) and of under
-    :data:`NEAREST_BELOW` sizes gets ``max(1, ceil(s - NEAREST_SLACK))`` edges
-    if that is fewer than Gmsh's. The new nodes are Gmsh's own polyline's
-    points at equal steps of ``s``.
+    caps an explicit model's time step (``world_fine.toml``'s coast had 540
+    pieces of under 3 sizes with an edge under 0.6 of a size, the time-step
+    relief's work afterwards). So a piece whose neighbours on both sides have
+    its id (it ends at corners, or where an island's ring starts: never at an
+    open boundary or a change of shoreline set, whose runs keep Gmsh's count)
+    and of under :data:`NEAREST_BELOW` sizes gets ``max(1, ceil(s -
+    NEAREST_SLACK))`` edges if that is fewer than Gmsh's. The new nodes are
+    Gmsh's own polyline's points at equal steps of ``s``.
 
     Parameters
     ----------
