@@ -209,18 +209,18 @@ def fewer_edges(
     b = np.concatenate([nodes[1:] for nodes in nodes_of])
     sizes = np.hypot(*(b - a).T) / sample_size(size, 0.5 * (a + b))
     first = np.cumsum(edges) - edges
-    s_of = np.add.reduceat(sizes, first) if len(sizes) else np.zeros(0)
+    s_of = np.add.reduceat(sizes, first)  # every piece has an edge
     ids = np.array([pid for _, pid in pieces])
-    ring = np.repeat(np.arange(len(counts)), counts)
-    at_ring = np.arange(len(pieces)) - np.repeat(np.cumsum(counts) - counts, counts)
-    ring_start = (np.cumsum(counts) - counts)[ring]
-    before = ids[ring_start + (at_ring - 1) % np.asarray(counts)[ring]]
-    after = ids[ring_start + (at_ring + 1) % np.asarray(counts)[ring]]
+    # each piece's neighbours in its ring, the ring closing on its first piece
+    count = np.repeat(counts, counts)
+    ring_start = np.repeat(np.cumsum(counts) - counts, counts)
+    at_ring = np.arange(len(pieces)) - ring_start
+    before = ids[ring_start + (at_ring - 1) % count]
+    after = ids[ring_start + (at_ring + 1) % count]
     wanted = np.maximum(1, np.ceil(s_of - NEAREST_SLACK)).astype(np.intp)
     closed = np.array([(nodes[0] == nodes[-1]).all() for nodes in nodes_of])
-    fewer = (
-        (edges >= 2)
-        & (before == ids)
+    fewer = (  # wanted < edges: at least two edges
+        (before == ids)
         & (after == ids)
         & ~closed
         & (s_of < NEAREST_BELOW)
