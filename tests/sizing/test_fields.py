@@ -162,15 +162,15 @@ def test_bad_mappings_are_named(kind, values, sizes, message):
     assert "mesh_size.fields[2]" in str(err.value)
 
 
-def _neighbour_min_loop(values, wrap_x=False):
-    """Literal: each node's smallest value over itself and its 8 neighbours."""
+def _neighbour_min_loop(values, wrap_x=False, cells=1):
+    """Literal: each node's smallest value over the nodes within ``cells``."""
     ny, nx = values.shape
     out = np.empty_like(values)
     for j in range(ny):
         for i in range(nx):
             best = np.inf
-            for dj in (-1, 0, 1):
-                for di in (-1, 0, 1):
+            for dj in range(-cells, cells + 1):
+                for di in range(-cells, cells + 1):
                     jj, ii = j + dj, i + di
                     if not 0 <= jj < ny:
                         continue
@@ -190,20 +190,22 @@ def _neighbour_min_loop(values, wrap_x=False):
     st.integers(2, 7),
     st.integers(3, 8),
     st.integers(0, 2**31 - 1),
+    st.integers(1, 3),
 )
-def test_neighbour_min_matches_a_loop_on_both_grids(ny, nx, seed):
+def test_neighbour_min_matches_a_loop_on_both_grids(ny, nx, seed, cells):
     from coastmesh.sizing.grid import PlaneGrid, SphereGrid
 
     rng = np.random.default_rng(seed)
     values = np.where(rng.random((ny, nx)) < 0.3, np.inf, rng.uniform(1, 9, (ny, nx)))
     plane = PlaneGrid(np.arange(nx) * 10.0, np.arange(ny) * 10.0, "EPSG:32630", 10.0)
     np.testing.assert_array_equal(
-        plane.neighbour_min(values), _neighbour_min_loop(values)
+        plane.neighbour_min(values, cells), _neighbour_min_loop(values, cells=cells)
     )
     # a world grid's last column is its first one's meridian: spread across it
     sphere = SphereGrid(360.0 / (nx - 1))
     world = values.copy()
     world[:, -1] = world[:, 0]
     np.testing.assert_array_equal(
-        sphere.neighbour_min(world), _neighbour_min_loop(world, wrap_x=True)
+        sphere.neighbour_min(world, cells),
+        _neighbour_min_loop(world, wrap_x=True, cells=cells),
     )

@@ -13,6 +13,7 @@ from coastmesh.case.pipeline.state import FinishedRun, ShorelineSetReport
 from coastmesh.depth import DepthReport
 from coastmesh.geometry import DomainReport, StitchReport
 from coastmesh.meshing import CleanupReport, QualityReport, ThrottleReport
+from coastmesh.meshing.cleanup.conform import ConformReport
 from coastmesh.meshing.cleanup.peel import PeelReport
 from coastmesh.meshing.parts.report import PartsReport
 from coastmesh.sizing import SizeFieldReport
@@ -95,6 +96,10 @@ class CaseReport(Report):
     channels : PeelReport or None
         The dead-end channels one element wide closed after meshing
         (:func:`~coastmesh.meshing.cleanup.peel.peel_channels`).
+    conform : ConformReport or None
+        The elements brought to their sizes where a size term asks it (the
+        field term, ``[[mesh_size.fields]]``:
+        :func:`~coastmesh.meshing.cleanup.conform.conform_sizes`).
     time_step : ThrottleReport or None
         The elements that throttled the time step, relieved
         (:func:`~coastmesh.meshing.relieve_time_step`); with ``[bathymetry]``
@@ -134,6 +139,7 @@ class CaseReport(Report):
     time_step: ThrottleReport | None = None
     parts: PartsReport | None = None
     channels: PeelReport | None = None
+    conform: ConformReport | None = None
     model_tests: dict[str, float] = field(default_factory=dict)
 
     @classmethod
@@ -168,6 +174,7 @@ class CaseReport(Report):
             time_step=None if run.depth is None else run.depth.relief,
             parts=mesh.parts,
             channels=mesh.channels,
+            conform=mesh.conform,
         )
 
     def summary(self) -> str:
@@ -199,7 +206,7 @@ class CaseReport(Report):
         lines.append(f"size field: {self.size_field.summary()}")
         if self.parts is not None and self.parts.parts > 1:
             lines.append(f"parts: {self.parts.summary()}")
-        for name in ("cleanup", "channels", "time_step", "depth"):
+        for name in ("cleanup", "channels", "conform", "time_step", "depth"):
             part = getattr(self, name)
             if part is not None:
                 lines.append(f"{name}: {part.summary()}")

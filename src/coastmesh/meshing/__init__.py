@@ -9,6 +9,7 @@
 :func:`clean_mesh`        all-boundary triangles, valence, slivers fixed
 :func:`smooth_mesh`       interior nodes moved, minimum angle never lowered
 :func:`relieve_time_step` edges of time-step-throttling elements collapsed
+:func:`conform_sizes`     nodes moved so elements take the sizes (a zone)
 :func:`mesh_quality`      angles, radius ratios, edge sizes, valence, corners
 :func:`boundary_angles`   the domain's interior angle at each boundary node
 ========================  =====================================================
@@ -48,9 +49,11 @@ from coastmesh.meshing.cleanup import (
     THROTTLE_RATIO,
     CleanupOptions,
     CleanupReport,
+    ConformReport,
     SmoothingReport,
     ThrottleReport,
     clean_mesh,
+    conform_sizes,
     relieve_time_step,
     smooth_mesh,
     smooth_points,
@@ -75,6 +78,7 @@ __all__ = [
     "THROTTLE_RATIO",
     "CleanupOptions",
     "CleanupReport",
+    "ConformReport",
     "CornerStats",
     "CourantStats",
     "PartsReport",
@@ -87,6 +91,7 @@ __all__ = [
     "TimeStepStats",
     "boundary_angles",
     "clean_mesh",
+    "conform_sizes",
     "default_mesh_crs",
     "edge_quality",
     "element_time_steps",

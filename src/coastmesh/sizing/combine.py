@@ -82,6 +82,11 @@ class TermSizes:
     layers : mapping of str to ndarray
         Other grids the term measured, by name (the channel term's ``width``),
         kept with the field for figures and reports.
+    conform : ndarray of bool or None
+        Where the mesh's elements must take the field's sizes closely, not
+        only as Gmsh makes them: after meshing, the nodes there are moved to
+        bring the elements' sizes to the field's
+        (:func:`~coastmesh.meshing.cleanup.conform.conform_sizes`).
     """
 
     upper: NDArray[np.float64] | None = None
@@ -91,6 +96,7 @@ class TermSizes:
     report: Callable[[Applied], Report | None] | None = None
     history: str = ""
     layers: Mapping[str, NDArray[np.float64]] = field(default_factory=dict)
+    conform: NDArray[np.bool_] | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -160,11 +166,16 @@ class Combined:
     layers : mapping of str to xarray.DataArray
         The terms' other grids (the channel term's ``width``), NaN outside the
         sea.
+    conform : ndarray of bool or None
+        The nodes where a term asked for its sizes to hold closely
+        (:attr:`TermSizes.conform`, of every term; land nodes by the coast
+        too, as the term gives them); None if none asked.
     """
 
     field: xr.DataArray
     report: SizeFieldReport
     layers: Mapping[str, xr.DataArray]
+    conform: NDArray[np.bool_] | None = None
 
 
 def combine(
@@ -248,7 +259,20 @@ def combine(
         for _, sizes, _ in applied
         for name, layer in sizes.layers.items()
     }
-    return Combined(field_, report, layers)
+    return Combined(field_, report, layers, _conform(applied))
+
+
+def _conform(
+    applied: list[tuple[str, TermSizes, NDArray[np.float64]]],
+) -> NDArray[np.bool_] | None:
+    """Return the nodes any term asks its sizes to hold at; None if none.
+
+    Land nodes too: a coast node's grid cell has corners on land.
+    """
+    masks = [sizes.conform for _, sizes, _ in applied if sizes.conform is not None]
+    if not masks:
+        return None
+    return np.asarray(np.logical_or.reduce(masks), dtype=bool)
 
 
 def _history(terms: str, h_min: float | None, h_max: float, rate: float | None) -> str:

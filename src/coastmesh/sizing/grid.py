@@ -316,17 +316,22 @@ class Grid:
         """Return ``values`` with no step growing faster than ``rate`` m per m."""
         raise NotImplementedError
 
-    def neighbour_min(self, values: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Return each node's smallest value over itself and its 8 neighbours.
+    def neighbour_min(
+        self, values: NDArray[np.float64], cells: int = 1
+    ) -> NDArray[np.float64]:
+        """Return each node's smallest value over the nodes within ``cells``.
 
-        Gmsh reads the size grid bilinearly in each cell, so a size set at some
-        nodes holds everywhere in a cell only once all four of its corners have
-        it: a size term spread this way holds in every cell its field reaches.
+        The nodes within ``cells`` columns and rows (8 neighbours for 1). Gmsh
+        reads the size grid bilinearly in each cell, so a size set at some nodes
+        holds everywhere in a cell only once all four of its corners have it: a
+        size term spread by one cell holds in every cell its field reaches, and
+        by more, at the nodes of the elements there too.
         """
         from scipy import ndimage
 
         return np.asarray(
-            ndimage.minimum_filter(values, size=3, mode="nearest"), dtype=np.float64
+            ndimage.minimum_filter(values, size=2 * cells + 1, mode="nearest"),
+            dtype=np.float64,
         )
 
     def field(self, values: NDArray[np.float64], history: str) -> xr.DataArray:
@@ -656,15 +661,17 @@ class SphereGrid(Grid):
         """Limit the gradation with each step's true length on the sphere."""
         return limit_gradation_sphere(values, self.y, rate)
 
-    def neighbour_min(self, values: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Return each node's smallest value over itself and its 8 neighbours.
+    def neighbour_min(
+        self, values: NDArray[np.float64], cells: int = 1
+    ) -> NDArray[np.float64]:
+        """Return each node's smallest value over the nodes within ``cells``.
 
         Across the antimeridian too: the last column is the first one's meridian.
         """
         from scipy import ndimage
 
         spread = ndimage.minimum_filter(
-            values[:, :-1], size=3, mode=("nearest", "wrap")
+            values[:, :-1], size=2 * cells + 1, mode=("nearest", "wrap")
         )
         return np.hstack([spread, spread[:, :1]]).astype(np.float64)
 

@@ -67,6 +67,7 @@ def test_the_stages_declare_what_they_read():
         "size_stage": "DomainRun",
         "mesh_stage": "SizedRun",
         "channel_stage": "MeshedRun",
+        "conform_stage": "MeshedRun",
         "depth_stage": "MeshedRun",
         "time_step_stage": "DepthRun",
         "quality_stage": "DepthRun",

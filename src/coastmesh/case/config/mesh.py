@@ -122,7 +122,12 @@ class NodeDepthConfig(RasterConfig):
 class CleanupConfig:
     """``[cleanup]``: fixes after meshing (:mod:`coastmesh.meshing.cleanup`)."""
 
-    enabled: bool = key(True, check=schema.boolean, doc="run the cleanup at all")
+    enabled: bool = key(
+        True,
+        check=schema.boolean,
+        doc="run the cleanup at all (and the holding of `[[mesh_size.fields]]` "
+        "sizes after it)",
+    )
     boundary_triangles: bool = key(
         True,
         check=schema.boolean,

@@ -28,6 +28,8 @@ stage                       reads -> gives  makes
                             MeshedRun
 :func:`channel_stage`       MeshedRun       dead-end channels one element wide
                                             closed
+:func:`conform_stage`       MeshedRun       elements brought to their sizes
+                                            where a size term asks
 :func:`depth_stage`         MeshedRun ->    depths at the nodes
                             DepthRun
 :func:`time_step_stage`     DepthRun        the elements that throttle the
@@ -53,7 +55,7 @@ from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline.advice import quality_stage
 from coastmesh.case.pipeline.depth import depth_stage, time_step_stage
 from coastmesh.case.pipeline.farms import site_features
-from coastmesh.case.pipeline.mesh import channel_stage, mesh_stage
+from coastmesh.case.pipeline.mesh import channel_stage, conform_stage, mesh_stage
 from coastmesh.case.pipeline.size import size_stage
 from coastmesh.case.pipeline.state import (
     CaseRun,
@@ -120,6 +122,7 @@ STAGES: tuple[Stage, ...] = (
     size_stage,
     mesh_stage,
     channel_stage,
+    conform_stage,
     depth_stage,
     time_step_stage,
     quality_stage,

@@ -8,6 +8,8 @@ from dataclasses import replace
 
 import numpy as np
 import shapely
+from numpy.typing import NDArray
+from pyproj import CRS
 
 from coastmesh.case.config import CaseConfig
 from coastmesh.case.pipeline.domain import site_area
@@ -15,15 +17,19 @@ from coastmesh.case.pipeline.farms import with_site_sizes
 from coastmesh.case.pipeline.state import MeshedRun, MeshState, RunContext, SizedRun
 from coastmesh.case.pipeline.structures import check_structure_sizes
 from coastmesh.errors import ConfigError
+from coastmesh.geometry.earth import reproject_points
 from coastmesh.meshing import CleanupOptions, mesh_in_parts
+from coastmesh.meshing.cleanup.conform import conform_sizes
 from coastmesh.meshing.cleanup.peel import open_short_runs, peel_channels
 from coastmesh.meshing.gmsh import release_memory
-from coastmesh.types import SizeGrid
+from coastmesh.sizing.grid import Grid
+from coastmesh.types import Mesh, SizeGrid
 
 __all__ = [
     "channel_stage",
     "check_memory",
     "cleanup_options",
+    "conform_stage",
     "expected_triangles",
     "mesh_stage",
 ]
@@ -161,6 +167,45 @@ def channel_stage(run: MeshedRun, ctx: RunContext) -> MeshedRun:
         logger.info("boundary: %d edges of short coast runs made open", relabelled)
         state = replace(state, mesh=opened)
     return replace(run, mesh=state)
+
+
+def conform_stage(run: MeshedRun, ctx: RunContext) -> MeshedRun:
+    """Bring the elements to their sizes where a size term asks (the field term).
+
+    The mesh's nodes where every corner of their size-grid cell is in the
+    field's :attr:`~coastmesh.case.pipeline.state.SizeState.conform` are
+    relaxed (:func:`~coastmesh.meshing.cleanup.conform.conform_sizes`); with
+    ``[cleanup] enabled = false``, or where no term asks, nothing changes.
+    """
+    conform = run.size.conform
+    if conform is None or not conform.any() or not run.config.cleanup.enabled:
+        return run
+    state = run.mesh
+    with ctx.timed("sizes held"):
+        zone = grid_flags(run.size.grid, conform, state.mesh)
+        mesh, report = conform_sizes(state.mesh, zone)
+    logger.info("sizes held: %s", report.summary())
+    return replace(run, mesh=replace(state, mesh=mesh, conform=report))
+
+
+def grid_flags(grid: Grid, flags: NDArray[np.bool_], mesh: Mesh) -> NDArray[np.bool_]:
+    """Return, for each mesh node, whether every corner of its grid cell is flagged.
+
+    Nodes outside the grid take its nearest edge cell. The mesh's points are
+    moved into the grid's CRS first.
+    """
+    from scipy.interpolate import RegularGridInterpolator
+
+    points = np.asarray(mesh.points, dtype=np.float64)
+    if mesh.crs is not None and not CRS.from_user_input(mesh.crs).equals(grid.crs):
+        points = reproject_points(points, mesh.crs, grid.crs)
+    x = np.clip(points[:, 0], grid.x[0], grid.x[-1])
+    y = np.clip(points[:, 1], grid.y[0], grid.y[-1])
+    share = RegularGridInterpolator(
+        (grid.y, grid.x), flags.astype(np.float64), method="linear"
+    )(np.column_stack([y, x]))
+    # bilinear weights sum to 1: 1 only where every corner with weight is set
+    return np.asarray(share >= 1.0 - 1e-9)
 
 
 def cleanup_options(config: CaseConfig) -> CleanupOptions | None:

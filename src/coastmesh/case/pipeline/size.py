@@ -134,7 +134,9 @@ def size_field(
     if progress is not None:
         progress(total, total)
     logger.info("size field: %s", combined.report.summary())
-    return SizeState(grid, combined.field, combined.report, combined.layers)
+    return SizeState(
+        grid, combined.field, combined.report, combined.layers, combined.conform
+    )
 
 
 def _warn_if_floored_away(

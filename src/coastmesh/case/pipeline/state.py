@@ -59,6 +59,7 @@ from coastmesh.depth import DepthReport, DepthSources
 from coastmesh.geometry import DomainReport, OpenBoundary, StitchReport
 from coastmesh.geometry.world import WorldLand
 from coastmesh.meshing import PartsReport, QualityReport, ThrottleReport
+from coastmesh.meshing.cleanup.conform import ConformReport
 from coastmesh.meshing.cleanup.peel import PeelReport
 from coastmesh.sizing.combine import SizeFieldReport
 from coastmesh.sizing.courant import CourantReport
@@ -293,6 +294,9 @@ class SizeState:
     report: SizeFieldReport
     # dataclasses.field: the name field is this class's size field
     layers: Mapping[str, xr.DataArray] = dataclasses.field(default_factory=dict)
+    #: the grid's nodes where the elements must take the sizes closely
+    #: (:attr:`coastmesh.sizing.combine.Combined.conform`); None: nowhere
+    conform: NDArray[np.bool_] | None = None
 
 
 @dataclass(frozen=True)
@@ -301,11 +305,14 @@ class MeshState:
 
     ``channels``: the dead-end channels one element wide closed after
     meshing (:func:`~coastmesh.meshing.cleanup.peel.peel_channels`).
+    ``conform``: the elements brought to their sizes where a size term asks
+    (:func:`~coastmesh.meshing.cleanup.conform.conform_sizes`).
     """
 
     mesh: Mesh
     parts: PartsReport
     channels: PeelReport | None = None
+    conform: ConformReport | None = None
 
 
 @dataclass(frozen=True)

@@ -36,6 +36,14 @@ the area where it set the size, the median size there without and with it,
 and the elements that takes (the area over that of an equilateral triangle of
 the size).
 
+The sizes hold: the entry's sizes are spread by ``1 + ceil(size / (sqrt(3)
+cell))`` grid cells (:func:`spread_cells`), so that every node of an element
+whose centroid the value reaches gets them, and after meshing the nodes in
+its zone are moved (and a few crowded ones taken out) until its elements are
+within 10 % of their size where the boundary allows (``report.json``
+``conform``; :func:`~coastmesh.meshing.cleanup.conform.conform_sizes`, how in
+``docs/sizes-from-fields.md``). ``[cleanup] enabled = false`` turns that off.
+
 An entry without ``source`` takes the result of a first run given by
 ``coastmesh run CASE --refine-from RESULT``; without it the entry is off (the
 first pass of the refinement loop).
@@ -66,7 +74,7 @@ from coastmesh.types import Report
 if TYPE_CHECKING:
     from coastmesh.io.fields.field_values import Sampled
 
-__all__ = ["FieldConfig", "Fields", "FieldsReport", "with_result"]
+__all__ = ["FieldConfig", "Fields", "FieldsReport", "spread_cells", "with_result"]
 
 #: The reductions of a time series.
 REDUCTIONS = ("max", "min", "mean", "range", "at")
@@ -321,9 +329,15 @@ class Fields(SizeTerm[tuple[FieldConfig, ...]]):
                 crs=entry.crs,
                 where=where,
             )
-            # spread a cell: Gmsh's bilinear reading of the grid then gives the
-            # mapping's size everywhere the value is reached, not only at nodes
-            size = grid.neighbour_min(entry.size_mapping(where).sizes_of(field.values))
+            # spread: Gmsh's bilinear reading of the grid then gives the mapping's
+            # size everywhere the value is reached, and at every node of an
+            # element whose centroid it reaches, not only at the grid's nodes
+            size = grid.neighbour_min(
+                entry.size_mapping(where).sizes_of(field.values),
+                spread_cells(
+                    min(max(entry.sizes), case.config.size.h_max), grid.cell_m
+                ),
+            )
             if grid.domain is not None and grid.sea.any():
                 size = grid.over_land(size, grid.sea)
             sampled.append((entry, field, size))
@@ -342,9 +356,27 @@ class Fields(SizeTerm[tuple[FieldConfig, ...]]):
         return TermSizes(
             upper=upper,
             floor=floor,
+            conform=np.isfinite(upper),
             history=f"{len(sampled)} fields",
             report=lambda applied: _report(grid, sampled, applied, case.floor),
         )
+
+
+def spread_cells(size: float, cell: float) -> int:
+    """Return how many cells a field's sizes are spread by.
+
+    ``1 + ceil(size / (sqrt(3) cell))``: one cell, so that Gmsh's bilinear
+    reading of the grid holds the size in every cell the value reaches; and
+    the circumradius of an equilateral triangle of the size,
+    ``size / sqrt(3)``, so that every node of an element whose centroid the
+    value reaches has it too.
+
+    Examples
+    --------
+    >>> spread_cells(50.0, 50.0), spread_cells(400.0, 50.0), spread_cells(10.0, 50.0)
+    (2, 6, 2)
+    """
+    return 1 + math.ceil(size / (math.sqrt(3.0) * cell))
 
 
 def with_result(
