@@ -57,6 +57,9 @@ __all__ = ["ConformReport", "conform_sizes", "size_deviation"]
 TOLERANCE = 0.1
 #: A sweep's step, as a fraction of the springs' pull (stable below 2 / 6).
 STEP = 0.2
+#: The springs relax the nodes this many rings round the triangles off their
+#: size by more than half the tolerance (:func:`_around`).
+RELAX_RINGS = 8
 #: Sweeps stop when no node moves by more than this fraction of its size.
 STILL = 1e-3
 #: The share of ``tolerance`` a triangle off by more pulls its nodes at the end.
@@ -196,23 +199,23 @@ def conform_sizes(
         mesh, to_plane, zone
     )
     before = _shares(size_deviation(xy0, tri[measured], goal), tolerance)
-    local = movable[tri].any(axis=1)
-    if not local.any():
+    nodes = int(movable.sum())
+    if not movable[tri].any():
         return mesh, _report(
             int(measured.sum()), 0, 0, 0, 0, before, before, tolerance, True, start
         )
-    xy, done = _relax(xy0, tri[local], goal, movable, min_angle, sweeps, step)
-    nodes = int(movable.sum())
+    near, free = _around(xy0, tri, goal, movable, tolerance / 2, RELAX_RINGS)
+    xy, done = _relax(xy0, near, goal, free, min_angle, sweeps, step)
     tri, gone = _drop_crowded(xy, tri, movable, measured, goal, tolerance, min_angle)
     alive = (tri >= 0).all(axis=1)
     if gone.any():  # the lattice round each node taken out, relaxed again
         movable = movable & ~gone
         measured = np.asarray(zone[tri].all(axis=1) & alive, dtype=bool)
-        local = movable[tri].any(axis=1) & alive
-        xy, more = _relax(xy, tri[local], goal, movable, min_angle, sweeps, step)
+        near, free = _around(xy, tri[alive], goal, movable, tolerance / 2, RELAX_RINGS)
+        xy, more = _relax(xy, near, goal, free, min_angle, sweeps, step)
         done += more
-    live = alive & movable[tri].any(axis=1)
-    xy, more = _settle(xy, tri[live], goal, movable, min_angle, sweeps, tolerance)
+    near, free = _around(xy, tri[alive], goal, movable, SETTLE * tolerance, 3)
+    xy, more = _settle(xy, near, goal, free, min_angle, sweeps, tolerance)
     done += more
     after = _shares(size_deviation(xy, tri[measured], goal), tolerance)
     moved = (xy != xy0).any(axis=1) & ~gone
@@ -281,6 +284,28 @@ def size_deviation(
         sides.mean(axis=1) / goal[triangles].mean(axis=1) - 1.0
     )
     return deviation
+
+
+def _around(
+    xy: NDArray[np.float64],
+    tri: NDArray[np.int64],
+    goal: NDArray[np.float64],
+    movable: NDArray[np.bool_],
+    off: float,
+    rings: int,
+) -> tuple[NDArray[np.int64], NDArray[np.bool_]]:
+    """Return the work round the triangles off their size by more than ``off``.
+
+    The movable nodes within ``rings`` rings of triangles of those, and every
+    triangle at one of them: elsewhere the lattice is already at its size
+    and a sweep would move nothing (on a large zone, most of it).
+    """
+    near = np.zeros(len(xy), dtype=bool)
+    near[tri[np.abs(size_deviation(xy, tri, goal)) > off].ravel()] = True
+    for _ in range(rings):
+        near[tri[near[tri].any(axis=1)].ravel()] = True
+    free = near & movable
+    return tri[free[tri].any(axis=1)], free
 
 
 def _relax(
