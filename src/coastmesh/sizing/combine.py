@@ -83,9 +83,9 @@ class TermSizes:
         Other grids the term measured, by name (the channel term's ``width``),
         kept with the field for figures and reports.
     conform : ndarray of bool or None
-        Where the mesh's elements must take the field's sizes closely, not
-        only as Gmsh makes them: after meshing, the nodes there are moved to
-        bring the elements' sizes to the field's
+        Where the mesh's elements must take the term's sizes closely, not
+        only as Gmsh makes them: after meshing, the nodes where the field is
+        the term's ``upper`` are moved to bring the elements' sizes to it
         (:func:`~coastmesh.meshing.cleanup.conform.conform_sizes`).
     """
 
@@ -168,8 +168,9 @@ class Combined:
         sea.
     conform : ndarray of bool or None
         The nodes where a term asked for its sizes to hold closely
-        (:attr:`TermSizes.conform`, of every term; land nodes by the coast
-        too, as the term gives them); None if none asked.
+        (:attr:`TermSizes.conform`, of every term) and the field is that
+        term's size (land nodes by the coast too, as the term gives them);
+        None if none asked.
     """
 
     field: xr.DataArray
@@ -259,17 +260,24 @@ def combine(
         for _, sizes, _ in applied
         for name, layer in sizes.layers.items()
     }
-    return Combined(field_, report, layers, _conform(applied))
+    return Combined(field_, report, layers, _conform(applied, values))
 
 
 def _conform(
     applied: list[tuple[str, TermSizes, NDArray[np.float64]]],
+    values: NDArray[np.float64],
 ) -> NDArray[np.bool_] | None:
-    """Return the nodes any term asks its sizes to hold at; None if none.
+    """Return the nodes where a term asks its sizes to hold and sets the size.
 
-    Land nodes too: a coast node's grid cell has corners on land.
+    Where the field is the term's own size (to 1e-9): not where another term,
+    the floor or the grading made it other. Land nodes too: a coast node's
+    grid cell has corners on land. None if no term asks.
     """
-    masks = [sizes.conform for _, sizes, _ in applied if sizes.conform is not None]
+    masks = [
+        sizes.conform & np.isclose(values, sizes.upper, rtol=1e-9, atol=0.0)
+        for _, sizes, _ in applied
+        if sizes.conform is not None and sizes.upper is not None
+    ]
     if not masks:
         return None
     return np.asarray(np.logical_or.reduce(masks), dtype=bool)

@@ -35,6 +35,7 @@ from coastmesh.case.patch.report import PatchReport, patch_report, seam_faults
 from coastmesh.errors import CoastmeshWarning, ConfigError, InputDataError
 from coastmesh.geometry.earth import reproject_points
 from coastmesh.geometry.projection import default_mesh_crs
+from coastmesh.sizing.grid import PlaneGrid
 from coastmesh.types import BoundarySegment, Domain, Mesh, SizeGrid
 
 if TYPE_CHECKING:
@@ -187,8 +188,15 @@ def _fill(
     from coastmesh.case.patch.merge import merge
 
     domain, _ = hole_domain(hole, points, mesh, crs, _boundary_ids(mesh))
-    size, site = _sizes(config, domain, hole, points, crs, threads)
+    size, site, held = _sizes(config, domain, hole, points, crs, threads)
     new = _mesh_hole(config, domain, size, site, crs, threads)
+    if held is not None and config.cleanup.enabled:
+        # a [[mesh_size.fields]] entry's sizes hold inside, as in a whole run;
+        # the seam's nodes are the hole's boundary: they stay
+        from coastmesh.case.pipeline.mesh import grid_flags
+        from coastmesh.meshing.cleanup.conform import conform_sizes
+
+        new, _ = conform_sizes(new, grid_flags(held[0], held[1], new))
     merged, new_elements, numbers = merge(
         mesh, points, hole, new, crs, config, name, clockwise=clockwise
     )
@@ -327,15 +335,18 @@ def _sizes(
     points: NDArray[np.float64],
     crs: CRS,
     threads: int,
-) -> tuple[SizeGrid, SiteFeatures]:
-    """Return the size field over the hole: the case's terms, the seam's, the site's."""
+) -> tuple[SizeGrid, SiteFeatures, tuple[PlaneGrid, NDArray[np.bool_]] | None]:
+    """Return the size field over the hole: the case's terms, the seam's, the site's.
+
+    And the grid and its nodes where a term asks its sizes to hold (the field
+    term's), or None.
+    """
     from coastmesh.case.pipeline.closing import smallest_size
     from coastmesh.case.pipeline.depth import read_sources
     from coastmesh.case.pipeline.domain import site_area
     from coastmesh.case.pipeline.farms import site_features_in, with_site_sizes
     from coastmesh.case.pipeline.size import size_field
     from coastmesh.case.terms.base import SizeCase
-    from coastmesh.sizing.grid import PlaneGrid
 
     try:
         site = site_features_in(config, domain, crs)
@@ -374,7 +385,10 @@ def _sizes(
     values = np.maximum(np.minimum(state.field.values, upper), lower)
     values = grid.limit(np.minimum(values, config.size.h_max), rate)
     size = SizeGrid(grid.x, grid.y, values, scale=grid.scale)
-    return with_site_sizes(size, site, config.size.rate, config.label), site
+    held = None
+    if state.conform is not None:  # where the seam left the case's sizes alone
+        held = (grid, state.conform & (values == state.field.values))
+    return with_site_sizes(size, site, config.size.rate, config.label), site, held
 
 
 def _pass_on(caught: list[warnings.WarningMessage]) -> None:
