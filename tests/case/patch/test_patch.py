@@ -660,3 +660,83 @@ def test_the_command_refuses_a_polygon_cutting_two_holes(
     )
     assert_clean_failure(result, "cuts 2 separate holes")
     _no_output(tmp_path, out)
+
+
+def _field_case(no_site_file, tmp_path, extra=""):
+    """The coarse case with a [[mesh_size.fields]] entry: 100 m over the box."""
+    import rasterio
+    from rasterio.transform import from_bounds
+
+    tif = tmp_path / "one.tif"
+    with rasterio.open(
+        tif, "w", driver="GTiff", height=40, width=60, count=1, dtype="float32",
+        crs="EPSG:4326", transform=from_bounds(-3.35, 58.58, -2.95, 58.75, 60, 40),
+    ) as out:  # fmt: skip
+        out.write(np.ones((1, 40, 60), dtype="float32"))
+    case = tmp_path / "field.toml"
+    case.write_text(
+        no_site_file.read_text()
+        + f'\n[[mesh_size.fields]]\nsource = "{tif.as_posix()}"\n'
+        + 'values = [0.5]\nsizes = ["100 m"]\n'
+        + extra
+    )
+    return read_case(case)
+
+
+#: a disc of 3.5 km in the middle of the box, clear of the coast and island
+DISC = shapely.Point(492_000, 6_503_000).buffer(3_500)
+
+
+def test_a_field_s_sizes_hold_in_the_patch_and_nothing_outside_moves(
+    existing, no_site_file, tmp_path
+):
+    """Measured from the meshes: every new element more than 1 km inside the
+    seam (whose sizes, 300 m and up, grade down to the field's 100 m within
+    400 m at rate 0.6) is within 10 % of 100 m; outside nothing changed."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoastmeshWarning)
+        config = _field_case(no_site_file, tmp_path)
+        result = patch_mesh(existing, config, polygon=DISC, polygon_crs=UTM)
+    after = result.mesh
+    assert_outside_kept(existing, after, result.hole.removed)
+    assert_conforming(existing, after)
+    xy = reproject_points(after.points, "EPSG:4326", UTM)
+    p = xy[after.triangles[result.new_elements]]
+    mean_edge = np.mean(
+        [np.hypot(*(p[:, (i + 1) % 3] - p[:, i]).T) for i in range(3)], axis=0
+    )
+    inside = shapely.Point(492_000, 6_503_000).buffer(2_500)
+    deep = shapely.contains_xy(inside, *p.reshape(-1, 2).T).reshape(-1, 3).all(axis=1)
+    assert deep.sum() > 3000
+    assert np.abs(mean_edge[deep] / 100.0 - 1).max() <= 0.10
+
+
+@pytest.mark.parametrize("enabled", [True, False])
+def test_a_patch_holds_a_field_s_sizes_where_it_sets_them(
+    existing, no_site_file, tmp_path, monkeypatch, enabled
+):
+    """The hole's mesh goes through conform_sizes with the field's zone (the
+    nodes at its 100 m), unless the cleanup is off."""
+    from coastmesh.meshing.cleanup import conform
+
+    calls = []
+    real = conform.conform_sizes
+
+    def spy(mesh, zone, **options):
+        calls.append((mesh, np.asarray(zone)))
+        return real(mesh, zone, **options)
+
+    monkeypatch.setattr(conform, "conform_sizes", spy)
+    extra = "" if enabled else "\n[cleanup]\nenabled = false\n"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CoastmeshWarning)
+        config = _field_case(no_site_file, tmp_path, extra)
+        patch_mesh(existing, config, polygon=DISC, polygon_crs=UTM)
+    if not enabled:
+        assert not calls
+        return
+    assert calls  # once for each hole tried (the seam moves out past faults)
+    mesh, zone = calls[-1]
+    assert zone.sum() > 1000
+    # the field's own size there (not the seam's grading), with UTM's scale
+    np.testing.assert_allclose(mesh.point_data["size"][zone], 100.0, rtol=1e-3)
