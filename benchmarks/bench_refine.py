@@ -281,6 +281,7 @@ def main(argv=None) -> int:
             "count": int(fast.sum()),
             "size_median_m": float(np.median(s2[fast])),
             "size_p5_p95_m": [float(np.percentile(s2[fast], q)) for q in (5, 95)],
+            "size_min_max_m": [float(s2[fast].min()), float(s2[fast].max())],
             "share_within_10pct": float(within.mean()),
             "share_within_10pct_beyond_one_cell": None,
         },
