@@ -80,7 +80,8 @@ class ConformReport(Report):
     Attributes
     ----------
     elements : int
-        Elements whose three nodes are in the zone (those measured), after.
+        Elements whose three nodes are in the zone (those measured), in the
+        mesh returned.
     nodes, nodes_moved, nodes_removed : int
         Nodes that could move (in the zone, not held), those that did, and
         those taken out (of 3 or 4 triangles, too small: :func:`conform_sizes`).
@@ -157,9 +158,10 @@ def conform_sizes(
     Returns
     -------
     (Mesh, ConformReport)
-        The mesh with the nodes moved (the same triangles and node numbers;
-        nodes that did not move keep their coordinates exactly), or ``mesh``
-        itself when no node moved or the moves were undone.
+        The mesh with the nodes moved (nodes that did not move keep their
+        coordinates exactly) and the crowded ones taken out (the nodes after
+        each renumbered down, their triangles replaced), or ``mesh`` itself
+        when nothing changed or the changes were undone.
 
     Raises
     ------
@@ -203,10 +205,10 @@ def conform_sizes(
         mesh, to_plane, zone
     )
     before = _shares(size_deviation(xy0, tri[measured], goal), tolerance)
-    nodes = int(movable.sum())
+    nodes, elements = int(movable.sum()), int(measured.sum())
     if not movable[tri].any():
         return mesh, _report(
-            int(measured.sum()), 0, 0, 0, 0, before, before, tolerance, True, start
+            elements, 0, 0, 0, 0, before, before, tolerance, True, start
         )
     near, free = _around(xy0, tri, goal, movable, tolerance / 2, RELAX_RINGS)
     xy, done = _on_own(_relax, xy0, near, goal, free, min_angle, sweeps, step)
@@ -230,7 +232,7 @@ def conform_sizes(
         and after[1] <= max(before[1], tolerance)
     )
     report = _report(
-        int(measured.sum()),
+        int(measured.sum()) if kept else elements,
         nodes,
         int(moved.sum()) if kept else 0,
         int(gone.sum()) if kept else 0,
