@@ -18,6 +18,7 @@ from coastmesh.case.pipeline.state import MeshedRun, MeshState, RunContext, Size
 from coastmesh.case.pipeline.structures import check_structure_sizes
 from coastmesh.errors import ConfigError
 from coastmesh.geometry.earth import reproject_points
+from coastmesh.geometry.grids import interpolate_bilinear
 from coastmesh.meshing import CleanupOptions, mesh_in_parts
 from coastmesh.meshing.cleanup.conform import conform_sizes
 from coastmesh.meshing.cleanup.peel import open_short_runs, peel_channels
@@ -194,16 +195,12 @@ def grid_flags(grid: Grid, flags: NDArray[np.bool_], mesh: Mesh) -> NDArray[np.b
     Nodes outside the grid take its nearest edge cell. The mesh's points are
     moved into the grid's CRS first.
     """
-    from scipy.interpolate import RegularGridInterpolator
-
     points = np.asarray(mesh.points, dtype=np.float64)
     if mesh.crs is not None and not CRS.from_user_input(mesh.crs).equals(grid.crs):
         points = reproject_points(points, mesh.crs, grid.crs)
-    x = np.clip(points[:, 0], grid.x[0], grid.x[-1])
-    y = np.clip(points[:, 1], grid.y[0], grid.y[-1])
-    share = RegularGridInterpolator(
-        (grid.y, grid.x), flags.astype(np.float64), method="linear"
-    )(np.column_stack([y, x]))
+    share = interpolate_bilinear(
+        grid.x, grid.y, flags.astype(np.float64), points[:, 0], points[:, 1], clamp=True
+    )
     # bilinear weights sum to 1: 1 only where every corner with weight is set
     return np.asarray(share >= 1.0 - 1e-9)
 

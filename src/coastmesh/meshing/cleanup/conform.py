@@ -52,7 +52,7 @@ from coastmesh.geometry.sphere import local_plane
 from coastmesh.meshing.cleanup import smoothing
 from coastmesh.meshing.cleanup.planar import signed_areas
 from coastmesh.types import Mesh, Report
-from coastmesh.types.topology import unique_edges
+from coastmesh.types.topology import region_interfaces, unique_edges
 
 __all__ = ["ConformReport", "conform_sizes", "size_deviation"]
 
@@ -559,22 +559,11 @@ def _guarded(
 
 def _held(mesh: Mesh) -> NDArray[np.bool_]:
     """Nodes that never move: on the boundary, a line, or between regions."""
-    n = len(mesh.points)
-    held = np.zeros(n, dtype=bool)
-    held[np.asarray(mesh.boundary_edges, dtype=np.int64).ravel()] = True
-    held |= smoothing.boundary_nodes(mesh.triangles, n)
+    held = smoothing.boundary_nodes(mesh.triangles, len(mesh.points))
     if mesh.lines:
         held[mesh.line_edges()[0].ravel()] = True
-    regions = np.asarray(mesh.regions)
-    if len(np.unique(regions)) > 1:
-        # a node with triangles of two regions is on an outline between them
-        tri = np.asarray(mesh.triangles, dtype=np.int64)
-        low = np.full(n, np.iinfo(np.int64).max)
-        high = np.full(n, np.iinfo(np.int64).min)
-        for k in range(3):
-            np.minimum.at(low, tri[:, k], regions)
-            np.maximum.at(high, tri[:, k], regions)
-        held |= (low != high) & (low <= high)
+    if len(np.unique(mesh.regions)) > 1:
+        held[region_interfaces(mesh).ravel()] = True
     return held
 
 
@@ -591,6 +580,8 @@ def _scale(
     if mesh.crs is None or not zone.any():
         return k
     plane = mesh.crs if to_plane is None else CRS.from_user_input(to_plane.target_crs)
+    # from the mesh's own points, not the plane's (geometry.projection's
+    # scale_factor): its k differs by 1e-10, and that moves the result
     geodetic = Transformer.from_crs(mesh.crs, mesh.crs.geodetic_crs, always_xy=True)
     lon, lat = geodetic.transform(*np.asarray(mesh.points)[zone].T)
     factors = Proj(plane).get_factors(lon, lat)
