@@ -546,14 +546,28 @@ def _guarded(
 
     A triangle whose nodes are all back where they were is as it was, so the
     rounds end; after :data:`_GUARD_ROUNDS` the whole sweep is undone.
+
+    The first round looks at every triangle. A later one looks only at the
+    triangles at a node put back and at those still bad: no other triangle
+    changed since it was found good, and each triangle's test reads its own
+    corners alone, so the flags (and the result) are those of testing all.
     """
+    check = np.arange(len(tri))
     for _ in range(_GUARD_ROUNDS):
-        bad = (signed_areas(new[tri]) <= 0) | (smoothing.min_angles(new, tri) < bar)
+        corners = tri[check]
+        bad = (signed_areas(new[corners]) <= 0) | (
+            smoothing.min_angles(new, corners) < bar[check]
+        )
         if not bad.any():
             return new
-        back = np.unique(tri[bad].ravel())
+        back = np.unique(corners[bad].ravel())
         back = back[movable[back]]
         new[back] = old[back]
+        put_back = np.zeros(len(new), dtype=bool)
+        put_back[back] = True
+        again = put_back[tri].any(axis=1)
+        again[check[bad]] = True
+        check = np.flatnonzero(again)
     return old.copy()
 
 
