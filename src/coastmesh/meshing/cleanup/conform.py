@@ -565,7 +565,7 @@ def _guarded(
         new[back] = old[back]
         put_back = np.zeros(len(new), dtype=bool)
         put_back[back] = True
-        again = put_back[tri].any(axis=1)
+        again: NDArray[np.bool_] = np.asarray(put_back[tri].any(axis=1))
         again[check[bad]] = True
         check = np.flatnonzero(again)
     return old.copy()
