@@ -165,6 +165,31 @@ def test_schism_folder_has_what_schism_reads(tmp_path, mesh):
     assert (folder / "vgrid.in").read_text().splitlines()[1].split()[0] == "2"
 
 
+def test_both_models_get_the_same_friction_floor(tmp_path, mesh):
+    """ADCIRC's CF is its floor on g n^2 / H^(1/3) (src/nodalattr.F); SCHISM
+    has none, so its manning.gr3 carries the n that meets that floor."""
+    # land, shallows (the floor does not bite) and deep sea (it does)
+    depth = np.resize([-2.0, 5.0, 14.0, 16.0, 60.0, 400.0], len(mesh.points))
+    deep = Mesh(
+        mesh.points, mesh.triangles, mesh.boundary_edges, mesh.boundary_ids, 1,
+        mesh.crs, {"depth": depth}, mesh.boundary_names, mesh.boundary_kinds,
+        regions=mesh.regions,
+    )  # fmt: skip
+    write_model_test(tmp_path / "a", deep, "adcirc", dt=2.5, region_manning={20: 0.04})
+    write_model_test(tmp_path / "s", deep, "schism", dt=2.5, region_manning={20: 0.04})
+    assert _values(tmp_path / "a" / "fort.15")["CF"] == ["0.0025"]
+    farm = set(mesh.triangles[mesh.regions == 20].ravel().tolist())
+    got = _node_values(tmp_path / "s" / "manning.gr3", mesh)
+    for k, still in enumerate(depth):  # the floor, node by node
+        n = 0.04 if k in farm else 0.025
+        h = max(still, 1.0)  # SCHISM's hmin_man
+        drag = max(9.81 * n * n / h ** (1 / 3), 0.0025)
+        assert got[k] == pytest.approx(math.sqrt(drag * h ** (1 / 3) / 9.81), abs=1e-7)
+    sea = np.array([k not in farm for k in range(len(depth))])
+    assert set(got[sea & (depth < 15)]) == {0.025}  # not raised in the shallows
+    assert (got[sea & (depth > 15)] > 0.025).all()  # raised in deeper water
+
+
 def test_schism_at_a_step_given_turns_advection_off_below_its_cfl(tmp_path, mesh):
     write_model_test(tmp_path / "s", mesh, "schism", dt=2.5, schism_dt=20.0)
     assert "  dt = 20\n" in (tmp_path / "s" / "param.nml").read_text()

@@ -14,6 +14,8 @@ place. Each model gets a folder with everything it reads:
 - quadratic bottom friction from a Manning coefficient per node, derived from
   the mesh's region ids (:func:`~coastmesh.io.meshes.adcirc.node_regions`): ``manning``
   (0.025) in the sea and, if asked, other values in the farms and footprints;
+  the drag coefficient ``g n^2 / H^(1/3)`` is held at :data:`MIN_DRAG` or more
+  (ADCIRC's own rule; SCHISM's ``manning.gr3`` is raised to match);
 - wetting and drying; Coriolis from the latitude.
 
 ================  ===========================================================
@@ -60,8 +62,10 @@ from coastmesh.types import Mesh
 from coastmesh.types.topology import unique_edges
 
 __all__ = [
+    "GRAVITY",
     "M2_FREQUENCY",
     "M2_PERIOD",
+    "MIN_DRAG",
     "MODEL_TESTS",
     "ModelTest",
     "model_test_step",
@@ -75,6 +79,17 @@ M2_FREQUENCY = 1.405189e-4
 #: M2's period, s (12.42 h)
 M2_PERIOD = 2 * math.pi / M2_FREQUENCY
 _OMEGA = 7.292115e-5  # the Earth's rotation, rad/s
+#: Gravity, m/s2, as both control sets give it.
+GRAVITY = 9.81
+#: The least quadratic drag coefficient, ``Cd = g n^2 / H^(1/3)`` floored. With a
+#: Manning nodal attribute, ADCIRC takes its ``fort.15`` ``CF`` as this floor
+#: (``src/nodalattr.F``: "the value from the fort.15 file is used as a floor for
+#: the minimum equivalent quadratic friction value"); 0.0025 is the classic
+#: shelf-sea value. With n = 0.025 it holds wherever the water is deeper than
+#: 15 m. SCHISM has no floor (``schism_step.F90`` takes ``g n^2 / H^(1/3)``
+#: as it is), so its ``manning.gr3`` gets the n that meets the floor at each
+#: node's still-water depth; both models then have the same friction.
+MIN_DRAG = 0.0025
 
 
 @dataclass(frozen=True)

@@ -10,9 +10,10 @@ The ``fort.15`` follows ADCIRC's input description
   ``ICS = 1`` for a projected mesh, with ``NCOR = 0`` and ``CORI`` at the
   middle's latitude;
 - ``NOLIBF = 1`` quadratic friction with ``NWP = 1``:
-  ``mannings_n_at_sea_floor`` from the ``fort.13`` (its ``CF`` line is then
-  read and not used); ``NOLIFA = 2`` wetting and drying (``H0 = 0.1`` m),
-  ``NOLICA = NOLICAT = 1`` advection;
+  ``mannings_n_at_sea_floor`` from the ``fort.13``, and ``CF`` =
+  :data:`~coastmesh.io.meshes.model_tests.MIN_DRAG`, which ADCIRC then takes as
+  the floor on ``g n^2 / H^(1/3)`` (``src/nodalattr.F``); ``NOLIFA = 2``
+  wetting and drying (``H0 = 0.1`` m), ``NOLICA = NOLICAT = 1`` advection;
 - ``TAU0 = -1``: the GWCE weight from the depth, 0.005 at 10 m and deeper,
   0.02 shallower (ADCIRC's own depth rule; the docs' typical range is 0.005 to
   0.1); ``ESLM = 5`` m2/s lateral viscosity; ``A00 B00 C00 = 0.35 0.30 0.35``;
@@ -56,7 +57,9 @@ from coastmesh.io.meshes._model import require_kinds
 from coastmesh.io.meshes.adcirc import write_fort14
 from coastmesh.io.meshes.adcirc._segments import grid_segments
 from coastmesh.io.meshes.model_tests import (
+    GRAVITY,
     M2_FREQUENCY,
+    MIN_DRAG,
     ModelTest,
     Place,
     near_nodes,
@@ -153,7 +156,7 @@ def _fort15(test: ModelTest, where: Place, neta: int) -> str:
         ("0", "NTIP"),
         ("0", "NWS"),
         ("1", "NRAMP"),
-        ("9.81", "G"),
+        (f"{GRAVITY:g}", "G"),
         (str(_TAU0), "TAU0"),
         (f"{dt:g}", "DTDP"),
         ("0.0", "STATIM"),
@@ -163,7 +166,7 @@ def _fort15(test: ModelTest, where: Place, neta: int) -> str:
         ("0.35 0.30 0.35", "A00 B00 C00"),
         (f"{_H0:g} 0 0 0.01", "H0 NODEDRYMIN NODEWETMIN VELMIN"),
         (f"{lon:.6f} {lat:.6f}", "SLAM0 SFEA0"),
-        ("0.0025", "CF (not used: Manning's n from fort.13)"),
+        (f"{MIN_DRAG:g}", "CF: with Manning's n, the floor on g n^2 / H^(1/3)"),
         (f"{_ESLM:g}", "ESLM"),
         (f"{where.coriolis:.9e}", "CORI"),
         ("0", "NTIF"),

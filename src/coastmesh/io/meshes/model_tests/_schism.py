@@ -15,7 +15,11 @@ From SCHISM's own docs and source (``schism-dev/schism``: ``docs/input-output/``
   ``nnodes 3 0 0 0`` (elevation from harmonics; no velocity, temperature or
   salinity condition) and ``amplitude phase`` for each of its nodes;
 - ``manning.gr3``: Manning's n at each node, read with ``nchi = -1`` and
-  ``hmin_man = 1`` m;
+  ``hmin_man = 1`` m, raised where ADCIRC's floor on the drag coefficient
+  (:data:`~coastmesh.io.meshes.model_tests.MIN_DRAG`) would raise it: ``n =
+  max(n, sqrt(MIN_DRAG max(h, hmin_man)^(1/3) / g))`` at the node's
+  still-water depth ``h`` (:func:`floored_manning`), so both models have the
+  same friction;
 - ``param.nml``: ``ibc = 1, ibtp = 0`` (barotropic), ``dramp`` the ramp in days
   (``nramp_elev = 0``), ``thetai = 1`` ("maximum stability for strong
   wet/dry"), ``h0 = 0.01`` m (wetting and drying), ``itur = 0``, ``rmaxvel =
@@ -75,7 +79,9 @@ from coastmesh.io.meshes._table import put_lines, write_table
 from coastmesh.io.meshes.adcirc import write_gr3
 from coastmesh.io.meshes.adcirc._segments import grid_segments
 from coastmesh.io.meshes.model_tests import (
+    GRAVITY,
     M2_FREQUENCY,
+    MIN_DRAG,
     ModelTest,
     Place,
     near_nodes,
@@ -84,7 +90,7 @@ from coastmesh.io.meshes.model_tests import (
 from coastmesh.meshing.quality.time_step import element_time_steps
 from coastmesh.types import Mesh
 
-__all__ = ["INVERSE_CFL", "STEP_RANGE", "schism_time_step", "write"]
+__all__ = ["INVERSE_CFL", "STEP_RANGE", "floored_manning", "schism_time_step", "write"]
 
 #: SCHISM's lower bound on the Courant number of its ELM advection ("CFL >
 #: 0.4", docs/getting-started/grid-generation.md)
@@ -104,6 +110,7 @@ _WET = 0.1
 _QUIET_RINGS = 2
 
 _OUTPUT_EVERY = 600.0  # s
+_HMIN_MAN = 1.0  # m: the least depth in SCHISM's Manning formula (hmin_man)
 _VGRID_2D = """2 !ivcor: SZ
 2 1 1.e6 !nvrt = 2 (one layer: 2-D), kz = 1, h_s
 Z levels
@@ -134,7 +141,14 @@ def write(
     (folder / "bctides.in").write_text(
         _bctides(test, [len(s.nodes) for s in opened]), encoding="ascii"
     )
-    _write_node_file(folder / "manning.gr3", mesh, test.node_manning(mesh), "manning")
+    depth = np.asarray(mesh.point_data["depth"], dtype=np.float64)
+    _write_node_file(
+        folder / "manning.gr3",
+        mesh,
+        floored_manning(test.node_manning(mesh), depth),
+        f"manning: n, raised to Cd >= {MIN_DRAG:g} at the still-water depth",
+        digits=8,
+    )
     advection = np.ones(len(mesh.points))
     advection[np.unique(mesh.triangles[slow])] = 0.0
     advection[
@@ -214,7 +228,7 @@ def _needed_steps(mesh: Mesh) -> NDArray[np.float64]:
     """
     e = element_time_steps(mesh)
     depth = e["depth"]
-    speed = np.sqrt(9.81 * np.maximum(depth, 0.0)) + _VELOCITY
+    speed = np.sqrt(GRAVITY * np.maximum(depth, 0.0)) + _VELOCITY
     need = INVERSE_CFL * e["mean_edge"] / speed
     return np.where(depth > _WET, need, np.nan)
 
@@ -258,8 +272,33 @@ def _bctides(test: ModelTest, sizes: list[int]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _write_node_file(path: Path, mesh: Mesh, values: np.ndarray, title: str) -> None:
-    """Write a node-value ``.gr3`` (as ``manning.gr3``): nodes, elements, no lists."""
+def floored_manning(
+    manning: NDArray[np.float64], depth: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Return Manning's n raised so that ``g n^2 / H^(1/3) >= MIN_DRAG``.
+
+    ``H`` is the still-water ``depth`` (positive down), at least
+    ``hmin_man`` (SCHISM's least depth in the formula). ADCIRC holds its drag
+    at the floor as the water level moves; this holds it at mean sea level,
+    which differs where the tide is a large part of the depth.
+
+    Examples
+    --------
+    >>> floored_manning(np.array([0.025, 0.025, 0.04]), np.array([8.0, 64.0, 64.0]))
+    array([0.025     , 0.03192754, 0.04      ])
+    """
+    h = np.maximum(np.asarray(depth, dtype=np.float64), _HMIN_MAN)
+    least = np.sqrt(MIN_DRAG * np.cbrt(h) / GRAVITY)
+    return np.maximum(np.asarray(manning, dtype=np.float64), least)
+
+
+def _write_node_file(
+    path: Path, mesh: Mesh, values: np.ndarray, title: str, digits: int = 6
+) -> None:
+    """Write a node-value ``.gr3`` (as ``manning.gr3``): nodes, elements, no lists.
+
+    ``digits`` counts the integer part's too (:func:`write_table`).
+    """
     n, m = len(mesh.points), len(mesh.triangles)
     with open(path, "wb") as handle:
         put_lines(handle, title, f"{m} {n}")
@@ -269,7 +308,7 @@ def _write_node_file(path: Path, mesh: Mesh, values: np.ndarray, title: str) -> 
                 (np.arange(1, n + 1), None),
                 (mesh.points[:, 0], 15),
                 (mesh.points[:, 1], 15),
-                (values, 6),
+                (values, digits),
             ],
         )
         write_table(
@@ -318,7 +357,7 @@ def _param(test: ModelTest, where: Place) -> str:
         "slam0": f"{lon:.6f}",
         "sfea0": f"{lat:.6f}",
         "nchi": -1,
-        "hmin_man": 1.0,
+        "hmin_man": _HMIN_MAN,
         "ncor": 1,
         "ic_elev": 0,
         "h0": 0.01,
